@@ -1,0 +1,27 @@
+# roughlight: how explicitly modelled rough surfaces reflect light.
+# Run the study with `snakemake --cores 2` (or `make study`); see README.md.
+from snakemake.utils import min_version, validate
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+include: "workflow/rules/common.smk"
+
+
+# readable messages first (names the key and what is allowed), then the standard check
+check_config(config, "workflow/schemas/config.schema.yaml")
+validate(config, "workflow/schemas/config.schema.yaml")
+
+
+include: "workflow/rules/render.smk"
+include: "workflow/rules/study.smk"
+
+
+rule all:
+    input:
+        "results/study.parquet",
+        mesh_files(),
+    default_target: True

@@ -1,0 +1,230 @@
+"""Geometry of the rough surface: one period of a grid of truncated square pyramids.
+
+Conventions (the study's; see README "Conventions")
+---------------------------------------------------
+* The period (pyramid base width) is ``w = 1``. One period is the cell
+  ``[0, 1] x [0, 1]`` of the ``z = 0`` plane; the surface repeats with the
+  lattice ``Z^2``.
+* The full pyramid's height is ``h = aspect * w``; its base edges run along
+  x and y and its apex stands over the cell centre ``(0.5, 0.5)``.
+* ``truncation`` ``t`` is the fraction of the pyramid's height that is kept:
+  the truncated pyramid is ``t * h`` tall and its top face is a square of
+  side ``(1 - t) * w``. ``t = 0`` (or ``aspect = 0``) is the flat plate,
+  identical to the control; ``t = 1`` is the full pyramid. (The thesis's
+  Ch. III.6 words truncation the other way round; its analysis chapter,
+  Tables 1-2, uses this meaning.)
+* Facets are flat: every triangle carries its true face normal; vertices
+  are never shared between facets, so nothing averages normals.
+
+A period needs no more than four trapezoids (two triangles each) and the
+top square (two triangles): 10 triangles; the full pyramid needs four
+triangles and the plate two.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "FACET_NAMES",
+    "validate_surface",
+    "is_plate",
+    "surface_height",
+    "top_side",
+    "side_slope_deg",
+    "facet_polygons",
+    "period_triangles",
+    "period_mesh",
+    "control_mesh",
+    "facet_areas",
+]
+
+#: Facet names in the order :func:`facet_polygons` returns them. ``east`` is
+#: the side facet whose normal leans toward +x (toward the light, whose
+#: azimuth is 0), ``west`` toward -x, ``north`` toward +y, ``south`` toward -y.
+FACET_NAMES = ("top", "east", "west", "north", "south")
+
+#: Lengths below this (in periods) are zero: a surface lower than this is the
+#: plate, and a top face narrower than this is the apex of a full pyramid.
+#: It keeps every triangle of every valid surface non-degenerate.
+LENGTH_EPS = 1e-9
+
+
+def validate_surface(truncation: float, aspect: float) -> tuple[float, float]:
+    """Check a surface's parameters and return them as floats.
+
+    Parameters
+    ----------
+    truncation : float
+        Fraction of the pyramid's height kept, in [0, 1].
+    aspect : float
+        Pyramid height over base width, >= 0 (finite).
+
+    Raises
+    ------
+    ValueError
+        Naming the parameter and the allowed range.
+    """
+    try:
+        t = float(truncation)
+        a = float(aspect)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(
+            f"truncation and aspect must be numbers, got {truncation!r}, {aspect!r}"
+        ) from exc
+    if not (math.isfinite(t) and 0.0 <= t <= 1.0):
+        raise ValueError(f"truncation must be within [0, 1], got {truncation!r}")
+    if not (math.isfinite(a) and a >= 0.0):
+        raise ValueError(f"aspect must be a finite number >= 0, got {aspect!r}")
+    return t, a
+
+
+def is_plate(truncation: float, aspect: float) -> bool:
+    """True when the surface is the flat plate (``t = 0`` or ``aspect = 0``, or lower than :data:`LENGTH_EPS`)."""
+    t, a = validate_surface(truncation, aspect)
+    return t * a < LENGTH_EPS
+
+
+def surface_height(truncation: float, aspect: float) -> float:
+    """Height of the truncated pyramid, ``t * aspect`` (units of the period)."""
+    t, a = validate_surface(truncation, aspect)
+    return 0.0 if is_plate(t, a) else t * a
+
+
+def top_side(truncation: float) -> float:
+    """Side of the top face, ``1 - t`` (units of the period)."""
+    return 1.0 - float(truncation)
+
+
+def side_slope_deg(aspect: float) -> float:
+    """Tilt of the side facets from horizontal, ``atan(2 * aspect)`` in degrees.
+
+    At ``aspect = sqrt(3)/2`` the side facets tilt 60 deg, so their normals
+    stand 30 deg above the horizon: facing a light at incidence 30 deg.
+    """
+    return math.degrees(math.atan(2.0 * float(aspect)))
+
+
+def facet_polygons(truncation: float, aspect: float) -> list[tuple[str, np.ndarray]]:
+    """The facets of one period as planar convex polygons.
+
+    Parameters
+    ----------
+    truncation, aspect : float
+        See module docstring.
+
+    Returns
+    -------
+    list of (name, vertices)
+        ``vertices`` is an ``(n, 3)`` float array, counter-clockwise seen from
+        above (from outside the solid), ``n`` = 3 or 4. Facets of zero area are
+        left out: the plate is a single ``top`` square at ``z = 0``; the full
+        pyramid (``t = 1``) has no top and four triangular sides.
+    """
+    t, a = validate_surface(truncation, aspect)
+    if is_plate(t, a):
+        return [("top", np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float))]
+    height = t * a
+    lo = 0.5 - 0.5 * (1.0 - t)
+    hi = 0.5 + 0.5 * (1.0 - t)
+    b00, b10, b11, b01 = (0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)
+    t00, t10, t11, t01 = (lo, lo, height), (hi, lo, height), (hi, hi, height), (lo, hi, height)
+    quads = {
+        "top": [t00, t10, t11, t01],
+        "east": [b10, b11, t11, t10],
+        "west": [b01, b00, t00, t01],
+        "north": [b11, b01, t01, t11],
+        "south": [b00, b10, t10, t00],
+    }
+    facets = []
+    for name in FACET_NAMES:
+        verts = np.array(quads[name], float)
+        if 1.0 - t < LENGTH_EPS:
+            if name == "top":
+                continue
+            # the two top corners coincide at the apex: keep a triangle
+            verts = verts[:3]
+        facets.append((name, verts))
+    return facets
+
+
+def period_triangles(truncation: float, aspect: float) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """Triangles of one period with their true face normals.
+
+    Returns
+    -------
+    triangles : (n, 3, 3) float array
+        Vertex positions, counter-clockwise seen from outside.
+    normals : (n, 3) float array
+        Unit face normals (z > 0 for every facet of this heightfield).
+    names : list of str
+        The facet each triangle belongs to.
+    """
+    tris, names = [], []
+    for name, verts in facet_polygons(truncation, aspect):
+        for k in range(1, len(verts) - 1):
+            tris.append(verts[[0, k, k + 1]])
+            names.append(name)
+    tris = np.asarray(tris, float)
+    normals = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return tris, normals, names
+
+
+def period_mesh(truncation: float, aspect: float):
+    """One period as a :class:`trimesh.Trimesh` with unshared vertices.
+
+    Each triangle has its own three vertices, so per-vertex normals equal the
+    face normal (flat facets). ``process=False`` keeps trimesh from merging
+    vertices.
+    """
+    import trimesh
+
+    tris, normals, _ = period_triangles(truncation, aspect)
+    vertices = tris.reshape(-1, 3)
+    faces = np.arange(len(vertices)).reshape(-1, 3)
+    mesh = trimesh.Trimesh(
+        vertices=vertices,
+        faces=faces,
+        face_normals=normals,
+        vertex_normals=np.repeat(normals, 3, axis=0),
+        process=False,
+    )
+    return mesh
+
+
+def control_mesh():
+    """The control: the flat plate, one period of the ``z = 0`` plane."""
+    return period_mesh(0.0, 0.0)
+
+
+def facet_areas(truncation: float, aspect: float) -> dict[str, float]:
+    """True (not projected) area of each facet of one period, by name."""
+    areas: dict[str, float] = {}
+    tris, _, names = period_triangles(truncation, aspect)
+    cross = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
+    for name, area in zip(names, 0.5 * np.linalg.norm(cross, axis=1)):
+        areas[name] = areas.get(name, 0.0) + float(area)
+    return areas
+
+
+def export_mesh_atomic(mesh, path) -> None:
+    """Write a mesh (format from the file's extension, e.g. ``.ply``) under a temporary name, then rename."""
+    import os
+    import tempfile
+
+    path = os.fspath(path)
+    directory = os.path.dirname(path) or "."
+    os.makedirs(directory, exist_ok=True)
+    suffix = os.path.splitext(path)[1]
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=directory)
+    os.close(fd)
+    try:
+        mesh.export(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

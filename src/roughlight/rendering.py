@@ -1,0 +1,510 @@
+"""Rendering sweeps with pyrender over OSMesa.
+
+The ``fast`` method
+-------------------
+A sweep is one surface under one directional light seen from many views. The
+renderer draws *every view of a sweep in one framebuffer*, one small tile per
+view, with one instanced draw call:
+
+* Each view's tile shows exactly one period of the projected image of the
+  infinite periodic surface. The projection is the oblique parallel projection
+  along the view direction onto the base plane (``shaders/periodic.vert``): it
+  is an orthographic camera whose image plane is sheared onto the surface's
+  lattice, so the pixels of a tile sample one period uniformly and the tile
+  mean is the mean over the infinite surface: no background, no patch edge,
+  no moiré between the surface period and the pixel grid. ``coverage`` is
+  the fraction of the tile's pixels that show the surface (1 for every view
+  but the grazing ones, ``e`` = 0 or 180, which see no area and are 0).
+* The scene holds only what the measurement needs: one period (at most 10
+  triangles), instanced at the lattice copies whose projection reaches the
+  tile (more copies only near grazing views of tall surfaces).
+* The light does not move during a sweep, so the shadow map is drawn once per
+  sweep. It is periodic too: one period of light-oblique coordinates,
+  sampled with wrap-around, storing the height of the first surface along
+  each light ray; a fragment compares its own facet's height at the texel
+  centre (receiver-plane depth), so a facet never shadows itself.
+* The lighting equation (``roughlight.shading``) is evaluated per fragment in
+  ``shaders/periodic.frag``; diffuse, specular and total go to the r, g and b
+  channels of one pass and are each stored as 8-bit values.
+
+pyrender provides the OSMesa context, the vertex buffers with instancing and
+the shader programs; its stock shader (metallic-roughness PBR with gamma) is
+not the study's equation and is not used. Its program cache keys programs on
+the GL context object, which OSMesa hands back anew on every call (every
+render would recompile); :class:`ShaderCache` keys them on the shader files
+and defines only.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+
+import math  # noqa: E402
+import time  # noqa: E402
+from dataclasses import dataclass  # noqa: E402
+
+import numpy as np  # noqa: E402
+import pyrender  # noqa: E402
+from OpenGL import GL as gl  # noqa: E402
+from pyrender.platforms.osmesa import OSMesaPlatform  # noqa: E402
+from pyrender.shader_program import ShaderProgram  # noqa: E402
+
+from . import geometry, shading, sweeps  # noqa: E402
+
+__all__ = [
+    "METHODS",
+    "RenderSettings",
+    "ShaderCache",
+    "lattice_copies",
+    "render_sweep",
+    "measure_sweep",
+]
+
+SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
+
+#: Shift of the pixel grid along x, in pixels (a golden-ratio fraction), so that
+#: the pyramid's diagonal edges do not run through a row of pixel centres in
+#: the top view. Nothing shifts along y: the pixel grid stays symmetric about
+#: the light's plane (y = 0), so mirror views sample mirror points.
+SAMPLE_OFFSET = np.array([0.3819660112501051, 0.0])
+
+#: Renderers selectable with ``render.method``.
+METHODS = ("fast", "reference")
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """Knobs of the ``fast`` renderer that trade speed for accuracy.
+
+    Attributes
+    ----------
+    pixels_per_period : int
+        Side of each view's tile in pixels; the tile is one period of the
+        projected surface, so this is the sampling density (pixels per period
+        along each lattice direction).
+    shadow_map_size : int
+        Texels per period (along each direction) of the periodic shadow map.
+    shadow_bias : float
+        Height tolerance of the shadow test, as a fraction of the surface
+        height (the receiver-plane test needs only rounding slack).
+    max_framebuffer : int
+        Largest framebuffer side in pixels; views beyond one framebuffer are
+        drawn in further passes.
+    """
+
+    pixels_per_period: int = 32
+    shadow_map_size: int = 512
+    shadow_bias: float = 1e-4
+    max_framebuffer: int = 4096
+
+    def __post_init__(self):
+        if int(self.pixels_per_period) < 1:
+            raise ValueError(f"render.pixels_per_period must be >= 1, got {self.pixels_per_period!r}")
+        if int(self.shadow_map_size) < 1:
+            raise ValueError(f"render.shadow_map_size must be >= 1, got {self.shadow_map_size!r}")
+        if not (self.shadow_bias >= 0):
+            raise ValueError(f"render.shadow_bias must be >= 0, got {self.shadow_bias!r}")
+        if self.pixels_per_period > self.max_framebuffer:
+            raise ValueError("render.pixels_per_period exceeds the largest framebuffer")
+
+
+def lattice_copies(shifts, margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Lattice offsets of the period copies whose projection reaches the unit cell.
+
+    A copy at offset ``(k, l)`` occupies ``[k, k+1] x [l, l+1]`` in plan; the
+    oblique projection moves a point at height ``z`` by ``-z * shear``, so the
+    copy's projection is the unit square swept along the segment from
+    ``(k, l)`` to ``(k, l) - d`` with ``d = H * shear``. It reaches the open
+    unit cell iff that segment meets the open square ``(-1, 1)^2``.
+
+    Parameters
+    ----------
+    shifts : (n, 2) array
+        ``d`` for each of ``n`` views: the plan shift of the surface's top
+        (height ``H``) relative to its base, in periods.
+    margin : float
+        Widen the cell by this much on every side (periods), for a sampling
+        grid shifted by less than ``margin``.
+
+    Returns
+    -------
+    view : (m,) int array
+        Which view each copy belongs to (non-decreasing).
+    offsets : (m, 2) int array
+        ``(k, l)`` of each copy.
+    """
+    d = np.atleast_2d(np.asarray(shifts, float))
+    eps = -float(margin) if margin else 1e-9
+    # x: candidate columns k per view; the slab (-1, 1) in x bounds lambda
+    pad = 1 + int(math.ceil(max(float(margin), 0.0)))
+    k_lo = np.floor(np.minimum(0.0, d[:, 0])).astype(int) - pad
+    k_hi = np.ceil(np.maximum(0.0, d[:, 0])).astype(int) + pad
+    counts = k_hi - k_lo + 1
+    view = np.repeat(np.arange(len(d)), counts)
+    k = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(k_lo, counts)
+    dx, dy = d[view, 0], d[view, 1]
+    lam_lo = np.zeros(len(view))
+    lam_hi = np.ones(len(view))
+    moving = np.abs(dx) > 1e-15
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = (k - (1.0 - eps)) / dx
+        b = (k + (1.0 - eps)) / dx
+    lam_lo = np.where(moving, np.maximum(lam_lo, np.minimum(a, b)), lam_lo)
+    lam_hi = np.where(moving, np.minimum(lam_hi, np.maximum(a, b)), lam_hi)
+    lam_hi = np.where(~moving & (np.abs(k) >= 1.0 - eps), -1.0, lam_hi)
+    keep = lam_lo <= lam_hi
+    view, k, dy, lam_lo, lam_hi = view[keep], k[keep], dy[keep], lam_lo[keep], lam_hi[keep]
+    # y: l - lam * dy must fall in (-1, 1) for some lam in [lam_lo, lam_hi]
+    y_lo = np.minimum(lam_lo * dy, lam_hi * dy) - (1.0 - eps)
+    y_hi = np.maximum(lam_lo * dy, lam_hi * dy) + (1.0 - eps)
+    l_lo = np.ceil(y_lo).astype(int)
+    l_hi = np.floor(y_hi).astype(int)
+    counts = np.maximum(l_hi - l_lo + 1, 0)
+    view_out = np.repeat(view, counts)
+    l = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(l_lo, counts)
+    k_out = np.repeat(k, counts)
+    return view_out, np.stack([k_out, l], axis=1)
+
+
+class ShaderCache:
+    """pyrender shader programs keyed by shader files and defines, not by GL context."""
+
+    def __init__(self, shader_dir: str = SHADER_DIR):
+        self.shader_dir = shader_dir
+        self._programs = {}
+
+    def get_program(self, vertex_shader, fragment_shader, defines=None):
+        defines = dict(defines or {})
+        key = (vertex_shader, fragment_shader, tuple(sorted(defines.items())))
+        program = self._programs.get(key)
+        if program is None:
+            program = ShaderProgram(
+                vertex_shader=os.path.join(self.shader_dir, vertex_shader),
+                fragment_shader=os.path.join(self.shader_dir, fragment_shader),
+                defines=defines,
+            )
+            program._add_to_context()
+            self._programs[key] = program
+        return program
+
+    def __len__(self):
+        return len(self._programs)
+
+    def clear(self):
+        for program in self._programs.values():
+            program.delete()
+        self._programs = {}
+
+
+class _Context:
+    """One OSMesa context of a fixed framebuffer size, with its programs and shadow target."""
+
+    def __init__(self, width: int, height: int, shadow_map_size: int):
+        from OpenGL import GL as gl
+
+        self.width, self.height = int(width), int(height)
+        self.platform = OSMesaPlatform(self.width, self.height)
+        self.platform.init_context()
+        if not self.platform._context:
+            raise RuntimeError(
+                "OSMesa could not create an OpenGL 3.3 core context: install Debian's "
+                "libosmesa6 (apt-get install libosmesa6) and PyOpenGL >= 3.1.9"
+            )
+        self.platform.make_current()
+        self.programs = ShaderCache()
+        self.shadow_size = int(shadow_map_size)
+        # periodic shadow map: a depth texture, one period of light-oblique coordinates
+        self.shadow_tex = gl.glGenTextures(1)
+        gl.glBindTexture(gl.GL_TEXTURE_2D, self.shadow_tex)
+        gl.glTexImage2D(
+            gl.GL_TEXTURE_2D, 0, gl.GL_DEPTH_COMPONENT24, self.shadow_size, self.shadow_size, 0,
+            gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT, None,
+        )
+        for pname, value in (
+            (gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST),
+            (gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST),
+            (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT),
+            (gl.GL_TEXTURE_WRAP_T, gl.GL_REPEAT),
+            (gl.GL_TEXTURE_COMPARE_MODE, gl.GL_NONE),
+        ):
+            gl.glTexParameteri(gl.GL_TEXTURE_2D, pname, value)
+        self.shadow_fbo = gl.glGenFramebuffers(1)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, self.shadow_fbo)
+        gl.glFramebufferTexture2D(
+            gl.GL_FRAMEBUFFER, gl.GL_DEPTH_ATTACHMENT, gl.GL_TEXTURE_2D, self.shadow_tex, 0
+        )
+        gl.glDrawBuffer(gl.GL_NONE)
+        gl.glReadBuffer(gl.GL_NONE)
+        status = gl.glCheckFramebufferStatus(gl.GL_FRAMEBUFFER)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+        if status != gl.GL_FRAMEBUFFER_COMPLETE:
+            raise RuntimeError(f"shadow framebuffer incomplete (status {status})")
+
+    def delete(self):
+        self.platform.make_current()
+        self.programs.clear()
+        gl.glDeleteFramebuffers(1, [self.shadow_fbo])
+        gl.glDeleteTextures([self.shadow_tex])
+        self.platform.delete_context()
+
+
+_CONTEXTS: dict = {}
+
+
+def _context(width: int, height: int, shadow_map_size: int) -> _Context:
+    key = (width, height, shadow_map_size)
+    ctx = _CONTEXTS.get(key)
+    if ctx is None:
+        # one framebuffer size at a time: OSMesa buffers are fixed at creation
+        for other in list(_CONTEXTS.values()):
+            other.delete()
+        _CONTEXTS.clear()
+        ctx = _CONTEXTS[key] = _Context(width, height, shadow_map_size)
+    ctx.platform.make_current()
+    return ctx
+
+
+def _primitive(truncation: float, aspect: float, poses: np.ndarray):
+    tris, normals, _ = geometry.period_triangles(truncation, aspect)
+    return pyrender.Primitive(
+        positions=tris.reshape(-1, 3).astype(np.float32),
+        normals=np.repeat(normals, 3, axis=0).astype(np.float32),
+        mode=pyrender.constants.GLTF.TRIANGLES,
+        poses=poses,
+    )
+
+
+def _draw(ctx: _Context, primitive, program):
+    primitive._add_to_context()
+    try:
+        primitive._bind()
+        gl.glDrawArraysInstanced(gl.GL_TRIANGLES, 0, len(primitive.positions), len(primitive.poses))
+        primitive._unbind()
+    finally:
+        primitive.delete()
+
+
+def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
+    """Instance matrices (see ``shaders/periodic.vert``), one per copy.
+
+    ``shear``, ``view`` and ``tile`` are per copy ((m, 2), (m, 3), (m, 4)) or
+    broadcast from one view.
+    """
+    n = len(copies)
+    poses = np.zeros((n, 4, 4), np.float32)
+    poses[:, 0, 0] = copies[:, 0]
+    poses[:, 1, 0] = copies[:, 1]
+    poses[:, 0, 1] = shear[..., 0]
+    poses[:, 1, 1] = shear[..., 1]
+    poses[:, 0:3, 2] = view
+    poses[:, 0:4, 3] = tile
+    return poses
+
+
+def _shadow_pass(ctx: _Context, truncation, aspect, light_dir, depth_scale):
+    height = geometry.surface_height(truncation, aspect)
+    shear = light_dir[:2] / light_dir[2]
+    _, copies = lattice_copies(height * shear[None, :])
+    poses = _copy_poses(copies, shear, light_dir, np.array([-1.0, -1.0, 2.0, 2.0]))
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, ctx.shadow_fbo)
+    gl.glViewport(0, 0, ctx.shadow_size, ctx.shadow_size)
+    gl.glEnable(gl.GL_DEPTH_TEST)
+    gl.glDepthMask(gl.GL_TRUE)
+    gl.glDepthFunc(gl.GL_LESS)
+    gl.glEnable(gl.GL_CULL_FACE)
+    gl.glCullFace(gl.GL_BACK)
+    gl.glFrontFace(gl.GL_CCW)
+    gl.glClearDepth(1.0)
+    gl.glClear(gl.GL_DEPTH_BUFFER_BIT)
+    primitive = _primitive(truncation, aspect, poses)
+    program = ctx.programs.get_program(
+        "periodic.vert", "periodic_depth.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
+    )
+    program._bind()
+    program.set_uniform("depth_scale", float(depth_scale))
+    program.set_uniform("sample_offset", np.zeros(2, np.float32))
+    _draw(ctx, primitive, program)
+    program._unbind()
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+
+
+def _layout(n_views: int, pixels: int, max_fb: int) -> tuple[int, int]:
+    """Columns and rows of view tiles in one framebuffer."""
+    per_side = max(1, max_fb // pixels)
+    cols = min(per_side, max(1, math.ceil(math.sqrt(n_views))))
+    rows = min(per_side, max(1, math.ceil(n_views / cols)))
+    return cols, rows
+
+
+def render_sweep(
+    truncation: float,
+    aspect: float,
+    incidence: float,
+    azimuth,
+    elevation,
+    lighting: shading.Lighting | None = None,
+    settings: RenderSettings | None = None,
+) -> dict:
+    """Render one sweep with the ``fast`` method (pyrender over OSMesa).
+
+    Parameters
+    ----------
+    truncation, aspect : float
+        The surface (see :mod:`roughlight.geometry`).
+    incidence : float
+        Light elevation above the surface plane, degrees in [0, 90]; the light
+        comes from azimuth 0.
+    azimuth, elevation : (n_views,) arrays
+        Views, degrees: azimuth in [0, 180), elevation in [0, 180].
+    lighting : Lighting
+    settings : RenderSettings
+
+    Returns
+    -------
+    dict
+        ``diffuse``, ``specular``, ``total``: (n_views,) means of the 8-bit
+        pixel values of the view's tile (0-255); ``coverage``: (n_views,)
+        fraction of the tile's pixels showing the surface; ``seconds``: wall
+        time of the sweep.
+    """
+    start = time.perf_counter()
+    lighting = lighting or shading.Lighting()
+    settings = settings or RenderSettings()
+    truncation, aspect = geometry.validate_surface(truncation, aspect)
+    incidence = _check_incidence(incidence)
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    if azimuth.shape != elevation.shape:
+        raise ValueError("azimuth and elevation must have the same shape")
+    n = azimuth.size
+    out = {key: np.zeros(n) for key in ("diffuse", "specular", "total", "coverage")}
+    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
+    if todo.size == 0:
+        out["seconds"] = time.perf_counter() - start
+        return out
+
+    pixels = int(settings.pixels_per_period)
+    cols, rows = _layout(todo.size, pixels, settings.max_framebuffer)
+    ctx = _context(cols * pixels, rows * pixels, int(settings.shadow_map_size))
+    height = geometry.surface_height(truncation, aspect)
+    depth_scale = 1.0 / max(height * 1.001, 1e-6)
+    light_dir = shading.light_direction(incidence)
+
+    shadow_mode = 0
+    if lighting.shadows and height > 0:
+        if light_dir[2] < 1e-9:
+            shadow_mode = 2
+        else:
+            shadow_mode = 1
+            _shadow_pass(ctx, truncation, aspect, light_dir, depth_scale)
+
+    program = ctx.programs.get_program(
+        "periodic.vert", "periodic.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
+    )
+    views = shading.view_direction(elevation[todo], azimuth[todo])
+    shears = views[:, :2] / views[:, 2:3]
+    per_pass = cols * rows
+    for first in range(0, todo.size, per_pass):
+        idx = np.arange(first, min(first + per_pass, todo.size))
+        slots = idx - first
+        col, row = slots % cols, slots // cols
+        tiles = np.stack(
+            [
+                -1.0 + 2.0 * col * pixels / ctx.width,
+                -1.0 + 2.0 * row * pixels / ctx.height,
+                np.full(idx.size, 2.0 * pixels / ctx.width),
+                np.full(idx.size, 2.0 * pixels / ctx.height),
+            ],
+            axis=1,
+        )
+        owner, copies = lattice_copies(height * shears[idx], margin=1.0 / pixels)
+        poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], tiles[owner])
+
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+        gl.glViewport(0, 0, ctx.width, ctx.height)
+        gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+        gl.glClearDepth(1.0)
+        gl.glEnable(gl.GL_DEPTH_TEST)
+        gl.glDepthMask(gl.GL_TRUE)
+        gl.glDepthFunc(gl.GL_LESS)
+        gl.glDisable(gl.GL_BLEND)
+        gl.glEnable(gl.GL_CULL_FACE)
+        gl.glCullFace(gl.GL_BACK)
+        gl.glFrontFace(gl.GL_CCW)
+        gl.glClear(gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+        for plane in range(4):
+            gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
+        program._bind()
+        _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
+        gl.glActiveTexture(gl.GL_TEXTURE0)
+        gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
+        program.set_uniform("shadow_map", 0)
+        _draw(ctx, _primitive(truncation, aspect, poses), program)
+        program._unbind()
+        gl.glFinish()
+
+        used_rows = int(math.ceil(idx.size / cols))
+        raw = gl.glReadPixels(0, 0, ctx.width, used_rows * pixels, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+        image = np.frombuffer(raw, np.uint8).reshape(used_rows * pixels, ctx.width, 4)
+        tiles_px = (
+            image.reshape(used_rows, pixels, cols, pixels, 4)
+            .transpose(0, 2, 1, 3, 4)
+            .reshape(used_rows * cols, pixels * pixels, 4)[: idx.size]
+        )
+        means = tiles_px.mean(axis=1, dtype=np.float64)
+        target = todo[idx]
+        out["diffuse"][target] = means[:, 0]
+        out["specular"][target] = means[:, 1]
+        out["total"][target] = means[:, 2]
+        out["coverage"][target] = means[:, 3] / 255.0
+    out["seconds"] = time.perf_counter() - start
+    return out
+
+
+def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):
+    program.set_uniform("light_dir", np.asarray(light_dir, np.float32))
+    program.set_uniform("light", float(lighting.light) / 255.0)
+    program.set_uniform("ambient_term", float(lighting.ambient_reflectance * lighting.ambient))
+    program.set_uniform("diffuse_reflectance", float(lighting.diffuse_reflectance))
+    program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
+    program.set_uniform("shininess", float(lighting.shininess))
+    program.set_uniform("specular_model", int(shading.SPECULAR_MODELS.index(lighting.specular_model)))
+    program.set_uniform("shadow_mode", int(shadow_mode))
+    program.set_uniform("shadow_size", int(ctx.shadow_size))
+    lz = max(float(light_dir[2]), 1e-12)
+    program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
+    program.set_uniform("depth_scale", float(depth_scale))
+    program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))
+    program.set_uniform("sample_offset", (SAMPLE_OFFSET / settings.pixels_per_period).astype(np.float32))
+
+
+def _check_incidence(incidence) -> float:
+    try:
+        value = float(incidence)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"incidence must be a number of degrees, got {incidence!r}") from exc
+    if not (math.isfinite(value) and 0.0 <= value <= 90.0):
+        raise ValueError(f"incidence must be within [0, 90] degrees, got {incidence!r}")
+    return value
+
+
+def measure_sweep(method: str, truncation, aspect, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+    """Measure a sweep with the named method (``render.method``).
+
+    ``fast`` renders with :func:`render_sweep`; ``reference`` computes the
+    same quantity exactly by polygon clipping (:mod:`roughlight.reference`).
+    Returns the dict of :func:`render_sweep`.
+    """
+    if method == "fast":
+        return render_sweep(truncation, aspect, incidence, azimuth, elevation, lighting, settings)
+    if method == "reference":
+        from . import reference
+
+        start = time.perf_counter()
+        out = reference.reference_sweep(truncation, aspect, incidence, azimuth, elevation, lighting or shading.Lighting())
+        out = {key: np.asarray(value, float) for key, value in out.items()}
+        out["seconds"] = time.perf_counter() - start
+        return out
+    raise ValueError(f"render.method must be one of {METHODS}, got {method!r}")

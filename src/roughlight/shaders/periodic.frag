@@ -1,0 +1,76 @@
+#version 330 core
+// The OpenGL lighting equation of the study, per fragment, flat facets:
+//   I = J (m_a A + m_d max(N.L, 0) + m_s S),
+//   S = max(R.V, 0)^zeta (Phong, R = 2 (N.L) N - L) or max(N.H, 0)^zeta (Blinn),
+//   S = 0 where N.L <= 0; shadowed fragments keep the ambient term only.
+// Output channels (each stored as an 8-bit value by the framebuffer):
+//   r = diffuse (with ambient), g = specular, b = total, a = 1 (coverage).
+
+in vec3 frag_local;
+in vec3 frag_normal;
+in vec2 frag_cell;
+flat in vec3 frag_view;
+
+uniform vec3 light_dir;            // unit vector toward the light
+uniform float light;               // J / 255
+uniform float ambient_term;        // m_a * A
+uniform float diffuse_reflectance; // m_d
+uniform float specular_reflectance;// m_s
+uniform float shininess;           // zeta
+uniform int specular_model;        // 0 Phong, 1 Blinn-Phong
+uniform int shadow_mode;           // 0 none, 1 periodic shadow map, 2 all in shadow (grazing light)
+uniform sampler2D shadow_map;      // heights of the first surface along each light ray, one period
+uniform int shadow_size;           // texels per period of the shadow map
+uniform vec2 light_shear;          // (L.x / L.z, L.y / L.z)
+uniform float depth_scale;
+uniform float shadow_bias;         // height units
+
+out vec4 frag_color;
+
+float occluder_height(ivec2 texel)
+{
+    float ndc = 2.0 * texelFetch(shadow_map, texel, 0).r - 1.0;
+    return (0.9 - ndc) / (1.8 * depth_scale);
+}
+
+void main()
+{
+    if (frag_cell.x < 0.0 || frag_cell.y < 0.0 || frag_cell.x >= 1.0 || frag_cell.y >= 1.0) {
+        discard;
+    }
+    vec3 N = normalize(frag_normal);
+    vec3 L = light_dir;
+    vec3 V = frag_view;
+    float ndotl = dot(N, L);
+    float lit = ndotl > 0.0 ? 1.0 : 0.0;
+    if (lit > 0.0 && shadow_mode == 2) {
+        lit = 0.0;
+    }
+    if (lit > 0.0 && shadow_mode == 1) {
+        // light-oblique coordinates of this point (periodic with the lattice)
+        float size = float(shadow_size);
+        vec2 st = (frag_local.xy - frag_local.z * light_shear) * size;
+        vec2 texel_corner = floor(st);
+        ivec2 texel = ivec2(mod(texel_corner, size));
+        // receiver plane: this facet's height at the texel centre, so that a
+        // facet never shadows itself (no acne) whatever its slope
+        vec2 slope = vec2(-N.x / N.z, -N.y / N.z);
+        vec2 grad = slope / (1.0 - dot(slope, light_shear));
+        float z_receiver = frag_local.z + dot(grad, (texel_corner + 0.5 - st) / size);
+        lit = (z_receiver >= occluder_height(texel) - shadow_bias) ? 1.0 : 0.0;
+    }
+    float s = 0.0;
+    if (lit > 0.0) {
+        float base;
+        if (specular_model == 0) {
+            vec3 R = 2.0 * ndotl * N - L;
+            base = max(dot(R, V), 0.0);
+        } else {
+            base = max(dot(N, normalize(L + V)), 0.0);
+        }
+        s = (shininess == 0.0) ? 1.0 : pow(base, shininess);
+    }
+    float diffuse = light * (ambient_term + lit * diffuse_reflectance * max(ndotl, 0.0));
+    float specular = light * lit * specular_reflectance * s;
+    frag_color = vec4(diffuse, specular, diffuse + specular, 1.0);
+}

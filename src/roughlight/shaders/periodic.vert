@@ -1,0 +1,48 @@
+#version 330 core
+// One period of the rough surface, instanced: each instance is one lattice
+// copy of the period drawn into one view's tile of the framebuffer.
+//
+// The projection is an oblique parallel projection along the view (or light)
+// direction D onto the base plane z = 0: a point p lands at
+//     cell = p.xy - p.z * (D.x / D.z, D.y / D.z),
+// where the ray through p along D crosses z = 0. Seen along D, the infinite
+// periodic surface is periodic in `cell` with the unit lattice, so the unit
+// cell [0,1)^2 of `cell` is exactly one period of the projected image:
+// its pixel mean is the mean over the infinite surface. The tile maps that
+// unit cell to its pixels. Depth is the height: along a ray coming down from
+// the detector the first surface hit is the highest one.
+//
+// Instance matrix columns (pyrender uploads poses so that inst_m[c] = pose[:, c]):
+//   inst_m[0].xy : lattice offset (k, l) of this copy
+//   inst_m[1].xy : shear (D.x / D.z, D.y / D.z)
+//   inst_m[2].xyz: unit vector toward the detector, V
+//   inst_m[3]    : tile origin (xy) and size (zw) in normalized device coordinates
+
+layout(location = 0) in vec3 position;
+layout(location = NORMAL_LOC) in vec3 normal;
+layout(location = INST_M_LOC) in mat4 inst_m;
+
+uniform float depth_scale;   // 1 / (height range of the surface)
+uniform vec2 sample_offset;  // sub-pixel shift of the sampling grid, in periods
+
+out vec3 frag_local;         // position within the period (periodic lookups)
+out vec3 frag_normal;        // true face normal (never averaged)
+out vec2 frag_cell;          // oblique cell coordinates: kept only inside [0,1)^2
+flat out vec3 frag_view;
+
+void main()
+{
+    vec3 p = position + vec3(inst_m[0].xy, 0.0);
+    vec2 cell = p.xy - p.z * inst_m[1].xy + sample_offset;
+    vec4 tile = inst_m[3];
+    gl_Position = vec4(tile.xy + cell * tile.zw, 0.9 - 1.8 * p.z * depth_scale, 1.0);
+    frag_local = position;
+    frag_normal = normal;
+    frag_cell = cell;
+    frag_view = inst_m[2].xyz;
+    // clip each copy to its own tile, before rasterization
+    gl_ClipDistance[0] = cell.x;
+    gl_ClipDistance[1] = 1.0 - cell.x;
+    gl_ClipDistance[2] = cell.y;
+    gl_ClipDistance[3] = 1.0 - cell.y;
+}

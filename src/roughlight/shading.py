@@ -1,0 +1,180 @@
+"""The OpenGL lighting equation, as the study uses it, in numpy.
+
+This module is the written-down form of what the renderer's GLSL computes
+per fragment (``shaders/periodic.frag``) and what the reference computes per
+facet; tests compare all three.
+
+Directions
+----------
+* Light: directional, from azimuth 0. The unit vector toward the light is
+  ``L = (cos i, 0, sin i)``, ``i`` the incidence: the light's elevation above
+  the surface plane, degrees.
+* Detector: the unit vector toward it is
+  ``V = (cos e cos phi, cos e sin phi, sin e)``, ``e`` the view elevation in
+  [0, 180] and ``phi`` the view azimuth in [0, 180), degrees. At ``phi = 0``,
+  ``e = i`` is zero phase (back/retro lobe) and ``e = 180 - i`` the mirror
+  direction (forward lobe).
+* Phase angle ``g = arccos(L . V)``, degrees.
+
+Equation
+--------
+``I = J * (m_a * A + m_d * max(N.L, 0) + m_s * S)`` on the 0-255 scale, with
+``S = max(R.V, 0) ** shininess`` (Phong; ``R = 2 (N.L) N - L``) or
+``S = max(N.H, 0) ** shininess`` (Blinn-Phong, ``H = normalize(L + V)``),
+and ``S = 0`` where ``N.L <= 0``. Shadowed points keep the ambient term only.
+The ``diffuse`` component is ``J (m_a A + lit m_d max(N.L, 0))``, the
+``specular`` component ``J lit m_s S``, and ``total`` their sum; each is
+clamped to [0, 255] and rounded to an 8-bit value per pixel, as the
+framebuffer stores it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+__all__ = [
+    "COMPONENTS",
+    "SPECULAR_MODELS",
+    "Lighting",
+    "light_direction",
+    "view_direction",
+    "phase_angle",
+    "facet_components",
+    "quantize",
+]
+
+#: Components written to the study table, in this order.
+COMPONENTS = ("diffuse", "specular", "total")
+#: Specular models the renderer and the reference both implement.
+SPECULAR_MODELS = ("phong", "blinn")
+
+
+@dataclass(frozen=True)
+class Lighting:
+    """Light and material settings of a sweep.
+
+    Attributes
+    ----------
+    light : float
+        Light intensity ``J`` on the 0-255 scale (the thesis used 127).
+    ambient : float
+        Ambient light level ``A`` as a fraction of ``J`` (0 = none).
+    ambient_reflectance, diffuse_reflectance, specular_reflectance : float
+        Material coefficients ``m_a``, ``m_d``, ``m_s`` (0-1).
+    shininess : float
+        Specular exponent ``zeta`` (0-128, OpenGL's range).
+    specular_model : str
+        ``"phong"`` (R.V, the default) or ``"blinn"`` (N.H).
+    shadows : bool
+        Whether inner shadows are cast.
+    """
+
+    light: float = 127.0
+    ambient: float = 0.0
+    ambient_reflectance: float = 1.0
+    diffuse_reflectance: float = 1.0
+    specular_reflectance: float = 1.0
+    shininess: float = 64.0
+    specular_model: str = "phong"
+    shadows: bool = True
+
+    def __post_init__(self):
+        if self.specular_model not in SPECULAR_MODELS:
+            raise ValueError(
+                f"specular_model must be one of {SPECULAR_MODELS}, got {self.specular_model!r}"
+            )
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+def light_direction(incidence) -> np.ndarray:
+    """Unit vector toward the light, ``(cos i, 0, sin i)``.
+
+    Parameters
+    ----------
+    incidence : float or array, degrees above the surface plane.
+
+    Returns
+    -------
+    (..., 3) float array
+    """
+    i = np.radians(np.asarray(incidence, float))
+    return np.stack([np.cos(i), np.zeros_like(i), np.sin(i)], axis=-1)
+
+
+def view_direction(elevation, azimuth) -> np.ndarray:
+    """Unit vector toward the detector, ``(cos e cos phi, cos e sin phi, sin e)``.
+
+    Parameters
+    ----------
+    elevation, azimuth : float or arrays (broadcast), degrees.
+
+    Returns
+    -------
+    (..., 3) float array
+    """
+    e = np.radians(np.asarray(elevation, float))
+    p = np.radians(np.asarray(azimuth, float))
+    e, p = np.broadcast_arrays(e, p)
+    return np.stack([np.cos(e) * np.cos(p), np.cos(e) * np.sin(p), np.sin(e)], axis=-1)
+
+
+def phase_angle(incidence, elevation, azimuth) -> np.ndarray:
+    """Phase angle ``arccos(L . V)`` in degrees (broadcast over the inputs)."""
+    cosg = np.sum(light_direction(incidence) * view_direction(elevation, azimuth), axis=-1)
+    return np.degrees(np.arccos(np.clip(cosg, -1.0, 1.0)))
+
+
+def facet_components(normals, light_dir, view_dirs, lighting: Lighting, lit=1.0):
+    """Unquantized diffuse, specular and total of flat facets.
+
+    Parameters
+    ----------
+    normals : (..., 3) array
+        Unit facet normals.
+    light_dir : (3,) array
+        Unit vector toward the light.
+    view_dirs : (..., 3) array
+        Unit vectors toward the detector (broadcast against ``normals``).
+    lighting : Lighting
+    lit : float or array (broadcast)
+        1 where the facet point is lit, 0 where it is in shadow.
+
+    Returns
+    -------
+    diffuse, specular, total : arrays on the 0-255 scale, not clamped.
+    """
+    n = np.asarray(normals, float)
+    v = np.asarray(view_dirs, float)
+    lvec = np.asarray(light_dir, float)
+    ndotl = np.sum(n * lvec, axis=-1)
+    lit = np.asarray(lit, float) * (ndotl > 0)
+    if lighting.specular_model == "phong":
+        r = 2.0 * ndotl[..., None] * n - lvec
+        base = np.sum(r * v, axis=-1)
+    else:
+        h = lvec + v
+        h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-12)
+        base = np.sum(n * h, axis=-1)
+    spec_factor = np.where(ndotl > 0, np.maximum(base, 0.0) ** lighting.shininess, 0.0)
+    j = lighting.light
+    diffuse = j * (
+        lighting.ambient_reflectance * lighting.ambient
+        + lit * lighting.diffuse_reflectance * np.maximum(ndotl, 0.0)
+    )
+    specular = j * lit * lighting.specular_reflectance * spec_factor
+    return diffuse, specular, diffuse + specular
+
+
+#: Values within this of a half step round up, as the framebuffer's float to
+#: 8-bit conversion does for exact ties such as 127 sin(30 deg) = 63.5 (which
+#: double precision computes as 63.49999999999999).
+_TIE_SLACK = 1e-6
+
+
+def quantize(values) -> np.ndarray:
+    """8-bit framebuffer value of an intensity: clamp to [0, 255], round to nearest, ties up."""
+    return np.floor(np.clip(np.asarray(values, float), 0.0, 255.0) + 0.5 + _TIE_SLACK)

@@ -1,0 +1,217 @@
+"""The study table: per-sweep Parquet files and their aggregate.
+
+Schema of ``results/study.parquet`` (one row per surface x view x component)
+-------------------------------------------------------------------------
+============== ======= =====================================================
+column         type    meaning
+============== ======= =====================================================
+truncation     float64 fraction of the pyramid's height kept, [0, 1]
+aspect         float64 pyramid height / base width, >= 0
+incidence      float64 light elevation above the plane, degrees [0, 90]
+azimuth        float64 view azimuth, degrees [0, 180)
+elevation      float64 view elevation, degrees [0, 180]
+phase          float64 angle between light and view directions, degrees
+component      string  'diffuse', 'specular' or 'total'
+rough          float64 rough surface: mean 8-bit value of the view, 0-255
+control        float64 flat plate under the same light and view, 0-255
+coverage       float64 fraction of the capture window showing the surface
+light          float64 light intensity J, 0-255
+ambient        float64 ambient light level A, fraction of J
+shininess      float64 specular exponent
+specular_model string  'phong' or 'blinn'
+shadows        bool    inner shadows cast
+method         string  'fast' or 'reference'
+pixels_per_period int64 fast method's pixels per period (0 for reference)
+shadow_map_size   int64 fast method's shadow texels per period (0 for reference)
+render_seconds float64 wall time of the sweep that produced the row
+============== ======= =====================================================
+
+Per-sweep files (``results/sweeps/i{incidence}/...``) hold the same columns
+but ``control`` (the rough sweep's ``value`` is renamed ``rough`` when the
+aggregate joins it to its control sweep).
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import numpy as np
+
+from .shading import COMPONENTS, phase_angle
+
+__all__ = [
+    "STUDY_COLUMNS",
+    "sweep_table",
+    "write_table_atomic",
+    "read_sweep",
+    "aggregate",
+]
+
+KEY_COLUMNS = ["truncation", "aspect", "incidence", "azimuth", "elevation", "phase", "component"]
+SETTING_COLUMNS = [
+    "light",
+    "ambient",
+    "shininess",
+    "specular_model",
+    "shadows",
+    "method",
+    "pixels_per_period",
+    "shadow_map_size",
+]
+STUDY_COLUMNS = KEY_COLUMNS + ["rough", "control", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
+SWEEP_COLUMNS = KEY_COLUMNS + ["value", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
+
+
+def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation, lighting, method, render_settings):
+    """One sweep's measurements as a long ``pyarrow.Table`` (rows: view x component).
+
+    Parameters
+    ----------
+    result : dict
+        Output of :func:`roughlight.rendering.measure_sweep`.
+    truncation, aspect, incidence : float
+    azimuth, elevation : (n_views,) arrays, degrees
+    lighting : roughlight.shading.Lighting
+    method : str
+    render_settings : dict with ``pixels_per_period`` and ``shadow_map_size``
+    """
+    import pyarrow as pa
+
+    azimuth = np.asarray(azimuth, float)
+    elevation = np.asarray(elevation, float)
+    n = azimuth.size
+    k = len(COMPONENTS)
+    fast = method == "fast"
+    columns = {
+        "truncation": np.full(n * k, float(truncation)),
+        "aspect": np.full(n * k, float(aspect)),
+        "incidence": np.full(n * k, float(incidence)),
+        "azimuth": np.repeat(azimuth, k),
+        "elevation": np.repeat(elevation, k),
+        "phase": np.repeat(phase_angle(incidence, elevation, azimuth), k),
+        "component": pa.DictionaryArray.from_arrays(
+            np.tile(np.arange(k, dtype=np.int8), n), pa.array(COMPONENTS)
+        ),
+        "value": np.stack([np.asarray(result[c], float) for c in COMPONENTS], axis=1).ravel(),
+        "coverage": np.repeat(np.asarray(result["coverage"], float), k),
+        "light": np.full(n * k, float(lighting.light)),
+        "ambient": np.full(n * k, float(lighting.ambient)),
+        "shininess": np.full(n * k, float(lighting.shininess)),
+        "specular_model": pa.array([lighting.specular_model] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "shadows": np.full(n * k, bool(lighting.shadows)),
+        "method": pa.array([method] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]) if fast else 0, np.int64),
+        "shadow_map_size": np.full(n * k, int(render_settings["shadow_map_size"]) if fast else 0, np.int64),
+        "render_seconds": np.full(n * k, float(result["seconds"])),
+    }
+    return pa.table(columns)
+
+
+def write_table_atomic(table, path) -> None:
+    """Write a ``pyarrow.Table`` (or DataFrame) to Parquet under a temporary name, then rename.
+
+    A reader never sees a half-written file: an interrupted write leaves only
+    the temporary file, which the next run overwrites.
+    """
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    if not isinstance(table, pa.Table):
+        table = pa.Table.from_pandas(table, preserve_index=False)
+    path = os.fspath(path)
+    directory = os.path.dirname(path) or "."
+    os.makedirs(directory, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".parquet", dir=directory)
+    os.close(fd)
+    try:
+        pq.write_table(table, tmp, compression="zstd")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def read_sweep(path):
+    """Read one sweep file as a DataFrame, with a clear error if it is not a readable sweep."""
+    import pandas as pd
+
+    try:
+        frame = pd.read_parquet(path)
+    except Exception as exc:  # pyarrow raises several types for a corrupt file
+        raise ValueError(
+            f"{path} is not a readable Parquet sweep ({exc}); delete it and rerun snakemake to rebuild it"
+        ) from exc
+    missing = [c for c in SWEEP_COLUMNS if c not in frame.columns]
+    if missing:
+        raise ValueError(f"{path} lacks columns {missing}; delete it and rerun snakemake to rebuild it")
+    return frame
+
+
+def aggregate(rough_paths, control_paths):
+    """Join rough sweeps to their control sweeps: the study table (see module docstring).
+
+    Parameters
+    ----------
+    rough_paths : list of paths to rough-surface sweep files
+    control_paths : list of paths to control sweep files (one per incidence)
+
+    Returns
+    -------
+    pandas.DataFrame with :data:`STUDY_COLUMNS`, sorted by surface, incidence,
+    azimuth, elevation and component.
+    """
+    import pandas as pd
+
+    rough = pd.concat([read_sweep(p) for p in rough_paths], ignore_index=True)
+    control = pd.concat([read_sweep(p) for p in control_paths], ignore_index=True)
+    join = ["incidence", "azimuth", "elevation", "component"]
+    control = control[join + ["value"]].rename(columns={"value": "control"})
+    for frame in (rough, control):
+        frame["component"] = frame["component"].astype(str)
+    study = rough.rename(columns={"value": "rough"}).merge(control, on=join, how="left", validate="many_to_one")
+    if study["control"].isna().any():
+        missing = study.loc[study["control"].isna(), ["incidence", "azimuth", "elevation"]].drop_duplicates()
+        raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
+    study["component"] = pd.Categorical(study["component"], categories=list(COMPONENTS))
+    study = study.sort_values(["truncation", "aspect", "incidence", "azimuth", "elevation", "component"])
+    study = study[STUDY_COLUMNS].reset_index(drop=True)
+    study["component"] = study["component"].astype(str)
+    return study
+
+
+def run_sweep(path, truncation, aspect, incidence, sweep, lighting, method, render, log=None):
+    """Measure one sweep and write its table to ``path`` atomically.
+
+    Parameters
+    ----------
+    path : str
+        Output Parquet file.
+    truncation, aspect, incidence : float
+    sweep : dict with ``elevation_step`` and ``azimuth_step`` (degrees)
+    lighting : dict of :class:`roughlight.shading.Lighting` fields
+    method : str, ``fast`` or ``reference``
+    render : dict of :class:`roughlight.rendering.RenderSettings` fields (may be empty)
+    log : callable taking a message, optional
+    """
+    from . import rendering, shading, sweeps
+
+    log = log or (lambda message: None)
+    lighting = shading.Lighting(**lighting)
+    settings = rendering.RenderSettings(**render)
+    azimuth, elevation = sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"])
+    log(
+        f"sweep truncation={truncation} aspect={aspect} incidence={incidence}: "
+        f"{azimuth.size} views, method={method}, {lighting}, {settings}"
+    )
+    result = rendering.measure_sweep(method, truncation, aspect, incidence, azimuth, elevation, lighting, settings)
+    log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
+    render_settings = {
+        "pixels_per_period": settings.pixels_per_period,
+        "shadow_map_size": settings.shadow_map_size,
+    }
+    table = sweep_table(result, truncation, aspect, incidence, azimuth, elevation, lighting, method, render_settings)
+    write_table_atomic(table, path)
+    log(f"wrote {table.num_rows} rows to {path}")
+    return result

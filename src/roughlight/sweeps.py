@@ -1,0 +1,63 @@
+"""The detector's orbit: which views a sweep measures.
+
+A sweep is one surface under one light. The detector orbits the hemisphere
+along half great circles: for each azimuth ``phi`` in ``[0, 180)`` (step
+``azimuth_step``) the elevation ``e`` runs over ``[0, 180]`` (step
+``elevation_step``), so ``e > 90`` looks from the far side of the zenith.
+With the thesis's 1 deg x 5 deg steps that is 181 x 36 = 6,516 views.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+__all__ = ["elevations", "azimuths", "view_grid", "is_grazing"]
+
+#: Views whose elevation is within this many degrees of 0 or 180 look along
+#: the surface plane: the projected surface has no area there.
+GRAZING_TOLERANCE_DEG = 1e-9
+
+
+def _check_step(step, name: str, span: float) -> float:
+    try:
+        value = float(step)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a number of degrees, got {step!r}") from exc
+    if not (math.isfinite(value) and 0.0 < value <= span):
+        raise ValueError(f"{name} must be > 0 and <= {span:g} degrees, got {step!r}")
+    return value
+
+
+def elevations(step: float = 1.0) -> np.ndarray:
+    """Elevations ``0, step, ...`` up to and including 180 when it falls on the grid (degrees)."""
+    step = _check_step(step, "sweep.elevation_step", 180.0)
+    n = int(math.floor(180.0 / step + 1e-9))
+    return np.round(np.arange(n + 1) * step, 9)
+
+
+def azimuths(step: float = 5.0) -> np.ndarray:
+    """Azimuths ``0, step, ...`` strictly below 180 (degrees)."""
+    step = _check_step(step, "sweep.azimuth_step", 180.0)
+    n = int(math.ceil(180.0 / step - 1e-9))
+    return np.round(np.arange(n) * step, 9)
+
+
+def view_grid(elevation_step: float = 1.0, azimuth_step: float = 5.0) -> tuple[np.ndarray, np.ndarray]:
+    """All views of a sweep, azimuth-major (the thesis's orbit order).
+
+    Returns
+    -------
+    azimuth, elevation : (n_views,) float arrays, degrees.
+    """
+    az = azimuths(azimuth_step)
+    el = elevations(elevation_step)
+    azimuth, elevation = np.meshgrid(az, el, indexing="ij")
+    return azimuth.ravel(), elevation.ravel()
+
+
+def is_grazing(elevation) -> np.ndarray:
+    """True where the view lies in the surface plane (``e`` = 0 or 180)."""
+    e = np.asarray(elevation, float)
+    return (np.abs(e) <= GRAZING_TOLERANCE_DEG) | (np.abs(e - 180.0) <= GRAZING_TOLERANCE_DEG)

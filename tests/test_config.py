@@ -1,0 +1,115 @@
+import copy
+
+import pytest
+import yaml
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from roughlight import config as rl_config
+
+from .conftest import REPO
+
+SCHEMA = REPO / "workflow" / "schemas" / "config.schema.yaml"
+
+
+def default_config():
+    with open(REPO / "config" / "config.yaml") as fh:
+        return yaml.safe_load(fh)
+
+
+def test_default_config_is_valid_and_documented():
+    cfg = rl_config.validate_config(default_config(), SCHEMA)
+    assert cfg["sweep"] == {"elevation_step": 1, "azimuth_step": 5}
+    readme = (REPO / "config" / "README.md").read_text()
+    schema = rl_config.load_schema(SCHEMA)
+    for section, body in schema["properties"].items():
+        for key in body["properties"]:
+            assert f"`{section}.{key}`" in readme, f"config/README.md does not document {section}.{key}"
+
+
+def test_defaults_fill_an_empty_config():
+    cfg = rl_config.validate_config({}, SCHEMA)
+    assert cfg["grid"]["incidence"] == [30]
+    assert cfg["render"]["method"] == "fast"
+    assert cfg["light"]["intensity"] == 127
+
+
+BAD = [
+    (("grid", "truncation"), [0.0, 1.5], "grid.truncation[1]", "<= 1"),
+    (("grid", "truncation"), [-0.1], "grid.truncation[0]", ">= 0"),
+    (("grid", "aspect"), [-1], "grid.aspect[0]", ">= 0"),
+    (("grid", "incidence"), [95], "grid.incidence[0]", "<= 90"),
+    (("grid", "incidence"), [-5], "grid.incidence[0]", ">= 0"),
+    (("grid", "incidence"), [], "grid.incidence", "at least one"),
+    (("sweep", "elevation_step"), 0, "sweep.elevation_step", "> 0"),
+    (("sweep", "azimuth_step"), -5, "sweep.azimuth_step", "> 0"),
+    (("material", "specular_model"), "cook", "material.specular_model", "phong, blinn"),
+    (("render", "method"), "raytrace", "render.method", "fast, reference"),
+    (("grid", "truncation"), ["abc"], "grid.truncation[0]", "type number"),
+    (("sweep", "elevation_step"), "1", "sweep.elevation_step", "type number"),
+    (("render", "shadows"), "yes", "render.shadows", "type boolean"),
+    (("render", "pixels_per_period"), 2.5, "render.pixels_per_period", "type integer"),
+    (("light", "intensity"), 300, "light.intensity", "<= 255"),
+    (("grid", "truncation"), [0.1, 0.1], "grid.truncation", "same value twice"),
+]
+
+
+@pytest.mark.parametrize("path,value,key,allowed", BAD)
+def test_bad_values_name_the_key_and_what_is_allowed(path, value, key, allowed):
+    cfg = default_config()
+    cfg[path[0]][path[1]] = value
+    with pytest.raises(rl_config.ConfigError) as info:
+        rl_config.validate_config(cfg, SCHEMA)
+    message = str(info.value)
+    assert key in message
+    assert allowed in message
+
+
+def test_unknown_keys_are_refused():
+    cfg = default_config()
+    cfg["render"]["methd"] = "fast"
+    with pytest.raises(rl_config.ConfigError, match="methd"):
+        rl_config.validate_config(cfg, SCHEMA)
+
+
+def test_every_problem_is_listed_at_once():
+    cfg = default_config()
+    cfg["grid"]["truncation"] = [2]
+    cfg["sweep"]["azimuth_step"] = 0
+    with pytest.raises(rl_config.ConfigError) as info:
+        rl_config.validate_config(cfg, SCHEMA)
+    assert "grid.truncation[0]" in str(info.value) and "sweep.azimuth_step" in str(info.value)
+
+
+def test_labels_are_exact_and_distinct():
+    assert rl_config.label(0.1) == "0.1"
+    assert rl_config.label(1.0) == "1"
+    assert rl_config.label(30) == "30"
+    assert rl_config.label(0.8660254037844386) == "0.8660254037844386"
+    assert float(rl_config.label(0.30000000000000004)) == 0.30000000000000004
+
+
+numbers = st.floats(-1e3, 1e3, allow_nan=False)
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.lists(numbers, min_size=1, max_size=4), st.lists(numbers, min_size=1, max_size=4),
+       st.lists(numbers, min_size=1, max_size=3), numbers, numbers)
+def test_validation_accepts_exactly_the_valid_grids(truncation, aspect, incidence, el_step, az_step):
+    cfg = {
+        "grid": {"truncation": truncation, "aspect": aspect, "incidence": incidence},
+        "sweep": {"elevation_step": el_step, "azimuth_step": az_step},
+    }
+    valid = (
+        all(0 <= t <= 1 for t in truncation)
+        and all(0 <= a <= 10 for a in aspect)
+        and all(0 <= i <= 90 for i in incidence)
+        and 0 < el_step <= 180
+        and 0 < az_step <= 180
+        and all(len({rl_config.label(v) for v in vals}) == len(vals) for vals in (truncation, aspect, incidence))
+    )
+    if valid:
+        rl_config.validate_config(copy.deepcopy(cfg), SCHEMA)
+    else:
+        with pytest.raises(rl_config.ConfigError):
+            rl_config.validate_config(copy.deepcopy(cfg), SCHEMA)

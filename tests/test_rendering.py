@@ -1,0 +1,123 @@
+"""Lighting invariants measured from renders of the fast method (pyrender over OSMesa)."""
+import numpy as np
+import pytest
+
+from roughlight import reference, rendering, shading, sweeps
+
+AZ, EL = sweeps.view_grid(10, 30)  # coarse orbit: 19 elevations x 6 azimuths
+INNER = (EL > 0) & (EL < 180)
+
+
+def render(t, a, i, lighting=None, az=AZ, el=EL, **kw):
+    return rendering.render_sweep(t, a, i, az, el, lighting or shading.Lighting(), rendering.RenderSettings(**kw))
+
+
+@pytest.mark.parametrize("incidence", [10, 30, 45, 60, 90])
+def test_control_diffuse_is_lambert(incidence):
+    out = render(0.0, 0.0, incidence)
+    expected = 127 * np.sin(np.radians(incidence))
+    assert np.all(np.abs(out["diffuse"][INNER] - expected) <= 0.5 + 1e-9)
+    assert np.all(out["coverage"][INNER] == 1.0)
+    assert np.all(out["coverage"][~INNER] == 0.0) and np.all(out["total"][~INNER] == 0.0)
+
+
+@pytest.mark.parametrize("incidence", [20, 30, 60])
+def test_control_specular_peaks_in_the_mirror_direction(incidence):
+    az, el = sweeps.view_grid(1, 5)
+    for m_s in (1.0, 0.5):
+        out = render(0.0, 0.0, incidence, shading.Lighting(specular_reflectance=m_s), az=az, el=el)
+        peak = np.argmax(out["specular"])
+        assert az[peak] == 0 and el[peak] == 180 - incidence
+        assert abs(out["specular"][peak] - 127 * m_s) <= 0.5 + 1e-9
+
+
+def test_zero_truncation_rough_equals_control():
+    control = render(0.0, 0.0, 30)
+    for t, a in [(0.0, 1.0), (0.6, 0.0)]:
+        rough = render(t, a, 30)
+        for c in ("diffuse", "specular", "total", "coverage"):
+            np.testing.assert_array_equal(rough[c], control[c])
+
+
+@pytest.mark.parametrize("t,a,i", [(0.5, 1.0, 30), (1.0, 0.7, 20), (0.3, 0.4, 60)])
+def test_mirror_symmetry_about_the_lights_plane(t, a, i):
+    # the mirror of view (e, phi) in the plane y = 0 is (180 - e, 180 - phi) on this orbit
+    az, el = sweeps.view_grid(10, 15)
+    out = render(t, a, i, az=az, el=el)
+    index = {(round(x), round(y)): k for k, (x, y) in enumerate(zip(az, el))}
+    pairs = [(k, index[(180 - round(x), 180 - round(y))]) for k, (x, y) in enumerate(zip(az, el))
+             if 0 < x < 180 and (180 - round(x), 180 - round(y)) in index]
+    assert len(pairs) > 50
+    first, second = np.array(pairs).T
+    for c in ("diffuse", "specular", "total"):
+        diff = np.abs(out[c][first] - out[c][second])
+        # equal up to pixel sampling (a facet edge through a pixel centre goes to one side)
+        assert diff.max() <= 1.0 and diff.mean() <= 0.1, (c, diff.max(), diff.mean())
+    # and the test can fail: phi -> 180 - phi alone is not a symmetry
+    naive = [(k, index[(180 - round(x), round(y))]) for k, (x, y) in enumerate(zip(az, el))
+             if 0 < x < 180 and (180 - round(x), round(y)) in index]
+    f2, s2 = np.array(naive).T
+    assert np.max(np.abs(out["total"][f2] - out["total"][s2])) > 5
+
+
+def test_shadows_darken_at_low_incidence():
+    lit = shading.Lighting(shadows=False)
+    shadowed = shading.Lighting(shadows=True)
+    low_on, low_off = render(1.0, 1.0, 10, shadowed), render(1.0, 1.0, 10, lit)
+    # shadows only ever darken, and at 10 deg they darken the diffuse component a lot
+    assert np.all(low_on["total"] <= low_off["total"] + 0.5)
+    assert np.mean(low_off["diffuse"][INNER] - low_on["diffuse"][INNER]) > 5
+    # with the light overhead nothing is shadowed
+    high_on, high_off = render(1.0, 1.0, 90, shadowed), render(1.0, 1.0, 90, lit)
+    np.testing.assert_allclose(high_on["total"], high_off["total"], atol=0.5)
+    # the shadowed amount is right: the east facets, facing the light, are partly
+    # shadowed by the next pyramid; at e = 90 the exact lit area says how much
+    fine = render(1.0, 1.0, 10, shadowed, az=[0.0], el=[90.0], pixels_per_period=128)
+    exact = reference.reference_sweep(1.0, 1.0, 10, [0.0], [90.0], shadowed)
+    assert abs(fine["diffuse"][0] - exact["diffuse"][0]) < 0.5
+
+
+@pytest.mark.parametrize("t,a,i", [(0.5, 1.0, 30), (1.0, 1.0, 30), (0.8, 0.8660254037844386, 30), (0.3, 0.5, 60)])
+def test_fast_agrees_with_the_exact_reference(t, a, i):
+    lighting = shading.Lighting()
+    exact = reference.reference_sweep(t, a, i, AZ, EL, lighting)
+    keep = (EL >= 10) & (EL <= 170)
+    errors = {}
+    for pixels in (32, 64):
+        fast = render(t, a, i, lighting, pixels_per_period=pixels)
+        errors[pixels] = {c: np.abs(fast[c] - exact[c])[keep] for c in ("diffuse", "specular", "total")}
+    for c, err in errors[32].items():
+        assert err.mean() < 1.0 and err.max() < 4.0, (c, err.mean(), err.max())
+    # pixel sampling is the only error: it shrinks as the tiles get finer
+    for c, err in errors[64].items():
+        assert err.mean() < 0.5 and err.max() < 2.5, (c, err.mean(), err.max())
+    assert errors[64]["diffuse"].mean() < errors[32]["diffuse"].mean()
+
+
+def test_blinn_and_phong_differ_and_both_peak_at_the_mirror():
+    az, el = sweeps.view_grid(1, 45)
+    phong = render(0.0, 0.0, 30, shading.Lighting(specular_model="phong"), az=az, el=el)
+    blinn = render(0.0, 0.0, 30, shading.Lighting(specular_model="blinn"), az=az, el=el)
+    for out in (phong, blinn):
+        top = out["specular"] == out["specular"].max()
+        assert out["specular"].max() == 127
+        assert set(az[top]) == {0} and np.mean(el[top]) == 150  # centred on the mirror direction
+    # Blinn's lobe is wider at the same exponent
+    assert np.sum(blinn["specular"] > 10) > np.sum(phong["specular"] > 10)
+
+
+def test_shader_programs_are_compiled_once():
+    render(0.5, 1.0, 30)
+    ctx = next(iter(rendering._CONTEXTS.values()))
+    before = dict(ctx.programs._programs)
+    render(0.7, 0.5, 45)
+    render(0.2, 1.0, 20)
+    after = ctx.programs._programs
+    assert len(after) == 2 and all(after[k] is before[k] for k in before)
+
+
+def test_bad_incidence_and_shapes_are_refused():
+    with pytest.raises(ValueError, match="incidence"):
+        render(0.5, 1.0, 95)
+    with pytest.raises(ValueError, match="same shape"):
+        rendering.render_sweep(0.5, 1.0, 30, [0, 5], [10])

@@ -1,0 +1,112 @@
+"""End to end: snakemake on a tiny grid in a temporary directory."""
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from roughlight.study import STUDY_COLUMNS
+
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+
+TINY = {
+    "grid": {"truncation": [0.0, 1.0], "aspect": [1.0], "incidence": [30]},
+    "sweep": {"elevation_step": 30, "azimuth_step": 60},
+}
+
+
+def write_config(workdir, cfg):
+    (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
+
+
+def snakemake(workdir, *args, check=True):
+    proc = subprocess.run(
+        [SNAKEMAKE, "--cores", "2", *args], cwd=workdir, capture_output=True, text=True, timeout=600
+    )
+    if check and proc.returncode != 0:
+        raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout}\n{proc.stderr}")
+    return proc
+
+
+def planned_jobs(workdir):
+    """Jobs a dry run would execute, by rule."""
+    out = snakemake(workdir, "--dry-run", "--quiet", "rules").stdout
+    counts = {}
+    for line in out.splitlines():
+        parts = line.split()
+        if len(parts) == 2 and parts[1].isdigit() and parts[0] not in ("total", "rule"):
+            counts[parts[0]] = int(parts[1])
+    return counts
+
+
+@pytest.mark.slow
+def test_tiny_study_end_to_end(workflow_dir):
+    write_config(workflow_dir, TINY)
+    snakemake(workflow_dir)
+    study = pd.read_parquet(workflow_dir / "results" / "study.parquet")
+    assert list(study.columns) == STUDY_COLUMNS
+    views = 7 * 3  # elevations 0..180 by 30 x azimuths 0, 60, 120
+    assert len(study) == 2 * views * 3
+    assert set(study["component"]) == {"diffuse", "specular", "total"}
+    assert (study["method"] == "fast").all() and study["shadows"].all()
+    inner = study[(study.elevation > 0) & (study.elevation < 180)]
+    assert (inner["coverage"] == 1).all()
+    # the control is Lambert's plate: 127 sin 30 = 63.5 -> 64 on 8 bits
+    assert np.allclose(inner.loc[inner.component == "diffuse", "control"], 64.0)
+    # truncation 0 is the plate: rough equals control
+    plate = study[study.truncation == 0]
+    np.testing.assert_array_equal(plate["rough"], plate["control"])
+    # the full pyramid differs from the plate and is darker in diffuse on average
+    pyramid = inner[(inner.truncation == 1) & (inner.component == "diffuse")]
+    assert pyramid["rough"].mean() < pyramid["control"].mean() - 5
+    # phase is the angle between L and V
+    row = study[(study.azimuth == 0) & (study.elevation == 30)].iloc[0]
+    assert row["phase"] == pytest.approx(0.0, abs=1e-9)
+    assert (study["render_seconds"] > 0).all()
+    assert (workflow_dir / "results" / "meshes" / "t1_a1.ply").exists()
+
+    # nothing changed: nothing to do
+    assert planned_jobs(workflow_dir) == {}
+
+    # a new grid point renders that sweep only (plus the aggregate and the meshes)
+    cfg = yaml.safe_load(yaml.safe_dump(TINY))
+    cfg["grid"]["truncation"].append(0.5)
+    write_config(workflow_dir, cfg)
+    assert planned_jobs(workflow_dir) == {"rough_sweep": 1, "study_table": 1, "surface_meshes": 1, "all": 1}
+
+    # the shadows switch re-renders the rough surfaces, not the control (a plate has no shadows)
+    cfg["render"] = {"shadows": False}
+    write_config(workflow_dir, cfg)
+    jobs = planned_jobs(workflow_dir)
+    assert jobs.get("rough_sweep") == 3 and "control_sweep" not in jobs
+
+    # a lighting change re-renders everything that sees the light
+    cfg["render"] = {"shadows": True}
+    cfg["material"] = {"shininess": 32}
+    write_config(workflow_dir, cfg)
+    jobs = planned_jobs(workflow_dir)
+    assert jobs.get("rough_sweep") == 3 and jobs.get("control_sweep") == 1
+
+
+@pytest.mark.slow
+def test_bad_config_stops_before_any_rendering(workflow_dir):
+    cfg = yaml.safe_load(yaml.safe_dump(TINY))
+    cfg["grid"]["truncation"] = [0.0, 1.5]
+    cfg["sweep"]["azimuth_step"] = "five"
+    write_config(workflow_dir, cfg)
+    proc = snakemake(workflow_dir, check=False)
+    assert proc.returncode != 0
+    text = proc.stdout + proc.stderr
+    assert "grid.truncation[1] = 1.5 must be <= 1" in text
+    assert "sweep.azimuth_step = 'five' must be of type number" in text
+    assert not (workflow_dir / "results" / "sweeps").exists()
+
+
+@pytest.mark.slow
+def test_lint_is_clean(workflow_dir):
+    proc = snakemake(workflow_dir, "--lint", check=False)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert "Congratulations" in proc.stdout + proc.stderr

@@ -1,0 +1,99 @@
+# Helpers shared by the rules: grid expansion, wildcard <-> config value, params.
+import os
+
+try:
+    from roughlight import config as rl_config
+except ImportError as exc:  # the package is installed by `make setup` (pip install -e .)
+    raise WorkflowError(
+        "the roughlight package is not importable: run `make setup` (or `pip install -e .` "
+        f"in the environment that runs snakemake) first ({exc})"
+    )
+
+
+wildcard_constraints:
+    incidence=r"[0-9][0-9.e+-]*",
+    truncation=r"[0-9][0-9.e+-]*",
+    aspect=r"[0-9][0-9.e+-]*",
+
+
+def check_config(config, schema):
+    """Validate the config with one readable line per problem; stop before any job runs."""
+    try:
+        rl_config.validate_config(config, schema)
+    except rl_config.ConfigError as exc:
+        raise WorkflowError(str(exc))
+
+
+def _grid(key):
+    return [float(v) for v in config["grid"][key]]
+
+
+def _value(key, text):
+    """The configured grid value whose label is `text` (exact, not re-parsed)."""
+    for value in _grid(key):
+        if rl_config.label(value) == text:
+            return value
+    raise WorkflowError(f"{key} {text!r} is not in config grid.{key}")
+
+
+def rough_sweep_files():
+    return [
+        f"results/sweeps/i{rl_config.label(i)}/t{rl_config.label(t)}_a{rl_config.label(a)}.parquet"
+        for i in _grid("incidence")
+        for t in _grid("truncation")
+        for a in _grid("aspect")
+    ]
+
+
+def control_sweep_files():
+    return [f"results/sweeps/i{rl_config.label(i)}/control.parquet" for i in _grid("incidence")]
+
+
+def mesh_files():
+    files = [
+        f"results/meshes/t{rl_config.label(t)}_a{rl_config.label(a)}.ply"
+        for t in _grid("truncation")
+        for a in _grid("aspect")
+    ]
+    return files + ["results/meshes/control.ply"]
+
+
+def surface_params(wildcards):
+    return {
+        "truncation": _value("truncation", wildcards.truncation),
+        "aspect": _value("aspect", wildcards.aspect),
+    }
+
+
+def incidence_param(wildcards):
+    return _value("incidence", wildcards.incidence)
+
+
+def sweep_params(wildcards):
+    return {key: float(config["sweep"][key]) for key in ("elevation_step", "azimuth_step")}
+
+
+def lighting_params(wildcards):
+    return rl_config.lighting_from_config(config).as_dict()
+
+
+def control_lighting_params(wildcards):
+    """The plate casts no shadows: the shadows switch does not touch the control."""
+    lighting = rl_config.lighting_from_config(config).as_dict()
+    lighting["shadows"] = False
+    return lighting
+
+
+def method_param(wildcards):
+    return config["render"]["method"]
+
+
+def render_params(wildcards):
+    """The fast renderer's knobs; empty for the reference, which they do not affect."""
+    if config["render"]["method"] != "fast":
+        return {}
+    return rl_config.render_settings_from_config(config)
+
+
+def grid_params(wildcards):
+    return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}

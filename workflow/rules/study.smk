@@ -1,0 +1,18 @@
+# The study table: every rough sweep joined to its control.
+
+
+rule study_table:
+    input:
+        rough=rough_sweep_files(),
+        control=control_sweep_files(),
+    output:
+        "results/study.parquet",
+    log:
+        "results/logs/study.log",
+    threads: 1
+    resources:
+        mem_mb=4096,
+    conda:
+        "../../envs/study.yaml"
+    script:
+        "../scripts/study_table.py"

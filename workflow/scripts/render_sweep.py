@@ -1,0 +1,24 @@
+"""Snakemake adapter: one sweep (a rough surface or the control) to a Parquet file."""
+import os
+import sys
+
+# llvmpipe's worker threads: as many as the rule's `threads`, set before OpenGL loads
+os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+from roughlight.study import run_sweep  # noqa: E402
+
+log = _log.setup(snakemake)
+run_sweep(
+    snakemake.output[0],
+    truncation=snakemake.params.surface["truncation"],
+    aspect=snakemake.params.surface["aspect"],
+    incidence=snakemake.params.incidence,
+    sweep=snakemake.params.sweep,
+    lighting=snakemake.params.lighting,
+    method=snakemake.params.method,
+    render=snakemake.params.render,
+    log=log,
+)

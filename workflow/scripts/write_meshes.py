@@ -1,0 +1,21 @@
+"""Snakemake adapter: write one period of every surface of the grid (and the control) as PLY."""
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+from roughlight import config, geometry  # noqa: E402
+
+log = _log.setup(snakemake)
+targets = {
+    f"results/meshes/t{config.label(t)}_a{config.label(a)}.ply": (t, a)
+    for t in snakemake.params.grid["truncation"]
+    for a in snakemake.params.grid["aspect"]
+}
+targets["results/meshes/control.ply"] = (0.0, 0.0)
+for path in snakemake.output:
+    truncation, aspect = targets[path]
+    mesh = geometry.period_mesh(truncation, aspect)
+    geometry.export_mesh_atomic(mesh, path)
+    log(f"{path}: {len(mesh.faces)} triangles, truncation={truncation}, aspect={aspect}")
