@@ -58,6 +58,7 @@ __all__ = [
     "thesis_tables",
     "sine_refits",
     "reflecting_areas",
+    "exact_lobe_peaks",
     "grid_glm",
     "grid_glms",
     "facets",
@@ -702,6 +703,8 @@ def fit_statistics(observed, predicted) -> dict:
                    converged=bool(res.converged))
         if not res.converged:
             out["note"] = "IRLS did not converge"
+        elif res.deviance <= 1e-9 * max(1.0, float(np.sum((y - y.mean()) ** 2))):
+            out["note"] = "exact fit: the model reproduces every point"
         elif caught:
             out["note"] = "; ".join(sorted({str(w.message) for w in caught}))[:200]
     except Exception as exc:  # singular designs etc.: report, never crash
@@ -709,10 +712,59 @@ def fit_statistics(observed, predicted) -> dict:
     return out
 
 
-def _table_data(lobes: pd.DataFrame, aspect: float, incidence: float):
+def _table_data(lobes: pd.DataFrame, aspect: float, incidence: float, value: str = "peak"):
     sel = lobes[(np.abs(lobes["aspect"] - aspect) <= ASPECT_TOL) & np.isclose(lobes["incidence"], incidence)]
-    piv = sel.pivot_table(index="truncation", columns="lobe", values="peak", aggfunc="first")
+    piv = sel.pivot_table(index="truncation", columns="lobe", values=value, aggfunc="first", dropna=False)
     return piv.sort_index()
+
+
+def exact_lobe_peaks(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = THESIS_INCIDENCE,
+                     lighting=None, halfwidth: float = 10.0, step: float = 1.0) -> pd.DataFrame:
+    """Exact (polygon-clipping reference) lobe peaks beside the measured ones, for the table surfaces.
+
+    For each surface of the tabulated aspects and each of the forward and
+    back lobes, :func:`roughlight.reference.reference_sweep` evaluates the
+    phi = 0 arc on the study's elevation grid (``step`` degrees) within
+    ``halfwidth`` of the predicted mirror elevation; the exact peak is the
+    largest of those values.
+
+    Parameters
+    ----------
+    lobes : :func:`arc_lobes` output
+    lighting : :class:`roughlight.shading.Lighting` (default: the study's)
+
+    Returns
+    -------
+    DataFrame: surface keys, ``lobe``, ``peak`` (measured), ``exact_peak``
+    (0-255), ``exact_peak_elevation`` (degrees), ``error`` (measured - exact).
+    """
+    from .reference import reference_sweep
+    from .shading import Lighting
+
+    lighting = lighting or Lighting()
+    rows = []
+    for wanted in aspects:
+        a = find_aspect(lobes["aspect"], wanted)
+        if a is None:
+            continue
+        sel = lobes[(np.abs(lobes["aspect"] - a) <= ASPECT_TOL) & np.isclose(lobes["incidence"], incidence)
+                    & lobes["lobe"].isin(["forward", "back"])]
+        for _, r in sel.iterrows():
+            c = r["predicted"]
+            row = {"truncation": r["truncation"], "aspect": a, "incidence": r["incidence"], "lobe": r["lobe"],
+                   "peak": r["peak"], "exact_peak": np.nan, "exact_peak_elevation": np.nan}
+            if np.isfinite(c):
+                el = np.arange(np.ceil((c - halfwidth) / step) * step, c + halfwidth + 1e-9, step)
+                el = el[(el > 0) & (el < 180)]
+                if len(el):
+                    out = reference_sweep(r["truncation"], a, r["incidence"], np.zeros_like(el), el, lighting)
+                    k = int(np.argmax(out["specular"]))
+                    peak = float(out["specular"][k])
+                    row.update(exact_peak=peak, exact_peak_elevation=float(el[k]) if peak >= MIN_LOBE_PEAK else np.nan)
+            rows.append(row)
+    out = pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation"])
+    out["error"] = out["peak"] - out["exact_peak"]
+    return out
 
 
 def thesis_tables(
@@ -721,6 +773,7 @@ def thesis_tables(
     incidence: float = THESIS_INCIDENCE,
     m: float = 127.0,
     k: float = 0.5,
+    exact: pd.DataFrame | None = None,
 ) -> tuple[pd.DataFrame, list[str]]:
     """Tables 1 and 2 of the thesis, from our lobe peaks, one pair per aspect.
 
@@ -735,12 +788,17 @@ def thesis_tables(
         Degrees (the thesis: 30).
     m, k : float
         See :func:`thesis_model_predictions`.
+    exact : DataFrame, optional
+        :func:`exact_lobe_peaks` output: adds rows computed from the exact
+        peaks (source 'exact geometry'), which separate the renderer's
+        sampling error from the models' error.
 
     Returns
     -------
     table : DataFrame (long), one row per table x aspect x model x source:
         ``table`` (1 | 2), ``aspect``, ``aspect_label``, ``model`` (the
-        thesis's row label), ``source`` ('ours' | 'thesis 2001'), the
+        thesis's row label), ``source`` ('ours' | 'exact geometry' |
+        'thesis 2001'), the
         :data:`TABLE_METRICS`, ``n``, ``SSE``, ``converged``, ``note``.
         The thesis's rows are repeated for each aspect so that every table
         carries them.
@@ -768,11 +826,20 @@ def thesis_tables(
             if lobe not in data:
                 messages.append(f"aspect {aspect_label(found)}: no {lobe} lobe measured")
                 continue
+            exact_data = None
+            if exact is not None and len(exact):
+                ex = exact.rename(columns={"exact_peak": "_exact"})
+                exact_data = _table_data(ex, found, incidence, "_exact").reindex(data.index)
             for model, pred in models.items():
                 stats = fit_statistics(data[lobe].to_numpy(float), pred)
                 rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
                              "source": "ours", **stats,
                              "truncations": ", ".join(f"{x:g}" for x in t)})
+                if exact_data is not None and lobe in exact_data:
+                    stats = fit_statistics(exact_data[lobe].to_numpy(float), pred)
+                    rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found),
+                                 "model": model, "source": "exact geometry", **stats,
+                                 "truncations": ", ".join(f"{x:g}" for x in t)})
                 thesis = dict(zip(TABLE_METRICS, THESIS_TABLES[table]["rows"][model]))
                 rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
                              "source": "thesis 2001", **thesis, "n": 11, "SSE": np.nan, "converged": True,
@@ -1179,49 +1246,85 @@ def hapke_opposition(phase, B0: float, h: float) -> np.ndarray:
     return B0 / (1.0 + np.tan(g / 2.0) / max(h, 1e-12))
 
 
-def fit_hapke(phase, values, max_phase: float = 60.0) -> dict:
-    """Fit ``I(g) = c (1 + B(g))`` (Hapke's opposition surge) to the views near opposition.
+def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_range=(1e-3, 1.0)) -> dict:
+    """Fit Hapke's opposition surge on a linear phase background to a surface's phase curve.
+
+    The views within ``max_phase`` of opposition are averaged in phase bins
+    of ``bin_width`` degrees (the phase curve, as Hapke's law is fitted to
+    phase curves); the curve is fitted by
+    ``I(g) = c + d g + S / (1 + tan(g/2) / h)``, i.e. the surge
+    ``c B(g)`` with ``B(g) = B0 / (1 + tan(g/2) / h)``, ``B0 = S / c``, on a
+    background ``c + d g`` (a first-order phase function, which Hapke's full
+    model supplies separately). For a given ``h`` the model is linear in
+    ``(c, d, S)`` (least squares, ``S >= 0``); ``h`` comes from a grid search
+    over ``h_range`` refined by a bounded scalar minimisation (log scale).
 
     Parameters
     ----------
     phase, values : (n,) arrays (degrees, 0-255)
     max_phase : float
-        Only views with ``g <= max_phase`` degrees are fitted.
+        Only views with ``g <= max_phase`` degrees are used.
+    bin_width : float
+        Degrees per phase bin.
+    h_range : (float, float)
+        Range of the angular width parameter ``h``.
 
     Returns
     -------
-    dict: ``c`` (0-255), ``B0``, ``h``, ``rmse`` (0-255), ``rmse_constant``
-    (a constant alone, for comparison), ``n``, ``note``.
+    dict: ``c`` (0-255), ``d`` (0-255 per degree), ``S`` (surge amplitude,
+    0-255), ``B0`` (S / c; NaN when c <= 0), ``h``, ``rmse`` (on the phase
+    curve, 0-255), ``rmse_constant`` (the background ``c + d g`` alone),
+    ``n`` (phase bins), ``note``.
     """
-    from scipy.optimize import curve_fit
+    from scipy.optimize import minimize_scalar
 
     g = np.asarray(phase, float)
     v = np.asarray(values, float)
-    ok = (g <= max_phase) & np.isfinite(v)
+    ok = (g <= max_phase) & np.isfinite(v) & np.isfinite(g)
     g, v = g[ok], v[ok]
-    out = {"c": np.nan, "B0": np.nan, "h": np.nan, "rmse": np.nan,
-           "rmse_constant": float(np.std(v)) if len(v) else np.nan, "n": int(len(v)), "note": ""}
-    if len(v) < 4:
-        out["note"] = f"only {len(v)} views within {max_phase:g} deg of opposition"
+    if len(g):
+        idx = np.floor(g / bin_width).astype(int)
+        uniq, inv = np.unique(idx, return_inverse=True)
+        v = np.bincount(inv, weights=v) / np.bincount(inv)
+        g = np.bincount(inv, weights=g) / np.bincount(inv)
+    out = {"c": np.nan, "d": np.nan, "S": np.nan, "B0": np.nan, "h": np.nan, "rmse": np.nan,
+           "rmse_constant": np.nan, "n": int(len(v)), "note": ""}
+    if len(v) < 5:
+        out["note"] = f"only {len(v)} phase bins within {max_phase:g} deg of opposition"
         return out
+    base = np.column_stack([np.ones_like(g), g])
+    coef0, *_ = np.linalg.lstsq(base, v, rcond=None)
+    out["rmse_constant"] = float(np.sqrt(np.mean((v - base @ coef0) ** 2)))
     if np.ptp(v) < 1e-9:
-        out.update(c=float(v[0]), B0=0.0, h=np.nan, rmse=0.0, note="constant: no opposition surge")
+        out.update(c=float(v[0]), d=0.0, S=0.0, B0=0.0, rmse=0.0, note="constant: no opposition surge")
         return out
+    tg = np.tan(np.radians(g) / 2.0)
 
-    def f(x, c, B0, h):
-        return c * (1.0 + hapke_opposition(x, B0, h))
+    def solve(log_h):
+        b = 1.0 / (1.0 + tg / math.exp(log_h))
+        X = np.column_stack([base, b])
+        coef, *_ = np.linalg.lstsq(X, v, rcond=None)
+        if coef[2] < 0:  # the surge must add light: fall back to the background alone
+            coef = np.array([coef0[0], coef0[1], 0.0])
+        r = v - X @ coef
+        return coef, float(r @ r)
 
-    far = v[g >= np.quantile(g, 0.75)]
-    c0 = max(float(np.mean(far)), 1e-3)
-    B00 = max(float(v.max()) / c0 - 1.0, 0.01)
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            popt, _ = curve_fit(f, g, v, p0=[c0, B00, 0.1], bounds=([0, 0, 1e-4], [255 * 2, 1e3, 10]), maxfev=20000)
-        out.update(c=float(popt[0]), B0=float(popt[1]), h=float(popt[2]),
-                   rmse=float(np.sqrt(np.mean((v - f(g, *popt)) ** 2))))
-    except (RuntimeError, ValueError) as exc:
-        out["note"] = f"fit failed: {exc}"
+    lo, hi = math.log(h_range[0]), math.log(h_range[1])
+    grid = np.linspace(lo, hi, 41)
+    rss = np.array([solve(x)[1] for x in grid])
+    j = int(np.argmin(rss))
+    a_, b_ = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
+    best = minimize_scalar(lambda x: solve(x)[1], bounds=(a_, b_), method="bounded", options={"xatol": 1e-4})
+    log_h = float(best.x) if best.fun <= rss[j] else float(grid[j])
+    (c, d, S), r = solve(log_h)
+    out.update(c=float(c), d=float(d), S=float(S), B0=float(S / c) if c > 0 else np.nan, h=math.exp(log_h),
+               rmse=float(math.sqrt(r / len(v))))
+    if S <= 0:
+        out.update(h=np.nan, note="no surge: the background alone fits best")
+    elif abs(log_h - lo) < 1e-3 or abs(log_h - hi) < 1e-3:
+        out["note"] = f"h at the edge of its range ({h_range[0]:g}..{h_range[1]:g}): no distinct surge width"
+    if S > 0 and not c > 0:
+        out["note"] = (out["note"] + "; " if out["note"] else "") + "background intercept <= 0: B0 undefined"
     return out
 
 
@@ -1244,8 +1347,10 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
       (:func:`facet_model`).
     * specular: Phong on the plate (``control``); the facet model without
       masking and with the V-cavity masking-shadowing term.
-    * opposition: Hapke's ``c (1 + B(g))`` fitted to the total component of
-      the views within ``hapke_max_phase`` of zero phase, beside a constant.
+    * opposition: Hapke's surge ``B(g)`` on a linear phase background
+      (:func:`fit_hapke`) fitted to the total and to the diffuse component
+      of the views within ``hapke_max_phase`` of zero phase, beside the
+      background alone.
 
     Parameters
     ----------
@@ -1306,7 +1411,10 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
         mt = gt["coverage"].to_numpy(float) > 0
         hp = fit_hapke(gt["phase"].to_numpy(float)[mt], gt["rough"].to_numpy(float)[mt], hapke_max_phase)
         row.update(rmse_hapke=hp["rmse"], rmse_constant_near_opposition=hp["rmse_constant"],
-                   hapke_c=hp["c"], hapke_B0=hp["B0"], hapke_h=hp["h"], hapke_note=hp["note"])
+                   hapke_c=hp["c"], hapke_d=hp["d"], hapke_S=hp["S"], hapke_B0=hp["B0"], hapke_h=hp["h"], hapke_note=hp["note"])
+        hd = fit_hapke(gd["phase"].to_numpy(float)[m], yd[m], hapke_max_phase)
+        row.update(rmse_hapke_diffuse=hd["rmse"], rmse_constant_diffuse_near_opposition=hd["rmse_constant"],
+                   hapke_diffuse_B0=hd["B0"], hapke_diffuse_h=hd["h"])
         dcols = {"Lambert (plate)": row["rmse_lambert"], "Oren-Nayar (geometric sigma)": row["rmse_oren_nayar"],
                  "Oren-Nayar (fitted sigma)": row["rmse_oren_nayar_fitted"],
                  "Torrance-Sparrow V-cavity facets": row["rmse_facet_vcavity_diffuse"]}
@@ -1333,8 +1441,12 @@ MODEL_COLUMNS = {
         "rmse_facet_vcavity_specular": "Torrance-Sparrow V-cavity facets",
     },
     "near opposition (total)": {
-        "rmse_constant_near_opposition": "constant",
-        "rmse_hapke": "Hapke c(1 + B(g))",
+        "rmse_constant_near_opposition": "linear phase background",
+        "rmse_hapke": "background + Hapke B(g)",
+    },
+    "near opposition (diffuse)": {
+        "rmse_constant_diffuse_near_opposition": "linear phase background",
+        "rmse_hapke_diffuse": "background + Hapke B(g)",
     },
 }
 

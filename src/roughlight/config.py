@@ -177,5 +177,6 @@ def render_settings_from_config(config: dict) -> dict:
     render = config["render"]
     return {
         "pixels_per_period": int(render["pixels_per_period"]),
+        "sampling": str(render["sampling"]),
         "shadow_map_size": int(render["shadow_map_size"]),
     }

@@ -64,11 +64,8 @@ __all__ = [
 
 SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
 
-#: Shift of the pixel grid along x, in pixels (a golden-ratio fraction), so that
-#: the pyramid's diagonal edges do not run through a row of pixel centres in
-#: the top view. Nothing shifts along y: the pixel grid stays symmetric about
-#: the light's plane (y = 0), so mirror views sample mirror points.
-SAMPLE_OFFSET = np.array([0.3819660112501051, 0.0])
+#: Pixel sampling patterns of the fast renderer (``render.sampling``).
+SAMPLINGS = ("lattice", "grid")
 
 #: Renderers selectable with ``render.method``.
 METHODS = ("fast", "reference")
@@ -81,9 +78,14 @@ class RenderSettings:
     Attributes
     ----------
     pixels_per_period : int
-        Side of each view's tile in pixels; the tile is one period of the
-        projected surface, so this is the sampling density (pixels per period
-        along each lattice direction).
+        Sampling density: about this many pixels per period along each
+        direction (each view's tile holds one period of the projected
+        surface, about ``pixels_per_period ** 2`` pixels).
+    sampling : str
+        ``"lattice"``: the tile is a rotated square whose pixel centres sample
+        the period on a rotated lattice (no row of samples along the facets'
+        axis-aligned or diagonal edges); ``"grid"``: a plain square tile of
+        ``pixels_per_period`` x ``pixels_per_period`` pixels.
     shadow_map_size : int
         Texels per period (along each direction) of the periodic shadow map.
     shadow_bias : float
@@ -94,7 +96,8 @@ class RenderSettings:
         drawn in further passes.
     """
 
-    pixels_per_period: int = 32
+    pixels_per_period: int = 24
+    sampling: str = "lattice"
     shadow_map_size: int = 512
     shadow_bias: float = 1e-4
     max_framebuffer: int = 4096
@@ -106,8 +109,14 @@ class RenderSettings:
             raise ValueError(f"render.shadow_map_size must be >= 1, got {self.shadow_map_size!r}")
         if not (self.shadow_bias >= 0):
             raise ValueError(f"render.shadow_bias must be >= 0, got {self.shadow_bias!r}")
-        if self.pixels_per_period > self.max_framebuffer:
+        if self.pixels_per_period > self.max_framebuffer // 2:
             raise ValueError("render.pixels_per_period exceeds the largest framebuffer")
+        if self.sampling not in SAMPLINGS:
+            raise ValueError(f"render.sampling must be one of {SAMPLINGS}, got {self.sampling!r}")
+
+    def sampling_matrix(self) -> np.ndarray:
+        """Integer 2x2 matrix from cell coordinates to window pixels (see ``periodic.vert``)."""
+        return sampling_matrix(int(self.pixels_per_period), self.sampling)
 
 
 def lattice_copies(shifts, margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -166,6 +175,98 @@ def lattice_copies(shifts, margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]
     l = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(l_lo, counts)
     k_out = np.repeat(k, counts)
     return view_out, np.stack([k_out, l], axis=1)
+
+
+def sampling_matrix(pixels_per_period: int, sampling: str = "lattice") -> np.ndarray:
+    """Integer matrix ``S`` mapping cell coordinates to window pixels.
+
+    ``grid``: ``P * I``. ``lattice``: ``[[p, q], [-q, p]]`` with ``p^2 + q^2``
+    within 10% of ``P^2`` (closest when none is), ``q / p`` closest to the golden ratio's conjugate
+    0.618 (a slope far from every ratio of small integers), ``p + q`` odd (so
+    that no pixel centre falls on a tile's edge) and ``gcd(p, q) = 1`` (so that
+    every line along a lattice axis or diagonal meets one sample per period).
+    """
+    P = int(pixels_per_period)
+    if sampling == "grid":
+        return np.array([[P, 0], [0, P]])
+    if sampling != "lattice":
+        raise ValueError(f"render.sampling must be one of {SAMPLINGS}, got {sampling!r}")
+    best = None
+    for p in range(1, P + 2):
+        for q in range(0, p + 1):
+            if (p + q) % 2 == 0 or math.gcd(p, q) != 1:
+                continue
+            size_error = abs(p * p + q * q - P * P) / max(P * P, 1)
+            # within 10% of the asked density, the slope matters most
+            score = (max(size_error, 0.1), abs(q / p - 0.6180339887498949), size_error)
+            if best is None or score < best[0]:
+                best = (score, p, q)
+    _, p, q = best
+    return np.array([[p, q], [-q, p]])
+
+
+def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    """Slots for view tiles in one framebuffer, and which slot each pixel samples.
+
+    Parameters
+    ----------
+    matrix : (2, 2) int array
+        Cell coordinates to window pixels (:func:`sampling_matrix`).
+    n_views : int
+        Views wanted in one pass (fewer slots are returned if the largest
+        framebuffer cannot hold them all).
+    max_framebuffer : int
+        Largest framebuffer side, pixels.
+
+    Returns
+    -------
+    width, height : int
+        Framebuffer size.
+    slots : (m, 2) int array
+        Integer cell offset ``K`` of each tile; tile ``k`` covers the window
+        region ``matrix @ (K_k + [0, 1)^2)``, wholly inside the framebuffer.
+    pixel_order : (m * N,) int array
+        Flat pixel indices (row-major, bottom row first as OpenGL reads them)
+        grouped by slot: ``pixel_order.reshape(m, N)`` lists slot ``k``'s
+        ``N = |det matrix|`` pixels.
+    """
+    matrix = np.asarray(matrix, float)
+    per_tile = int(round(abs(np.linalg.det(matrix))))
+    reach = int(np.abs(matrix).sum(axis=0).max()) + 1
+    side = int(math.ceil(math.sqrt(n_views * per_tile * 1.03))) + 2 * reach
+    side = min(max(side, reach + 1), max_framebuffer)
+    while True:
+        width = height = side
+        inverse = np.linalg.inv(matrix)
+        corners = np.array([[0, 0], [width, 0], [0, height], [width, height]], float)
+        pre = corners @ inverse.T
+        lo = np.floor(pre.min(axis=0)).astype(int) - 1
+        hi = np.ceil(pre.max(axis=0)).astype(int) + 1
+        kx, ky = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
+        cand = np.stack([kx.ravel(), ky.ravel()], axis=1)
+        unit = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], float)
+        pts = (cand[:, None, :] + unit[None]) @ matrix.T
+        inside = np.all((pts[..., 0] >= 0) & (pts[..., 0] <= width) & (pts[..., 1] >= 0) & (pts[..., 1] <= height), axis=1)
+        slots = cand[inside]
+        if len(slots) >= n_views or side >= max_framebuffer:
+            break
+        side = min(max_framebuffer, int(side * 1.05) + 1)
+    # keep the slots nearest the origin first (row-major in the window)
+    centre = (slots + 0.5) @ matrix.T
+    slots = slots[np.lexsort((centre[:, 0], np.floor(centre[:, 1] / reach)))][: max(n_views, 1)]
+    # the pixel centres of the slot at K = 0; every slot is that set moved by matrix @ K
+    box = np.abs(matrix).sum(axis=1).astype(int) + 1
+    lo_px = np.minimum(0, matrix.sum(axis=1).clip(max=0)).astype(int) - 1
+    ys, xs = np.mgrid[lo_px[1] - box[1]:box[1] + 1, lo_px[0] - box[0]:box[0] + 1]
+    centres = np.stack([xs.ravel() + 0.5, ys.ravel() + 0.5], axis=1)
+    home = np.all(np.floor(centres @ np.linalg.inv(matrix).T) == 0, axis=1)
+    base = np.stack([xs.ravel()[home], ys.ravel()[home]], axis=1)
+    if len(base) != per_tile:
+        raise RuntimeError("tile layout: a tile does not hold exactly |det S| pixel centres")
+    shift = np.rint(slots @ matrix.T).astype(np.int64)
+    px = base[None, :, :] + shift[:, None, :]
+    pixel_order = (px[..., 1] * width + px[..., 0]).ravel()
+    return width, height, slots, pixel_order
 
 
 class ShaderCache:
@@ -289,8 +390,8 @@ def _draw(ctx: _Context, primitive, program):
 def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
     """Instance matrices (see ``shaders/periodic.vert``), one per copy.
 
-    ``shear``, ``view`` and ``tile`` are per copy ((m, 2), (m, 3), (m, 4)) or
-    broadcast from one view.
+    ``shear``, ``view`` and ``tile`` (the slot's integer cell offset) are per
+    copy ((m, 2), (m, 3), (m, 2)) or broadcast from one view.
     """
     n = len(copies)
     poses = np.zeros((n, 4, 4), np.float32)
@@ -299,7 +400,7 @@ def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
     poses[:, 0, 1] = shear[..., 0]
     poses[:, 1, 1] = shear[..., 1]
     poses[:, 0:3, 2] = view
-    poses[:, 0:4, 3] = tile
+    poses[:, 0:2, 3] = tile
     return poses
 
 
@@ -307,7 +408,7 @@ def _shadow_pass(ctx: _Context, truncation, aspect, light_dir, depth_scale):
     height = geometry.surface_height(truncation, aspect)
     shear = light_dir[:2] / light_dir[2]
     _, copies = lattice_copies(height * shear[None, :])
-    poses = _copy_poses(copies, shear, light_dir, np.array([-1.0, -1.0, 2.0, 2.0]))
+    poses = _copy_poses(copies, shear, light_dir, np.zeros(2))
     gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, ctx.shadow_fbo)
     gl.glViewport(0, 0, ctx.shadow_size, ctx.shadow_size)
     gl.glEnable(gl.GL_DEPTH_TEST)
@@ -324,18 +425,24 @@ def _shadow_pass(ctx: _Context, truncation, aspect, light_dir, depth_scale):
     )
     program._bind()
     program.set_uniform("depth_scale", float(depth_scale))
-    program.set_uniform("sample_offset", np.zeros(2, np.float32))
+    program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
+    program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
+    for plane in range(4):
+        gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
     _draw(ctx, primitive, program)
     program._unbind()
     gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
 
 
-def _layout(n_views: int, pixels: int, max_fb: int) -> tuple[int, int]:
-    """Columns and rows of view tiles in one framebuffer."""
-    per_side = max(1, max_fb // pixels)
-    cols = min(per_side, max(1, math.ceil(math.sqrt(n_views))))
-    rows = min(per_side, max(1, math.ceil(n_views / cols)))
-    return cols, rows
+_LAYOUTS: dict = {}
+
+
+def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
+    if key not in _LAYOUTS:
+        _LAYOUTS.clear()
+        _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
+    return _LAYOUTS[key]
 
 
 def render_sweep(
@@ -385,9 +492,10 @@ def render_sweep(
         out["seconds"] = time.perf_counter() - start
         return out
 
-    pixels = int(settings.pixels_per_period)
-    cols, rows = _layout(todo.size, pixels, settings.max_framebuffer)
-    ctx = _context(cols * pixels, rows * pixels, int(settings.shadow_map_size))
+    matrix = settings.sampling_matrix()
+    width, height_px, slots, pixel_order = _cached_layout(matrix, todo.size, int(settings.max_framebuffer))
+    per_tile = int(round(abs(np.linalg.det(matrix))))
+    ctx = _context(width, height_px, int(settings.shadow_map_size))
     height = geometry.surface_height(truncation, aspect)
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
     light_dir = shading.light_direction(incidence)
@@ -405,22 +513,11 @@ def render_sweep(
     )
     views = shading.view_direction(elevation[todo], azimuth[todo])
     shears = views[:, :2] / views[:, 2:3]
-    per_pass = cols * rows
+    per_pass = len(slots)
     for first in range(0, todo.size, per_pass):
         idx = np.arange(first, min(first + per_pass, todo.size))
-        slots = idx - first
-        col, row = slots % cols, slots // cols
-        tiles = np.stack(
-            [
-                -1.0 + 2.0 * col * pixels / ctx.width,
-                -1.0 + 2.0 * row * pixels / ctx.height,
-                np.full(idx.size, 2.0 * pixels / ctx.width),
-                np.full(idx.size, 2.0 * pixels / ctx.height),
-            ],
-            axis=1,
-        )
-        owner, copies = lattice_copies(height * shears[idx], margin=1.0 / pixels)
-        poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], tiles[owner])
+        owner, copies = lattice_copies(height * shears[idx])
+        poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[idx - first][owner])
 
         gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
         gl.glViewport(0, 0, ctx.width, ctx.height)
@@ -438,6 +535,8 @@ def render_sweep(
             gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
         program._bind()
         _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
+        program.set_uniform("sampling", matrix.astype(np.float32))
+        program.set_uniform("ndc_scale", np.array([2.0 / ctx.width, 2.0 / ctx.height], np.float32))
         gl.glActiveTexture(gl.GL_TEXTURE0)
         gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
         program.set_uniform("shadow_map", 0)
@@ -445,14 +544,9 @@ def render_sweep(
         program._unbind()
         gl.glFinish()
 
-        used_rows = int(math.ceil(idx.size / cols))
-        raw = gl.glReadPixels(0, 0, ctx.width, used_rows * pixels, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-        image = np.frombuffer(raw, np.uint8).reshape(used_rows * pixels, ctx.width, 4)
-        tiles_px = (
-            image.reshape(used_rows, pixels, cols, pixels, 4)
-            .transpose(0, 2, 1, 3, 4)
-            .reshape(used_rows * cols, pixels * pixels, 4)[: idx.size]
-        )
+        raw = gl.glReadPixels(0, 0, ctx.width, ctx.height, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+        image = np.frombuffer(raw, np.uint8).reshape(-1, 4)
+        tiles_px = image[pixel_order[: idx.size * per_tile]].reshape(idx.size, per_tile, 4)
         means = tiles_px.mean(axis=1, dtype=np.float64)
         target = todo[idx]
         out["diffuse"][target] = means[:, 0]
@@ -477,7 +571,6 @@ def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, setti
     program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
     program.set_uniform("depth_scale", float(depth_scale))
     program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))
-    program.set_uniform("sample_offset", (SAMPLE_OFFSET / settings.pixels_per_period).astype(np.float32))
 
 
 def _check_incidence(incidence) -> float:

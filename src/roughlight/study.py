@@ -22,6 +22,7 @@ specular_model string  'phong' or 'blinn'
 shadows        bool    inner shadows cast
 method         string  'fast' or 'reference'
 pixels_per_period int64 fast method's pixels per period (0 for reference)
+sampling       string  fast method's pixel sampling, 'lattice' or 'grid' ('exact' for reference)
 shadow_map_size   int64 fast method's shadow texels per period (0 for reference)
 render_seconds float64 wall time of the sweep that produced the row
 ============== ======= =====================================================
@@ -57,6 +58,7 @@ SETTING_COLUMNS = [
     "shadows",
     "method",
     "pixels_per_period",
+    "sampling",
     "shadow_map_size",
 ]
 STUDY_COLUMNS = KEY_COLUMNS + ["rough", "control", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
@@ -102,6 +104,7 @@ def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation,
         "shadows": np.full(n * k, bool(lighting.shadows)),
         "method": pa.array([method] * (n * k), pa.dictionary(pa.int8(), pa.string())),
         "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]) if fast else 0, np.int64),
+        "sampling": pa.array([render_settings["sampling"] if fast else "exact"] * (n * k), pa.dictionary(pa.int8(), pa.string())),
         "shadow_map_size": np.full(n * k, int(render_settings["shadow_map_size"]) if fast else 0, np.int64),
         "render_seconds": np.full(n * k, float(result["seconds"])),
     }
@@ -209,6 +212,7 @@ def run_sweep(path, truncation, aspect, incidence, sweep, lighting, method, rend
     log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
     render_settings = {
         "pixels_per_period": settings.pixels_per_period,
+        "sampling": settings.sampling,
         "shadow_map_size": settings.shadow_map_size,
     }
     table = sweep_table(result, truncation, aspect, incidence, azimuth, elevation, lighting, method, render_settings)

@@ -13,6 +13,8 @@ rule control_sweep:
         render=render_params,
     log:
         "results/logs/sweeps/i{incidence}/control.log",
+    benchmark:
+        "results/logs/sweeps/i{incidence}/control.benchmark.tsv"
     threads: 1
     resources:
         mem_mb=1024,
@@ -34,6 +36,8 @@ rule rough_sweep:
         render=render_params,
     log:
         "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.log",
+    benchmark:
+        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.benchmark.tsv"
     threads: 1
     resources:
         mem_mb=1024,

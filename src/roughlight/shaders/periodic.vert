@@ -16,14 +16,15 @@
 //   inst_m[0].xy : lattice offset (k, l) of this copy
 //   inst_m[1].xy : shear (D.x / D.z, D.y / D.z)
 //   inst_m[2].xyz: unit vector toward the detector, V
-//   inst_m[3]    : tile origin (xy) and size (zw) in normalized device coordinates
+//   inst_m[3].xy : the view's tile: integer cell offset K of its slot
 
 layout(location = 0) in vec3 position;
 layout(location = NORMAL_LOC) in vec3 normal;
 layout(location = INST_M_LOC) in mat4 inst_m;
 
 uniform float depth_scale;   // 1 / (height range of the surface)
-uniform vec2 sample_offset;  // sub-pixel shift of the sampling grid, in periods
+uniform mat2 sampling;       // cell coordinates -> window pixels
+uniform vec2 ndc_scale;      // 2 / framebuffer size
 
 out vec3 frag_local;         // position within the period (periodic lookups)
 out vec3 frag_normal;        // true face normal (never averaged)
@@ -33,9 +34,9 @@ flat out vec3 frag_view;
 void main()
 {
     vec3 p = position + vec3(inst_m[0].xy, 0.0);
-    vec2 cell = p.xy - p.z * inst_m[1].xy + sample_offset;
-    vec4 tile = inst_m[3];
-    gl_Position = vec4(tile.xy + cell * tile.zw, 0.9 - 1.8 * p.z * depth_scale, 1.0);
+    vec2 cell = p.xy - p.z * inst_m[1].xy;
+    vec2 window = sampling * (cell + inst_m[3].xy);
+    gl_Position = vec4(window * ndc_scale - 1.0, 0.9 - 1.8 * p.z * depth_scale, 1.0);
     frag_local = position;
     frag_normal = normal;
     frag_cell = cell;

@@ -1,0 +1,783 @@
+"""Figures of the report: the thesis's Figures 9-29 regenerated from our study, and beyond.
+
+Every ``fig_*`` function takes frames from :mod:`roughlight.analysis` (or
+the study table) and returns a :class:`matplotlib.figure.Figure`;
+:func:`save_figure` writes it as a PNG atomically and closes it. Functions
+that need to render (:func:`plate_sweeps`, :func:`surface_pictures`) are
+the only ones that touch OpenGL; set ``PYOPENGL_PLATFORM=osmesa`` before
+calling them. Intensities are on the 0-255 scale, angles in degrees.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tempfile
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
+import seaborn as sns  # noqa: E402
+
+from . import analysis as an  # noqa: E402
+
+__all__ = [
+    "FIGURES",
+    "save_figure",
+    "placeholder",
+    "plate_sweeps",
+    "fig17_clipping",
+    "fig19_topdown",
+    "fig20_plate_incidence",
+    "fig21_specular_truncation",
+    "fig23_forward_models",
+    "fig24_reflecting_areas",
+    "fig25_back_models",
+    "fig26_specular_aspect",
+    "fig27_diffuse_plate",
+    "fig28_diffuse_truncation",
+    "fig29_diffuse_aspect",
+    "fig_lobe_geometry",
+    "fig_diffuse_parts",
+    "fig_glm_diagnostics",
+    "fig_model_fits",
+    "fig_hapke",
+    "fig_timings",
+    "surface_pictures",
+    "fig_pictures",
+    "PICTURE_SETS",
+]
+
+#: File stem -> short title of every figure the report shows (in report order).
+FIGURES = {
+    "fig09_shadows": "Fig. 9: shadows at several incidences",
+    "fig10_grazing": "Fig. 10: views near grazing",
+    "fig13_tops": "Fig. 13: truncated tops at low incidence",
+    "fig17_clipping": "Fig. 17: clipping of the specular lobe at source 255",
+    "fig19_topdown": "Fig. 19: the lobes from above (phase shift)",
+    "fig20_plate_incidence": "Fig. 20: specular of the smooth surface, incidence 0-90",
+    "fig21_specular_truncation": "Fig. 21: specular against truncation",
+    "fig23_forward_models": "Fig. 23: forward lobe models against data",
+    "fig24_reflecting_areas": "Fig. 24: reflecting areas against truncation",
+    "fig25_back_models": "Fig. 25: back lobe models against data",
+    "fig26_specular_aspect": "Fig. 26: specular against aspect",
+    "fig27_diffuse_plate": "Fig. 27: diffuse of the smooth surface",
+    "fig28_diffuse_truncation": "Fig. 28: diffuse against truncation",
+    "fig29_diffuse_aspect": "Fig. 29: diffuse against aspect",
+    "lobe_geometry": "Lobe centres and widths against geometry",
+    "diffuse_parts": "The three-part diffuse model over the grid",
+    "glm_diagnostics": "Grid GLMs: residuals and influence",
+    "model_fits": "Analytic models: fit errors over the grid",
+    "hapke": "Hapke's opposition term fitted near zero phase",
+    "timings": "Render timings per sweep",
+}
+
+DPI = 110
+
+
+def _theme():
+    sns.set_theme(style="whitegrid", context="paper", font_scale=1.05)
+
+
+def save_figure(fig, path) -> str:
+    """Write ``fig`` as a PNG to ``path`` (temporary name in the same directory, then rename); close it."""
+    path = os.fspath(path)
+    directory = os.path.dirname(path) or "."
+    os.makedirs(directory, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".png", dir=directory)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format="png", dpi=DPI, bbox_inches="tight")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    finally:
+        plt.close(fig)
+    return path
+
+
+def placeholder(title: str, message: str):
+    """A small figure that says why the real one could not be drawn."""
+    _theme()
+    fig, ax = plt.subplots(figsize=(6.5, 2.2))
+    ax.axis("off")
+    ax.set_title(title, loc="left")
+    ax.text(0.0, 0.5, message, va="center", ha="left", wrap=True, fontsize=10, transform=ax.transAxes)
+    return fig
+
+
+def _aspects_present(frame, wanted=(1.0, an.SQRT3_2)):
+    out = []
+    for a in wanted:
+        found = an.find_aspect(frame["aspect"], a)
+        if found is not None:
+            out.append(found)
+    return out
+
+
+def _sel(frame, aspect=None, truncation=None, incidence=None):
+    m = np.ones(len(frame), bool)
+    if aspect is not None:
+        m &= np.abs(frame["aspect"].to_numpy(float) - aspect) <= an.ASPECT_TOL
+    if truncation is not None:
+        m &= np.isclose(frame["truncation"].to_numpy(float), truncation)
+    if incidence is not None:
+        m &= np.isclose(frame["incidence"].to_numpy(float), incidence)
+    return frame.loc[m]
+
+
+def _incidence(frame, wanted=an.THESIS_INCIDENCE):
+    inc = np.unique(frame["incidence"].to_numpy(float))
+    return float(wanted) if np.any(np.isclose(inc, wanted)) else float(inc[0])
+
+
+def _hue_palette(n, name="viridis"):
+    return sns.color_palette(name, n_colors=max(n, 1))
+
+
+# ---------------------------------------------------------------------------
+# rendered plate sweeps (Figs. 17 and 20)
+
+
+def plate_sweeps(incidences, lights, elevation_step: float = 1.0, lighting=None, settings=None) -> pd.DataFrame:
+    """Render the flat plate on the phi = 0 arc for several incidences and light levels.
+
+    Parameters
+    ----------
+    incidences : iterable of degrees; lights : iterable of J (0-255)
+    elevation_step : degrees
+    lighting : dict of :class:`roughlight.shading.Lighting` fields (the
+        light level is replaced by each of ``lights``); settings : dict of
+        :class:`roughlight.rendering.RenderSettings` fields.
+
+    Returns
+    -------
+    long DataFrame: ``incidence``, ``light``, ``elevation``, ``component``, ``value`` (0-255), ``seconds``.
+    """
+    from .rendering import RenderSettings, measure_sweep
+    from .shading import Lighting
+    from .sweeps import elevations
+
+    base = dict(lighting or {})
+    base["shadows"] = False  # the plate casts none
+    el = elevations(elevation_step)
+    az = np.zeros_like(el)
+    rs = RenderSettings(**(settings or {}))
+    rows = []
+    for inc in incidences:
+        for J in lights:
+            lit = Lighting(**{**base, "light": float(J)})
+            out = measure_sweep("fast", 0.0, 0.0, float(inc), az, el, lit, rs)
+            for comp in ("diffuse", "specular", "total"):
+                rows.append(pd.DataFrame({"incidence": float(inc), "light": float(J), "elevation": el,
+                                          "component": comp, "value": np.asarray(out[comp], float),
+                                          "seconds": float(out["seconds"])}))
+    return pd.concat(rows, ignore_index=True)
+
+
+def fig17_clipping(plates: pd.DataFrame):
+    """Fig. 17: the plate's specular and total at source 127 and 255 (phi = 0 arc)."""
+    _theme()
+    d = plates[plates["component"].isin(["specular", "total"])].copy()
+    if d.empty:
+        return placeholder(FIGURES["fig17_clipping"], "no plate sweeps")
+    d["source J"] = d["light"].map(lambda j: f"{j:g}")
+    g = sns.relplot(data=d, x="elevation", y="value", hue="source J", col="component", kind="line",
+                    height=3.2, aspect=1.3, palette=["#1f77b4", "#d62728"], facet_kws={"sharey": True})
+    for ax in g.axes.flat:
+        ax.axhline(255, color="k", lw=0.8, ls=":")
+        ax.text(2, 258, "8-bit ceiling 255", fontsize=8, va="bottom")
+        ax.set_xlim(0, 180)
+        ax.set_xlabel("view elevation (deg), azimuth 0")
+    g.set_ylabels("mean pixel value (0-255)")
+    g.figure.suptitle("Flat plate, incidence %g: the specular lobe clips at source 255" % d["incidence"].iloc[0],
+                      y=1.04)
+    return g.figure
+
+
+def fig20_plate_incidence(plates: pd.DataFrame):
+    """Fig. 20: specular of the smooth surface for incidences 0-90 (phi = 0 arc)."""
+    _theme()
+    d = plates[plates["component"] == "specular"].copy()
+    if d.empty:
+        return placeholder(FIGURES["fig20_plate_incidence"], "no plate sweeps")
+    d["incidence (deg)"] = d["incidence"].map(lambda i: f"{i:g}")
+    n = d["incidence (deg)"].nunique()
+    fig, ax = plt.subplots(figsize=(7.5, 3.6))
+    sns.lineplot(data=d, x="elevation", y="value", hue="incidence (deg)", palette=_hue_palette(n, "crest"), ax=ax)
+    ax.set_xlim(0, 180)
+    ax.set_xlabel("view elevation (deg), azimuth 0 (mirror direction at 180 - incidence)")
+    ax.set_ylabel("specular (0-255)")
+    ax.set_title("Specular reflection on a smooth surface, source J = %g" % d["light"].iloc[0], loc="left")
+    ax.legend(title="incidence", ncol=2, fontsize=8, title_fontsize=8, loc="upper left")
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# specular figures
+
+
+def fig21_specular_truncation(study: pd.DataFrame):
+    """Fig. 21: specular on the phi = 0 arc against truncation, aspect 1 (and sqrt(3)/2)."""
+    _theme()
+    spec = an.arc(study, "specular")
+    inc = _incidence(spec)
+    aspects = _aspects_present(spec)
+    if not aspects:
+        return placeholder(FIGURES["fig21_specular_truncation"], "aspect 1 is not in the study")
+    fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), 3.8), squeeze=False, sharey=True)
+    for ax, a in zip(axes[0], aspects):
+        d = _sel(spec, aspect=a, incidence=inc).copy()
+        d["truncation"] = d["truncation"].map(lambda t: f"{t:g}")
+        n = d["truncation"].nunique()
+        sns.lineplot(data=d, x="elevation", y="rough", hue="truncation", palette=_hue_palette(n), ax=ax, lw=1.2)
+        c = an.lobe_centres(inc, a)
+        for name, e in (("back", c["back"]), ("forward", c["forward"])):
+            if e is not None:
+                ax.axvline(e, color="0.4", ls="--", lw=0.8)
+                ax.text(e + 1, ax.get_ylim()[1] * 0.95, f"{name} mirror {e:.1f}°", fontsize=8, va="top")
+        ax.axvline(inc, color="orange", ls=":", lw=1)
+        ax.set_xlim(0, 180)
+        ax.set_xlabel("view elevation (deg), azimuth 0; dotted: zero phase")
+        ax.set_ylabel("specular (0-255)")
+        ax.set_title(f"aspect {an.aspect_label(a)}, incidence {inc:g}", loc="left")
+        ax.legend(title="truncation", ncol=2, fontsize=7, title_fontsize=8)
+    return fig
+
+
+def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc):
+    data = an._table_data(lobes, aspect, inc)
+    if lobe not in data:
+        ax.text(0.5, 0.5, f"no {lobe} lobe", ha="center", transform=ax.transAxes)
+        return
+    t = data.index.to_numpy(float)
+    tt = np.linspace(0, 1, 201)
+    pred = an.thesis_model_predictions(tt, m, k)
+    ax.plot(t, data[lobe], "o", color="k", label="our data (lobe peak)", zorder=5)
+    if lobe == "forward":
+        ax.plot(tt, pred["square_area"], color="#1f77b4", label="square area  m(1-t)²")
+        ax.plot(tt, pred["forward_regressed"], color="#d62728", label="regressed  m(1-sin(tπ/2))")
+    else:
+        ax.plot(tt, pred["triangle_area"], color="#1f77b4", label=f"triangle area  {k:g}m(1-(1-t)²)")
+        ax.plot(tt, pred["back_regressed"], color="#d62728", label="regressed  m sin(tπ/2)/2")
+    s = sine[(np.abs(sine["aspect"] - aspect) <= an.ASPECT_TOL) & (sine["lobe"] == lobe)] if len(sine) else sine
+    if len(s) == 2 and np.isfinite(s["estimate"]).all():
+        A = float(s.loc[s["parameter"] == "A", "estimate"].iloc[0])
+        w = float(s.loc[s["parameter"] == "omega", "estimate"].iloc[0])
+        y = A * (1 - np.sin(w * tt)) if lobe == "forward" else A * np.sin(w * tt)
+        ax.plot(tt, y, color="#2ca02c", ls="--", label=f"refit  A={A:.1f}, ω={w:.3f}")
+    ax.set_xlabel("truncation t")
+    ax.set_ylabel(f"{lobe} lobe peak (0-255)")
+    ax.set_title(f"aspect {an.aspect_label(aspect)}, incidence {inc:g}", loc="left")
+    ax.legend(fontsize=7)
+
+
+def _models_figure(lobes, sine, lobe, m, k, key):
+    _theme()
+    inc = _incidence(lobes)
+    aspects = _aspects_present(lobes)
+    if not aspects:
+        return placeholder(FIGURES[key], "neither aspect 1 nor √3/2 is in the study")
+    fig, axes = plt.subplots(1, len(aspects), figsize=(5.6 * len(aspects), 3.8), squeeze=False, sharey=True)
+    for ax, a in zip(axes[0], aspects):
+        _model_panel(ax, lobes, sine, a, lobe, m, k, inc)
+    return fig
+
+
+def fig23_forward_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0):
+    """Fig. 23: forward lobe peak against truncation with the square area and regressed models."""
+    return _models_figure(lobes, sine, "forward", m, 0.5, "fig23_forward_models")
+
+
+def fig25_back_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0, k: float = 0.5):
+    """Fig. 25: back lobe peak against truncation with the triangle area and regressed models."""
+    return _models_figure(lobes, sine, "back", m, k, "fig25_back_models")
+
+
+def fig24_reflecting_areas(areas: dict):
+    """Fig. 24: visible-lit area of the top (forward) and the front facet (back) against truncation.
+
+    Parameters
+    ----------
+    areas : dict aspect -> :func:`roughlight.analysis.reflecting_areas` frame
+    """
+    _theme()
+    if not areas:
+        return placeholder(FIGURES["fig24_reflecting_areas"], "no aspect to draw")
+    fig, axes = plt.subplots(1, len(areas), figsize=(5.4 * len(areas), 3.6), squeeze=False, sharey=True)
+    for ax, (a, d) in zip(axes[0], areas.items()):
+        ax.plot(d["truncation"], d["top"], "o", color="#1f77b4", label="top, seen from the forward mirror")
+        ax.plot(d["truncation"], d["square_area"], "-", color="#1f77b4", lw=1, label="(1-t)²")
+        ax.plot(d["truncation"], d["front"], "s", color="#d62728", label="front facet, seen from the back mirror")
+        ax.plot(d["truncation"], d["triangle_area"], "-", color="#d62728", lw=1,
+                label=f"k(1-(1-t)²), k = {d['k'].iloc[0]:.3g}")
+        ax.set_xlabel("truncation t")
+        ax.set_ylabel("visible lit share of the image")
+        ax.set_title(f"aspect {an.aspect_label(a)}", loc="left")
+        ax.legend(fontsize=7)
+    return fig
+
+
+def fig26_specular_aspect(study: pd.DataFrame, truncations=(0.2, 1.0)):
+    """Fig. 26: specular on the phi = 0 arc against aspect, at a few truncations."""
+    _theme()
+    spec = an.arc(study, "specular")
+    inc = _incidence(spec)
+    have = np.unique(spec["truncation"].to_numpy(float))
+    ts = [t for t in truncations if np.any(np.isclose(have, t))] or [float(have.max())]
+    fig, axes = plt.subplots(1, len(ts), figsize=(6.2 * len(ts), 3.8), squeeze=False, sharey=True)
+    for ax, t in zip(axes[0], ts):
+        d = _sel(spec, truncation=t, incidence=inc).copy()
+        d["aspect"] = d["aspect"].map(an.aspect_label)
+        n = d["aspect"].nunique()
+        sns.lineplot(data=d, x="elevation", y="rough", hue="aspect", palette=_hue_palette(n, "rocket_r"), ax=ax,
+                     lw=1.1)
+        ax.set_xlim(0, 180)
+        ax.set_xlabel("view elevation (deg), azimuth 0")
+        ax.set_ylabel("specular (0-255)")
+        ax.set_title(f"truncation {t:g}, incidence {inc:g}", loc="left")
+        ax.legend(title="aspect", ncol=2, fontsize=7, title_fontsize=8)
+    return fig
+
+
+def _topdown_xy(az, el):
+    """Orthographic top-down coordinates of views (x toward the light's azimuth)."""
+    A, E = np.meshgrid(np.radians(az), np.radians(el), indexing="ij")
+    x = np.cos(E) * np.cos(A)
+    y = np.cos(E) * np.sin(A)
+    return x, y
+
+
+def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
+    """Fig. 19: top-down maps of the specular over the hemisphere, and the back lobe's track.
+
+    The top row maps the specular component seen from every direction
+    (orthographic projection of the hemisphere, the light ★ at azimuth 0 on
+    the right; the lower half mirrors the measured upper half, as the surface
+    is symmetric about the light's plane), each panel on its own scale. White
+    dots mark, on every half great circle that passes within ``max_angle``
+    of the back (light-facing facet's) mirror direction, the brightest view
+    near it. The bottom row gives that maximum and its phase angle against
+    the dot's azimuth: a lobe centred on zero phase would keep phase 0.
+    """
+    _theme()
+    grids = {key: (az, el, v) for key, az, el, v in an.surface_grids(study, "specular")}
+    inc = _incidence(study)
+    if surfaces is None:
+        surfaces = []
+        for t, a in ((0.0, 0.0), (0.5, 1.0), (1.0, 1.0), (1.0, an.SQRT3_2)):
+            hit = [k for k in grids if np.isclose(k[0], t) and abs(k[1] - a) <= an.ASPECT_TOL and np.isclose(k[2], inc)]
+            if t == 0.0 and not hit:
+                hit = [k for k in grids if an._plate(k[0], k[1]) and np.isclose(k[2], inc)]
+            if hit:
+                surfaces.append(hit[0])
+    if not surfaces:
+        return placeholder(FIGURES["fig19_topdown"], "none of the example surfaces is in the study")
+    n = len(surfaces)
+    fig = plt.figure(figsize=(3.4 * n + 0.6, 7.2))
+    gs = fig.add_gridspec(2, 2 * n, height_ratios=[1.25, 1])
+    track_rows = []
+    for j, key in enumerate(surfaces):
+        az, el, v = grids[key]
+        t, a, i = key
+        x, y = _topdown_xy(az, el)
+        X = np.concatenate([x.ravel(), x.ravel()])
+        Y = np.concatenate([y.ravel(), -y.ravel()])
+        Z = np.concatenate([v.ravel(), v.ravel()])
+        ok = np.isfinite(Z)
+        vmax = max(float(np.nanmax(Z)), 1.0)
+        ax = fig.add_subplot(gs[0, 2 * j:2 * j + 2])
+        ax.tricontourf(X[ok], Y[ok], Z[ok], levels=np.linspace(0, vmax, 16), cmap="magma")
+        ax.set_aspect("equal")
+        ax.set_xlim(-1.05, 1.05)
+        ax.set_ylim(-1.05, 1.05)
+        ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.5", lw=0.6))
+        ax.plot([math.cos(math.radians(i))], [0], marker="*", color="gold", ms=11, mec="k", mew=0.5, ls="none")
+        ax.set_title(f"t {t:g}, aspect {an.aspect_label(a)} (max {vmax:.0f})", loc="left", fontsize=9)
+        ax.set_xticks([])
+        ax.set_yticks([])
+        label = f"t {t:g}, a {an.aspect_label(a)}"
+        dirs = an._lobe_directions(t, a, i)
+        if "back" in dirs and not an._plate(t, a):
+            A, E = np.meshgrid(az, el, indexing="ij")
+            V = an.view_direction(E, A)
+            near = (V @ dirs["back"]) >= math.cos(math.radians(max_angle))
+            for k_ in range(len(az)):
+                sel = near[k_] & np.isfinite(v[k_])
+                if not sel.any():
+                    continue
+                jj = np.flatnonzero(sel)[int(np.argmax(v[k_, sel]))]
+                if v[k_, jj] < an.MIN_LOBE_PEAK:
+                    continue
+                d = V[k_, jj]
+                track_rows.append({"surface": label, "azimuth": math.degrees(math.atan2(d[1], d[0])),
+                                   "value": float(v[k_, jj]), "phase": float(an.phase_angle(i, el[jj], az[k_])),
+                                   "x": d[0], "y": d[1]})
+            tr = [r for r in track_rows if r["surface"] == label]
+            if tr:
+                ax.plot([r["x"] for r in tr], [r["y"] for r in tr], ".", color="white", ms=3.5)
+                ax.plot([r["x"] for r in tr], [-r["y"] for r in tr], ".", color="white", ms=3.5)
+    ax1 = fig.add_subplot(gs[1, :n])
+    ax2 = fig.add_subplot(gs[1, n:])
+    if track_rows:
+        tr = pd.DataFrame(track_rows)
+        sns.lineplot(data=tr, x="azimuth", y="value", hue="surface", marker="o", ax=ax1, ms=4)
+        sns.lineplot(data=tr, x="azimuth", y="phase", hue="surface", marker="o", ax=ax2, ms=4, legend=False)
+        ax1.set_xlabel("azimuth of the brightest view near the back mirror direction (deg)")
+        ax2.set_xlabel("azimuth of the brightest view near the back mirror direction (deg)")
+        ax1.set_ylabel("back-lobe maximum on the arc (0-255)")
+        ax2.set_ylabel("phase angle at that maximum (deg)")
+        ax1.legend(fontsize=7)
+    else:
+        for ax in (ax1, ax2):
+            ax.text(0.5, 0.5, "no back lobe on these surfaces", ha="center", transform=ax.transAxes)
+    fig.suptitle("Specular from above (light ★ at azimuth 0, elevation %g) and the back lobe's track" % inc,
+                 y=0.995)
+    fig.tight_layout()
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# diffuse figures
+
+
+def fig27_diffuse_plate(study: pd.DataFrame):
+    """Fig. 27: diffuse of the smooth surface (plate and control) against view elevation."""
+    _theme()
+    diff = an.arc(study, "diffuse")
+    inc = _incidence(diff)
+    d = diff[np.isclose(diff["incidence"], inc) & (diff["coverage"] > 0)]
+    plate = d[(d["truncation"] * d["aspect"]) < 1e-9]
+    fig, ax = plt.subplots(figsize=(7, 3.4))
+    if len(plate):
+        p = plate.groupby("elevation")["rough"].agg(["min", "max", "mean"]).reset_index()
+        ax.fill_between(p["elevation"], p["min"], p["max"], color="#1f77b4", alpha=0.25, label="plate surfaces (range)")
+        ax.plot(p["elevation"], p["mean"], color="#1f77b4", label="plate surfaces (mean)")
+    c = d.groupby("elevation")["control"].mean()
+    ax.plot(c.index, c.values, "k--", lw=1, label="control plate")
+    J = float(study["light"].iloc[0])
+    ax.axhline(J * math.sin(math.radians(inc)), color="orange", ls=":", label=f"J sin(i) = {J * math.sin(math.radians(inc)):.1f}")
+    ax.set_xlim(0, 180)
+    ax.set_ylim(0, max(1.0, float(d["rough"].max())) * 1.2)
+    ax.set_xlabel("view elevation (deg), azimuth 0")
+    ax.set_ylabel("diffuse (0-255)")
+    ax.set_title(f"Diffuse on a smooth surface, incidence {inc:g}", loc="left")
+    ax.legend(fontsize=8, loc="lower center")
+    return fig
+
+
+def _three_part_curve(row, e):
+    e1, e2 = row["e1"], row["e2"]
+    if not np.isfinite(row.get("rate", np.nan)):
+        return None
+    y = np.where(e <= e1, row["level1"], np.where(e >= e2, row["level3"],
+                 an._exp_part(e, row["level1"], row["level3"], row["rate"], e1)))
+    return np.where((e <= 0) | (e >= 180), np.nan, y)
+
+
+def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
+    """Fig. 28: diffuse on the phi = 0 arc against truncation, with the fitted three-part model."""
+    _theme()
+    diff = an.arc(study, "diffuse")
+    inc = _incidence(diff)
+    aspects = _aspects_present(diff)
+    if not aspects:
+        return placeholder(FIGURES["fig28_diffuse_truncation"], "aspect 1 is not in the study")
+    fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), 3.9), squeeze=False, sharey=True)
+    for ax, a in zip(axes[0], aspects):
+        d = _sel(diff, aspect=a, incidence=inc)
+        d = d[d["coverage"] > 0]
+        ts = np.unique(d["truncation"].to_numpy(float))
+        pal = _hue_palette(len(ts))
+        ee = np.linspace(0.5, 179.5, 360)
+        for color, t in zip(pal, ts):
+            dt = d[np.isclose(d["truncation"], t)]
+            ax.plot(dt["elevation"], dt["rough"], color=color, lw=1.1, label=f"{t:g}")
+            pr = _sel(parts, aspect=a, truncation=t, incidence=inc)
+            if len(pr):
+                y = _three_part_curve(pr.iloc[0], ee)
+                if y is not None:
+                    ax.plot(ee, y, color=color, lw=0.8, ls="--")
+        e1, e2 = an.diffuse_breakpoints(inc, a)
+        for e in (e1, e2):
+            ax.axvline(e, color="0.3", ls=":", lw=1)
+        ax.text(e1 / 2, 2, "part 1", ha="center", fontsize=8)
+        ax.text((e1 + e2) / 2, 2, "part 2", ha="center", fontsize=8)
+        ax.text((e2 + 180) / 2, 2, "part 3", ha="center", fontsize=8)
+        ax.set_xlim(0, 180)
+        ax.set_ylim(bottom=0)
+        ax.set_xlabel(f"view elevation (deg), azimuth 0; breaks at {e1:g} and {e2:.1f}")
+        ax.set_ylabel("diffuse (0-255)")
+        ax.set_title(f"aspect {an.aspect_label(a)}, incidence {inc:g} (dashed: three-part fit)", loc="left")
+        ax.legend(title="truncation", ncol=2, fontsize=7, title_fontsize=8, loc="upper right")
+    return fig
+
+
+def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0):
+    """Fig. 29: diffuse on the phi = 0 arc against aspect (full pyramids by default)."""
+    _theme()
+    diff = an.arc(study, "diffuse")
+    inc = _incidence(diff)
+    have = np.unique(diff["truncation"].to_numpy(float))
+    t = truncation if np.any(np.isclose(have, truncation)) else float(have.max())
+    d = _sel(diff, truncation=t, incidence=inc)
+    d = d[d["coverage"] > 0].copy()
+    aspects = np.unique(d["aspect"].to_numpy(float))
+    fig, ax = plt.subplots(figsize=(7.5, 3.9))
+    for color, a in zip(_hue_palette(len(aspects), "rocket_r"), aspects):
+        da = d[np.abs(d["aspect"] - a) <= an.ASPECT_TOL]
+        ax.plot(da["elevation"], da["rough"], color=color, lw=1.1, label=an.aspect_label(a))
+        if a > 0:
+            e2 = an.diffuse_breakpoints(inc, a)[1]
+            ax.plot([e2], [np.interp(e2, da["elevation"], da["rough"])], "v", color=color, ms=5)
+    ax.axvline(inc, color="0.3", ls=":", lw=1)
+    ax.set_xlim(0, 180)
+    ax.set_ylim(bottom=0)
+    ax.set_xlabel("view elevation (deg), azimuth 0; ▼: front facet edge-on (180 - atan(2·aspect))")
+    ax.set_ylabel("diffuse (0-255)")
+    ax.set_title(f"Diffuse against aspect, truncation {t:g}, incidence {inc:g}", loc="left")
+    ax.legend(title="aspect", ncol=2, fontsize=7, title_fontsize=8, loc="upper right")
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# beyond the thesis
+
+
+def fig_lobe_geometry(lobes: pd.DataFrame):
+    """Measured lobe centres against the geometric mirror directions, and lobe widths."""
+    _theme()
+    d = lobes[np.isfinite(lobes["peak_elevation"]) & ~lobes["plate"]].copy()
+    if d.empty:
+        return placeholder(FIGURES["lobe_geometry"], "no lobes outside the plate")
+    fig, axes = plt.subplots(1, 3, figsize=(15, 3.9))
+    inc = _incidence(d)
+    d = d[np.isclose(d["incidence"], inc)]
+    aa = np.linspace(0.0, max(1.0, float(d["aspect"].max())), 200)
+    pred_back = [an.lobe_centres(inc, a)["back"] for a in aa]
+    ax = axes[0]
+    ax.plot(aa, [np.nan if p is None else p for p in pred_back], "k-", lw=1, label="back: 180 - 2 atan(2a) - i")
+    ax.axhline(180 - inc, color="k", ls="--", lw=1, label="forward: 180 - i")
+    sns.scatterplot(data=d, x="aspect", y="peak_elevation", hue="lobe", style="lobe", ax=ax, s=22)
+    ax.axhline(inc, color="orange", ls=":", lw=1, label="zero phase")
+    ax.set_xlabel("aspect")
+    ax.set_ylabel("elevation of the lobe peak (deg)")
+    ax.set_title("Lobe centres, phi = 0 arc", loc="left")
+    ax.legend(fontsize=7)
+    ax = axes[1]
+    sns.scatterplot(data=d[d["peak"] >= 4], x="truncation", y="fwhm", hue="lobe", style="lobe", ax=ax, s=22)
+    ax.set_ylabel("FWHM on the arc (deg); peaks >= 4 only")
+    ax.set_title("Lobe widths: truncation changes height, not width", loc="left")
+    ax = axes[2]
+    sns.scatterplot(data=d, x="aspect", y="offset", hue="lobe", style="lobe", ax=ax, s=22)
+    ax.axhline(0, color="k", lw=0.8)
+    ax.set_ylabel("peak minus predicted (deg)")
+    ax.set_title("Offset from the mirror direction", loc="left")
+    return fig
+
+
+def fig_diffuse_parts(parts: pd.DataFrame):
+    """Heatmaps over (truncation, aspect) of the three-part diffuse model's parameters."""
+    _theme()
+    d = parts[np.isfinite(parts["rate"])]
+    if d.empty:
+        return placeholder(FIGURES["diffuse_parts"], "no surface with a fitted decay (all plates?)")
+    inc = _incidence(d)
+    d = d[np.isclose(d["incidence"], inc)].copy()
+    d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
+    fig, axes = plt.subplots(1, 4, figsize=(17, 3.9))
+    for ax, (col, label, fmt) in zip(axes, (("level1", "level of part 1 (0-255)", ".0f"),
+                                            ("level3", "level of part 3 (0-255)", ".0f"),
+                                            ("decay_length", "decay length 1/k (deg)", ".0f"),
+                                            ("rmse", "RMSE of the model (0-255)", ".1f"))):
+        p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
+        sns.heatmap(p, ax=ax, cmap="viridis", annot=p.shape[0] * p.shape[1] <= 150, fmt=fmt, annot_kws={"size": 6},
+                    cbar_kws={"shrink": 0.8})
+        ax.set_title(label, loc="left", fontsize=9)
+    return fig
+
+
+def fig_glm_diagnostics(diag: pd.DataFrame, summary: pd.DataFrame):
+    """Residuals against fitted values and influence (leverage, Cook's distance) of each grid GLM."""
+    _theme()
+    if diag is None or diag.empty:
+        return placeholder(FIGURES["glm_diagnostics"], "no GLM was fitted (see the messages in the report)")
+    responses = list(dict.fromkeys(diag["response"]))
+    fig, axes = plt.subplots(2, len(responses), figsize=(4.8 * len(responses), 7), squeeze=False)
+    for j, r in enumerate(responses):
+        d = diag[diag["response"] == r].copy()
+        d["aspect "] = d["aspect"].map(lambda a: round(a, 2))
+        ax = axes[0, j]
+        sns.scatterplot(data=d, x="fitted", y="residual", hue="truncation", palette="viridis", ax=ax, s=18,
+                        legend=j == len(responses) - 1)
+        ax.axhline(0, color="k", lw=0.8)
+        srow = summary[summary["response"] == r]
+        sub = ""
+        if len(srow):
+            s = srow.iloc[0]
+            sub = f"\nconverged {bool(s['converged'])}, κ(scaled) {s['condition_scaled']:.1f}, pseudo-R² {s['pseudo_r2']:.3f}"
+        ax.set_title(f"{r}{sub}", loc="left", fontsize=9)
+        ax.set_ylabel("residual (0-255)")
+        ax = axes[1, j]
+        n, p = len(d), max(1, len(srow.iloc[0]["terms"].split(" + ")) + 1) if len(srow) else 2
+        ax.scatter(d["leverage"], d["pearson_residual"], s=10 + 400 * d["cooks_distance"] / max(d["cooks_distance"].max(), 1e-12),
+                   c=d["aspect"], cmap="rocket_r", alpha=0.8, edgecolor="k", linewidth=0.3)
+        ax.axvline(2 * p / max(n, 1), color="0.4", ls=":", lw=1)
+        ax.axhline(0, color="k", lw=0.8)
+        top = d.nlargest(3, "cooks_distance")
+        for _, row in top.iterrows():
+            ax.annotate(f"t{row['truncation']:g},a{an.aspect_label(row['aspect'])}",
+                        (row["leverage"], row["pearson_residual"]), fontsize=7)
+        ax.set_xlabel("leverage (hat); dotted 2p/n")
+        ax.set_ylabel("Pearson residual")
+        ax.set_title("influence: size ∝ Cook's distance, colour = aspect", loc="left", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def fig_model_fits(fits: pd.DataFrame):
+    """Heatmaps of each analytic model's RMSE over (truncation, aspect)."""
+    _theme()
+    if fits is None or fits.empty:
+        return placeholder(FIGURES["model_fits"], "no model fits")
+    inc = _incidence(fits)
+    d = fits[np.isclose(fits["incidence"], inc)].copy()
+    d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
+    panels = [(col, f"{comp}: {name}") for comp, cols in an.MODEL_COLUMNS.items() for col, name in cols.items()
+              if col in d]
+    ncol = 4
+    nrow = math.ceil(len(panels) / ncol)
+    fig, axes = plt.subplots(nrow, ncol, figsize=(4.4 * ncol, 3.5 * nrow), squeeze=False)
+    vmax = {comp: float(np.nanmax(d[[c for c in cols if c in d]].to_numpy())) for comp, cols in an.MODEL_COLUMNS.items()
+            if any(c in d for c in cols)}
+    comp_of = {col: comp for comp, cols in an.MODEL_COLUMNS.items() for col in cols}
+    for ax, (col, title) in zip(axes.flat, panels):
+        p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
+        sns.heatmap(p, ax=ax, cmap="mako_r", vmin=0, vmax=vmax[comp_of[col]] or 1, cbar_kws={"shrink": 0.8})
+        ax.set_title(f"{title}\nmedian RMSE {np.nanmedian(p.to_numpy()):.2f}", loc="left", fontsize=8)
+    for ax in list(axes.flat)[len(panels):]:
+        ax.axis("off")
+    fig.tight_layout()
+    return fig
+
+
+def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, surfaces=None):
+    """The total component against phase near opposition, with Hapke's fitted curve, for a few surfaces."""
+    _theme()
+    inc = _incidence(study)
+    if surfaces is None:
+        surfaces = []
+        for t, a in ((0.5, 1.0), (1.0, 1.0), (1.0, an.SQRT3_2), (1.0, 0.5)):
+            r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= an.ASPECT_TOL)
+                     & np.isclose(fits["incidence"], inc)]
+            if len(r):
+                surfaces.append((float(r["truncation"].iloc[0]), float(r["aspect"].iloc[0]), inc))
+    if not surfaces:
+        return placeholder(FIGURES["hapke"], "none of the example surfaces is in the study")
+    tot = study[study["component"].astype(str) == "total"]
+    fig, axes = plt.subplots(1, len(surfaces), figsize=(4.3 * len(surfaces), 3.5), squeeze=False, sharey=True)
+    for ax, (t, a, i) in zip(axes[0], surfaces):
+        d = tot[np.isclose(tot["truncation"], t) & (np.abs(tot["aspect"] - a) <= an.ASPECT_TOL)
+                & np.isclose(tot["incidence"], i) & (tot["coverage"] > 0) & (tot["phase"] <= max_phase)]
+        ax.scatter(d["phase"], d["rough"], s=3, alpha=0.35, color="0.3", label="views (all azimuths)")
+        r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= an.ASPECT_TOL)
+                 & np.isclose(fits["incidence"], i)].iloc[0]
+        g = np.linspace(0, max_phase, 200)
+        if np.isfinite(r["hapke_c"]):
+            bg = r["hapke_c"] + r["hapke_d"] * g
+            ax.plot(g, bg, color="#1f77b4", ls="--", lw=1, label="linear phase background")
+            if np.isfinite(r["hapke_h"]):
+                y = bg + r["hapke_S"] / (1 + np.tan(np.radians(g) / 2) / r["hapke_h"])
+                ax.plot(g, y, color="#d62728", label=f"+ Hapke B(g): B0 {r['hapke_B0']:.3g}, h {r['hapke_h']:.3g}")
+        ax.set_xlabel("phase angle g (deg)")
+        ax.set_ylabel("total (0-255)")
+        ax.set_title(f"t {t:g}, aspect {an.aspect_label(a)}: RMSE {r['rmse_hapke']:.1f} "
+                     f"(background alone {r['rmse_constant_near_opposition']:.1f})", loc="left", fontsize=8)
+        ax.legend(fontsize=7)
+    return fig
+
+
+def fig_timings(per_sweep: pd.DataFrame):
+    """Render seconds per sweep over (truncation, aspect), one panel per incidence."""
+    _theme()
+    if per_sweep is None or per_sweep.empty:
+        return placeholder(FIGURES["timings"], "no timings")
+    d = per_sweep.copy()
+    d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
+    incs = sorted(d["incidence"].unique())
+    fig, axes = plt.subplots(1, len(incs), figsize=(6 * len(incs), 4.2), squeeze=False)
+    for ax, inc in zip(axes[0], incs):
+        p = d[d["incidence"] == inc].pivot_table(index="aspect", columns="truncation", values="seconds")
+        sns.heatmap(p.sort_index(ascending=False), ax=ax, cmap="rocket_r", annot=p.size <= 150, fmt=".1f",
+                    annot_kws={"size": 6}, cbar_kws={"label": "seconds per sweep"})
+        ax.set_title(f"incidence {inc:g}: render wall time per sweep", loc="left", fontsize=9)
+    return fig
+
+
+# ---------------------------------------------------------------------------
+# pictures of the surfaces (the thesis's Figs. 9, 10, 13)
+
+#: stem -> (title, list of (truncation, aspect, incidence, elevation, azimuth, label))
+PICTURE_SETS = {
+    "fig09_shadows": (
+        "Shadows at several incidences (full pyramids, aspect 1, seen from elevation 20, azimuth 60)",
+        [(1.0, 1.0, i, 20.0, 60.0, f"incidence {i:g}") for i in (15.0, 30.0, 45.0, 70.0)]
+        + [(0.5, 1.0, 30.0, 20.0, 60.0, "truncation 0.5, incidence 30")],
+    ),
+    "fig10_grazing": (
+        "Views near grazing (truncation 1, aspect 1, incidence 30, azimuth 0 from the light's side)",
+        [(1.0, 1.0, 30.0, e, 0.0, f"elevation {e:g}") for e in (2.0, 10.0, 30.0, 90.0)],
+    ),
+    "fig13_tops": (
+        "Truncated tops at low incidence (aspect 1, incidence 10, seen from the mirror side, elevation 165)",
+        [(t, 1.0, 10.0, 165.0, 0.0, f"truncation {t:g}") for t in (0.3, 0.6, 0.9, 1.0)],
+    ),
+}
+
+
+def surface_pictures(views, lighting=None, size=(400, 300), periods=6):
+    """Render pictures of finite patches (as the thesis's screenshots).
+
+    Parameters
+    ----------
+    views : list of (truncation, aspect, incidence, elevation, azimuth, label)
+    lighting : :class:`roughlight.shading.Lighting` or None
+
+    Returns
+    -------
+    list of (label, (H, W, 3) uint8 image)
+
+    Raises
+    ------
+    AttributeError if :func:`roughlight.rendering.render_picture` does not exist.
+    """
+    from . import rendering
+
+    render_picture = rendering.render_picture  # AttributeError when the renderer lacks it
+    out = []
+    for t, a, i, e, phi, label in views:
+        img = render_picture(t, a, i, e, phi, lighting=lighting, size=size, periods=periods)
+        out.append((label, np.asarray(img)))
+    return out
+
+
+def fig_pictures(stem: str, pictures):
+    """A row of rendered pictures with their labels (Figs. 9, 10, 13)."""
+    _theme()
+    title = PICTURE_SETS[stem][0] if stem in PICTURE_SETS else stem
+    n = len(pictures)
+    if n == 0:
+        return placeholder(title, "no pictures")
+    fig, axes = plt.subplots(1, n, figsize=(3.2 * n, 2.9), squeeze=False)
+    for ax, (label, img) in zip(axes[0], pictures):
+        ax.imshow(img)
+        ax.set_title(label, fontsize=9)
+        ax.axis("off")
+    fig.suptitle(title, fontsize=10, y=1.02)
+    return fig

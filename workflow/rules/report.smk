@@ -1,0 +1,364 @@
+# Analysis and report (issue #5): results/study.parquet -> results/analysis/*, results/figures/*.png
+# and the self-contained reports/roughlight_report.html. Settings under `report:` in the config
+# (all optional; defaults below).
+import os
+
+REPORT_DEFAULTS = {
+    # aspects of the thesis's Tables 1-2: its runs (1.0) and its actual 60-degree facets (sqrt(3)/2)
+    "table_aspects": [1.0, 0.8660254037844386],
+    # incidence of Tables 1-2 (degrees)
+    "table_incidence": 30,
+    # a lobe's window on the azimuth-0 arc reaches at most this far from its mirror direction (degrees)
+    "lobe_halfwidth": 40,
+    # largest condition number of the centred, scaled GLM design before a term is kept out
+    "collinearity_limit": 100,
+    # Hapke's opposition term is fitted to views within this phase angle (degrees)
+    "hapke_max_phase": 60,
+    # compare the table surfaces' lobe peaks with the exact polygon-clipping reference
+    "exact_check": True,
+}
+
+REPORT_FIGURES = [
+    "fig19_topdown",
+    "fig21_specular_truncation",
+    "fig23_forward_models",
+    "fig24_reflecting_areas",
+    "fig25_back_models",
+    "fig26_specular_aspect",
+    "fig27_diffuse_plate",
+    "fig28_diffuse_truncation",
+    "fig29_diffuse_aspect",
+    "lobe_geometry",
+    "diffuse_parts",
+    "glm_diagnostics",
+    "model_fits",
+    "hapke",
+    "timings",
+]
+REPORT_RENDERED_FIGURES = [
+    "fig09_shadows",
+    "fig10_grazing",
+    "fig13_tops",
+    "fig17_clipping",
+    "fig20_plate_incidence",
+]
+REPORT_BENCHMARKS = [
+    "results/benchmarks/speed_accuracy.png",
+    "results/benchmarks/speed_accuracy.parquet",
+]
+
+
+def report_settings():
+    """The `report:` section of the config over its defaults (plain types: travels through params)."""
+    settings = dict(REPORT_DEFAULTS)
+    settings.update(dict(config.get("report", {}) or {}))
+    settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
+    return settings
+
+
+def report_lighting():
+    return rl_config.lighting_from_config(config).as_dict()
+
+
+def report_render_settings():
+    return rl_config.render_settings_from_config(config)
+
+
+def report_benchmark_inputs():
+    """The optional speed/accuracy benchmark files that exist when the workflow starts."""
+    return [path for path in REPORT_BENCHMARKS if os.path.exists(path)]
+
+
+def report_figure_path(stem):
+    return f"results/figures/{stem}.png"
+
+
+rule report_tables:
+    input:
+        study="results/study.parquet",
+    output:
+        lobes="results/analysis/lobes_arc.parquet",
+        hemisphere="results/analysis/lobes_hemisphere.parquet",
+        diffuse_parts=report(
+            "results/analysis/diffuse_three_part.csv",
+            caption="../report/diffuse_three_part.rst",
+            category="Tables",
+            subcategory="Diffuse",
+        ),
+        diffuse_levels="results/analysis/diffuse_levels.csv",
+        exact="results/analysis/exact_peaks.csv",
+        thesis_tables=report(
+            "results/analysis/thesis_tables.csv",
+            caption="../report/thesis_tables.rst",
+            category="Tables",
+            subcategory="Thesis Tables 1-2",
+        ),
+        sine=report(
+            "results/analysis/sine_refits.csv",
+            caption="../report/sine_refits.rst",
+            category="Tables",
+            subcategory="Thesis Tables 1-2",
+        ),
+        areas="results/analysis/reflecting_areas.csv",
+        timings="results/analysis/render_timings.csv",
+        summary="results/analysis/study_summary.json",
+    params:
+        settings=report_settings(),
+        lighting=report_lighting(),
+    log:
+        "results/logs/report/tables.log",
+    threads: 1
+    resources:
+        mem_mb=4096,
+    script:
+        "../scripts/analysis_tables.py"
+
+
+rule report_glm:
+    input:
+        lobes="results/analysis/lobes_arc.parquet",
+        diffuse_levels="results/analysis/diffuse_levels.csv",
+    output:
+        summary=report(
+            "results/analysis/glm_summary.csv",
+            caption="../report/glm_summary.rst",
+            category="Tables",
+            subcategory="Beyond the thesis",
+        ),
+        coefficients=report(
+            "results/analysis/glm_coefficients.csv",
+            caption="../report/glm_coefficients.rst",
+            category="Tables",
+            subcategory="Beyond the thesis",
+        ),
+        diagnostics="results/analysis/glm_diagnostics.csv",
+        messages="results/analysis/glm_messages.json",
+    params:
+        settings=report_settings(),
+    log:
+        "results/logs/report/glm.log",
+    threads: 1
+    resources:
+        mem_mb=1024,
+    script:
+        "../scripts/analysis_glm.py"
+
+
+rule report_models:
+    input:
+        study="results/study.parquet",
+    output:
+        fits="results/analysis/model_fits.parquet",
+        summary=report(
+            "results/analysis/model_fits_summary.csv",
+            caption="../report/model_fits_summary.rst",
+            category="Tables",
+            subcategory="Beyond the thesis",
+        ),
+    params:
+        settings=report_settings(),
+        lighting=report_lighting(),
+    log:
+        "results/logs/report/models.log",
+    threads: 1
+    resources:
+        mem_mb=4096,
+    script:
+        "../scripts/analysis_models.py"
+
+
+rule report_figures:
+    input:
+        study="results/study.parquet",
+        lobes="results/analysis/lobes_arc.parquet",
+        diffuse_parts="results/analysis/diffuse_three_part.csv",
+        sine="results/analysis/sine_refits.csv",
+        areas="results/analysis/reflecting_areas.csv",
+        timings="results/analysis/render_timings.csv",
+        glm_summary="results/analysis/glm_summary.csv",
+        glm_diagnostics="results/analysis/glm_diagnostics.csv",
+        fits="results/analysis/model_fits.parquet",
+    output:
+        fig19_topdown=report(
+            "results/figures/fig19_topdown.png",
+            caption="../report/fig19_topdown.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig21_specular_truncation=report(
+            "results/figures/fig21_specular_truncation.png",
+            caption="../report/fig21_specular_truncation.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig23_forward_models=report(
+            "results/figures/fig23_forward_models.png",
+            caption="../report/fig23_forward_models.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig24_reflecting_areas=report(
+            "results/figures/fig24_reflecting_areas.png",
+            caption="../report/fig24_reflecting_areas.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig25_back_models=report(
+            "results/figures/fig25_back_models.png",
+            caption="../report/fig25_back_models.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig26_specular_aspect=report(
+            "results/figures/fig26_specular_aspect.png",
+            caption="../report/fig26_specular_aspect.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig27_diffuse_plate=report(
+            "results/figures/fig27_diffuse_plate.png",
+            caption="../report/fig27_diffuse_plate.rst",
+            category="Figures",
+            subcategory="Diffuse",
+        ),
+        fig28_diffuse_truncation=report(
+            "results/figures/fig28_diffuse_truncation.png",
+            caption="../report/fig28_diffuse_truncation.rst",
+            category="Figures",
+            subcategory="Diffuse",
+        ),
+        fig29_diffuse_aspect=report(
+            "results/figures/fig29_diffuse_aspect.png",
+            caption="../report/fig29_diffuse_aspect.rst",
+            category="Figures",
+            subcategory="Diffuse",
+        ),
+        lobe_geometry=report(
+            "results/figures/lobe_geometry.png",
+            caption="../report/lobe_geometry.rst",
+            category="Figures",
+            subcategory="Beyond the thesis",
+        ),
+        diffuse_parts=report(
+            "results/figures/diffuse_parts.png",
+            caption="../report/diffuse_parts.rst",
+            category="Figures",
+            subcategory="Diffuse",
+        ),
+        glm_diagnostics=report(
+            "results/figures/glm_diagnostics.png",
+            caption="../report/glm_diagnostics.rst",
+            category="Figures",
+            subcategory="Beyond the thesis",
+        ),
+        model_fits=report(
+            "results/figures/model_fits.png",
+            caption="../report/model_fits.rst",
+            category="Figures",
+            subcategory="Beyond the thesis",
+        ),
+        hapke=report(
+            "results/figures/hapke.png",
+            caption="../report/hapke.rst",
+            category="Figures",
+            subcategory="Beyond the thesis",
+        ),
+        timings=report(
+            "results/figures/timings.png",
+            caption="../report/timings.rst",
+            category="Figures",
+            subcategory="Provenance",
+        ),
+    params:
+        settings=report_settings(),
+    log:
+        "results/logs/report/figures.log",
+    threads: 1
+    resources:
+        mem_mb=4096,
+    script:
+        "../scripts/figures.py"
+
+
+rule report_render_figures:
+    output:
+        plates="results/analysis/plate_sweeps.parquet",
+        fig09_shadows=report(
+            "results/figures/fig09_shadows.png",
+            caption="../report/fig09_shadows.rst",
+            category="Figures",
+            subcategory="Pictures",
+        ),
+        fig10_grazing=report(
+            "results/figures/fig10_grazing.png",
+            caption="../report/fig10_grazing.rst",
+            category="Figures",
+            subcategory="Pictures",
+        ),
+        fig13_tops=report(
+            "results/figures/fig13_tops.png",
+            caption="../report/fig13_tops.rst",
+            category="Figures",
+            subcategory="Pictures",
+        ),
+        fig17_clipping=report(
+            "results/figures/fig17_clipping.png",
+            caption="../report/fig17_clipping.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+        fig20_plate_incidence=report(
+            "results/figures/fig20_plate_incidence.png",
+            caption="../report/fig20_plate_incidence.rst",
+            category="Figures",
+            subcategory="Specular",
+        ),
+    params:
+        lighting=report_lighting(),
+        render=report_render_settings(),
+        elevation_step=float(config["sweep"]["elevation_step"]),
+        incidences=[0, 10, 20, 30, 40, 50, 60, 70, 80, 90],
+        lights=[127, 255],
+    log:
+        "results/logs/report/render_figures.log",
+    threads: 1
+    resources:
+        mem_mb=2048,
+    script:
+        "../scripts/render_figures.py"
+
+
+rule report_html:
+    input:
+        study="results/study.parquet",
+        lobes="results/analysis/lobes_arc.parquet",
+        hemisphere="results/analysis/lobes_hemisphere.parquet",
+        diffuse_parts="results/analysis/diffuse_three_part.csv",
+        exact="results/analysis/exact_peaks.csv",
+        thesis_tables="results/analysis/thesis_tables.csv",
+        sine="results/analysis/sine_refits.csv",
+        timings="results/analysis/render_timings.csv",
+        summary="results/analysis/study_summary.json",
+        glm_summary="results/analysis/glm_summary.csv",
+        glm_coefficients="results/analysis/glm_coefficients.csv",
+        glm_messages="results/analysis/glm_messages.json",
+        fits="results/analysis/model_fits.parquet",
+        fits_summary="results/analysis/model_fits_summary.csv",
+        figures=[report_figure_path(stem) for stem in REPORT_FIGURES + REPORT_RENDERED_FIGURES],
+        benchmarks=report_benchmark_inputs(),
+    output:
+        report(
+            "reports/roughlight_report.html",
+            caption="../report/roughlight_report.rst",
+            category="Report",
+        ),
+    params:
+        config=config,
+        settings=report_settings(),
+    log:
+        "results/logs/report/html.log",
+    threads: 1
+    resources:
+        mem_mb=1024,
+    script:
+        "../scripts/report_html.py"

@@ -1,0 +1,46 @@
+"""Snakemake adapter: rendered figures (plate sweeps for Figs. 17 and 20; pictures for Figs. 9, 10, 13)."""
+import os
+import sys
+
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+
+from roughlight import figures as F  # noqa: E402
+from roughlight.report import write_frame  # noqa: E402
+from roughlight.shading import Lighting  # noqa: E402
+
+log = _log.setup(snakemake)
+out, params = snakemake.output, snakemake.params
+lighting = dict(params.lighting)
+incidence = 30.0
+
+plates = F.plate_sweeps(
+    sorted(set(float(i) for i in params.incidences) | {incidence}),
+    [float(j) for j in params.lights],
+    elevation_step=params.elevation_step,
+    lighting=lighting,
+    settings=params.render,
+)
+write_frame(plates, out.plates)
+clip = plates[plates["incidence"] == incidence]
+F.save_figure(F.fig17_clipping(clip), out.fig17_clipping)
+base_light = float(lighting["light"])
+F.save_figure(F.fig20_plate_incidence(plates[plates["light"] == base_light] if (plates["light"] == base_light).any()
+                                      else plates[plates["light"] == plates["light"].min()]), out.fig20_plate_incidence)
+log(f"plate sweeps: {plates.groupby(['incidence', 'light']).ngroups} sweeps")
+
+picture_lighting = Lighting(**{**lighting, "shadows": True})
+for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
+    title, views = F.PICTURE_SETS[stem]
+    try:
+        pictures = F.surface_pictures(views, lighting=picture_lighting)
+        fig = F.fig_pictures(stem, pictures)
+    except AttributeError as exc:
+        log(f"{stem}: roughlight.rendering.render_picture is not available ({exc}): placeholder")
+        fig = F.placeholder(title, "roughlight.rendering.render_picture(truncation, aspect, incidence, elevation, "
+                                   "azimuth, lighting, size, periods) is not available in this version of the "
+                                   "renderer: no pictures.")
+    F.save_figure(fig, out[stem])
+    log(f"{stem} -> {out[stem]}")
