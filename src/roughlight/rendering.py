@@ -50,6 +50,7 @@ import pyrender  # noqa: E402
 from OpenGL import GL as gl  # noqa: E402
 from pyrender.platforms.osmesa import OSMesaPlatform  # noqa: E402
 from pyrender.shader_program import ShaderProgram  # noqa: E402
+from pyrender.shader_program import ShaderProgramCache as ShaderProgramCache_  # noqa: E402
 
 from . import geometry, shading, sweeps  # noqa: E402
 
@@ -68,7 +69,7 @@ SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
 SAMPLINGS = ("lattice", "grid")
 
 #: Renderers selectable with ``render.method``.
-METHODS = ("fast", "reference")
+METHODS = ("fast", "naive", "reference")
 
 
 @dataclass(frozen=True)
@@ -583,15 +584,188 @@ def _check_incidence(incidence) -> float:
     return value
 
 
+class _PyrenderShaders(ShaderProgramCache_):
+    """pyrender's program cache, as it comes (keyed on the GL context), with the
+    study's equation in place of its PBR fragment shader."""
+
+    def get_program(self, vertex_shader, fragment_shader, geometry_shader=None, defines=None):
+        if fragment_shader == "mesh.frag":
+            fragment_shader = os.path.join(SHADER_DIR, "naive.frag")
+        return super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
+
+
+def _up_vector(view: np.ndarray) -> np.ndarray:
+    """Image 'up': the direction of increasing elevation (keeps the horizon level)."""
+    e = math.asin(max(-1.0, min(1.0, view[2])))
+    phi = math.atan2(view[1], view[0]) if abs(math.cos(e)) > 1e-12 else 0.0
+    if math.cos(e) < 0:  # beyond the zenith the orbit's azimuth is phi + 180
+        phi += math.pi
+    return np.array([-math.sin(e) * math.cos(phi), -math.sin(e) * math.sin(phi), math.cos(e)])
+
+
+def _look_pose(direction: np.ndarray, up: np.ndarray, distance: float) -> np.ndarray:
+    """Camera (or light) pose at ``distance * direction`` looking back at the origin."""
+    z = direction / np.linalg.norm(direction)
+    x = np.cross(up, z)
+    if np.linalg.norm(x) < 1e-9:
+        x = np.cross([0.0, 1.0, 0.0], z)
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    pose = np.eye(4)
+    pose[:3, 0], pose[:3, 1], pose[:3, 2], pose[:3, 3] = x, y, z, z * distance
+    return pose
+
+
+def patch_mesh(truncation: float, aspect: float, periods: int):
+    """A finite ``periods`` x ``periods`` patch of the surface, centred on the origin (trimesh)."""
+    import trimesh
+
+    tile = geometry.period_mesh(truncation, aspect)
+    offsets = np.arange(periods) - periods / 2.0
+    copies = []
+    for dx in offsets:
+        for dy in offsets:
+            copy = tile.copy()
+            copy.apply_translation([dx, dy, 0.0])
+            copies.append(copy)
+    mesh = trimesh.util.concatenate(copies)
+    return mesh
+
+
+class _NaiveScene:
+    """The thesis's set-up in pyrender as it comes: a finite patch, an orthographic
+    camera orbiting it, one DirectionalLight whose shadow map pyrender redraws on
+    every render."""
+
+    def __init__(self, truncation, aspect, incidence, lighting, size, periods, view_periods):
+        self.size = tuple(int(v) for v in size)
+        self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
+        material = pyrender.MetallicRoughnessMaterial(
+            baseColorFactor=[
+                lighting.diffuse_reflectance,
+                lighting.specular_reflectance,
+                lighting.ambient_reflectance * lighting.ambient,
+                lighting.shininess / 128.0,
+            ],
+            metallicFactor=1.0 if lighting.specular_model == "blinn" else 0.0,
+            doubleSided=False,
+        )
+        mesh = patch_mesh(truncation, aspect, periods)
+        self.scene.add(pyrender.Mesh.from_trimesh(mesh, material=material, smooth=False))
+        light_dir = shading.light_direction(incidence)
+        light = pyrender.DirectionalLight(color=np.ones(3), intensity=float(lighting.light) / 255.0)
+        up = np.array([0.0, 0.0, 1.0]) if abs(light_dir[2]) < 0.99 else np.array([1.0, 0.0, 0.0])
+        self.scene.add(light, pose=_look_pose(light_dir, up, 10.0))
+        half_width = view_periods / 2.0
+        camera = pyrender.OrthographicCamera(
+            xmag=half_width, ymag=half_width * self.size[1] / self.size[0], znear=0.05, zfar=4.0 * periods + 20.0
+        )
+        self.distance = 2.0 * periods + 10.0
+        self.camera_node = self.scene.add(camera, pose=np.eye(4))
+        self.shadows = bool(lighting.shadows) and not geometry.is_plate(truncation, aspect)
+
+    def render(self, renderer, view):
+        self.scene.set_pose(self.camera_node, _look_pose(view, _up_vector(view), self.distance))
+        flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.shadows else pyrender.RenderFlags.NONE
+        color, depth = renderer.render(self.scene, flags=flags)
+        return color, depth
+
+
+_NAIVE_RENDERERS: dict = {}
+
+
+def _naive_renderer(size):
+    renderer = _NAIVE_RENDERERS.get(size)
+    if renderer is None:
+        for other in list(_NAIVE_RENDERERS.values()):
+            other.delete()
+        _NAIVE_RENDERERS.clear()
+        # free the fast method's context too: one OSMesa context at a time
+        for ctx in list(_CONTEXTS.values()):
+            ctx.delete()
+        _CONTEXTS.clear()
+        renderer = pyrender.OffscreenRenderer(*size)
+        renderer._renderer._program_cache = _PyrenderShaders()
+        _NAIVE_RENDERERS[size] = renderer
+    return renderer
+
+
+def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, window=(400, 300),
+                capture=40, view_periods=40.0, periods=None) -> dict:
+    """The thesis's procedure with pyrender as it comes: one render per view.
+
+    Each view renders a ``window`` (400 x 300 pixels, as the thesis) of a finite
+    patch through an orthographic camera, with pyrender redrawing its 2048^2
+    directional shadow map and (its program cache being keyed on OSMesa's
+    ever-new context) recompiling its shaders on every render; the value is
+    the mean of the central ``capture`` x ``capture`` pixels (the thesis's
+    40 x 40). The window spans ``view_periods`` periods across (10 pixels a
+    period by default), the patch ``periods`` x ``periods`` (default: enough
+    for the capture window down to 10 deg elevation). ``coverage`` is the
+    fraction of capture pixels showing the surface (from the depth buffer).
+
+    Returns the dict of :func:`render_sweep`.
+    """
+    start = time.perf_counter()
+    lighting = lighting or shading.Lighting()
+    truncation, aspect = geometry.validate_surface(truncation, aspect)
+    incidence = _check_incidence(incidence)
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    if periods is None:
+        capture_periods = view_periods * capture / window[0]
+        periods = int(2 * math.ceil(capture_periods / math.sin(math.radians(10.0)) / 2.0 + 2)) + 1
+    renderer = _naive_renderer(tuple(window))
+    scene = _NaiveScene(truncation, aspect, incidence, lighting, window, periods, view_periods)
+    views = shading.view_direction(elevation, azimuth)
+    out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
+    w, h = window
+    x0, y0 = (w - capture) // 2, (h - capture) // 2
+    for k in np.flatnonzero(~sweeps.is_grazing(elevation)):
+        color, depth = scene.render(renderer, views[k])
+        box = np.s_[y0:y0 + capture, x0:x0 + capture]
+        means = color[box].reshape(-1, color.shape[-1]).mean(axis=0, dtype=np.float64)
+        out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]
+        out["coverage"][k] = float(np.mean(depth[box] > 0))
+    out["seconds"] = time.perf_counter() - start
+    return out
+
+
+def render_picture(truncation, aspect, incidence, elevation, azimuth, lighting=None, size=(400, 300),
+                   periods=6, component="total") -> np.ndarray:
+    """A picture of the surface as the detector sees it (the thesis's screenshots).
+
+    A finite patch, ``periods`` periods across the picture, orthographic camera
+    at (``elevation``, ``azimuth``) degrees, lit and shadowed as the study.
+
+    Returns
+    -------
+    (H, W, 3) uint8 array, the chosen component (``diffuse``, ``specular`` or
+    ``total``) as grey levels.
+    """
+    lighting = lighting or shading.Lighting()
+    renderer = _naive_renderer(tuple(size))
+    patch = int(2 * math.ceil(periods / max(math.sin(math.radians(max(float(elevation), 1.0))), 0.1) / 2 + 2)) + 1
+    scene = _NaiveScene(truncation, aspect, _check_incidence(incidence), lighting, size, min(patch, 201), periods)
+    view = shading.view_direction(float(elevation), float(azimuth))
+    color, _ = scene.render(renderer, view)
+    channel = {"diffuse": 0, "specular": 1, "total": 2}[component]
+    return np.repeat(color[..., channel : channel + 1], 3, axis=2).copy()
+
+
 def measure_sweep(method: str, truncation, aspect, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
     """Measure a sweep with the named method (``render.method``).
 
-    ``fast`` renders with :func:`render_sweep`; ``reference`` computes the
+    ``fast`` renders with :func:`render_sweep`; ``naive`` with
+    :func:`naive_sweep` (the thesis's procedure, one render per view);
+    ``reference`` computes the
     same quantity exactly by polygon clipping (:mod:`roughlight.reference`).
     Returns the dict of :func:`render_sweep`.
     """
     if method == "fast":
         return render_sweep(truncation, aspect, incidence, azimuth, elevation, lighting, settings)
+    if method == "naive":
+        return naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting)
     if method == "reference":
         from . import reference
 
