@@ -43,6 +43,9 @@ study: setup
 test: setup chromium
 	$(BIN)/python -m pytest -q
 
+bench: setup
+	$(BIN)/snakemake --cores $(CORES) results/benchmarks/speed_accuracy.parquet
+
 lint: setup
 	$(BIN)/snakemake --lint
 

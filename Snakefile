@@ -18,6 +18,7 @@ validate(config, "workflow/schemas/config.schema.yaml")
 
 include: "workflow/rules/render.smk"
 include: "workflow/rules/study.smk"
+include: "workflow/rules/benchmark.smk"
 
 
 rule all:

@@ -1317,6 +1317,8 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     best = minimize_scalar(lambda x: solve(x)[1], bounds=(a_, b_), method="bounded", options={"xatol": 1e-4})
     log_h = float(best.x) if best.fun <= rss[j] else float(grid[j])
     (c, d, S), r = solve(log_h)
+    if S <= 1e-9 * max(1.0, float(np.abs(v).max())):  # rounding, not a surge
+        (c, d), S, r = coef0, 0.0, float(np.sum((v - base @ coef0) ** 2))
     out.update(c=float(c), d=float(d), S=float(S), B0=float(S / c) if c > 0 else np.nan, h=math.exp(log_h),
                rmse=float(math.sqrt(r / len(v))))
     if S <= 0:

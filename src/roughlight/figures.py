@@ -597,7 +597,7 @@ def fig_diffuse_parts(parts: pd.DataFrame):
                                             ("decay_length", "decay length 1/k (deg)", ".0f"),
                                             ("rmse", "RMSE of the model (0-255)", ".1f"))):
         p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
-        sns.heatmap(p, ax=ax, cmap="viridis", annot=p.shape[0] * p.shape[1] <= 150, fmt=fmt, annot_kws={"size": 6},
+        sns.heatmap(p, ax=ax, xticklabels=True, yticklabels=True, cmap="viridis", annot=p.shape[0] * p.shape[1] <= 150, fmt=fmt, annot_kws={"size": 6},
                     cbar_kws={"shrink": 0.8})
         ax.set_title(label, loc="left", fontsize=9)
     return fig
@@ -659,7 +659,7 @@ def fig_model_fits(fits: pd.DataFrame):
     comp_of = {col: comp for comp, cols in an.MODEL_COLUMNS.items() for col in cols}
     for ax, (col, title) in zip(axes.flat, panels):
         p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
-        sns.heatmap(p, ax=ax, cmap="mako_r", vmin=0, vmax=vmax[comp_of[col]] or 1, cbar_kws={"shrink": 0.8})
+        sns.heatmap(p, ax=ax, xticklabels=True, yticklabels=True, cmap="mako_r", vmin=0, vmax=vmax[comp_of[col]] or 1, cbar_kws={"shrink": 0.8})
         ax.set_title(f"{title}\nmedian RMSE {np.nanmedian(p.to_numpy()):.2f}", loc="left", fontsize=8)
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
@@ -714,7 +714,7 @@ def fig_timings(per_sweep: pd.DataFrame):
     fig, axes = plt.subplots(1, len(incs), figsize=(6 * len(incs), 4.2), squeeze=False)
     for ax, inc in zip(axes[0], incs):
         p = d[d["incidence"] == inc].pivot_table(index="aspect", columns="truncation", values="seconds")
-        sns.heatmap(p.sort_index(ascending=False), ax=ax, cmap="rocket_r", annot=p.size <= 150, fmt=".1f",
+        sns.heatmap(p.sort_index(ascending=False), ax=ax, xticklabels=True, yticklabels=True, cmap="rocket_r", annot=p.size <= 150, fmt=".1f",
                     annot_kws={"size": 6}, cbar_kws={"label": "seconds per sweep"})
         ax.set_title(f"incidence {inc:g}: render wall time per sweep", loc="left", fontsize=9)
     return fig

@@ -1,0 +1,215 @@
+"""Speed against accuracy: every method and setting on one fixed set of views.
+
+The benchmark measures, in one process, each method's views per second and
+its error against the exact reference on the same surfaces and views, and
+charts error against time per view (log scales) with the Pareto front.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import reference, rendering, shading
+
+__all__ = [
+    "BENCH_SURFACES",
+    "bench_views",
+    "Config",
+    "default_configs",
+    "run_benchmark",
+    "pareto_front",
+    "plot_speed_accuracy",
+]
+
+#: Surfaces spread over the grid (truncation, aspect, incidence): low and tall,
+#: truncated and full, the thesis's aspect 1 and the 30-degree facets of sqrt(3)/2.
+BENCH_SURFACES = (
+    (0.2, 0.3, 30.0),
+    (0.5, 1.0, 30.0),
+    (0.8, 0.8660254037844386, 30.0),
+    (1.0, 1.0, 30.0),
+    (1.0, 0.5, 60.0),
+    (0.3, 0.7, 15.0),
+)
+
+COMPONENTS = ("diffuse", "specular", "total")
+
+
+def bench_views(elevation_step: float = 5.0, azimuth_step: float = 20.0):
+    """The fixed views: elevation 10..170 deg, azimuth 0..<180 deg (degrees)."""
+    el = np.arange(10.0, 170.0 + 1e-9, elevation_step)
+    az = np.arange(0.0, 180.0 - 1e-9, azimuth_step)
+    a, e = np.meshgrid(az, el, indexing="ij")
+    return a.ravel(), e.ravel()
+
+
+@dataclass(frozen=True)
+class Config:
+    """One method with its settings."""
+
+    method: str
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def label(self) -> str:
+        if self.method == "fast":
+            s = self.settings
+            return f"fast {s.get('sampling', 'lattice')} P={s.get('pixels_per_period')} S={s.get('shadow_map_size')}" + (
+                f" bias={s['shadow_bias']:g}" if "shadow_bias" in s else ""
+            )
+        if self.method == "naive":
+            return "naive (thesis: 400x300, central 40x40)"
+        return self.method
+
+
+def default_configs() -> list[Config]:
+    """The naive baseline, the reference, and the fast method's knobs."""
+    configs = [Config("naive"), Config("reference")]
+    for sampling in ("lattice", "grid"):
+        for pixels in (8, 12, 16, 24, 32, 48, 64):
+            configs.append(Config("fast", {"sampling": sampling, "pixels_per_period": pixels, "shadow_map_size": 512}))
+    for size in (32, 128, 2048):
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": size}))
+    for bias in (0.0, 1e-2):
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512, "shadow_bias": bias}))
+    return configs
+
+
+def _measure(config: Config, surface, azimuth, elevation, lighting):
+    t, a, i = surface
+    if config.method == "fast":
+        settings = rendering.RenderSettings(**config.settings)
+        return rendering.render_sweep(t, a, i, azimuth, elevation, lighting, settings)
+    return rendering.measure_sweep(config.method, t, a, i, azimuth, elevation, lighting)
+
+
+def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=None, log=None, repeats=3):
+    """Run every config on every surface and view; errors against the reference.
+
+    Parameters
+    ----------
+    configs : list of Config (default :func:`default_configs`)
+    surfaces : sequence of (truncation, aspect, incidence)
+    views : (azimuth, elevation) arrays, degrees (default :func:`bench_views`)
+    lighting : shading.Lighting
+    log : callable, optional
+    repeats : int
+        Timed runs of each fast config (the fastest counts: the machine's other
+        load only ever slows a run down); the slow methods run once.
+
+    Returns
+    -------
+    pandas.DataFrame, one row per config x component: method, label, settings
+    columns (sampling, pixels_per_period, shadow_map_size, shadow_bias),
+    n_views, seconds, views_per_second, ms_per_view, mae, max_error, component,
+    speedup_vs_naive (views per second over the naive method's, same run),
+    default (the fast method's default settings), pareto (on the front of
+    error against time per view for that component).
+    """
+    import pandas as pd
+
+    configs = list(configs or default_configs())
+    lighting = lighting or shading.Lighting()
+    log = log or (lambda message: None)
+    azimuth, elevation = views if views is not None else bench_views()
+    exact = [
+        reference.reference_sweep(t, a, i, azimuth, elevation, lighting) for (t, a, i) in surfaces
+    ]
+    rows = []
+    for config in configs:
+        _measure(config, surfaces[0], azimuth, elevation, lighting)  # warm up: context, layout, shaders
+        runs = []
+        for _ in range(repeats if config.method == "fast" else 1):
+            seconds = 0.0
+            errors = {c: [] for c in COMPONENTS}
+            for surface, truth in zip(surfaces, exact):
+                start = time.perf_counter()
+                out = _measure(config, surface, azimuth, elevation, lighting)
+                seconds += time.perf_counter() - start
+                for c in COMPONENTS:
+                    errors[c].append(np.abs(np.asarray(out[c]) - truth[c]))
+            runs.append(seconds)
+        seconds = min(runs)
+        n_views = len(surfaces) * azimuth.size
+        log(f"{config.label}: {n_views / seconds:.0f} views/s")
+        for c in COMPONENTS:
+            err = np.concatenate(errors[c])
+            rows.append(
+                {
+                    "method": config.method,
+                    "label": config.label,
+                    "sampling": config.settings.get("sampling", "exact" if config.method == "reference" else "window"),
+                    "pixels_per_period": config.settings.get("pixels_per_period", 0),
+                    "shadow_map_size": config.settings.get("shadow_map_size", 2048 if config.method == "naive" else 0),
+                    "shadow_bias": config.settings.get("shadow_bias", rendering.RenderSettings().shadow_bias if config.method == "fast" else np.nan),
+                    "component": c,
+                    "n_views": n_views,
+                    "seconds": seconds,
+                    "views_per_second": n_views / seconds,
+                    "ms_per_view": 1000.0 * seconds / n_views,
+                    "mae": float(err.mean()),
+                    "max_error": float(err.max()),
+                }
+            )
+    table = pd.DataFrame(rows)
+    default = Config("fast", {"sampling": rendering.RenderSettings().sampling,
+                              "pixels_per_period": rendering.RenderSettings().pixels_per_period,
+                              "shadow_map_size": rendering.RenderSettings().shadow_map_size}).label
+    naive = table.loc[table["method"] == "naive", "views_per_second"]
+    table["speedup_vs_naive"] = table["views_per_second"] / naive.iloc[0] if len(naive) else np.nan
+    table["default"] = table["label"] == default
+    table["pareto"] = False
+    for c in COMPONENTS:
+        mask = table["component"] == c
+        table.loc[mask, "pareto"] = pareto_front(table.loc[mask, "ms_per_view"].to_numpy(), table.loc[mask, "mae"].to_numpy())
+    return table
+
+
+def pareto_front(cost, error) -> np.ndarray:
+    """True for points no other point beats on both cost and error (lower is better)."""
+    cost = np.asarray(cost, float)
+    error = np.asarray(error, float)
+    front = np.ones(len(cost), bool)
+    for k in range(len(cost)):
+        better_or_equal = (cost <= cost[k]) & (error <= error[k])
+        strictly = (cost < cost[k]) | (error < error[k])
+        front[k] = not np.any(better_or_equal & strictly)
+    return front
+
+
+def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
+    """Error against time per view, log scales, one panel per component, Pareto front marked.
+
+    The reference's error is zero (up to floating point); it is drawn at
+    ``floor`` so that it shows on the log scale.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import seaborn as sns
+
+    data = table[table["component"].isin(["diffuse", "specular"])].copy()
+    data["mean abs error (0-255)"] = data["mae"].clip(lower=floor)
+    data["ms per view"] = data["ms_per_view"]
+    sns.set_theme(style="whitegrid")
+    grid = sns.relplot(
+        data=data, x="ms per view", y="mean abs error (0-255)", hue="method", style="sampling",
+        col="component", kind="scatter", s=70, height=4.2, aspect=1.15, facet_kws={"sharey": False},
+    )
+    for ax, (component, sub) in zip(grid.axes.flat, data.groupby("component", sort=False)):
+        front = sub[sub["pareto"]].sort_values("ms per view")
+        (line,) = ax.plot(front["ms per view"], front["mean abs error (0-255)"], color="black", lw=1, ls="--", label="Pareto front")
+        for _, row in sub.iterrows():
+            if row["method"] == "fast" and row["sampling"] == "lattice" and row["shadow_map_size"] == 512 and np.isclose(row["shadow_bias"], rendering.RenderSettings().shadow_bias):
+                ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row["mean abs error (0-255)"]),
+                            fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax.axhline(0.5, color="grey", lw=0.8, ls=":")
+        ax.set(xscale="log", yscale="log")
+        ax.legend(handles=[line], loc="lower left", fontsize=7)
+    grid.figure.suptitle("Speed against accuracy: error against the exact reference vs time per view", y=1.03)
+    grid.figure.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(grid.figure)

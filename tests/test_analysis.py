@@ -1,0 +1,385 @@
+"""Tests of the analysis (roughlight.analysis): lobes, the thesis's tables, GLMs, analytic models.
+
+The data are made here: small studies from the exact polygon-clipping
+reference (``make_study``) or synthetic curves with known parameters.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from roughlight import analysis as an
+from roughlight.shading import Lighting, phase_angle, quantize
+
+J = 127.0
+S32 = math.sqrt(3.0) / 2.0
+
+
+def make_study(truncations, aspects, incidence=30.0, azimuths=(0.0,), elevations=None, method="reference",
+               lighting=None, settings=None):
+    """A study table (the columns of results/study.parquet) measured here.
+
+    ``method`` 'reference' uses the exact polygon clipping, 'fast' the renderer.
+    """
+    from roughlight.rendering import RenderSettings, measure_sweep
+
+    lighting = lighting or Lighting()
+    elevations = np.arange(0.0, 181.0, 1.0) if elevations is None else np.asarray(elevations, float)
+    az, el = np.meshgrid(np.asarray(azimuths, float), elevations, indexing="ij")
+    az, el = az.ravel(), el.ravel()
+    rs = RenderSettings(**(settings or {}))
+    plate_lighting = Lighting(**{**lighting.as_dict(), "shadows": False})
+    control = measure_sweep(method, 0.0, 0.0, incidence, az, el, plate_lighting, rs)
+    frames = []
+    for t in truncations:
+        for a in aspects:
+            out = measure_sweep(method, t, a, incidence, az, el, lighting, rs)
+            for comp in ("diffuse", "specular", "total"):
+                frames.append(pd.DataFrame({
+                    "truncation": float(t), "aspect": float(a), "incidence": float(incidence),
+                    "azimuth": az, "elevation": el, "phase": phase_angle(incidence, el, az), "component": comp,
+                    "rough": np.asarray(out[comp], float), "control": np.asarray(control[comp], float),
+                    "coverage": np.asarray(out["coverage"], float), "light": lighting.light,
+                    "ambient": lighting.ambient, "shininess": lighting.shininess,
+                    "specular_model": lighting.specular_model, "shadows": lighting.shadows, "method": method,
+                    "pixels_per_period": rs.pixels_per_period if method == "fast" else 0,
+                    "shadow_map_size": rs.shadow_map_size if method == "fast" else 0,
+                    "render_seconds": float(out["seconds"]),
+                }))
+    return pd.concat(frames, ignore_index=True)
+
+
+@pytest.fixture(scope="module")
+def exact_study():
+    """Exact values on the light's plane (and one cross arc) for the thesis's key surfaces."""
+    return make_study([0.0, 0.3, 0.5, 1.0], [1.0, S32], azimuths=(0.0, 90.0))
+
+
+# ---------------------------------------------------------------------------
+# geometry of lobes and diffuse parts
+
+
+def test_lobe_centres_follow_the_facets():
+    c = an.lobe_centres(30, S32)
+    assert c["forward"] == pytest.approx(150.0)
+    assert c["back"] == pytest.approx(30.0, abs=1e-9)  # zero phase: the facet faces the light
+    assert c["west"] is None
+    c1 = an.lobe_centres(30, 1.0)
+    assert c1["back"] == pytest.approx(180 - 2 * math.degrees(math.atan(2.0)) - 30)  # 23.13
+    # the back side's mirror lobe exists only while 2 s < i (thesis Fig. 26, aspect 0.1)
+    c01 = an.lobe_centres(30, 0.1)
+    assert c01["west"] == pytest.approx(180 + 2 * math.degrees(math.atan(0.2)) - 30)
+    assert an.lobe_centres(30, 0.2)["west"] is None
+    assert an.lobe_centres(30, 0.0)["back"] is None
+
+
+def test_diffuse_breakpoints_are_the_thesis_domains_at_60_degree_facets():
+    assert an.diffuse_breakpoints(30, S32) == pytest.approx((30.0, 120.0))
+    e1, e2 = an.diffuse_breakpoints(30, 1.0)
+    assert (e1, e2) == pytest.approx((30.0, 180 - math.degrees(math.atan(2.0))))
+
+
+# ---------------------------------------------------------------------------
+# lobe profiles
+
+
+def test_profile_lobe_recovers_peak_centre_and_width():
+    e = np.arange(0.0, 181.0, 1.0)
+    sigma = 7.0
+    v = 100 * np.exp(-0.5 * ((e - 37.0) / sigma) ** 2) + 40 * np.exp(-0.5 * ((e - 120.0) / 5.0) ** 2)
+    out = an.profile_lobe(e, v, 37.0, (0.0, 78.0))
+    assert out["peak"] == pytest.approx(100.0)
+    assert out["peak_elevation"] == 37.0
+    assert out["fwhm"] == pytest.approx(2 * math.sqrt(2 * math.log(2)) * sigma, abs=0.2)
+    assert out["centroid"] == pytest.approx(37.0, abs=0.05)
+    other = an.profile_lobe(e, v, 120.0, (78.0, 180.0))
+    assert other["peak"] == pytest.approx(40.0, abs=1e-6) and other["peak_elevation"] == 120.0
+    # a window cutting the lobe before half maximum gives no width, and says so
+    cut = an.profile_lobe(e, v, 37.0, (30.0, 40.0))
+    assert np.isnan(cut["fwhm"]) and "half maximum" in cut["note"]
+    none = an.profile_lobe(e, np.zeros_like(e), 37.0, (0.0, 90.0))
+    assert none["peak"] == 0 and np.isnan(none["peak_elevation"]) and "no lobe" in none["note"]
+
+
+def test_arc_lobes_on_exact_data_follow_the_area_laws(exact_study):
+    lobes = an.arc_lobes(exact_study)
+    for (t, a), g in lobes.groupby(["truncation", "aspect"]):
+        fwd = g[g["lobe"] == "forward"].iloc[0]
+        back = g[g["lobe"] == "back"].iloc[0]
+        assert fwd["peak"] == pytest.approx(J * (1 - t) ** 2, abs=1e-6)
+        assert back["peak"] == pytest.approx(0.5 * J * (1 - (1 - t) ** 2), abs=0.02)
+        if 0 < t < 1:
+            assert fwd["peak_elevation"] == 150.0
+            # Phong 64: full width at half maximum 2 acos(0.5^(1/64)) = 16.8 deg; the 8-bit steps move it a little
+            assert fwd["fwhm"] == pytest.approx(2 * math.degrees(math.acos(0.5 ** (1 / 64))), abs=0.6)
+        if t > 0:
+            expected = an.lobe_centres(30, a)["back"]
+            assert abs(back["peak_elevation"] - expected) <= 0.5 + 1e-9  # the 1-degree grid
+    sq = lobes[(lobes["aspect"] == S32) & (lobes["lobe"] == "back") & (lobes["truncation"] == 1.0)].iloc[0]
+    assert sq["phase_at_peak"] == pytest.approx(0.0, abs=1e-9)  # zero phase: the thesis's retro lobe
+
+
+def test_hemisphere_lobes_find_the_mirror_directions():
+    study = make_study([0.5], [S32], azimuths=np.arange(0.0, 180.0, 15.0), elevations=np.arange(0.0, 181.0, 2.0))
+    h = an.hemisphere_lobes(study)
+    fwd = h[h["lobe"] == "forward"].iloc[0]
+    back = h[h["lobe"] == "back"].iloc[0]
+    assert (fwd["peak_azimuth"], fwd["peak_elevation"]) == (0.0, 150.0)
+    assert fwd["peak"] == pytest.approx(J * 0.25)
+    assert back["phase_at_peak"] == pytest.approx(0.0) and back["angle_from_mirror"] == pytest.approx(0.0, abs=1e-9)
+    # the forward lobe is one Phong lobe: its half-maximum cone is ~17 deg wide (coarse grid: loose)
+    assert 10.0 < fwd["cone_fwhm"] < 25.0
+
+
+def test_exact_lobe_peaks_agree_with_an_exact_study(exact_study):
+    lobes = an.arc_lobes(exact_study)
+    ex = an.exact_lobe_peaks(lobes)
+    assert len(ex) == 2 * 4 * 2  # aspects x truncations x lobes
+    np.testing.assert_allclose(ex["error"], 0.0, atol=1e-9)
+
+
+# ---------------------------------------------------------------------------
+# Tables 1 and 2
+
+
+def test_fit_statistics_is_the_thesis_glm():
+    rng = np.random.default_rng(5)
+    pred = np.linspace(0, 127, 11)
+    obs = 2.0 + 1.1 * pred + rng.normal(0, 1.5, pred.size)
+    st = an.fit_statistics(obs, pred)
+    b1, b0 = np.polyfit(pred, obs, 1)  # a Gaussian GLM with identity link is least squares
+    assert st["b0"] == pytest.approx(b0, rel=1e-8) and st["b1"] == pytest.approx(b1, rel=1e-8)
+    assert st["RSS"] == pytest.approx(np.sum((obs - (b0 + b1 * pred)) ** 2), rel=1e-8)
+    err = obs - pred
+    assert st["Mean Abs Error"] == pytest.approx(np.mean(np.abs(err)))
+    assert st["Standard Deviation"] == pytest.approx(np.std(err, ddof=1))
+    assert st["converged"] and st["n"] == 11
+
+
+@pytest.mark.parametrize("pred, why", [(np.full(11, 5.0), "one value"), (np.arange(2.0), "only 2 points")])
+def test_fit_statistics_degenerate_inputs_are_reported(pred, why):
+    st = an.fit_statistics(pred + 1.0, pred)
+    assert np.isnan(st["b0"]) and why in st["note"]
+
+
+def _synthetic_lobes(aspects, law="area"):
+    rows = []
+    for a in aspects:
+        for t in np.round(np.arange(0, 1.01, 0.1), 10):
+            fwd = J * (1 - t) ** 2 if law == "area" else J * (1 - math.sin(t * math.pi / 2))
+            back = 0.5 * J * (1 - (1 - t) ** 2) if law == "area" else J * math.sin(t * math.pi / 2) / 2
+            for lobe, peak in (("forward", fwd), ("back", back)):
+                rows.append({"truncation": t, "aspect": a, "incidence": 30.0, "lobe": lobe, "peak": peak})
+    return pd.DataFrame(rows)
+
+
+def test_thesis_tables_rank_the_true_law_first():
+    for law, winner in (("area", "Area Function"), ("sine", "Regressed Model")):
+        tables, messages = an.thesis_tables(_synthetic_lobes([1.0, S32], law))
+        assert messages == []
+        ours = tables[tables["source"] == "ours"]
+        assert len(ours) == 8  # 2 aspects x 2 tables x 2 models
+        for (table, aspect), g in ours.groupby(["table", "aspect"]):
+            best = g.sort_values("Mean Abs Error").iloc[0]
+            assert winner in best["model"]
+            assert best["Mean Abs Error"] == pytest.approx(0.0, abs=1e-9)
+            assert best["b1"] == pytest.approx(1.0) and best["RSS"] == pytest.approx(0.0, abs=1e-9)
+        thesis = tables[(tables["source"] == "thesis 2001") & (tables["table"] == 1)
+                        & (tables["model"] == "Square Area Function")]
+        assert thesis[an.TABLE_METRICS].iloc[0].tolist() == [4.10, 3.08, -4.684, 1.012, 122.407]
+
+
+def test_thesis_tables_without_sqrt3_2_say_so():
+    tables, messages = an.thesis_tables(_synthetic_lobes([1.0]))
+    assert set(tables["aspect"]) == {1.0}
+    assert any("√3/2" in m and "not in the study" in m for m in messages)
+    empty, messages = an.thesis_tables(_synthetic_lobes([0.5]))
+    assert empty.empty and len(messages) == 2
+
+
+def test_sine_refits_recover_parameters_and_intervals():
+    rows = []
+    rng = np.random.default_rng(1)
+    for t in np.linspace(0, 1, 11):
+        rows.append({"truncation": t, "aspect": 1.0, "incidence": 30.0, "lobe": "forward",
+                     "peak": 120 * (1 - math.sin(1.8 * t)) + rng.normal(0, 0.3)})
+        rows.append({"truncation": t, "aspect": 1.0, "incidence": 30.0, "lobe": "back",
+                     "peak": 60 * math.sin(1.3 * t) + rng.normal(0, 0.3)})
+    fits = an.sine_refits(pd.DataFrame(rows), aspects=(1.0,))
+    got = {(r.lobe, r.parameter): r for r in fits.itertuples()}
+    for key, true in {("forward", "A"): 120, ("forward", "omega"): 1.8, ("back", "A"): 60, ("back", "omega"): 1.3}.items():
+        r = got[key]
+        assert r.ci_low < true < r.ci_high
+        assert r.estimate == pytest.approx(true, rel=0.03)
+    assert not got[("forward", "omega")].thesis_inside  # pi/2 is far from 1.8
+
+
+def test_reflecting_areas_are_the_normalised_area_functions():
+    areas = an.reflecting_areas(S32, 30.0, truncations=[0.0, 0.25, 0.5, 1.0])
+    np.testing.assert_allclose(areas["top"], (1 - areas["truncation"]) ** 2, atol=1e-9)
+    np.testing.assert_allclose(areas["front"], 0.5 * (1 - (1 - areas["truncation"]) ** 2), atol=1e-9)
+    assert areas["k"].iloc[0] == pytest.approx(0.5)
+
+
+# ---------------------------------------------------------------------------
+# the diffuse component
+
+
+def _diffuse_frame(levels):
+    rows = []
+    e = np.arange(0.0, 181.0, 1.0)
+    for (t, a), (L1, L3, k) in levels.items():
+        e1, e2 = an.diffuse_breakpoints(30, a)
+        v = np.where(e <= e1, L1, np.where(e >= e2, L3, L3 + (L1 - L3) * np.exp(-k * (e - e1))))
+        cov = ((e > 0) & (e < 180)).astype(float)
+        rows.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": 30.0, "azimuth": 0.0, "elevation": e,
+                                  "phase": phase_angle(30, e, 0.0), "component": "diffuse", "rough": v * cov,
+                                  "control": 63.5 * cov, "coverage": cov}))
+    return pd.concat(rows, ignore_index=True)
+
+
+def test_diffuse_three_part_recovers_levels_and_decay():
+    frame = _diffuse_frame({(0.5, 1.0): (75.0, 27.0, 0.03), (0.0, 1.0): (64.0, 64.0, 0.0)})
+    parts = an.diffuse_three_part(frame).set_index("truncation")
+    r = parts.loc[0.5]
+    assert (r["level1"], r["level3"]) == pytest.approx((75.0, 27.0))
+    assert r["rate"] == pytest.approx(0.03, rel=1e-3) and r["rmse"] < 1e-6
+    assert r["e2"] == pytest.approx(180 - math.degrees(math.atan(2.0)))
+    plate = parts.loc[0.0]
+    assert np.isnan(plate["rate"]) and "plate" in plate["note"]
+
+
+def test_diffuse_three_part_on_exact_data(exact_study):
+    parts = an.diffuse_three_part(exact_study)
+    full = parts[(parts["truncation"] == 1.0) & (parts["aspect"] == S32)].iloc[0]
+    # part one: only lit facets are seen (no shadow below zero phase); part three: the lit front facet is hidden
+    assert full["level1"] > full["level3"] and np.isfinite(full["rate"]) and full["rate"] > 0
+    assert full["n_part1"] == 30 and full["n_part3"] == 60
+
+
+# ---------------------------------------------------------------------------
+# GLMs over the grid
+
+
+def _grid(ts, as_, f, noise=0.0, seed=0):
+    rng = np.random.default_rng(seed)
+    rows = [{"truncation": t, "aspect": a, "incidence": 30.0, "y": f(t, a) + rng.normal(0, noise)}
+            for t in ts for a in as_]
+    return pd.DataFrame(rows)
+
+
+def test_grid_glm_recovers_an_interaction_model():
+    g = np.round(np.arange(0, 1.01, 0.1), 10)
+    data = _grid(g, g, lambda t, a: 1 + 2 * t + 3 * a + 4 * t * a, noise=0.05)
+    res = an.grid_glm(data, "y")
+    assert res.summary["status"] == "ok" and res.summary["converged"]
+    assert res.summary["n"] == 100  # the 21 plate surfaces are kept out
+    assert any("plate" in m for m in res.messages)
+    est = dict(zip(res.coefficients["term"], res.coefficients["estimate"]))
+    assert est["truncation:aspect"] == pytest.approx(4, abs=0.1) and est["aspect"] == pytest.approx(3, abs=0.1)
+    assert res.diagnostics["leverage"].sum() == pytest.approx(4.0)  # trace of the hat matrix = p
+    assert res.summary["condition_scaled"] < 30
+
+
+def test_grid_glm_degenerate_grids_never_crash():
+    # only plates: nothing left to fit
+    res = an.grid_glm(_grid([0.0], [0.0, 0.5, 1.0], lambda t, a: 5.0), "y")
+    assert res.summary["status"] == "not fitted" and res.coefficients.empty
+    assert any("nothing to fit" in m or "zero variance" in m for m in res.messages)
+    # one truncation: zero variance, the fit keeps aspect only
+    res = an.grid_glm(_grid([0.5], [0.2, 0.4, 0.6, 0.8, 1.0], lambda t, a: 2 * a, noise=0.01), "y")
+    assert "truncation" in " ".join(res.messages) and "zero variance" in " ".join(res.messages)
+    assert list(res.coefficients["term"]) == ["const", "aspect"]
+    # aspect tied to truncation: collinear, a term is kept out with a message
+    data = pd.DataFrame({"truncation": np.linspace(0.1, 1, 10), "incidence": 30.0})
+    data["aspect"] = data["truncation"]
+    data["y"] = np.arange(10.0)
+    res = an.grid_glm(data, "y")
+    assert any("near-collinear" in m for m in res.messages)
+    assert res.summary["dropped"]
+    # missing responses (no lobe) are reported and skipped
+    data = _grid([0.5, 1.0], [0.5, 1.0], lambda t, a: t + a)
+    data.loc[0, "y"] = np.nan
+    res = an.grid_glm(data, "y")
+    assert any("without a value" in m for m in res.messages)
+
+
+def test_grid_glms_on_lobes(exact_study):
+    lobes = an.arc_lobes(exact_study)
+    levels = an.diffuse_levels(exact_study)
+    summary, coefs, diags, messages = an.grid_glms(lobes, levels)
+    assert list(summary["response"]) == ["forward_peak", "back_peak", "diffuse_level"]
+    assert (summary["n"] == 6).all()  # 3 rough truncations x 2 aspects
+    assert isinstance(messages, list) and any("plate" in m for m in messages)
+
+
+# ---------------------------------------------------------------------------
+# analytic models
+
+
+def test_oren_nayar_limits():
+    e = np.array([30.0, 90.0, 150.0])
+    lam = an.oren_nayar(30, e, np.zeros(3), 0.0)
+    np.testing.assert_allclose(lam, J * math.sin(math.radians(30)))
+    rough = an.oren_nayar(30, e, np.zeros(3), 0.5)
+    assert rough[0] > rough[2]  # backscatter: brighter toward the light than away from it
+    assert an.oren_nayar_sigma(0.0, 1.0) == 0.0
+    assert an.oren_nayar_sigma(1.0, S32) == pytest.approx(math.radians(60.0))
+
+
+def test_facet_model_is_exact_on_the_plate():
+    e = np.arange(1.0, 180.0, 1.0)
+    out = an.facet_model(0.0, 0.0, 30.0, e, np.zeros_like(e))
+    i = math.radians(30)
+    rdotv = -math.cos(i) * np.cos(np.radians(e)) + math.sin(i) * np.sin(np.radians(e))
+    np.testing.assert_allclose(out["specular"], quantize(J * np.maximum(rdotv, 0) ** 64))
+    np.testing.assert_allclose(out["diffuse"], quantize(J * math.sin(i)))
+
+
+def test_vcavity_masking_improves_the_facet_model(exact_study):
+    comp = exact_study[(exact_study["component"] == "specular") & (exact_study["truncation"] == 1.0)
+                       & (exact_study["aspect"] == 1.0) & (exact_study["coverage"] > 0)]
+    e, phi = comp["elevation"].to_numpy(), comp["azimuth"].to_numpy()
+    masked = an.facet_model(1.0, 1.0, 30.0, e, phi)["specular"]
+    plain = an.facet_model(1.0, 1.0, 30.0, e, phi, masking="none")["specular"]
+    err_m = np.sqrt(np.mean((masked - comp["rough"].to_numpy()) ** 2))
+    err_p = np.sqrt(np.mean((plain - comp["rough"].to_numpy()) ** 2))
+    assert err_m < err_p and err_m < 2.0
+
+
+def test_fit_hapke_recovers_a_surge():
+    g = np.repeat(np.arange(0.0, 60.0, 0.5), 3)
+    c, d, S, h = 50.0, -0.3, 40.0, 0.05
+    v = c + d * g + S / (1 + np.tan(np.radians(g) / 2) / h)
+    fit = an.fit_hapke(g, v)
+    assert fit["h"] == pytest.approx(h, rel=0.02) and fit["B0"] == pytest.approx(S / c, rel=0.02)
+    assert fit["rmse"] < 0.05 < fit["rmse_constant"]
+    flat = an.fit_hapke(g, 70 - 0.2 * g)
+    assert flat["S"] == 0 and "no surge" in flat["note"]
+    few = an.fit_hapke(np.array([1.0, 2.0]), np.array([3.0, 4.0]))
+    assert np.isnan(few["rmse"]) and "only" in few["note"]
+
+
+def test_analytic_model_fits_rank_the_models(exact_study):
+    fits = an.analytic_model_fits(exact_study)
+    rough = fits[~fits["plate"]]
+    assert len(rough) == 6
+    # the explicit surfaces are V-cavity-like: the facet model beats the plate's Phong lobe
+    assert (rough["rmse_facet_vcavity_specular"] < rough["rmse_phong_plate"]).all()
+    plate = fits[fits["plate"]]
+    np.testing.assert_allclose(plate["rmse_lambert"], 0.0, atol=1e-9)
+    summary = an.model_fit_summary(fits)
+    assert {"plate", "all"} <= set(summary["band"])
+    assert summary.groupby(["component", "band"])["best_in"].sum().le(summary.groupby(["component", "band"])["surfaces"].first()).all()
+
+
+def test_render_timings():
+    study = make_study([0.0, 1.0], [1.0], elevations=np.arange(0.0, 181.0, 30.0))
+    per, summary = an.render_timings(study)
+    assert len(per) == 2 and (per["views"] == 7).all()
+    assert summary["sweeps"] == 2 and summary["views"] == 14
+    assert summary["total_seconds"] == pytest.approx(per["seconds"].sum())

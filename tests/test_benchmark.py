@@ -1,0 +1,33 @@
+import numpy as np
+import pandas as pd
+
+from roughlight import benchmark
+
+
+def test_pareto_front():
+    cost = np.array([1.0, 2.0, 3.0, 2.0, 0.5])
+    error = np.array([1.0, 0.5, 0.1, 0.8, 5.0])
+    assert benchmark.pareto_front(cost, error).tolist() == [True, True, True, False, True]
+
+
+def test_benchmark_runs_every_method_against_the_reference(tmp_path):
+    views = benchmark.bench_views(40.0, 60.0)
+    configs = [
+        benchmark.Config("naive"),
+        benchmark.Config("reference"),
+        benchmark.Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512}),
+        benchmark.Config("fast", {"sampling": "grid", "pixels_per_period": 8, "shadow_map_size": 64}),
+    ]
+    table = benchmark.run_benchmark(configs, surfaces=[(0.5, 1.0, 30.0)], views=views, repeats=1)
+    assert len(table) == len(configs) * 3
+    assert set(table["component"]) == {"diffuse", "specular", "total"}
+    ref = table[table["method"] == "reference"]
+    assert (ref["mae"] < 1e-6).all()
+    fast = table[table["default"]]
+    coarse = table[(table["method"] == "fast") & (table["pixels_per_period"] == 8)]
+    # finer sampling is more accurate
+    assert fast.set_index("component")["mae"]["diffuse"] < coarse.set_index("component")["mae"]["diffuse"]
+    assert (table.loc[table["method"] == "fast", "speedup_vs_naive"] > 1).all()
+    benchmark.plot_speed_accuracy(table, tmp_path / "chart.png")
+    assert (tmp_path / "chart.png").stat().st_size > 10_000
+    assert isinstance(table, pd.DataFrame)

@@ -1,0 +1,286 @@
+"""The HTML report: built from a small rendered study, opened in headless Chromium.
+
+The study is rendered here (fast renderer, a 3 x 4 grid, coarse views);
+the report is built with the same package functions the workflow's scripts
+call. Chromium loads it from disk and a script injected into a copy of the
+page records, after ``load``, which images failed to decode; we read that
+from ``--dump-dom``. A screenshot is kept in the test's directory.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from html.parser import HTMLParser
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from roughlight import analysis as an
+from roughlight import figures as F
+from roughlight import report as R
+from roughlight.shading import Lighting
+
+from .conftest import REPO
+from .test_analysis import make_study
+
+CHROMIUM = os.environ.get("ROUGHLIGHT_CHROMIUM", "/usr/bin/chromium")
+S32 = math.sqrt(3.0) / 2.0
+SETTINGS = {"table_aspects": [1.0, S32], "table_incidence": 30, "lobe_halfwidth": 40, "collinearity_limit": 100,
+            "hapke_max_phase": 60, "exact_check": True}
+
+
+def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = True) -> Path:
+    """Everything the workflow's report rules do, in-process: tables, figures, the HTML page."""
+    lighting = Lighting()
+    fig_dir = workdir / "figures"
+    lobes = an.arc_lobes(study)
+    parts = an.diffuse_three_part(study)
+    levels = an.diffuse_levels(study)
+    exact = an.exact_lobe_peaks(lobes, SETTINGS["table_aspects"], 30.0, lighting)
+    tables, messages = an.thesis_tables(lobes, SETTINGS["table_aspects"], 30.0, m=127.0, exact=exact)
+    sine = an.sine_refits(lobes, SETTINGS["table_aspects"], 30.0)
+    glm_summary, glm_coefs, glm_diag, glm_messages = an.grid_glms(lobes, levels)
+    fits = an.analytic_model_fits(study)
+    per_sweep, timing_summary = an.render_timings(study)
+    areas = {a: an.reflecting_areas(a, 30.0, np.linspace(0, 1, 5))
+             for a in (an.find_aspect(study["aspect"], w) for w in SETTINGS["table_aspects"]) if a is not None}
+    figs = {
+        "fig19_topdown": F.fig19_topdown(study),
+        "fig21_specular_truncation": F.fig21_specular_truncation(study),
+        "fig23_forward_models": F.fig23_forward_models(lobes, sine),
+        "fig24_reflecting_areas": F.fig24_reflecting_areas(areas),
+        "fig25_back_models": F.fig25_back_models(lobes, sine),
+        "fig26_specular_aspect": F.fig26_specular_aspect(study),
+        "fig27_diffuse_plate": F.fig27_diffuse_plate(study),
+        "fig28_diffuse_truncation": F.fig28_diffuse_truncation(study, parts),
+        "fig29_diffuse_aspect": F.fig29_diffuse_aspect(study),
+        "lobe_geometry": F.fig_lobe_geometry(lobes),
+        "diffuse_parts": F.fig_diffuse_parts(parts),
+        "glm_diagnostics": F.fig_glm_diagnostics(glm_diag, glm_summary),
+        "model_fits": F.fig_model_fits(fits),
+        "hapke": F.fig_hapke(study, fits),
+        "timings": F.fig_timings(per_sweep),
+    }
+    if render:
+        plates = F.plate_sweeps([0, 30, 60, 90], [127, 255], elevation_step=2.0)
+        figs["fig17_clipping"] = F.fig17_clipping(plates[plates["incidence"] == 30])
+        figs["fig20_plate_incidence"] = F.fig20_plate_incidence(plates[plates["light"] == 127])
+        for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
+            title, views = F.PICTURE_SETS[stem]
+            try:
+                figs[stem] = F.fig_pictures(stem, F.surface_pictures(views[:2], size=(160, 120), periods=3))
+            except AttributeError:
+                figs[stem] = F.placeholder(title, "render_picture is not available in this renderer")
+    paths = {stem: F.save_figure(fig, fig_dir / f"{stem}.png") for stem, fig in figs.items()}
+    summary = R.study_summary(study)
+    html = R.build_report(
+        {"study_summary": summary, "timings_summary": timing_summary, "lobes": lobes,
+         "lobes_hemisphere": an.hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
+         "thesis_tables": tables, "sine_refits": sine, "timings": per_sweep, "glm_summary": glm_summary,
+         "glm_coefficients": glm_coefs, "glm_messages": glm_messages, "model_fits": fits,
+         "model_fits_summary": an.model_fit_summary(fits)},
+        paths, config={"grid": {"aspect": summary["aspects"]}}, messages=messages,
+        provenance={"settings": SETTINGS}, benchmarks=None,
+    )
+    out = workdir / "roughlight_report.html"
+    R.write_report(out, html)
+    (workdir / "thesis_tables.csv").write_text(tables.to_csv(index=False))
+    return out
+
+
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    workdir = tmp_path_factory.mktemp("report")
+    study = make_study([0.0, 0.5, 1.0], [0.0, 0.5, 1.0, S32], azimuths=np.arange(0.0, 180.0, 30.0),
+                       elevations=np.arange(0.0, 181.0, 2.0), method="fast")
+    return study, build_report_from_study(study, workdir), workdir
+
+
+class _Collect(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.imgs, self.tables, self.rows, self.cells = [], [], [], []
+        self._row = None
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "img":
+            self.imgs.append(a)
+        elif tag == "table":
+            self.tables.append(a)
+        elif tag == "tr":
+            self._row = []
+        elif tag == "div" and a.get("id") == "img-check":
+            self.check = a
+
+    def handle_endtag(self, tag):
+        if tag == "tr" and self._row is not None:
+            self.rows.append((self.tables[-1] if self.tables else {}, self._row))
+            self._row = None
+
+    def handle_data(self, data):
+        if self._row is not None and data.strip():
+            self._row.append(data.strip())
+
+
+def _parse(text):
+    p = _Collect()
+    p.feed(text)
+    return p
+
+
+def _chromium(args, workdir):
+    if not (os.path.exists(CHROMIUM) and os.access(CHROMIUM, os.X_OK)):
+        pytest.skip(f"no Chromium at {CHROMIUM}")
+    profile = tempfile.mkdtemp(prefix="chromium-profile-", dir=workdir)
+    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
+           "--no-first-run", "--no-default-browser-check", f"--user-data-dir={profile}", *args]
+    try:
+        return subprocess.run(cmd, capture_output=True, text=True, timeout=180)
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+
+
+CHECK_SCRIPT = """<script>
+window.addEventListener('load', function () {
+  var imgs = Array.prototype.slice.call(document.images);
+  var bad = imgs.filter(function (i) { return !(i.complete && i.naturalWidth > 0); })
+                .map(function (i) { return i.getAttribute('alt'); });
+  var d = document.createElement('div');
+  d.id = 'img-check';
+  d.setAttribute('data-total', String(imgs.length));
+  d.setAttribute('data-loaded', String(imgs.length - bad.length));
+  d.setAttribute('data-bad', JSON.stringify(bad));
+  document.body.appendChild(d);
+});
+</script>"""
+
+
+def _loaded_in_chromium(html_path: Path, workdir: Path):
+    """Open a copy of the page with the check script; return the dumped DOM's parse."""
+    probe = workdir / (html_path.stem + ".probe.html")
+    probe.write_text(html_path.read_text(encoding="utf-8").replace("</body>", CHECK_SCRIPT + "</body>"),
+                     encoding="utf-8")
+    res = _chromium(["--virtual-time-budget=15000", "--dump-dom", probe.as_uri()], workdir)
+    assert res.returncode == 0, res.stderr[-2000:]
+    dom = _parse(res.stdout)
+    assert hasattr(dom, "check"), "the check script did not run: " + res.stdout[:500]
+    return dom
+
+
+def test_report_is_self_contained(built):
+    _, html_path, _ = built
+    text = html_path.read_text(encoding="utf-8")
+    assert text.startswith("<!DOCTYPE html>")
+    for pattern in (r"""(src|href)\s*=\s*["']?(https?:|//|file:)""", r"<link\b", r"<script\b", r"@import",
+                    r"url\("):
+        assert not re.search(pattern, text, re.I), f"external resource or script: {pattern}"
+    imgs = _parse(text).imgs
+    assert len(imgs) == len(F.FIGURES)  # every figure of the report, one <img> each
+    assert all(i["src"].startswith("data:image/png;base64,") for i in imgs)
+
+
+def test_report_in_headless_chromium(built):
+    _, html_path, workdir = built
+    dom = _loaded_in_chromium(html_path, workdir)
+    total = int(dom.check["data-total"])
+    assert total == len(F.FIGURES)
+    assert json.loads(dom.check["data-bad"]) == [] and int(dom.check["data-loaded"]) == total
+    # Tables 1 and 2, for both aspects, with the thesis's rows and columns
+    thesis_tables = [t for t in dom.tables if t.get("class") == "thesis-table"]
+    assert {(t["data-table"], t["data-aspect"]) for t in thesis_tables} == {("1", "1"), ("2", "1"), ("1", "√3/2"),
+                                                                           ("2", "√3/2")}
+    for t in thesis_tables:
+        rows = [cells for table, cells in dom.rows if table.get("id") == t["id"]]
+        assert rows[0][:7] == ["Model", "Source", "Mean Abs Error", "Standard Deviation", "b0", "b1", "RSS"]
+        models = {r[0] for r in rows[1:] if r[0] not in ("ours", "exact geometry", "thesis 2001")}
+        expected = {"Square Area Function", "Regressed Model"} if t["data-table"] == "1" else \
+            {"Triangle Area Function", "Regressed Model"}
+        assert models == expected
+        thesis_rows = [r for r in rows if "thesis 2001" in r]
+        assert len(thesis_rows) == 2
+    # the values shown are the computed ones
+    tables = pd.read_csv(workdir / "thesis_tables.csv")
+    ours = tables[(tables["source"] == "ours") & (tables["table"] == 1) & (tables["model"] == "Square Area Function")
+                  & (tables["aspect"] == 1.0)].iloc[0]
+    t1 = next(t for t in thesis_tables if t["data-table"] == "1" and t["data-aspect"] == "1")
+    row = next(cells for table, cells in dom.rows if table.get("id") == t1["id"] and "Square Area Function" in cells)
+    assert row[2] == f"{ours['Mean Abs Error']:.2f}"
+    thesis_row = next(cells for table, cells in dom.rows
+                      if table.get("id") == t1["id"] and cells[0] == "thesis 2001")
+    assert thesis_row[1:] == ["4.10", "3.08", "-4.684", "1.012", "122.407"]
+    # a screenshot for a human
+    shot = workdir / "report.png"
+    res = _chromium(["--virtual-time-budget=15000", "--window-size=1280,6000", f"--screenshot={shot}",
+                     html_path.as_uri()], workdir)
+    assert res.returncode == 0 and shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    print(f"\nreport screenshot: {shot}\nreport: {html_path}")
+
+
+def test_the_image_check_catches_a_broken_image(built):
+    _, html_path, workdir = built
+    text = html_path.read_text(encoding="utf-8")
+    broken = workdir / "broken.html"
+    first = re.search(r'src="(data:image/png;base64,[^"]+)"', text).group(1)
+    broken.write_text(text.replace(first, "data:image/png;base64,iVBORw0KGgoAAAAAAAAA", 1), encoding="utf-8")
+    dom = _loaded_in_chromium(broken, workdir)
+    assert len(json.loads(dom.check["data-bad"])) == 1
+
+
+def test_report_without_sqrt3_2_says_so(built, tmp_path):
+    study, _, _ = built
+    study = study[np.abs(study["aspect"] - S32) > 1e-9]
+    lobes = an.arc_lobes(study)
+    tables, messages = an.thesis_tables(lobes, SETTINGS["table_aspects"], 30.0)
+    assert any("√3/2" in m for m in messages)
+    html = R.build_report({"study_summary": R.study_summary(study), "thesis_tables": tables, "lobes": lobes},
+                          {}, messages=messages)
+    dom = _parse(html)
+    assert {t["data-aspect"] for t in dom.tables if t.get("class") == "thesis-table"} == {"1"}
+    assert "is not in this study" in html and "Figure" in html  # missing figures are noted, not fatal
+
+
+def test_captions_exist_for_every_figure():
+    for stem in F.FIGURES:
+        rst = REPO / "workflow" / "report" / f"{stem}.rst"
+        assert rst.exists(), rst
+        text = rst.read_text()
+        assert "*Thesis:*" in text and "*Ours:*" in text
+        assert R.CAPTIONS[stem]["ours"] in text  # the HTML and snakemake --report say the same
+
+
+@pytest.mark.slow
+def test_workflow_builds_the_report_and_lints(workflow_dir):
+    """End to end: a tiny grid through the whole workflow, then `snakemake --lint` on the report rules."""
+    snakefile = workflow_dir / "Snakefile"
+    text = snakefile.read_text()
+    if "workflow/rules/report.smk" not in text:
+        text += '\n\ninclude: "workflow/rules/report.smk"\n'
+        snakefile.write_text(text)
+    config = {
+        "grid": {"truncation": [0.0, 0.5, 1.0], "aspect": [0.0, 1.0, S32], "incidence": [30]},
+        "sweep": {"elevation_step": 3, "azimuth_step": 45},
+    }
+    (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
+    env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
+    snakemake = [sys.executable, "-m", "snakemake", "--cores", "2", "--directory", str(workflow_dir),
+                 "--snakefile", str(snakefile)]
+    res = subprocess.run(snakemake + ["reports/roughlight_report.html"], capture_output=True, text=True,
+                         env=env, timeout=600)
+    assert res.returncode == 0, res.stderr[-4000:]
+    html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
+    assert html.count('class="thesis-table"') == 4 and html.count("<img ") == len(F.FIGURES)
+    lint = subprocess.run(snakemake + ["--lint", "json"], capture_output=True, text=True, env=env, timeout=300)
+    found = json.loads(lint.stdout[lint.stdout.index("{"):])
+    ours = [r for r in found.get("rules", {}) if r.startswith("report_")] if isinstance(found.get("rules"), dict) \
+        else [r for r in found.get("rules", []) if str(r.get("rule", "")).startswith("report_")]
+    assert ours == [], f"lints for the report rules: {ours}"
