@@ -82,7 +82,7 @@ from shapely import affinity
 
 from . import sweeps
 from .geometry import facet_polygons, is_plate, period_triangles, validate_surface
-from .shading import Lighting, facet_components, light_direction, quantize, view_direction
+from .shading import Lighting, check_incidence, facet_components, light_direction, quantize, view_direction
 
 __all__ = [
     "REFERENCE_ERROR",
@@ -325,7 +325,7 @@ class _Scene:
 
     def __init__(self, truncation, aspect, incidence, shadows):
         self.surf = _surface(truncation, aspect)
-        self.incidence = _check_incidence(incidence)
+        self.incidence = check_incidence(incidence)
         self.lit = _lit_regions(self.surf, self.incidence, bool(shadows))
         fp_area = np.array([fp.area for fp in self.surf.footprints])
         lit_area = np.array([r.area for r in self.lit])
@@ -352,16 +352,6 @@ class _Scene:
             lit_view = affinity.affine_transform(self.lit[f], _to_oblique(self.surf, f, d))
             lit[f] = min(shapely.intersection(region, lit_view).area, vis[f])
         return lit, vis - lit
-
-
-def _check_incidence(incidence) -> float:
-    try:
-        value = float(incidence)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"incidence must be a number of degrees, got {incidence!r}") from exc
-    if not (math.isfinite(value) and 0.0 <= value <= 90.0):
-        raise ValueError(f"incidence must be within [0, 90] degrees, got {incidence!r}")
-    return value
 
 
 def _check_views(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:

@@ -304,8 +304,6 @@ class _Context:
     """One OSMesa context of a fixed framebuffer size, with its programs and shadow target."""
 
     def __init__(self, width: int, height: int, shadow_map_size: int):
-        from OpenGL import GL as gl
-
         self.width, self.height = int(width), int(height)
         self.platform = OSMesaPlatform(self.width, self.height)
         self.platform.init_context()
@@ -405,21 +403,31 @@ def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
     return poses
 
 
+def _begin_pass(framebuffer, width: int, height: int, clear_bits) -> None:
+    """Bind a framebuffer and set the state both passes draw with: depth test
+    keeping the highest surface, back faces culled, copies clipped to their tile."""
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, framebuffer)
+    gl.glViewport(0, 0, width, height)
+    gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+    gl.glClearDepth(1.0)
+    gl.glEnable(gl.GL_DEPTH_TEST)
+    gl.glDepthMask(gl.GL_TRUE)
+    gl.glDepthFunc(gl.GL_LESS)
+    gl.glDisable(gl.GL_BLEND)
+    gl.glEnable(gl.GL_CULL_FACE)
+    gl.glCullFace(gl.GL_BACK)
+    gl.glFrontFace(gl.GL_CCW)
+    for plane in range(4):
+        gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
+    gl.glClear(clear_bits)
+
+
 def _shadow_pass(ctx: _Context, truncation, aspect, light_dir, depth_scale):
     height = geometry.surface_height(truncation, aspect)
     shear = light_dir[:2] / light_dir[2]
     _, copies = lattice_copies(height * shear[None, :])
     poses = _copy_poses(copies, shear, light_dir, np.zeros(2))
-    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, ctx.shadow_fbo)
-    gl.glViewport(0, 0, ctx.shadow_size, ctx.shadow_size)
-    gl.glEnable(gl.GL_DEPTH_TEST)
-    gl.glDepthMask(gl.GL_TRUE)
-    gl.glDepthFunc(gl.GL_LESS)
-    gl.glEnable(gl.GL_CULL_FACE)
-    gl.glCullFace(gl.GL_BACK)
-    gl.glFrontFace(gl.GL_CCW)
-    gl.glClearDepth(1.0)
-    gl.glClear(gl.GL_DEPTH_BUFFER_BIT)
+    _begin_pass(ctx.shadow_fbo, ctx.shadow_size, ctx.shadow_size, gl.GL_DEPTH_BUFFER_BIT)
     primitive = _primitive(truncation, aspect, poses)
     program = ctx.programs.get_program(
         "periodic.vert", "periodic_depth.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
@@ -428,8 +436,6 @@ def _shadow_pass(ctx: _Context, truncation, aspect, light_dir, depth_scale):
     program.set_uniform("depth_scale", float(depth_scale))
     program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
     program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
-    for plane in range(4):
-        gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
     _draw(ctx, primitive, program)
     program._unbind()
     gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
@@ -481,7 +487,7 @@ def render_sweep(
     lighting = lighting or shading.Lighting()
     settings = settings or RenderSettings()
     truncation, aspect = geometry.validate_surface(truncation, aspect)
-    incidence = _check_incidence(incidence)
+    incidence = shading.check_incidence(incidence)
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
     if azimuth.shape != elevation.shape:
@@ -520,20 +526,7 @@ def render_sweep(
         owner, copies = lattice_copies(height * shears[idx])
         poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[idx - first][owner])
 
-        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
-        gl.glViewport(0, 0, ctx.width, ctx.height)
-        gl.glClearColor(0.0, 0.0, 0.0, 0.0)
-        gl.glClearDepth(1.0)
-        gl.glEnable(gl.GL_DEPTH_TEST)
-        gl.glDepthMask(gl.GL_TRUE)
-        gl.glDepthFunc(gl.GL_LESS)
-        gl.glDisable(gl.GL_BLEND)
-        gl.glEnable(gl.GL_CULL_FACE)
-        gl.glCullFace(gl.GL_BACK)
-        gl.glFrontFace(gl.GL_CCW)
-        gl.glClear(gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
-        for plane in range(4):
-            gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
+        _begin_pass(0, ctx.width, ctx.height, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
         program._bind()
         _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
         program.set_uniform("sampling", matrix.astype(np.float32))
@@ -572,16 +565,6 @@ def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, setti
     program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
     program.set_uniform("depth_scale", float(depth_scale))
     program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))
-
-
-def _check_incidence(incidence) -> float:
-    try:
-        value = float(incidence)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"incidence must be a number of degrees, got {incidence!r}") from exc
-    if not (math.isfinite(value) and 0.0 <= value <= 90.0):
-        raise ValueError(f"incidence must be within [0, 90] degrees, got {incidence!r}")
-    return value
 
 
 class _PyrenderShaders(ShaderProgramCache_):
@@ -709,7 +692,7 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     start = time.perf_counter()
     lighting = lighting or shading.Lighting()
     truncation, aspect = geometry.validate_surface(truncation, aspect)
-    incidence = _check_incidence(incidence)
+    incidence = shading.check_incidence(incidence)
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
     if periods is None:
@@ -746,7 +729,7 @@ def render_picture(truncation, aspect, incidence, elevation, azimuth, lighting=N
     lighting = lighting or shading.Lighting()
     renderer = _naive_renderer(tuple(size))
     patch = int(2 * math.ceil(periods / max(math.sin(math.radians(max(float(elevation), 1.0))), 0.1) / 2 + 2)) + 1
-    scene = _NaiveScene(truncation, aspect, _check_incidence(incidence), lighting, size, min(patch, 201), periods)
+    scene = _NaiveScene(truncation, aspect, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods)
     view = shading.view_direction(float(elevation), float(azimuth))
     color, _ = scene.render(renderer, view)
     channel = {"diffuse": 0, "specular": 1, "total": 2}[component]

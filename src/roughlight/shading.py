@@ -30,6 +30,7 @@ framebuffer stores it.
 
 from __future__ import annotations
 
+import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -38,6 +39,7 @@ __all__ = [
     "COMPONENTS",
     "SPECULAR_MODELS",
     "Lighting",
+    "check_incidence",
     "light_direction",
     "view_direction",
     "phase_angle",
@@ -88,6 +90,17 @@ class Lighting:
 
     def as_dict(self) -> dict:
         return asdict(self)
+
+
+def check_incidence(incidence) -> float:
+    """The incidence as a float, or ValueError unless it is a number of degrees in [0, 90]."""
+    try:
+        value = float(incidence)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"incidence must be a number of degrees, got {incidence!r}") from exc
+    if not (math.isfinite(value) and 0.0 <= value <= 90.0):
+        raise ValueError(f"incidence must be within [0, 90] degrees, got {incidence!r}")
+    return value
 
 
 def light_direction(incidence) -> np.ndarray:
