@@ -44,7 +44,7 @@ BAD = [
     (("sweep", "elevation_step"), 0, "sweep.elevation_step", "> 0"),
     (("sweep", "azimuth_step"), -5, "sweep.azimuth_step", "> 0"),
     (("material", "specular_model"), "cook", "material.specular_model", "phong, blinn"),
-    (("render", "method"), "raytrace", "render.method", "fast, reference"),
+    (("render", "method"), "raytrace", "render.method", "fast, naive, reference"),
     (("grid", "truncation"), ["abc"], "grid.truncation[0]", "type number"),
     (("sweep", "elevation_step"), "1", "sweep.elevation_step", "type number"),
     (("render", "shadows"), "yes", "render.shadows", "type boolean"),
