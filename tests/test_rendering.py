@@ -126,3 +126,23 @@ def test_bad_incidence_and_shapes_are_refused():
         render(0.5, 1.0, 95)
     with pytest.raises(ValueError, match="same shape"):
         rendering.render_sweep(0.5, 1.0, 30, [0, 5], [10])
+
+
+def test_naive_method_measures_the_same_quantity():
+    az, el = sweeps.view_grid(40, 60)
+    keep = (el >= 10) & (el <= 170)
+    plate = rendering.measure_sweep("naive", 0.0, 0.0, 30, az, el)
+    assert np.all(np.abs(plate["diffuse"][keep] - 127 * 0.5) <= 0.5 + 1e-9)
+    assert np.all(plate["coverage"][keep] == 1.0)
+    rough = rendering.measure_sweep("naive", 0.5, 1.0, 30, az[keep], el[keep])
+    exact = reference.reference_sweep(0.5, 1.0, 30, az[keep], el[keep], shading.Lighting())
+    # a finite window of whole pixels: close to the truth, but not as close as the fast method
+    assert np.mean(np.abs(rough["total"] - exact["total"])) < 5.0
+    assert rough["seconds"] > 0
+
+
+def test_reference_is_a_method():
+    out = rendering.measure_sweep("reference", 0.5, 1.0, 30, AZ, EL)
+    assert set(out) >= {"diffuse", "specular", "total", "coverage", "seconds"}
+    with pytest.raises(ValueError, match="render.method"):
+        rendering.measure_sweep("raytrace", 0.5, 1.0, 30, AZ, EL)
