@@ -19,10 +19,12 @@ validate(config, "workflow/schemas/config.schema.yaml")
 include: "workflow/rules/render.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/benchmark.smk"
+include: "workflow/rules/report.smk"
 
 
 rule all:
     input:
         "results/study.parquet",
         mesh_files(),
+        "reports/roughlight_report.html",
     default_target: True

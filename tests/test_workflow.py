@@ -31,9 +31,12 @@ def snakemake(workdir, *args, check=True):
     return proc
 
 
+STUDY = "results/study.parquet"  # the report's end-to-end run is tests/test_report.py's
+
+
 def planned_jobs(workdir):
-    """Jobs a dry run would execute, by rule."""
-    out = snakemake(workdir, "--dry-run", "--quiet", "rules").stdout
+    """Jobs a dry run for the study table would execute, by rule."""
+    out = snakemake(workdir, STUDY, "--dry-run", "--quiet", "rules").stdout
     counts = {}
     for line in out.splitlines():
         parts = line.split()
@@ -45,7 +48,7 @@ def planned_jobs(workdir):
 @pytest.mark.slow
 def test_tiny_study_end_to_end(workflow_dir):
     write_config(workflow_dir, TINY)
-    snakemake(workflow_dir)
+    snakemake(workflow_dir, STUDY, "results/meshes/t1_a1.ply")
     study = pd.read_parquet(workflow_dir / "results" / "study.parquet")
     assert list(study.columns) == STUDY_COLUMNS
     views = 7 * 3  # elevations 0..180 by 30 x azimuths 0, 60, 120
@@ -75,7 +78,7 @@ def test_tiny_study_end_to_end(workflow_dir):
     cfg = yaml.safe_load(yaml.safe_dump(TINY))
     cfg["grid"]["truncation"].append(0.5)
     write_config(workflow_dir, cfg)
-    assert planned_jobs(workflow_dir) == {"rough_sweep": 1, "study_table": 1, "surface_meshes": 1, "all": 1}
+    assert planned_jobs(workflow_dir) == {"rough_sweep": 1, "study_table": 1}
 
     # the shadows switch re-renders the rough surfaces, not the control (a plate has no shadows)
     cfg["render"] = {"shadows": False}
@@ -130,7 +133,7 @@ def test_killed_run_reruns_to_the_same_table(workflow_dir, tmp_path_factory):
         src = workflow_dir / name
         (shutil.copytree if src.is_dir() else shutil.copy)(src, clean / name)
 
-    proc = subprocess.Popen([SNAKEMAKE, "--cores", "2"], cwd=workflow_dir, stdout=subprocess.DEVNULL,
+    proc = subprocess.Popen([SNAKEMAKE, "--cores", "2", STUDY], cwd=workflow_dir, stdout=subprocess.DEVNULL,
                             stderr=subprocess.DEVNULL, start_new_session=True)
     sweeps = workflow_dir / "results" / "sweeps" / "i30"
     deadline = time.time() + 120
@@ -142,8 +145,8 @@ def test_killed_run_reruns_to_the_same_table(workflow_dir, tmp_path_factory):
     assert 2 <= done < 8, "the kill should land in the middle of rendering"
     assert not (workflow_dir / "results" / "study.parquet").exists()
 
-    snakemake(workflow_dir)  # a plain rerun completes (no --unlock, no --rerun-incomplete)
-    snakemake(clean)
+    snakemake(workflow_dir, STUDY)  # a plain rerun completes (no --unlock, no --rerun-incomplete)
+    snakemake(clean, STUDY)
     killed = pd.read_parquet(workflow_dir / "results" / "study.parquet").drop(columns="render_seconds")
     fresh = pd.read_parquet(clean / "results" / "study.parquet").drop(columns="render_seconds")
     assert len(killed) == 8 * 37 * 9 * 3

@@ -59,6 +59,7 @@ __all__ = [
     "sine_refits",
     "reflecting_areas",
     "exact_lobe_peaks",
+    "front_facet_share",
     "grid_glm",
     "grid_glms",
     "facets",
@@ -409,15 +410,6 @@ def _mirror(normal, incidence) -> np.ndarray | None:
     return r if r[2] > 1e-9 else None
 
 
-def _direction_to_view(d) -> tuple[float, float]:
-    """(azimuth in [0, 180), elevation in [0, 180]) of a unit direction with d_z >= 0."""
-    phi = math.degrees(math.atan2(d[1], d[0])) % 360.0
-    elev = math.degrees(math.asin(max(-1.0, min(1.0, d[2]))))
-    if phi >= 180.0 - 1e-9:
-        return phi - 180.0 if phi - 180.0 > 1e-9 else 0.0, 180.0 - elev
-    return phi, elev
-
-
 def _lobe_directions(truncation, aspect, incidence) -> dict:
     """Unit mirror directions of the named lobes (forward always, from the plane)."""
     out = {"forward": _mirror(np.array([0.0, 0.0, 1.0]), incidence)}
@@ -595,7 +587,8 @@ def diffuse_three_part(study: pd.DataFrame, azimuth: float = 0.0) -> pd.DataFram
                 row["decay_length"] = float(1.0 / rate) if rate > 0 else np.inf
             except (RuntimeError, ValueError) as exc:
                 row["note"] = f"decay fit failed: {exc}"
-        pred = np.where(p1, L1, np.where(p3, L3, _exp_part(e, L1, L3, row["rate"], e1) if np.isfinite(row["rate"]) else np.nan))
+        decay = _exp_part(e, L1, L3, row["rate"], e1) if np.isfinite(row["rate"]) else np.nan
+        pred = np.where(p1, L1, np.where(p3, L3, decay))
         ok = np.isfinite(pred)
         row["rmse"] = float(np.sqrt(np.mean((v[ok] - pred[ok]) ** 2)))
         row["rmse_part2"] = float(np.sqrt(np.mean((v[p2] - pred[p2]) ** 2))) if np.isfinite(row["rate"]) else np.nan
@@ -772,7 +765,7 @@ def thesis_tables(
     aspects=(1.0, SQRT3_2),
     incidence: float = THESIS_INCIDENCE,
     m: float = 127.0,
-    k: float = 0.5,
+    k: float | None = None,
     exact: pd.DataFrame | None = None,
 ) -> tuple[pd.DataFrame, list[str]]:
     """Tables 1 and 2 of the thesis, from our lobe peaks, one pair per aspect.
@@ -787,7 +780,8 @@ def thesis_tables(
     incidence : float
         Degrees (the thesis: 30).
     m, k : float
-        See :func:`thesis_model_predictions`.
+        See :func:`thesis_model_predictions`; ``k=None`` (default) takes it
+        from geometry for each aspect (:func:`front_facet_share`).
     exact : DataFrame, optional
         :func:`exact_lobe_peaks` output: adds rows computed from the exact
         peaks (source 'exact geometry'), which separate the renderer's
@@ -817,9 +811,11 @@ def thesis_tables(
             messages.append(f"aspect {aspect_label(found)}: no lobes at incidence {incidence:g}")
             continue
         t = data.index.to_numpy(float)
-        preds = thesis_model_predictions(t, m, k)
+        k_used = front_facet_share(found, incidence) if k is None else float(k)
+        preds = thesis_model_predictions(t, m, k_used)
         spec = {
-            1: ("forward", {"Square Area Function": preds["square_area"], "Regressed Model": preds["forward_regressed"]}),
+            1: ("forward", {"Square Area Function": preds["square_area"],
+                            "Regressed Model": preds["forward_regressed"]}),
             2: ("back", {"Triangle Area Function": preds["triangle_area"], "Regressed Model": preds["back_regressed"]}),
         }
         for table, (lobe, models) in spec.items():
@@ -833,12 +829,12 @@ def thesis_tables(
             for model, pred in models.items():
                 stats = fit_statistics(data[lobe].to_numpy(float), pred)
                 rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
-                             "source": "ours", **stats,
+                             "source": "ours", **stats, "m": m, "k": k_used,
                              "truncations": ", ".join(f"{x:g}" for x in t)})
                 if exact_data is not None and lobe in exact_data:
                     stats = fit_statistics(exact_data[lobe].to_numpy(float), pred)
                     rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found),
-                                 "model": model, "source": "exact geometry", **stats,
+                                 "model": model, "source": "exact geometry", **stats, "m": m, "k": k_used,
                                  "truncations": ", ".join(f"{x:g}" for x in t)})
                 thesis = dict(zip(TABLE_METRICS, THESIS_TABLES[table]["rows"][model]))
                 rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
@@ -913,6 +909,22 @@ def sine_refits(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = 
                                        "ci_high", "thesis_value", "thesis_inside", "rss", "n", "note"])
 
 
+def front_facet_share(aspect: float, incidence: float = THESIS_INCIDENCE) -> float:
+    """The back-lobe area factor ``k`` from geometry.
+
+    The share of the image that the full pyramid's light-facing facet fills,
+    visible and lit, seen from its mirror direction (exact polygon clipping):
+    0.5 at aspects 1 and sqrt(3)/2 with incidence 30. NaN when that mirror
+    direction is below the horizon (no back lobe).
+    """
+    from .reference import visible_lit_areas
+
+    back = lobe_centres(incidence, aspect)["back"]
+    if back is None:
+        return float("nan")
+    return float(visible_lit_areas(1.0, aspect, incidence, 0.0, back).get("east", (0.0, 0.0))[0])
+
+
 def reflecting_areas(aspect: float, incidence: float = THESIS_INCIDENCE, truncations=None) -> pd.DataFrame:
     """Visible-and-lit areas of the reflecting facets against truncation (the thesis's Fig. 24).
 
@@ -940,9 +952,7 @@ def reflecting_areas(aspect: float, incidence: float = THESIS_INCIDENCE, truncat
             front = visible_lit_areas(t, aspect, incidence, 0.0, centres["back"]).get("east", (0.0, 0.0))[0]
         rows.append({"truncation": float(t), "top": float(top), "front": float(front)})
     out = pd.DataFrame(rows)
-    k = np.nan
-    if centres["back"] is not None:
-        k = visible_lit_areas(1.0, aspect, incidence, 0.0, centres["back"]).get("east", (0.0, 0.0))[0]
+    k = front_facet_share(aspect, incidence)
     out["square_area"] = (1 - out["truncation"]) ** 2
     out["triangle_area"] = k * (1 - (1 - out["truncation"]) ** 2)
     out["k"] = k
@@ -1016,10 +1026,6 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
         messages.append(f"{response}: no such column")
         return empty
     d = data[SURFACE_KEYS + [response]].copy()
-    n_nan = int(d[response].isna().sum())
-    if n_nan:
-        messages.append(f"{response}: {n_nan} surfaces without a value (no lobe window) kept out of the fit")
-    d = d.dropna()
     plate = (d["truncation"] * d["aspect"]) < 1e-9
     if plate.any():
         messages.append(
@@ -1027,6 +1033,10 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
             "whatever the other parameter) kept out of the fit"
         )
     d = d[~plate]
+    n_nan = int(d[response].isna().sum())
+    if n_nan:
+        messages.append(f"{response}: {n_nan} surfaces without a value (no lobe found) kept out of the fit")
+    d = d.dropna()
     terms = []
     for name in ("truncation", "aspect", "incidence"):
         nun = d[name].nunique()
@@ -1055,7 +1065,7 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
         kappa = _scaled_condition(X)
         if rank == X.shape[1] and kappa <= collinearity_limit:
             break
-        victim = "truncation:aspect" if "truncation:aspect" in terms else ("incidence" if "incidence" in terms else terms[-1])
+        victim = next((x for x in ("truncation:aspect", "incidence") if x in terms), terms[-1])
         why = "rank deficient" if rank < X.shape[1] else f"scaled condition number {kappa:.3g} > {collinearity_limit:g}"
         messages.append(f"{response}: near-collinear design ({why}): term {victim} kept out of the fit")
         terms.remove(victim)
@@ -1330,6 +1340,19 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     return out
 
 
+#: RMSEs closer than this (0-255 scale) are a tie; the simpler model (listed first) wins it.
+RMSE_TIE = 1e-6
+
+
+def _best(errors: dict):
+    """The first key whose error is within :data:`RMSE_TIE` of the smallest (None if all are NaN)."""
+    vals = {k: v for k, v in errors.items() if v is not None and np.isfinite(v)}
+    if not vals:
+        return None
+    lo = min(vals.values())
+    return next(k for k, v in vals.items() if v <= lo + RMSE_TIE)
+
+
 def _rmse(a, b, mask=None):
     d = np.asarray(a, float) - np.asarray(b, float)
     if mask is not None:
@@ -1338,7 +1361,8 @@ def _rmse(a, b, mask=None):
     return float(np.sqrt(np.mean(d**2))) if len(d) else np.nan
 
 
-def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke_max_phase: float = 60.0) -> pd.DataFrame:
+def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
+                        hapke_max_phase: float = 60.0) -> pd.DataFrame:
     """Fit errors of analytic rough-surface models against every surface of the study.
 
     Over all non-grazing views of each surface:
@@ -1413,7 +1437,8 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
         mt = gt["coverage"].to_numpy(float) > 0
         hp = fit_hapke(gt["phase"].to_numpy(float)[mt], gt["rough"].to_numpy(float)[mt], hapke_max_phase)
         row.update(rmse_hapke=hp["rmse"], rmse_constant_near_opposition=hp["rmse_constant"],
-                   hapke_c=hp["c"], hapke_d=hp["d"], hapke_S=hp["S"], hapke_B0=hp["B0"], hapke_h=hp["h"], hapke_note=hp["note"])
+                   hapke_c=hp["c"], hapke_d=hp["d"], hapke_S=hp["S"], hapke_B0=hp["B0"], hapke_h=hp["h"],
+                   hapke_note=hp["note"])
         hd = fit_hapke(gd["phase"].to_numpy(float)[m], yd[m], hapke_max_phase)
         row.update(rmse_hapke_diffuse=hd["rmse"], rmse_constant_diffuse_near_opposition=hd["rmse_constant"],
                    hapke_diffuse_B0=hd["B0"], hapke_diffuse_h=hd["h"])
@@ -1422,8 +1447,8 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
                  "Torrance-Sparrow V-cavity facets": row["rmse_facet_vcavity_diffuse"]}
         scols = {"Phong (plate)": row["rmse_phong_plate"], "facets, no masking": row["rmse_facet_nomask_specular"],
                  "Torrance-Sparrow V-cavity facets": row["rmse_facet_vcavity_specular"]}
-        row["best_diffuse"] = min(dcols, key=lambda k: (np.nan_to_num(dcols[k], nan=np.inf), k))
-        row["best_specular"] = min(scols, key=lambda k: (np.nan_to_num(scols[k], nan=np.inf), k))
+        row["best_diffuse"] = _best(dcols)
+        row["best_specular"] = _best(scols)
         row["plate"] = _plate(t, a)
         rows.append(row)
     return pd.DataFrame(rows)
@@ -1480,7 +1505,7 @@ def model_fit_summary(fits: pd.DataFrame) -> pd.DataFrame:
         present = [c for c in cols if c in f]
         if not present:
             continue
-        best = f[present].apply(lambda r: r.idxmin() if r.notna().any() else None, axis=1)
+        best = f[present].apply(lambda r: _best(r.to_dict()), axis=1)
         for band, g in f.groupby("band", sort=True):
             for c in present:
                 rows.append({"component": component, "model": cols[c], "band": band, "surfaces": int(len(g)),

@@ -79,6 +79,33 @@ FIGURES = {
 DPI = 110
 
 
+def _heatmap(ax, p: pd.DataFrame, cmap="viridis", vmin=None, vmax=None, annot=False, fmt=".1f", label=None):
+    """A pivot table as a heatmap (rows top to bottom as given), with a colour bar.
+
+    Like ``seaborn.heatmap`` but without its per-call redraw of the whole
+    figure (which makes a grid of heatmaps quadratic in time).
+    """
+    z = p.to_numpy(float)
+    cmap = sns.color_palette(cmap, as_cmap=True) if isinstance(cmap, str) else cmap
+    im = ax.imshow(np.ma.masked_invalid(z), cmap=cmap, vmin=vmin, vmax=vmax, aspect="auto", interpolation="nearest")
+    ax.set_xticks(range(z.shape[1]), [f"{c:g}" if isinstance(c, (int, float, np.floating)) else str(c)
+                                      for c in p.columns], rotation=90, fontsize=7)
+    ax.set_yticks(range(z.shape[0]), [f"{r:g}" if isinstance(r, (int, float, np.floating)) else str(r)
+                                      for r in p.index], fontsize=7)
+    ax.set_xlabel(p.columns.name or "")
+    ax.set_ylabel(p.index.name or "")
+    ax.grid(False)
+    if annot:
+        lo, hi = np.nanmin(z) if np.isfinite(z).any() else 0, np.nanmax(z) if np.isfinite(z).any() else 1
+        mid = (lo + hi) / 2
+        for (i, j), v in np.ndenumerate(z):
+            if np.isfinite(v):
+                ax.text(j, i, format(v, fmt), ha="center", va="center", fontsize=6,
+                        color="white" if v < mid else "black")
+    ax.figure.colorbar(im, ax=ax, shrink=0.8, label=label)
+    return im
+
+
 def _theme():
     sns.set_theme(style="whitegrid", context="paper", font_scale=1.05)
 
@@ -251,20 +278,28 @@ def fig21_specular_truncation(study: pd.DataFrame):
     return fig
 
 
-def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc):
+def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
     data = an._table_data(lobes, aspect, inc)
     if lobe not in data:
         ax.text(0.5, 0.5, f"no {lobe} lobe", ha="center", transform=ax.transAxes)
         return
     t = data.index.to_numpy(float)
     tt = np.linspace(0, 1, 201)
+    if k is None:
+        k = an.front_facet_share(aspect, inc) if lobe == "back" else 0.5
     pred = an.thesis_model_predictions(tt, m, k)
     ax.plot(t, data[lobe], "o", color="k", label="our data (lobe peak)", zorder=5)
+    if exact is not None and len(exact):
+        ex = exact[(np.abs(exact["aspect"] - aspect) <= an.ASPECT_TOL) & (exact["lobe"] == lobe)
+                   & np.isclose(exact["incidence"], inc)]
+        if len(ex):
+            ax.plot(ex["truncation"], ex["exact_peak"], "o", mfc="none", mec="#ff7f0e", ms=9, mew=1.4,
+                    label="exact peak (polygon clipping)", zorder=6)
     if lobe == "forward":
         ax.plot(tt, pred["square_area"], color="#1f77b4", label="square area  m(1-t)²")
         ax.plot(tt, pred["forward_regressed"], color="#d62728", label="regressed  m(1-sin(tπ/2))")
     else:
-        ax.plot(tt, pred["triangle_area"], color="#1f77b4", label=f"triangle area  {k:g}m(1-(1-t)²)")
+        ax.plot(tt, pred["triangle_area"], color="#1f77b4", label=f"triangle area  {k:.3g}m(1-(1-t)²)")
         ax.plot(tt, pred["back_regressed"], color="#d62728", label="regressed  m sin(tπ/2)/2")
     s = sine[(np.abs(sine["aspect"] - aspect) <= an.ASPECT_TOL) & (sine["lobe"] == lobe)] if len(sine) else sine
     if len(s) == 2 and np.isfinite(s["estimate"]).all():
@@ -278,7 +313,7 @@ def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc):
     ax.legend(fontsize=7)
 
 
-def _models_figure(lobes, sine, lobe, m, k, key):
+def _models_figure(lobes, sine, lobe, m, k, key, exact=None):
     _theme()
     inc = _incidence(lobes)
     aspects = _aspects_present(lobes)
@@ -286,18 +321,25 @@ def _models_figure(lobes, sine, lobe, m, k, key):
         return placeholder(FIGURES[key], "neither aspect 1 nor √3/2 is in the study")
     fig, axes = plt.subplots(1, len(aspects), figsize=(5.6 * len(aspects), 3.8), squeeze=False, sharey=True)
     for ax, a in zip(axes[0], aspects):
-        _model_panel(ax, lobes, sine, a, lobe, m, k, inc)
+        _model_panel(ax, lobes, sine, a, lobe, m, k, inc, exact)
     return fig
 
 
-def fig23_forward_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0):
-    """Fig. 23: forward lobe peak against truncation with the square area and regressed models."""
-    return _models_figure(lobes, sine, "forward", m, 0.5, "fig23_forward_models")
+def fig23_forward_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0, exact=None):
+    """Fig. 23: forward lobe peak against truncation with the square area and regressed models.
+
+    ``exact``: optional :func:`roughlight.analysis.exact_lobe_peaks` frame, drawn as open circles.
+    """
+    return _models_figure(lobes, sine, "forward", m, None, "fig23_forward_models", exact)
 
 
-def fig25_back_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0, k: float = 0.5):
-    """Fig. 25: back lobe peak against truncation with the triangle area and regressed models."""
-    return _models_figure(lobes, sine, "back", m, k, "fig25_back_models")
+def fig25_back_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0, k: float | None = None,
+                      exact=None):
+    """Fig. 25: back lobe peak against truncation with the triangle area and regressed models.
+
+    ``k`` (the triangle area's factor) defaults to geometry, :func:`roughlight.analysis.front_facet_share`.
+    """
+    return _models_figure(lobes, sine, "back", m, k, "fig25_back_models", exact)
 
 
 def fig24_reflecting_areas(areas: dict):
@@ -462,7 +504,8 @@ def fig27_diffuse_plate(study: pd.DataFrame):
     c = d.groupby("elevation")["control"].mean()
     ax.plot(c.index, c.values, "k--", lw=1, label="control plate")
     J = float(study["light"].iloc[0])
-    ax.axhline(J * math.sin(math.radians(inc)), color="orange", ls=":", label=f"J sin(i) = {J * math.sin(math.radians(inc)):.1f}")
+    lam = J * math.sin(math.radians(inc))
+    ax.axhline(lam, color="orange", ls=":", label=f"J sin(i) = {lam:.1f}")
     ax.set_xlim(0, 180)
     ax.set_ylim(0, max(1.0, float(d["rough"].max())) * 1.2)
     ax.set_xlabel("view elevation (deg), azimuth 0")
@@ -597,8 +640,7 @@ def fig_diffuse_parts(parts: pd.DataFrame):
                                             ("decay_length", "decay length 1/k (deg)", ".0f"),
                                             ("rmse", "RMSE of the model (0-255)", ".1f"))):
         p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
-        sns.heatmap(p, ax=ax, xticklabels=True, yticklabels=True, cmap="viridis", annot=p.shape[0] * p.shape[1] <= 150, fmt=fmt, annot_kws={"size": 6},
-                    cbar_kws={"shrink": 0.8})
+        _heatmap(ax, p, cmap="viridis", annot=p.size <= 150, fmt=fmt)
         ax.set_title(label, loc="left", fontsize=9)
     return fig
 
@@ -621,12 +663,14 @@ def fig_glm_diagnostics(diag: pd.DataFrame, summary: pd.DataFrame):
         sub = ""
         if len(srow):
             s = srow.iloc[0]
-            sub = f"\nconverged {bool(s['converged'])}, κ(scaled) {s['condition_scaled']:.1f}, pseudo-R² {s['pseudo_r2']:.3f}"
+            sub = (f"\nconverged {bool(s['converged'])}, κ(scaled) {s['condition_scaled']:.1f}, "
+                   f"pseudo-R² {s['pseudo_r2']:.3f}")
         ax.set_title(f"{r}{sub}", loc="left", fontsize=9)
         ax.set_ylabel("residual (0-255)")
         ax = axes[1, j]
         n, p = len(d), max(1, len(srow.iloc[0]["terms"].split(" + ")) + 1) if len(srow) else 2
-        ax.scatter(d["leverage"], d["pearson_residual"], s=10 + 400 * d["cooks_distance"] / max(d["cooks_distance"].max(), 1e-12),
+        size = 10 + 400 * d["cooks_distance"] / max(d["cooks_distance"].max(), 1e-12)
+        ax.scatter(d["leverage"], d["pearson_residual"], s=size,
                    c=d["aspect"], cmap="rocket_r", alpha=0.8, edgecolor="k", linewidth=0.3)
         ax.axvline(2 * p / max(n, 1), color="0.4", ls=":", lw=1)
         ax.axhline(0, color="k", lw=0.8)
@@ -659,7 +703,7 @@ def fig_model_fits(fits: pd.DataFrame):
     comp_of = {col: comp for comp, cols in an.MODEL_COLUMNS.items() for col in cols}
     for ax, (col, title) in zip(axes.flat, panels):
         p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
-        sns.heatmap(p, ax=ax, xticklabels=True, yticklabels=True, cmap="mako_r", vmin=0, vmax=vmax[comp_of[col]] or 1, cbar_kws={"shrink": 0.8})
+        _heatmap(ax, p, cmap="mako_r", vmin=0, vmax=vmax[comp_of[col]] or 1)
         ax.set_title(f"{title}\nmedian RMSE {np.nanmedian(p.to_numpy()):.2f}", loc="left", fontsize=8)
     for ax in list(axes.flat)[len(panels):]:
         ax.axis("off")
@@ -686,6 +730,8 @@ def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, 
         d = tot[np.isclose(tot["truncation"], t) & (np.abs(tot["aspect"] - a) <= an.ASPECT_TOL)
                 & np.isclose(tot["incidence"], i) & (tot["coverage"] > 0) & (tot["phase"] <= max_phase)]
         ax.scatter(d["phase"], d["rough"], s=3, alpha=0.35, color="0.3", label="views (all azimuths)")
+        curve = d.groupby(np.floor(d["phase"]))["rough"].mean()
+        ax.plot(curve.index + 0.5, curve.values, color="k", lw=1.5, label="phase curve (fitted)")
         r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= an.ASPECT_TOL)
                  & np.isclose(fits["incidence"], i)].iloc[0]
         g = np.linspace(0, max_phase, 200)
@@ -714,8 +760,8 @@ def fig_timings(per_sweep: pd.DataFrame):
     fig, axes = plt.subplots(1, len(incs), figsize=(6 * len(incs), 4.2), squeeze=False)
     for ax, inc in zip(axes[0], incs):
         p = d[d["incidence"] == inc].pivot_table(index="aspect", columns="truncation", values="seconds")
-        sns.heatmap(p.sort_index(ascending=False), ax=ax, xticklabels=True, yticklabels=True, cmap="rocket_r", annot=p.size <= 150, fmt=".1f",
-                    annot_kws={"size": 6}, cbar_kws={"label": "seconds per sweep"})
+        _heatmap(ax, p.sort_index(ascending=False), cmap="rocket_r", annot=p.size <= 150, fmt=".1f",
+                 label="seconds per sweep")
         ax.set_title(f"incidence {inc:g}: render wall time per sweep", loc="left", fontsize=9)
     return fig
 
@@ -735,8 +781,8 @@ PICTURE_SETS = {
         [(1.0, 1.0, 30.0, e, 0.0, f"elevation {e:g}") for e in (2.0, 10.0, 30.0, 90.0)],
     ),
     "fig13_tops": (
-        "Truncated tops at low incidence (aspect 1, incidence 10, seen from the mirror side, elevation 165)",
-        [(t, 1.0, 10.0, 165.0, 0.0, f"truncation {t:g}") for t in (0.3, 0.6, 0.9, 1.0)],
+        "Truncated tops at low incidence (aspect 1, incidence 10, seen from the mirror direction, elevation 170)",
+        [(t, 1.0, 10.0, 170.0, 0.0, f"truncation {t:g}") for t in (0.3, 0.6, 0.9, 1.0)],
     ),
 }
 

@@ -207,6 +207,9 @@ def atomic_path(path):
     suffix = "".join(Path(path).suffixes) or ".tmp"
     fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=directory)
     os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp's 0600 would hide the report from other readers
     try:
         yield tmp
         os.replace(tmp, path)
@@ -432,8 +435,10 @@ WHY_DIFFERENT = """
 <ol>
 <li><b>The ranking of the models is reversed.</b> In our study the forward lobe's peak is exactly the share of
 the image covered by the pyramids' tops, seen from the mirror direction, times the source: <span class="formula">
-m(1-t)²</span>. Our facets are flat with their true normals and the Phong lobe (exponent 64, about 17° wide) of a side
-facet points at least 2·atan(2·aspect) away from the forward mirror direction, so no side light reaches it. The
+m(1-t)²</span>. Our facets are flat with their true normals, and the Phong lobes (exponent 64, about 17° wide) of
+the side facets point away from the forward mirror direction (by 2·atan(2·aspect) for the facets facing toward and
+away from the light, out of the light's plane for the other two), so no side light reaches it at the aspects of the
+tables (the exact rows below: the area function is exact). The
 thesis saw extra forward light "from the sides of the pyramid" and fitted it with the sine model. The likely causes
 are in the thesis itself: Java3D's Gouraud shading averages normals at shared vertices (the shading notes, "Gouraud
 Shading"), which tilts the side facets' normals toward the vertical near the top edges; the 40 × 40-pixel capture
@@ -537,7 +542,8 @@ def build_report(
         parts.append(
             f"<p>{_e(study.get('surfaces', '?'))} surfaces (truncation × aspect × incidence), "
             f"{_e(study.get('views_per_surface', '?'))} views each (azimuth 0–175 × elevation 0–180), "
-            f"{_e(study.get('rows', '?'))} rows. Truncations: {_e(', '.join(f'{t:g}' for t in study.get('truncations', [])))}. "
+            f"{_e(study.get('rows', '?'))} rows. "
+            f"Truncations: {_e(', '.join(f'{t:g}' for t in study.get('truncations', [])))}. "
             f"Aspects: {_e(', '.join(an.aspect_label(a) for a in aspects))}. "
             f"Incidences: {_e(', '.join(f'{i:g}' for i in study.get('incidences', [])))}. "
             f"Light J = {_e(_fmt(study.get('light'), 0))}, shininess {_e(_fmt(study.get('shininess'), 0))}, "
@@ -549,12 +555,16 @@ def build_report(
     parts.append(_notes(messages))
 
     # --- tables 1 and 2
+    k_text = "k from geometry"
+    if thesis is not None and len(thesis) and "k" in thesis:
+        ks = thesis[thesis["source"] == "ours"].groupby("aspect_label")["k"].first()
+        k_text = "k from geometry (" + ", ".join(f"{_e(a)}: {v:.4g}" for a, v in ks.items()) + ")"
     parts.append('<h2 id="tables">Tables 1 and 2</h2>')
     parts.append("<p>Data: the forward (mirror, elevation 180 − i) and back (the light-facing facet's mirror "
                  "direction) specular lobe peaks on the light's plane (azimuth 0), incidence 30, truncation "
                  "0–1. Models (m = J·m_s): square area <span class=\"formula\">m(1−t)²</span>, forward regressed "
                  "<span class=\"formula\">m(1 − sin(tπ/2))</span>, triangle area "
-                 "<span class=\"formula\">m·k·(1 − (1−t)²)</span> with k = 1/2, back regressed "
+                 f"<span class=\"formula\">m·k·(1 − (1−t)²)</span> with {k_text}, back regressed "
                  "<span class=\"formula\">m·sin(tπ/2)/2</span>.</p>")
     if thesis is not None and len(thesis):
         for aspect in sorted(thesis["aspect"].unique(), reverse=True):
@@ -570,7 +580,8 @@ def build_report(
         s = sine.copy()
         s["aspect"] = s["aspect_label"]
         parts.append(_table(s.drop(columns=["aspect_label"]), TABLE_CAPTIONS["sine_refits"] +
-                            " Forward: A(1 − sin(ωt)); back: A·sin(ωt); the thesis fixed A = m or m/2 and ω = π/2.",
+                            " Forward: A(1 − sin(ωt)); back: A·sin(ωt); the thesis fixed A = m or m/2 and"
+                            " ω = π/2.",
                             table_id="sine-refits"))
     if exact is not None and len(exact):
         parts.append("<details><summary>Measured and exact lobe peaks of the table surfaces</summary>" +
@@ -634,22 +645,29 @@ def build_report(
                  "design is near-collinear.</p>")
     parts.append(_notes(tables.get("glm_messages", [])))
     parts.append(_table(tables.get("glm_summary"), TABLE_CAPTIONS["glm_summary"], table_id="glm-summary"))
-    parts.append(_table(tables.get("glm_coefficients"), TABLE_CAPTIONS["glm_coefficients"], table_id="glm-coefficients"))
+    parts.append(_table(tables.get("glm_coefficients"), TABLE_CAPTIONS["glm_coefficients"],
+                        table_id="glm-coefficients"))
     parts.append(_figure("glm_diagnostics", figures))
 
     # --- analytic models
     parts.append('<h2 id="models">Beyond the thesis: analytic rough-surface models</h2>')
     parts.append(
         "<p>Fitted to every view of every surface: <b>diffuse</b> — Lambert (the plate), Oren–Nayar's qualitative "
-        "model with σ from the pyramid (RMS facet slope, σ = atan(2·aspect)·√(1 − (1−t)²)) and with σ fitted, and a "
+        "model with σ from the pyramid (RMS facet slope, σ = atan(2·aspect)·√(1 − (1−t)²)) and with σ fitted, "
+        "and a "
         "Torrance–Sparrow facet model (each facet's 8-bit value × its share of the image × the V-cavity "
         "masking-shadowing term G = min(1, 2n_zV_z/(n·V), 2n_zL_z/(n·L))); <b>specular</b> — Phong on the plate, "
         "the facet model without masking and with the V-cavity term; <b>near opposition</b> — Hapke's shadow-hiding "
         "term B(g) = B0/(1 + tan(g/2)/h) on a linear phase background, fitted to the phase curve within "
         f"{_e(_fmt((provenance.get('settings') or {}).get('hapke_max_phase', 60), 0))}° of zero phase.</p>")
-    parts.append(_model_findings(tables.get("model_fits_summary")))
-    parts.append(_table(tables.get("model_fits_summary"), TABLE_CAPTIONS["model_fits_summary"], digits=2,
-                        table_id="model-summary"))
+    msum = tables.get("model_fits_summary")
+    parts.append(_model_findings(msum))
+    if msum is not None and len(msum):
+        parts.append(_table(msum[msum["band"] == "all"], TABLE_CAPTIONS["model_fits_summary"] + " All surfaces.",
+                            digits=2, table_id="model-summary"))
+        parts.append("<details><summary>By band of surfaces</summary>" +
+                     _table(msum[msum["band"] != "all"], TABLE_CAPTIONS["model_fits_summary"], digits=2,
+                            table_id="model-summary-bands") + "</details>")
     parts.append(_figure("model_fits", figures))
     parts.append(_figure("hapke", figures))
 
@@ -658,7 +676,8 @@ def build_report(
     ts = tables.get("timings_summary") or {}
     if ts:
         parts.append(f"<p>Render timings: {_e(ts.get('sweeps'))} sweeps, {_e(ts.get('views'))} views, "
-                     f"{_e(_fmt(ts.get('total_seconds'), 1))} s in all (median {_e(_fmt(ts.get('median_seconds'), 2))} s, "
+                     f"{_e(_fmt(ts.get('total_seconds'), 1))} s in all "
+                     f"(median {_e(_fmt(ts.get('median_seconds'), 2))} s, "
                      f"max {_e(_fmt(ts.get('max_seconds'), 2))} s for {_e(ts.get('slowest'))}); "
                      f"{_e(_fmt(ts.get('views_per_second'), 0))} views/s; method {_e(ts.get('methods'))}.</p>")
     timings = tables.get("timings")

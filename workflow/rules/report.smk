@@ -1,22 +1,7 @@
 # Analysis and report (issue #5): results/study.parquet -> results/analysis/*, results/figures/*.png
 # and the self-contained reports/roughlight_report.html. Settings under `report:` in the config
-# (all optional; defaults below).
+# (all optional; defaults and allowed values in workflow/schemas/config.schema.yaml).
 import os
-
-REPORT_DEFAULTS = {
-    # aspects of the thesis's Tables 1-2: its runs (1.0) and its actual 60-degree facets (sqrt(3)/2)
-    "table_aspects": [1.0, 0.8660254037844386],
-    # incidence of Tables 1-2 (degrees)
-    "table_incidence": 30,
-    # a lobe's window on the azimuth-0 arc reaches at most this far from its mirror direction (degrees)
-    "lobe_halfwidth": 40,
-    # largest condition number of the centred, scaled GLM design before a term is kept out
-    "collinearity_limit": 100,
-    # Hapke's opposition term is fitted to views within this phase angle (degrees)
-    "hapke_max_phase": 60,
-    # compare the table surfaces' lobe peaks with the exact polygon-clipping reference
-    "exact_check": True,
-}
 
 REPORT_FIGURES = [
     "fig19_topdown",
@@ -48,29 +33,14 @@ REPORT_BENCHMARKS = [
 ]
 
 
-def report_settings():
-    """The `report:` section of the config over its defaults (plain types: travels through params)."""
-    settings = dict(REPORT_DEFAULTS)
-    settings.update(dict(config.get("report", {}) or {}))
-    settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
-    return settings
-
-
-def report_lighting():
-    return rl_config.lighting_from_config(config).as_dict()
-
-
-def report_render_settings():
-    return rl_config.render_settings_from_config(config)
-
-
-def report_benchmark_inputs():
-    """The optional speed/accuracy benchmark files that exist when the workflow starts."""
-    return [path for path in REPORT_BENCHMARKS if os.path.exists(path)]
-
-
-def report_figure_path(stem):
-    return f"results/figures/{stem}.png"
+# settings of the report rules: the `report:` section of the config over the defaults (plain types)
+REPORT_SETTINGS = dict(config["report"])  # validated, defaults filled (workflow/schemas/config.schema.yaml)
+REPORT_SETTINGS["table_aspects"] = [float(a) for a in REPORT_SETTINGS["table_aspects"]]
+REPORT_LIGHTING = rl_config.lighting_from_config(config).as_dict()
+REPORT_RENDER = rl_config.render_settings_from_config(config)
+# the optional speed/accuracy benchmark: whichever files exist when the workflow starts
+REPORT_BENCHMARK_INPUTS = [path for path in REPORT_BENCHMARKS if os.path.exists(path)]
+REPORT_FIGURE_FILES = [f"results/figures/{stem}.png" for stem in REPORT_FIGURES + REPORT_RENDERED_FIGURES]
 
 
 rule report_tables:
@@ -103,11 +73,13 @@ rule report_tables:
         timings="results/analysis/render_timings.csv",
         summary="results/analysis/study_summary.json",
     params:
-        settings=report_settings(),
-        lighting=report_lighting(),
+        settings=REPORT_SETTINGS,
+        lighting=REPORT_LIGHTING,
     log:
         "results/logs/report/tables.log",
     threads: 1
+    conda:
+        "../../envs/study.yaml"
     resources:
         mem_mb=4096,
     script:
@@ -134,10 +106,12 @@ rule report_glm:
         diagnostics="results/analysis/glm_diagnostics.csv",
         messages="results/analysis/glm_messages.json",
     params:
-        settings=report_settings(),
+        settings=REPORT_SETTINGS,
     log:
         "results/logs/report/glm.log",
     threads: 1
+    conda:
+        "../../envs/study.yaml"
     resources:
         mem_mb=1024,
     script:
@@ -156,11 +130,13 @@ rule report_models:
             subcategory="Beyond the thesis",
         ),
     params:
-        settings=report_settings(),
-        lighting=report_lighting(),
+        settings=REPORT_SETTINGS,
+        lighting=REPORT_LIGHTING,
     log:
         "results/logs/report/models.log",
     threads: 1
+    conda:
+        "../../envs/study.yaml"
     resources:
         mem_mb=4096,
     script:
@@ -173,6 +149,7 @@ rule report_figures:
         lobes="results/analysis/lobes_arc.parquet",
         diffuse_parts="results/analysis/diffuse_three_part.csv",
         sine="results/analysis/sine_refits.csv",
+        exact="results/analysis/exact_peaks.csv",
         areas="results/analysis/reflecting_areas.csv",
         timings="results/analysis/render_timings.csv",
         glm_summary="results/analysis/glm_summary.csv",
@@ -270,10 +247,12 @@ rule report_figures:
             subcategory="Provenance",
         ),
     params:
-        settings=report_settings(),
+        settings=REPORT_SETTINGS,
     log:
         "results/logs/report/figures.log",
     threads: 1
+    conda:
+        "../../envs/study.yaml"
     resources:
         mem_mb=4096,
     script:
@@ -314,14 +293,16 @@ rule report_render_figures:
             subcategory="Specular",
         ),
     params:
-        lighting=report_lighting(),
-        render=report_render_settings(),
+        lighting=REPORT_LIGHTING,
+        render=REPORT_RENDER,
         elevation_step=float(config["sweep"]["elevation_step"]),
         incidences=[0, 10, 20, 30, 40, 50, 60, 70, 80, 90],
         lights=[127, 255],
     log:
         "results/logs/report/render_figures.log",
     threads: 1
+    conda:
+        "../../envs/render.yaml"
     resources:
         mem_mb=2048,
     script:
@@ -344,8 +325,8 @@ rule report_html:
         glm_messages="results/analysis/glm_messages.json",
         fits="results/analysis/model_fits.parquet",
         fits_summary="results/analysis/model_fits_summary.csv",
-        figures=[report_figure_path(stem) for stem in REPORT_FIGURES + REPORT_RENDERED_FIGURES],
-        benchmarks=report_benchmark_inputs(),
+        figures=REPORT_FIGURE_FILES,
+        benchmarks=REPORT_BENCHMARK_INPUTS,
     output:
         report(
             "reports/roughlight_report.html",
@@ -354,10 +335,12 @@ rule report_html:
         ),
     params:
         config=config,
-        settings=report_settings(),
+        settings=REPORT_SETTINGS,
     log:
         "results/logs/report/html.log",
     threads: 1
+    conda:
+        "../../envs/study.yaml"
     resources:
         mem_mb=1024,
     script:

@@ -43,7 +43,7 @@ else:
     messages.append("the exact-reference check of the lobe peaks is switched off (report.exact_check)")
 write_frame(exact, out.exact)
 
-tables, table_messages = an.thesis_tables(lobes, aspects, incidence, m=m, k=0.5, exact=exact if len(exact) else None)
+tables, table_messages = an.thesis_tables(lobes, aspects, incidence, m=m, k=None, exact=exact if len(exact) else None)
 messages += table_messages
 write_frame(tables, out.thesis_tables)
 write_frame(an.sine_refits(lobes, aspects, incidence, m=m), out.sine)

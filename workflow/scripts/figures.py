@@ -16,6 +16,7 @@ study = pd.read_parquet(inp.study)
 lobes = pd.read_parquet(inp.lobes)
 parts = read_frame(inp.diffuse_parts)
 sine = read_frame(inp.sine)
+exact = read_frame(inp.exact)
 areas = read_frame(inp.areas)
 fits = pd.read_parquet(inp.fits)
 hapke_max_phase = float(snakemake.params.settings["hapke_max_phase"])
@@ -24,9 +25,9 @@ area_sets = {a: g.reset_index(drop=True) for a, g in areas.groupby("aspect", sor
 makers = {
     "fig19_topdown": lambda: F.fig19_topdown(study),
     "fig21_specular_truncation": lambda: F.fig21_specular_truncation(study),
-    "fig23_forward_models": lambda: F.fig23_forward_models(lobes, sine, m=float(study["light"].iloc[0])),
+    "fig23_forward_models": lambda: F.fig23_forward_models(lobes, sine, m=float(study["light"].iloc[0]), exact=exact),
     "fig24_reflecting_areas": lambda: F.fig24_reflecting_areas(area_sets),
-    "fig25_back_models": lambda: F.fig25_back_models(lobes, sine, m=float(study["light"].iloc[0])),
+    "fig25_back_models": lambda: F.fig25_back_models(lobes, sine, m=float(study["light"].iloc[0]), exact=exact),
     "fig26_specular_aspect": lambda: F.fig26_specular_aspect(study),
     "fig27_diffuse_plate": lambda: F.fig27_diffuse_plate(study),
     "fig28_diffuse_truncation": lambda: F.fig28_diffuse_truncation(study, parts),
