@@ -45,10 +45,54 @@ import math  # noqa: E402
 import time  # noqa: E402
 from dataclasses import dataclass  # noqa: E402
 
+import importlib  # noqa: E402
+import importlib.util  # noqa: E402
+import sys  # noqa: E402
+import types  # noqa: E402
+
 import numpy as np  # noqa: E402
-import pyrender  # noqa: E402
 from OpenGL import GL as gl  # noqa: E402
+
+
+def _import_pyrender_core():
+    """Load the parts of pyrender the fast method uses, without pyrender's package ``__init__``.
+
+    ``import pyrender`` imports its viewer (pyglet), its trimesh-based Mesh and
+    Scene, and through trimesh scipy and networkx: about 1.7 s, paid again by
+    every sweep job (each is a fresh process). The fast method needs only the
+    OSMesa platform, Primitive (vertex buffers with instancing) and the shader
+    programs, whose modules import nothing heavy. When pyrender is not yet
+    imported, an empty package module stands in for its ``__init__`` so that
+    those submodules load alone; :func:`_import_pyrender` swaps in the real
+    package whenever the whole of pyrender is needed (the naive method).
+    """
+    if "pyrender" not in sys.modules:
+        spec = importlib.util.find_spec("pyrender")
+        if spec is None or not spec.submodule_search_locations:
+            raise ImportError("pyrender is not installed: run `make setup` (pip package pyrender2)")
+        package = types.ModuleType("pyrender")
+        package.__path__ = list(spec.submodule_search_locations)
+        package.__spec__ = spec
+        package.__file__ = spec.origin
+        package._roughlight_core_only = True
+        sys.modules["pyrender"] = package
+    for name in ("constants", "primitive", "shader_program", "platforms.osmesa"):
+        importlib.import_module(f"pyrender.{name}")
+    return sys.modules["pyrender"]
+
+
+def _import_pyrender():
+    """The whole pyrender package (Scene, OffscreenRenderer, ...), for the naive method."""
+    module = sys.modules.get("pyrender")
+    if module is not None and getattr(module, "_roughlight_core_only", False):
+        del sys.modules["pyrender"]  # the real __init__ reuses the submodules already loaded
+    return importlib.import_module("pyrender")
+
+
+_import_pyrender_core()
+from pyrender.constants import GLTF  # noqa: E402
 from pyrender.platforms.osmesa import OSMesaPlatform  # noqa: E402
+from pyrender.primitive import Primitive  # noqa: E402
 from pyrender.shader_program import ShaderProgram  # noqa: E402
 from pyrender.shader_program import ShaderProgramCache as ShaderProgramCache_  # noqa: E402
 
@@ -368,10 +412,10 @@ def _context(width: int, height: int, shadow_map_size: int) -> _Context:
 
 def _primitive(truncation: float, aspect: float, poses: np.ndarray):
     tris, normals, _ = geometry.period_triangles(truncation, aspect)
-    return pyrender.Primitive(
+    return Primitive(
         positions=tris.reshape(-1, 3).astype(np.float32),
         normals=np.repeat(normals, 3, axis=0).astype(np.float32),
-        mode=pyrender.constants.GLTF.TRIANGLES,
+        mode=GLTF.TRIANGLES,
         poses=poses,
     )
 
@@ -621,6 +665,7 @@ class _NaiveScene:
     every render."""
 
     def __init__(self, truncation, aspect, incidence, lighting, size, periods, view_periods):
+        pyrender = _import_pyrender()
         self.size = tuple(int(v) for v in size)
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
         material = pyrender.MetallicRoughnessMaterial(
@@ -648,6 +693,7 @@ class _NaiveScene:
         self.shadows = bool(lighting.shadows) and not geometry.is_plate(truncation, aspect)
 
     def render(self, renderer, view):
+        pyrender = _import_pyrender()
         self.scene.set_pose(self.camera_node, _look_pose(view, _up_vector(view), self.distance))
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.shadows else pyrender.RenderFlags.NONE
         color, depth = renderer.render(self.scene, flags=flags)
@@ -667,7 +713,7 @@ def _naive_renderer(size):
         for ctx in list(_CONTEXTS.values()):
             ctx.delete()
         _CONTEXTS.clear()
-        renderer = pyrender.OffscreenRenderer(*size)
+        renderer = _import_pyrender().OffscreenRenderer(*size)
         renderer._renderer._program_cache = _PyrenderShaders()
         _NAIVE_RENDERERS[size] = renderer
     return renderer
