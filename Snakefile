@@ -16,6 +16,13 @@ check_config(config, "workflow/schemas/config.schema.yaml")
 validate(config, "workflow/schemas/config.schema.yaml")
 
 
+check_results_writable()
+
+
+onstart:
+    check_results_writable(probe=True)
+
+
 include: "workflow/rules/render.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/benchmark.smk"

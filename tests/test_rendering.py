@@ -146,3 +146,13 @@ def test_reference_is_a_method():
     assert set(out) >= {"diffuse", "specular", "total", "coverage", "seconds"}
     with pytest.raises(ValueError, match="render.method"):
         rendering.measure_sweep("raytrace", 0.5, 1.0, 30, AZ, EL)
+
+
+def test_missing_osmesa_ends_with_one_clear_message(monkeypatch):
+    def broken(self):
+        raise ImportError("Unable to load OpenGL library", "libOSMesa.so.8: cannot open shared object file")
+
+    monkeypatch.setattr(rendering.OSMesaPlatform, "init_context", broken)
+    monkeypatch.setattr(rendering, "_CONTEXTS", {})
+    with pytest.raises(RuntimeError, match="apt-get install libosmesa6"):
+        rendering.render_sweep(0.5, 1.0, 30, [0.0], [45.0])

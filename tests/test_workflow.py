@@ -151,3 +151,29 @@ def test_killed_run_reruns_to_the_same_table(workflow_dir, tmp_path_factory):
     fresh = pd.read_parquet(clean / "results" / "study.parquet").drop(columns="render_seconds")
     assert len(killed) == 8 * 37 * 9 * 3
     pd.testing.assert_frame_equal(killed, fresh)  # bit-for-bit: rendering is deterministic
+
+
+@pytest.mark.slow
+def test_unwritable_results_and_corrupt_sweeps_end_with_one_clear_message(workflow_dir):
+    write_config(workflow_dir, TINY)
+    # results/ cannot be a directory here (a file stands in the way): stop before any job
+    (workflow_dir / "results").write_text("not a directory")
+    proc = snakemake(workflow_dir, STUDY, check=False)
+    assert proc.returncode != 0
+    assert "results/ is not writable" in proc.stdout + proc.stderr
+    (workflow_dir / "results").unlink()
+
+    # a corrupt sweep file left in results/: the aggregate names it and says what to do
+    snakemake(workflow_dir, STUDY)
+    bad = workflow_dir / "results" / "sweeps" / "i30" / "t1_a1.parquet"
+    good = workflow_dir / "results" / "sweeps" / "i30" / "t0_a1.parquet"
+    kept = good.read_bytes()
+    bad.write_bytes(b"PAR1 truncated")
+    proc = snakemake(workflow_dir, STUDY, "--force", check=False)  # rebuild the table from the sweeps
+    text = proc.stdout + proc.stderr
+    assert proc.returncode != 0
+    assert "t1_a1.parquet is not a readable Parquet sweep" in text and "delete it and rerun" in text
+    assert good.read_bytes() == kept  # nothing already computed is lost
+    bad.unlink()
+    snakemake(workflow_dir, STUDY)
+    assert len(pd.read_parquet(workflow_dir / "results" / "study.parquet")) == 2 * 21 * 3

@@ -109,6 +109,13 @@ __all__ = [
 
 SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
 
+#: What to do when OpenGL cannot start: the one message a sweep job ends with.
+OSMESA_HELP = (
+    "could not create an OpenGL 3.3 core context with OSMesa (software rendering): install "
+    "Debian's libosmesa6 (`apt-get install libosmesa6`, or `make setup`, which does it), keep "
+    "PYOPENGL_PLATFORM=osmesa, and rerun snakemake; sweeps already written are kept"
+)
+
 #: Pixel sampling patterns of the fast renderer (``render.sampling``).
 SAMPLINGS = ("lattice", "grid")
 
@@ -350,13 +357,13 @@ class _Context:
     def __init__(self, width: int, height: int, shadow_map_size: int):
         self.width, self.height = int(width), int(height)
         self.platform = OSMesaPlatform(self.width, self.height)
-        self.platform.init_context()
-        if not self.platform._context:
-            raise RuntimeError(
-                "OSMesa could not create an OpenGL 3.3 core context: install Debian's "
-                "libosmesa6 (apt-get install libosmesa6) and PyOpenGL >= 3.1.9"
-            )
-        self.platform.make_current()
+        try:
+            self.platform.init_context()
+            if not self.platform._context:
+                raise RuntimeError("OSMesaCreateContextAttribs returned no context")
+            self.platform.make_current()
+        except Exception as exc:
+            raise RuntimeError(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
         self.programs = ShaderCache()
         self.shadow_size = int(shadow_map_size)
         # periodic shadow map: a depth texture, one period of light-oblique coordinates

@@ -24,6 +24,35 @@ def check_config(config, schema):
         raise WorkflowError(str(exc))
 
 
+def check_results_writable(directory="results", probe=False):
+    """Stop before any job if results/ cannot be written (one message, nothing touched).
+
+    Without `probe` only looks (it runs while the workflow is parsed, dry runs too);
+    with it, also writes and removes a probe file (at the start of a real run).
+    """
+    import tempfile
+
+    problem = None
+    if os.path.exists(directory) and not os.path.isdir(directory):
+        problem = "it exists but is not a directory"
+    elif os.path.isdir(directory) and not os.access(directory, os.W_OK | os.X_OK):
+        problem = "permission denied"
+    elif not os.path.exists(directory) and not os.access(os.path.dirname(os.path.abspath(directory)), os.W_OK):
+        problem = "it cannot be created here"
+    elif probe:
+        try:
+            os.makedirs(directory, exist_ok=True)
+            with tempfile.NamedTemporaryFile(dir=directory, prefix=".write-check-"):
+                pass
+        except OSError as exc:
+            problem = str(exc)
+    if problem:
+        raise WorkflowError(
+            f"{directory}/ is not writable ({problem}): make it a writable directory "
+            "(or run from a directory where it can be created) and rerun; nothing was computed or removed"
+        )
+
+
 def _grid(key):
     return [float(v) for v in config["grid"][key]]
 
