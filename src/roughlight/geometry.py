@@ -212,19 +212,7 @@ def facet_areas(truncation: float, aspect: float) -> dict[str, float]:
 
 def export_mesh_atomic(mesh, path) -> None:
     """Write a mesh (format from the file's extension, e.g. ``.ply``) under a temporary name, then rename."""
-    import os
-    import tempfile
+    from .atomic import atomic_path
 
-    path = os.fspath(path)
-    directory = os.path.dirname(path) or "."
-    os.makedirs(directory, exist_ok=True)
-    suffix = os.path.splitext(path)[1]
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=directory)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         mesh.export(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise

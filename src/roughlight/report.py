@@ -14,7 +14,6 @@ for ``snakemake --report``.
 from __future__ import annotations
 
 import base64
-import contextlib
 import datetime as _dt
 import hashlib
 import html
@@ -23,13 +22,13 @@ import json
 import math
 import os
 import platform
-import tempfile
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from . import analysis as an
+from .atomic import atomic_path
 
 __all__ = [
     "CAPTIONS",
@@ -196,26 +195,6 @@ def caption_rst(stem: str) -> str:
 
 # ---------------------------------------------------------------------------
 # files and provenance
-
-
-@contextlib.contextmanager
-def atomic_path(path):
-    """Yield a temporary path in ``path``'s directory; rename it to ``path`` if the block succeeds."""
-    path = os.fspath(path)
-    directory = os.path.dirname(path) or "."
-    os.makedirs(directory, exist_ok=True)
-    suffix = "".join(Path(path).suffixes) or ".tmp"
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=directory)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp's 0600 would hide the report from other readers
-    try:
-        yield tmp
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
 
 
 def write_text_atomic(path, text: str) -> None:

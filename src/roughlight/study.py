@@ -34,11 +34,9 @@ aggregate joins it to its control sweep).
 
 from __future__ import annotations
 
-import os
-import tempfile
-
 import numpy as np
 
+from .atomic import atomic_path
 from .shading import COMPONENTS, phase_angle
 
 __all__ = [
@@ -122,18 +120,8 @@ def write_table_atomic(table, path) -> None:
 
     if not isinstance(table, pa.Table):
         table = pa.Table.from_pandas(table, preserve_index=False)
-    path = os.fspath(path)
-    directory = os.path.dirname(path) or "."
-    os.makedirs(directory, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=".parquet", dir=directory)
-    os.close(fd)
-    try:
+    with atomic_path(path) as tmp:
         pq.write_table(table, tmp, compression="zstd")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def read_sweep(path):

@@ -8,12 +8,12 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 from roughlight import benchmark, shading  # noqa: E402
+from roughlight.atomic import atomic_path  # noqa: E402
 from roughlight.study import write_table_atomic  # noqa: E402
 
 log = _log.setup(snakemake)
 table = benchmark.run_benchmark(lighting=shading.Lighting(**snakemake.params.lighting), log=log)
 write_table_atomic(table, snakemake.output.table)
-tmp = os.path.join(os.path.dirname(snakemake.output.chart), ".tmp-" + os.path.basename(snakemake.output.chart))
-benchmark.plot_speed_accuracy(table, tmp)
-os.replace(tmp, snakemake.output.chart)
+with atomic_path(snakemake.output.chart) as tmp:
+    benchmark.plot_speed_accuracy(table, tmp)
 log(table[table.component != "total"].round(4).to_string())

@@ -1,0 +1,40 @@
+"""Atomic outputs: every file the pipeline writes appears whole or not at all.
+
+A writer fills a temporary file in the target's directory and renames it onto
+the target only when it succeeded, so an interrupted run (even SIGKILL) never
+leaves a truncated file under an output's name for a later run to read.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import tempfile
+from pathlib import Path
+
+__all__ = ["atomic_path"]
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary path in ``path``'s directory; rename it to ``path`` if the block succeeds.
+
+    The file gets the permissions of an ordinary new file (``0666`` less the
+    umask), not ``mkstemp``'s private ``0600``. On failure the temporary file
+    is removed and the target is left as it was.
+    """
+    path = os.fspath(path)
+    directory = os.path.dirname(path) or "."
+    os.makedirs(directory, exist_ok=True)
+    suffix = "".join(Path(path).suffixes) or ".tmp"
+    fd, tmp = tempfile.mkstemp(prefix=".tmp-", suffix=suffix, dir=directory)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)
+    try:
+        yield tmp
+        os.replace(tmp, path)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
