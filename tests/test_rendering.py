@@ -156,3 +156,20 @@ def test_missing_osmesa_ends_with_one_clear_message(monkeypatch):
     monkeypatch.setattr(rendering, "_CONTEXTS", {})
     with pytest.raises(RuntimeError, match="apt-get install libosmesa6"):
         rendering.render_sweep(0.5, 1.0, 30, [0.0], [45.0])
+
+
+def test_jitter_moves_sampled_values_but_not_their_mean():
+    az, el = sweeps.view_grid(20, 45)
+    keep = (el >= 10) & (el <= 170)
+    exact = reference.reference_sweep(0.5, 1.0, 30, az, el, shading.Lighting())["total"][keep]
+    runs = [render(0.5, 1.0, 30, az=az, el=el, jitter=(dx, dy))["total"][keep]
+            for dx, dy in [(0, 0), (0.5, 0), (0, 0.5), (0.25, 0.75), (0.8, 0.3)]]
+    spread = np.std(runs, axis=0)
+    assert spread.max() > 0.05  # the pixels do fall elsewhere
+    # and each jittered run is as close to the truth as the unjittered one
+    for run in runs:
+        assert np.mean(np.abs(run - exact)) < 0.5
+    plate = [render(0.0, 0.0, 30, jitter=j)["total"] for j in [(0, 0), (0.37, 0.61)]]
+    np.testing.assert_array_equal(plate[0], plate[1])
+    naive = [rendering.naive_sweep(0.5, 1.0, 30, [0.0], [60.0], jitter=j)["total"][0] for j in [(0, 0), (0.5, 0.5)]]
+    assert naive[0] != naive[1]

@@ -146,6 +146,11 @@ class RenderSettings:
     max_framebuffer : int
         Largest framebuffer side in pixels; views beyond one framebuffer are
         drawn in further passes.
+    jitter : (float, float)
+        Sub-pixel shift of the camera (equivalently of the surface) in pixels,
+        for measuring how a value moves when the pixels fall elsewhere on the
+        surface (the thesis's "flashing lines"). The mean over the infinite
+        periodic surface does not depend on it; a sampled mean does.
     """
 
     pixels_per_period: int = 24
@@ -153,6 +158,7 @@ class RenderSettings:
     shadow_map_size: int = 512
     shadow_bias: float = 1e-4
     max_framebuffer: int = 4096
+    jitter: tuple = (0.0, 0.0)
 
     def __post_init__(self):
         if int(self.pixels_per_period) < 1:
@@ -487,6 +493,7 @@ def _shadow_pass(ctx: _Context, truncation, aspect, light_dir, depth_scale):
     program.set_uniform("depth_scale", float(depth_scale))
     program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
     program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
+    program.set_uniform("surface_shift", np.zeros(2, np.float32))
     _draw(ctx, primitive, program)
     program._unbind()
     gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
@@ -553,6 +560,8 @@ def render_sweep(
     matrix = settings.sampling_matrix()
     width, height_px, slots, pixel_order = _cached_layout(matrix, todo.size, int(settings.max_framebuffer))
     per_tile = int(round(abs(np.linalg.det(matrix))))
+    # a camera shift by `jitter` pixels is the surface moved the other way, in cell units
+    shift = -np.linalg.solve(matrix.astype(float), np.asarray(settings.jitter, float))
     ctx = _context(width, height_px, int(settings.shadow_map_size))
     height = geometry.surface_height(truncation, aspect)
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
@@ -574,7 +583,7 @@ def render_sweep(
     per_pass = len(slots)
     for first in range(0, todo.size, per_pass):
         idx = np.arange(first, min(first + per_pass, todo.size))
-        owner, copies = lattice_copies(height * shears[idx])
+        owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift).max()))
         poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[idx - first][owner])
 
         _begin_pass(0, ctx.width, ctx.height, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
@@ -582,6 +591,7 @@ def render_sweep(
         _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
         program.set_uniform("sampling", matrix.astype(np.float32))
         program.set_uniform("ndc_scale", np.array([2.0 / ctx.width, 2.0 / ctx.height], np.float32))
+        program.set_uniform("surface_shift", shift.astype(np.float32))
         gl.glActiveTexture(gl.GL_TEXTURE0)
         gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
         program.set_uniform("shadow_map", 0)
@@ -699,9 +709,12 @@ class _NaiveScene:
         self.camera_node = self.scene.add(camera, pose=np.eye(4))
         self.shadows = bool(lighting.shadows) and not geometry.is_plate(truncation, aspect)
 
-    def render(self, renderer, view):
+    def render(self, renderer, view, jitter=(0.0, 0.0)):
         pyrender = _import_pyrender()
-        self.scene.set_pose(self.camera_node, _look_pose(view, _up_vector(view), self.distance))
+        pose = _look_pose(view, _up_vector(view), self.distance)
+        pixel = 2.0 * self.camera_node.camera.xmag / self.size[0]  # world units per pixel
+        pose[:3, 3] += pixel * (jitter[0] * pose[:3, 0] + jitter[1] * pose[:3, 1])
+        self.scene.set_pose(self.camera_node, pose)
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.shadows else pyrender.RenderFlags.NONE
         color, depth = renderer.render(self.scene, flags=flags)
         return color, depth
@@ -727,7 +740,7 @@ def _naive_renderer(size):
 
 
 def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, window=(400, 300),
-                capture=40, view_periods=40.0, periods=None) -> dict:
+                capture=40, view_periods=40.0, periods=None, jitter=(0.0, 0.0)) -> dict:
     """The thesis's procedure with pyrender as it comes: one render per view.
 
     Each view renders a ``window`` (400 x 300 pixels, as the thesis) of a finite
@@ -739,6 +752,7 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     period by default), the patch ``periods`` x ``periods`` (default: enough
     for the capture window down to 10 deg elevation). ``coverage`` is the
     fraction of capture pixels showing the surface (from the depth buffer).
+    ``jitter`` shifts the camera by that many pixels (x, y) in its image plane.
 
     Returns the dict of :func:`render_sweep`.
     """
@@ -758,7 +772,7 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     w, h = window
     x0, y0 = (w - capture) // 2, (h - capture) // 2
     for k in np.flatnonzero(~sweeps.is_grazing(elevation)):
-        color, depth = scene.render(renderer, views[k])
+        color, depth = scene.render(renderer, views[k], jitter)
         box = np.s_[y0:y0 + capture, x0:x0 + capture]
         means = color[box].reshape(-1, color.shape[-1]).mean(axis=0, dtype=np.float64)
         out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]

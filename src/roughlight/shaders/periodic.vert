@@ -24,6 +24,7 @@ layout(location = INST_M_LOC) in mat4 inst_m;
 
 uniform float depth_scale;   // 1 / (height range of the surface)
 uniform mat2 sampling;       // cell coordinates -> window pixels
+uniform vec2 surface_shift;  // sub-pixel translation of the whole surface (jitter), periods
 uniform vec2 ndc_scale;      // 2 / framebuffer size
 
 out vec3 frag_local;         // position within the period (periodic lookups)
@@ -33,7 +34,7 @@ flat out vec3 frag_view;
 
 void main()
 {
-    vec3 p = position + vec3(inst_m[0].xy, 0.0);
+    vec3 p = position + vec3(inst_m[0].xy + surface_shift, 0.0);
     vec2 cell = p.xy - p.z * inst_m[1].xy;
     vec2 window = sampling * (cell + inst_m[3].xy);
     gl_Position = vec4(window * ndc_scale - 1.0, 0.9 - 1.8 * p.z * depth_scale, 1.0);
