@@ -396,3 +396,33 @@ def test_grid_glm_uses_incidence_when_the_grid_has_several():
     res = an.grid_glm(pd.concat([a, b], ignore_index=True), "y")
     est = dict(zip(res.coefficients["term"], res.coefficients["estimate"]))
     assert est["incidence"] == pytest.approx(5.0 / 15.0, abs=0.01)
+
+
+def test_bootstrap_intervals_cover_the_statistics_and_match_statsmodels():
+    import numpy as np
+
+    from roughlight import analysis as an
+
+    rng = np.random.default_rng(3)
+    t = np.linspace(0, 1, 11)
+    predicted = 127 * (1 - t) ** 2
+    observed = predicted + rng.normal(0, 2.0, size=t.size)
+    stats = an.fit_statistics(observed, predicted)
+    ci = an.bootstrap_statistics(observed, predicted, n_boot=2000, seed=0)
+    assert ci["n_boot_used"] == 2000
+    for metric in an.TABLE_METRICS:
+        low, high = ci[metric]
+        assert low < high, metric
+        assert low <= stats[metric] <= high or metric == "RSS", (metric, low, stats[metric], high)
+    # the closed-form least-squares line the bootstrap uses is the statsmodels Gaussian GLM's
+    b1, b0 = np.polyfit(predicted, observed, 1)
+    assert b0 == pytest.approx(stats["b0"], abs=1e-9) and b1 == pytest.approx(stats["b1"], abs=1e-12)
+    assert np.sum((observed - b0 - b1 * predicted) ** 2) == pytest.approx(stats["RSS"], rel=1e-9)
+    # an exact model has zero-width error intervals; seeded resampling is reproducible
+    exact = an.bootstrap_statistics(predicted, predicted, n_boot=200, seed=1)
+    assert exact["Mean Abs Error"] == (0.0, 0.0)
+    assert an.bootstrap_statistics(observed, predicted, n_boot=300, seed=5) == an.bootstrap_statistics(
+        observed, predicted, n_boot=300, seed=5)
+    # a model that predicts one value everywhere gives no line, and says so by using no resample
+    flat = an.bootstrap_statistics(observed, np.full(11, 50.0), n_boot=100, seed=0)
+    assert flat["n_boot_used"] == 0 and np.isnan(flat["b1"][0])

@@ -845,6 +845,95 @@ def thesis_tables(
     return pd.DataFrame(rows), messages
 
 
+def bootstrap_statistics(observed, predicted, n_boot: int = 2000, seed: int = 0, level: float = 0.95) -> dict:
+    """Percentile bootstrap intervals of the Tables 1-2 statistics.
+
+    The (observed, predicted) pairs are resampled with replacement ``n_boot``
+    times (seeded). For a Gaussian family with identity link IRLS converges
+    to ordinary least squares, so ``b0``, ``b1`` and ``RSS`` are computed in
+    closed form for every resample (:func:`fit_statistics` gives the same
+    numbers on the original sample through statsmodels; a test checks it).
+
+    Returns
+    -------
+    dict: metric -> (low, high) for the :data:`TABLE_METRICS`, plus
+    ``n_boot_used`` (resamples whose predictions were not all equal: a
+    regression line needs two distinct x) and ``n``.
+    """
+    y = np.asarray(observed, float)
+    x = np.asarray(predicted, float)
+    ok = np.isfinite(y) & np.isfinite(x)
+    y, x = y[ok], x[ok]
+    n = len(y)
+    out = {metric: (np.nan, np.nan) for metric in TABLE_METRICS}
+    out.update(n=n, n_boot_used=0)
+    if n < 3:
+        return out
+    rng = np.random.default_rng(seed)
+    idx = rng.integers(0, n, size=(n_boot, n))
+    ys, xs = y[idx], x[idx]
+    err = ys - xs
+    xm, ym = xs.mean(axis=1, keepdims=True), ys.mean(axis=1, keepdims=True)
+    sxx = np.sum((xs - xm) ** 2, axis=1)
+    usable = sxx > 1e-12
+    b1 = np.where(usable, np.sum((xs - xm) * (ys - ym), axis=1) / np.where(usable, sxx, 1.0), np.nan)
+    b0 = ym[:, 0] - b1 * xm[:, 0]
+    rss = np.sum((ys - (b0[:, None] + b1[:, None] * xs)) ** 2, axis=1)
+    draws = {
+        "Mean Abs Error": np.mean(np.abs(err), axis=1),
+        "Standard Deviation": np.std(err, axis=1, ddof=1),
+        "b0": b0,
+        "b1": b1,
+        "RSS": rss,
+    }
+    tail = 100.0 * (1.0 - level) / 2.0
+    for metric, values in draws.items():
+        values = values[usable] if metric in ("b0", "b1", "RSS") else values
+        if len(values):
+            out[metric] = (float(np.percentile(values, tail)), float(np.percentile(values, 100.0 - tail)))
+    out["n_boot_used"] = int(usable.sum())
+    return out
+
+
+def bootstrap_tables(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = THESIS_INCIDENCE,
+                     m: float = 127.0, k: float | None = None, n_boot: int = 2000, seed: int = 0) -> pd.DataFrame:
+    """95% bootstrap intervals of our Tables 1-2 statistics (the 'ours' rows of :func:`thesis_tables`).
+
+    Returns
+    -------
+    DataFrame, one row per table x aspect x model x metric: ``table``,
+    ``aspect``, ``aspect_label``, ``model``, ``metric``, ``low``, ``high``,
+    ``n``, ``n_boot``, ``n_boot_used``. Aspects missing from the study are
+    left out (thesis_tables reports them).
+    """
+    rows = []
+    for wanted in aspects:
+        found = find_aspect(lobes["aspect"], wanted)
+        if found is None:
+            continue
+        data = _table_data(lobes, found, incidence)
+        if data.empty:
+            continue
+        t = data.index.to_numpy(float)
+        k_used = front_facet_share(found, incidence) if k is None else float(k)
+        preds = thesis_model_predictions(t, m, k_used)
+        spec = {
+            1: ("forward", {"Square Area Function": preds["square_area"], "Regressed Model": preds["forward_regressed"]}),
+            2: ("back", {"Triangle Area Function": preds["triangle_area"], "Regressed Model": preds["back_regressed"]}),
+        }
+        for table, (lobe, models) in spec.items():
+            if lobe not in data:
+                continue
+            for model, pred in models.items():
+                ci = bootstrap_statistics(data[lobe].to_numpy(float), pred, n_boot=n_boot, seed=seed)
+                for metric in TABLE_METRICS:
+                    rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
+                                 "metric": metric, "low": ci[metric][0], "high": ci[metric][1], "n": ci["n"],
+                                 "n_boot": n_boot, "n_boot_used": ci["n_boot_used"]})
+    return pd.DataFrame(rows, columns=["table", "aspect", "aspect_label", "model", "metric", "low", "high", "n",
+                                       "n_boot", "n_boot_used"])
+
+
 def sine_refits(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = THESIS_INCIDENCE,
                 m: float = 127.0) -> pd.DataFrame:
     """Nonlinear least-squares refits of the thesis's sine models with 95% confidence intervals.

@@ -177,6 +177,8 @@ CAPTIONS = {
 TABLE_CAPTIONS = {
     "thesis_tables": "Tables 1 and 2 of the thesis recomputed from our lobe peaks (incidence 30), beside the "
                      "thesis's values and the same statistics on exact (polygon clipping) peaks.",
+    "bootstrap_tables": "95% percentile bootstrap intervals of our Tables 1–2 statistics: how much each "
+                        "number would move with other draws of the same truncations",
     "sine_refits": "Nonlinear least-squares refits of the thesis's sine models with 95% confidence intervals.",
     "glm_summary": "Grid GLMs (Gaussian, IRLS): convergence, condition numbers and what was kept out.",
     "glm_coefficients": "Grid GLM coefficients with 95% confidence intervals.",
@@ -554,6 +556,17 @@ def build_report(
     else:
         parts.append('<p class="note">Neither aspect 1 nor √3/2 at incidence 30 is in the study: Tables 1–2 '
                      "could not be computed.</p>")
+    boot = tables.get("bootstrap_tables")
+    if boot is not None and len(boot):
+        b = boot.copy()
+        b["interval"] = [f"[{lo:.3g}, {hi:.3g}]" for lo, hi in zip(b["low"], b["high"])]
+        wide = b.pivot_table(index=["table", "aspect_label", "model"], columns="metric", values="interval",
+                             aggfunc="first")
+        wide = wide[[m for m in an.TABLE_METRICS if m in wide.columns]].reset_index()
+        wide = wide.rename(columns={"aspect_label": "aspect"})
+        n_boot = int(b["n_boot"].iloc[0])
+        parts.append(_table(wide, TABLE_CAPTIONS["bootstrap_tables"] + f" ({n_boot} resamples of the 11 "
+                            "truncations, seeded).", table_id="bootstrap-tables"))
     sine = tables.get("sine_refits")
     if sine is not None and len(sine):
         s = sine.copy()

@@ -63,6 +63,12 @@ rule report_tables:
             category="Tables",
             subcategory="Thesis Tables 1-2",
         ),
+        bootstrap=report(
+            "results/analysis/thesis_tables_bootstrap.csv",
+            caption="../report/thesis_tables_bootstrap.rst",
+            category="Tables",
+            subcategory="Thesis Tables 1-2",
+        ),
         sine=report(
             "results/analysis/sine_refits.csv",
             caption="../report/sine_refits.rst",
@@ -317,6 +323,7 @@ rule report_html:
         diffuse_parts="results/analysis/diffuse_three_part.csv",
         exact="results/analysis/exact_peaks.csv",
         thesis_tables="results/analysis/thesis_tables.csv",
+        bootstrap="results/analysis/thesis_tables_bootstrap.csv",
         sine="results/analysis/sine_refits.csv",
         timings="results/analysis/render_timings.csv",
         summary="results/analysis/study_summary.json",

@@ -46,6 +46,7 @@ write_frame(exact, out.exact)
 tables, table_messages = an.thesis_tables(lobes, aspects, incidence, m=m, k=None, exact=exact if len(exact) else None)
 messages += table_messages
 write_frame(tables, out.thesis_tables)
+write_frame(an.bootstrap_tables(lobes, aspects, incidence, m=m), out.bootstrap)
 write_frame(an.sine_refits(lobes, aspects, incidence, m=m), out.sine)
 for msg in table_messages:
     log(msg)

@@ -24,6 +24,7 @@ tables = {
     "diffuse_parts": R.read_frame(inp.diffuse_parts),
     "exact_peaks": R.read_frame(inp.exact),
     "thesis_tables": R.read_frame(inp.thesis_tables),
+    "bootstrap_tables": R.read_frame(inp.bootstrap),
     "sine_refits": R.read_frame(inp.sine),
     "timings": R.read_frame(inp.timings),
     "glm_summary": R.read_frame(inp.glm_summary),
