@@ -173,3 +173,19 @@ def test_jitter_moves_sampled_values_but_not_their_mean():
     np.testing.assert_array_equal(plate[0], plate[1])
     naive = [rendering.naive_sweep(0.5, 1.0, 30, [0.0], [60.0], jitter=j)["total"][0] for j in [(0, 0), (0.5, 0.5)]]
     assert naive[0] != naive[1]
+
+
+def test_averaged_normals_shading_is_wrong_where_flat_is_right():
+    az, el = np.array([0.0, 0.0, 45.0, 90.0]), np.array([60.0, 150.0, 100.0, 40.0])
+    lighting = shading.Lighting()
+    # on the plate the averaged normals are the face normal: all three shadings agree
+    plate = [rendering.naive_sweep(0.0, 0.0, 30, az, el, lighting, shading_model=m)["total"]
+             for m in rendering.SHADINGS]
+    np.testing.assert_allclose(plate[1], plate[0], atol=0.5)
+    np.testing.assert_allclose(plate[2], plate[0], atol=0.5)
+    exact = reference.reference_sweep(0.5, 1.0, 30, az, el, lighting)
+    errors = {m: np.mean(np.abs(rendering.naive_sweep(0.5, 1.0, 30, az, el, lighting, shading_model=m)["total"]
+                                - exact["total"])) for m in rendering.SHADINGS}
+    assert errors["phong"] > 2 * errors["flat"] and errors["gouraud"] > 2 * errors["flat"]
+    with pytest.raises(ValueError, match="shading_model"):
+        rendering.naive_sweep(0.5, 1.0, 30, az, el, lighting, shading_model="toon")

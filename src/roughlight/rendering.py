@@ -628,13 +628,24 @@ def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, setti
     program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))
 
 
+#: Shading of the naive method's faceted mesh: ``flat`` (true face normals, the
+#: study's), ``phong`` (averaged vertex normals interpolated per fragment),
+#: ``gouraud`` (the equation at the vertices with averaged normals, interpolated).
+SHADINGS = ("flat", "phong", "gouraud")
+
+
 class _PyrenderShaders(ShaderProgramCache_):
     """pyrender's program cache, as it comes (keyed on the GL context), with the
-    study's equation in place of its PBR fragment shader."""
+    study's equation in place of its PBR shaders (``naive.vert``, ``naive.frag``)."""
+
+    shading = "flat"
 
     def get_program(self, vertex_shader, fragment_shader, geometry_shader=None, defines=None):
         if fragment_shader == "mesh.frag":
+            vertex_shader = os.path.join(SHADER_DIR, "naive.vert")
             fragment_shader = os.path.join(SHADER_DIR, "naive.frag")
+            if self.shading == "gouraud":
+                defines = {**(defines or {}), "GOURAUD": 1}
         return super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
 
 
@@ -660,8 +671,14 @@ def _look_pose(direction: np.ndarray, up: np.ndarray, distance: float) -> np.nda
     return pose
 
 
-def patch_mesh(truncation: float, aspect: float, periods: int):
-    """A finite ``periods`` x ``periods`` patch of the surface, centred on the origin (trimesh)."""
+def patch_mesh(truncation: float, aspect: float, periods: int, averaged_normals: bool = False):
+    """A finite ``periods`` x ``periods`` patch of the surface, centred on the origin (trimesh).
+
+    With ``averaged_normals`` the vertices shared by facets are merged and each
+    carries the plain average of the normals of the faces around it (the
+    shading notes' Gouraud construction); otherwise every triangle keeps its
+    own vertices and its true face normal.
+    """
     import trimesh
 
     tile = geometry.period_mesh(truncation, aspect)
@@ -673,6 +690,13 @@ def patch_mesh(truncation: float, aspect: float, periods: int):
             copy.apply_translation([dx, dy, 0.0])
             copies.append(copy)
     mesh = trimesh.util.concatenate(copies)
+    if averaged_normals:
+        mesh = trimesh.Trimesh(vertices=mesh.vertices, faces=mesh.faces, process=False)
+        mesh.merge_vertices(digits_vertex=9)
+        sums = np.zeros((len(mesh.vertices), 3))
+        for corner in range(3):
+            np.add.at(sums, mesh.faces[:, corner], mesh.face_normals)
+        mesh.vertex_normals = sums / np.linalg.norm(sums, axis=1, keepdims=True)
     return mesh
 
 
@@ -681,7 +705,7 @@ class _NaiveScene:
     camera orbiting it, one DirectionalLight whose shadow map pyrender redraws on
     every render."""
 
-    def __init__(self, truncation, aspect, incidence, lighting, size, periods, view_periods):
+    def __init__(self, truncation, aspect, incidence, lighting, size, periods, view_periods, shading_model="flat"):
         pyrender = _import_pyrender()
         self.size = tuple(int(v) for v in size)
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
@@ -695,8 +719,10 @@ class _NaiveScene:
             metallicFactor=1.0 if lighting.specular_model == "blinn" else 0.0,
             doubleSided=False,
         )
-        mesh = patch_mesh(truncation, aspect, periods)
-        self.scene.add(pyrender.Mesh.from_trimesh(mesh, material=material, smooth=False))
+        smooth = shading_model != "flat"
+        mesh = patch_mesh(truncation, aspect, periods, averaged_normals=smooth)
+        self.scene.add(pyrender.Mesh.from_trimesh(mesh, material=material, smooth=smooth))
+        self.shading_model = shading_model
         light_dir = shading.light_direction(incidence)
         light = pyrender.DirectionalLight(color=np.ones(3), intensity=float(lighting.light) / 255.0)
         up = np.array([0.0, 0.0, 1.0]) if abs(light_dir[2]) < 0.99 else np.array([1.0, 0.0, 0.0])
@@ -715,6 +741,7 @@ class _NaiveScene:
         pixel = 2.0 * self.camera_node.camera.xmag / self.size[0]  # world units per pixel
         pose[:3, 3] += pixel * (jitter[0] * pose[:3, 0] + jitter[1] * pose[:3, 1])
         self.scene.set_pose(self.camera_node, pose)
+        renderer._renderer._program_cache.shading = self.shading_model
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.shadows else pyrender.RenderFlags.NONE
         color, depth = renderer.render(self.scene, flags=flags)
         return color, depth
@@ -740,7 +767,7 @@ def _naive_renderer(size):
 
 
 def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, window=(400, 300),
-                capture=40, view_periods=40.0, periods=None, jitter=(0.0, 0.0)) -> dict:
+                capture=40, view_periods=40.0, periods=None, jitter=(0.0, 0.0), shading_model="flat") -> dict:
     """The thesis's procedure with pyrender as it comes: one render per view.
 
     Each view renders a ``window`` (400 x 300 pixels, as the thesis) of a finite
@@ -753,6 +780,9 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     for the capture window down to 10 deg elevation). ``coverage`` is the
     fraction of capture pixels showing the surface (from the depth buffer).
     ``jitter`` shifts the camera by that many pixels (x, y) in its image plane.
+    ``shading_model`` is one of :data:`SHADINGS`: ``flat`` is the study's
+    (true face normals); ``phong`` and ``gouraud`` use averaged vertex
+    normals, to measure how wrong they make each component.
 
     Returns the dict of :func:`render_sweep`.
     """
@@ -766,7 +796,9 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
         capture_periods = view_periods * capture / window[0]
         periods = int(2 * math.ceil(capture_periods / math.sin(math.radians(10.0)) / 2.0 + 2)) + 1
     renderer = _naive_renderer(tuple(window))
-    scene = _NaiveScene(truncation, aspect, incidence, lighting, window, periods, view_periods)
+    if shading_model not in SHADINGS:
+        raise ValueError(f"shading_model must be one of {SHADINGS}, got {shading_model!r}")
+    scene = _NaiveScene(truncation, aspect, incidence, lighting, window, periods, view_periods, shading_model)
     views = shading.view_direction(elevation, azimuth)
     out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
     w, h = window

@@ -34,8 +34,9 @@ uniform Material material;
 uniform mat4 V;
 
 in vec3 frag_position;
-#ifdef NORMAL_LOC
 in vec3 frag_normal;
+#ifdef GOURAUD
+in vec2 vertex_light;   // (max(N.L, 0), S) interpolated from the vertices
 #endif
 
 out vec4 frag_color;
@@ -85,7 +86,11 @@ void main()
     vec3 L = normalize(-directional_lights[0].direction);
     float J = directional_lights[0].intensity;
     float ndotl = dot(N, L);
+#ifdef GOURAUD
+    float lit = 1.0;   // the vertices' N.L already gates the light; the shadow map still applies
+#else
     float lit = ndotl > 0.0 ? 1.0 : 0.0;
+#endif
 #ifdef DIRECTIONAL_LIGHT_SHADOWS
     if (lit > 0.0) {
         lit = 1.0 - shadow_calc(directional_lights[0].light_matrix, directional_lights[0].shadow_map, clamp(ndotl, 0.0, 1.0));
@@ -93,7 +98,13 @@ void main()
 #endif
     float base = blinn > 0.5 ? max(dot(N, normalize(L + view)), 0.0) : max(dot(2.0 * ndotl * N - L, view), 0.0);
     float s = ndotl > 0.0 ? ((shininess == 0.0) ? 1.0 : pow(base, shininess)) : 0.0;
+#ifdef GOURAUD
+    // the angular terms come from the vertices; only the shadow is per fragment
+    float diffuse = J * (ambient_term + lit * m_d * vertex_light.x);
+    s = vertex_light.y;
+#else
     float diffuse = J * (ambient_term + lit * m_d * max(ndotl, 0.0));
+#endif
     float specular = J * lit * m_s * s;
     frag_color = vec4(diffuse, specular, diffuse + specular, 1.0);
 }
