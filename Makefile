@@ -44,7 +44,7 @@ test: setup chromium
 	$(BIN)/python -m pytest -q
 
 bench: setup
-	$(BIN)/snakemake --cores $(CORES) results/benchmarks/speed_accuracy.parquet
+	$(BIN)/snakemake --cores $(CORES) results/benchmarks/speed_accuracy.parquet results/stability/stability.parquet
 
 lint: setup
 	$(BIN)/snakemake --lint

@@ -26,6 +26,7 @@ onstart:
 include: "workflow/rules/render.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/benchmark.smk"
+include: "workflow/rules/stability.smk"
 include: "workflow/rules/report.smk"
 
 

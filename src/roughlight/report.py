@@ -471,6 +471,7 @@ def build_report(
     provenance: dict | None = None,
     messages: list | None = None,
     benchmarks: dict | None = None,
+    stability_html: str | None = None,
     title: str = "roughlight: rough surface lighting behaviours, rebuilt",
 ) -> str:
     """The report as one self-contained HTML string.
@@ -488,6 +489,9 @@ def build_report(
     provenance : dict with ``versions`` (package -> version), ``inputs``
         (list of :func:`file_provenance` dicts), ``settings`` (analysis settings).
     messages : list of str, shown as notes (what was left out and why).
+    stability_html : the "Where methods fail" section
+        (:func:`roughlight.stability.report_section`); None: the section says
+        how to make it (``make bench``).
     benchmarks : dict with optional ``png`` (path) and ``table`` (DataFrame)
         of the speed/accuracy benchmark; None: the section says it is absent.
 
@@ -513,7 +517,7 @@ def build_report(
     nav = [("study", "The study"), ("tables", "Tables 1 and 2"), ("specular", "Specular: Figs. 17–26"),
            ("diffuse", "Diffuse: Figs. 27–29"), ("pictures", "Pictures: Figs. 9, 10, 13"),
            ("lobes", "Lobes"), ("glm", "Grid GLMs"), ("models", "Analytic models"),
-           ("provenance", "Settings and provenance")]
+           ("stability", "Where methods fail"), ("provenance", "Settings and provenance")]
     parts.append("<nav><ul>" + "".join(f'<li><a href="#{a}">{_e(b)}</a></li>' for a, b in nav) + "</ul></nav>")
 
     # --- the study
@@ -664,6 +668,12 @@ def build_report(
     parts.append(_figure("hapke", figures))
 
     # --- provenance
+    if stability_html:
+        parts.append(stability_html)
+    else:
+        parts.append('<h2 id="stability">Where methods fail</h2><p class="note">No stability measurements '
+                     "(results/stability/) were available when this report was built: run <code>make bench</code> "
+                     "and rebuild the report.</p>")
     parts.append('<h2 id="provenance">Settings and provenance</h2>')
     ts = tables.get("timings_summary") or {}
     if ts:

@@ -40,6 +40,13 @@ REPORT_LIGHTING = rl_config.lighting_from_config(config).as_dict()
 REPORT_RENDER = rl_config.render_settings_from_config(config)
 # the optional speed/accuracy benchmark: whichever files exist when the workflow starts
 REPORT_BENCHMARK_INPUTS = [path for path in REPORT_BENCHMARKS if os.path.exists(path)]
+# the optional stability measurements (`make bench`): all three files, or none
+REPORT_STABILITY = [
+    "results/stability/stability.png",
+    "results/stability/safe_domain.csv",
+    "results/stability/stability.parquet",
+]
+REPORT_STABILITY_INPUTS = REPORT_STABILITY if all(os.path.exists(p) for p in REPORT_STABILITY) else []
 REPORT_FIGURE_FILES = [f"results/figures/{stem}.png" for stem in REPORT_FIGURES + REPORT_RENDERED_FIGURES]
 
 
@@ -334,6 +341,7 @@ rule report_html:
         fits_summary="results/analysis/model_fits_summary.csv",
         figures=REPORT_FIGURE_FILES,
         benchmarks=REPORT_BENCHMARK_INPUTS,
+        stability=REPORT_STABILITY_INPUTS,
     output:
         report(
             "reports/roughlight_report.html",

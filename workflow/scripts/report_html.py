@@ -40,12 +40,20 @@ if bench:
     png = next((p for p in bench if p.endswith(".png")), None)
     table = next((pd.read_parquet(p) for p in bench if p.endswith(".parquet")), None)
     benchmarks = {"png": png, "table": table}
+stability_html = None
+if len(inp.stability) == 3:
+    from roughlight import stability as rl_stability
+
+    png, safe_csv, table = inp.stability
+    stability_html = rl_stability.report_section(
+        {"safe_domain": pd.read_csv(safe_csv), "stability": pd.read_parquet(table)}, png
+    )
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],
     "settings": dict(snakemake.params.settings),
 }
 html = R.build_report(tables, figures, config=dict(snakemake.params.config), provenance=provenance,
-                      messages=summary["messages"], benchmarks=benchmarks)
+                      messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html)
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")

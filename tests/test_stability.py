@@ -1,0 +1,88 @@
+"""Where methods fail: small versions of each measurement, with assertions that can fail."""
+import numpy as np
+import pandas as pd
+import pytest
+
+from roughlight import stability
+
+SURFACE = [(1.0, 1.0, 30.0)]
+
+
+def _mae(frame, method, x, component="total", setting=None, experiment=None):
+    sel = (frame["method"] == method) & (frame["x"] == x) & (frame["component"] == component) & (frame["metric"] == "mae")
+    if setting is not None:
+        sel &= frame["setting"] == setting
+    if experiment is not None:
+        sel &= frame["experiment"] == experiment
+    values = frame.loc[sel, "value"]
+    assert len(values) == 1
+    return float(values.iloc[0])
+
+
+@pytest.fixture(scope="module")
+def frames():
+    views = (np.array([0.0, 90.0, 0.0, 45.0]), np.array([45.0, 70.0, 120.0, 150.0]))
+    pixels = stability.pixel_sweep(
+        SURFACE, fast_pixels=(2, 8, 32), naive_pixels=(0.25, 10.0), n_jitter=3, naive_jitter_pixels=(10.0,),
+        fast_views=views, naive_views=(np.array([0.0]), np.array([60.0])),
+    )
+    elevation = stability.elevation_sweep(SURFACE, elevations=(1.0, 45.0, 90.0), azimuths=(0.0,), methods=("fast",))
+    shadows = stability.shadow_sweep(SURFACE, incidences=(5.0, 45.0), biases=(0.0, 1e-4), map_sizes=(16, 512),
+                                     views=views, naive=False)
+    shininess = stability.shininess_sweep(SURFACE, shininess=(8.0, 128.0), views=views, methods=("fast",))
+    clipping = stability.clipping_sweep(((0.0, 0.0, 30.0), (1.0, 1.0, 30.0)), elevation_step=5.0)
+    return pd.concat([pixels, elevation, shadows, shininess, clipping], ignore_index=True)
+
+
+def test_long_format(frames):
+    assert list(frames.columns) == ["experiment", "method", "variable", "x", "setting", "component", "metric", "value"]
+    assert set(frames["experiment"]) == {"pixels", "elevation", "shadow_bias", "shadow_map", "shininess", "clipping"}
+
+
+def test_fast_error_and_jitter_fall_with_pixels(frames):
+    fast = frames[frames["experiment"] == "pixels"]
+    errors = [_mae(fast, "fast", p) for p in (2, 8, 32)]
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[2] <= stability.TOLERANCE
+    sd = fast[(fast["method"] == "fast") & (fast["metric"] == "jitter_sd")].set_index("x")["value"]
+    assert sd[2] > sd[32] and sd[2] > 1.0
+
+
+def test_naive_fails_with_sub_pixel_pyramids(frames):
+    pixels = frames[frames["experiment"] == "pixels"]
+    assert _mae(pixels, "naive", 0.25) > 3 * _mae(pixels, "naive", 10.0)
+    assert _mae(pixels, "naive", 0.25) > 5.0
+
+
+def test_shadow_bias_zero_gives_acne(frames):
+    bias = frames[frames["experiment"] == "shadow_bias"]
+    for incidence in (5.0, 45.0):
+        zero = _mae(bias, "fast", incidence, "diffuse", "bias=0")
+        default = _mae(bias, "fast", incidence, "diffuse", "bias=0.0001")
+        assert zero > 1.0 and default < stability.TOLERANCE and zero > 3 * default
+
+
+def test_clipping_only_at_255(frames):
+    clip = frames[(frames["experiment"] == "clipping") & (frames["metric"] == "clipped_fraction")].set_index(["setting", "x"])["value"]
+    assert clip[("t0_a0_i30", 127.0)] == 0.0
+    assert clip[("t0_a0_i30", 255.0)] > 0.0
+    assert clip[("t1_a1_i30", 255.0)] > 0.0
+    ratio = frames[(frames["metric"] == "peak_ratio") & (frames["setting"] == "t0_a0_i30 forward")]["value"].iloc[0]
+    assert ratio < 0.9  # the plate's mirror peak is flattened by clipping
+
+
+def test_safe_domain_and_report(frames, tmp_path):
+    safe = stability.safe_domain(frames)
+    assert list(safe["method"]) == ["naive", "fast"]
+    fast = safe.set_index("method").loc["fast"]
+    for column in ("min_pixels_per_period", "min_elevation", "min_incidence", "max_shininess", "min_shadow_map_size"):
+        assert np.isfinite(fast[column]), column
+    assert 8 < fast["min_pixels_per_period"] <= 32
+    naive = safe.set_index("method").loc["naive"]
+    assert np.isfinite(naive["best_mae_pixels"]) and naive["best_mae_pixels"] > 0
+    path = tmp_path / "stability.png"
+    stability.plot_stability(frames, path)
+    assert path.stat().st_size > 20_000
+    html = stability.report_section({"safe_domain": safe, "stability": frames}, path)
+    assert html.startswith('<section id="stability"><h2>Where methods fail</h2>')
+    assert "data:image/png;base64," in html and html.count("<tr>") == 3 and html.endswith("</section>")
