@@ -655,6 +655,43 @@ def thesis_model_predictions(truncation, m: float, k: float = 0.5) -> dict:
     }
 
 
+def _table_spec(truncation, m: float, k: float) -> dict:
+    """Tables 1-2 layout: table -> (lobe, {thesis row label: predicted peaks}) at these truncations."""
+    preds = thesis_model_predictions(truncation, m, k)
+    return {
+        1: ("forward", {"Square Area Function": preds["square_area"], "Regressed Model": preds["forward_regressed"]}),
+        2: ("back", {"Triangle Area Function": preds["triangle_area"], "Regressed Model": preds["back_regressed"]}),
+    }
+
+
+def _table_cells(lobes, aspects, incidence, m, k, messages: list):
+    """Every cell of Tables 1-2 that the lobes allow: (table, aspect, peaks, truncations, k, lobe, model, predicted).
+
+    ``peaks`` is the truncation x lobe frame of measured peaks. What is missing
+    (an aspect, its lobes at this incidence, a lobe, some truncations) is
+    appended to ``messages``.
+    """
+    for wanted in aspects:
+        found = find_aspect(lobes["aspect"], wanted)
+        if found is None:
+            messages.append(f"aspect {aspect_label(wanted)} ({wanted!r}) is not in the study: no Tables 1-2 for it")
+            continue
+        data = _table_data(lobes, found, incidence)
+        if data.empty:
+            messages.append(f"aspect {aspect_label(found)}: no lobes at incidence {incidence:g}")
+            continue
+        t = data.index.to_numpy(float)
+        k_used = front_facet_share(found, incidence) if k is None else float(k)
+        for table, (lobe, models) in _table_spec(t, m, k_used).items():
+            if lobe not in data:
+                messages.append(f"aspect {aspect_label(found)}: no {lobe} lobe measured")
+                continue
+            for model, pred in models.items():
+                yield table, found, data, t, k_used, lobe, model, pred
+        if len(t) < 11:
+            messages.append(f"aspect {aspect_label(found)}: {len(t)} truncations (the thesis used 11)")
+
+
 def fit_statistics(observed, predicted) -> dict:
     """The thesis's model-comparison statistics of observed against predicted values.
 
@@ -799,49 +836,21 @@ def thesis_tables(
     messages : list of str
     """
     rows, messages = [], []
-    for wanted in aspects:
-        found = find_aspect(lobes["aspect"], wanted)
-        if found is None:
-            messages.append(
-                f"aspect {aspect_label(wanted)} ({wanted!r}) is not in the study: no Tables 1-2 for it"
-            )
-            continue
-        data = _table_data(lobes, found, incidence)
-        if data.empty:
-            messages.append(f"aspect {aspect_label(found)}: no lobes at incidence {incidence:g}")
-            continue
-        t = data.index.to_numpy(float)
-        k_used = front_facet_share(found, incidence) if k is None else float(k)
-        preds = thesis_model_predictions(t, m, k_used)
-        spec = {
-            1: ("forward", {"Square Area Function": preds["square_area"],
-                            "Regressed Model": preds["forward_regressed"]}),
-            2: ("back", {"Triangle Area Function": preds["triangle_area"], "Regressed Model": preds["back_regressed"]}),
-        }
-        for table, (lobe, models) in spec.items():
-            if lobe not in data:
-                messages.append(f"aspect {aspect_label(found)}: no {lobe} lobe measured")
-                continue
-            exact_data = None
-            if exact is not None and len(exact):
-                ex = exact.rename(columns={"exact_peak": "_exact"})
-                exact_data = _table_data(ex, found, incidence, "_exact").reindex(data.index)
-            for model, pred in models.items():
-                stats = fit_statistics(data[lobe].to_numpy(float), pred)
-                rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
-                             "source": "ours", **stats, "m": m, "k": k_used,
-                             "truncations": ", ".join(f"{x:g}" for x in t)})
-                if exact_data is not None and lobe in exact_data:
-                    stats = fit_statistics(exact_data[lobe].to_numpy(float), pred)
-                    rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found),
-                                 "model": model, "source": "exact geometry", **stats, "m": m, "k": k_used,
-                                 "truncations": ", ".join(f"{x:g}" for x in t)})
-                thesis = dict(zip(TABLE_METRICS, THESIS_TABLES[table]["rows"][model]))
-                rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
-                             "source": "thesis 2001", **thesis, "n": 11, "SSE": np.nan, "converged": True,
-                             "note": "Slattery (2001), Table %d" % table, "truncations": "0, 0.1, ..., 1"})
-        if len(t) < 11:
-            messages.append(f"aspect {aspect_label(found)}: {len(t)} truncations (the thesis used 11)")
+    for table, found, data, t, k_used, lobe, model, pred in _table_cells(lobes, aspects, incidence, m, k, messages):
+        common = {"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model}
+        truncations = ", ".join(f"{x:g}" for x in t)
+        stats = fit_statistics(data[lobe].to_numpy(float), pred)
+        rows.append({**common, "source": "ours", **stats, "m": m, "k": k_used, "truncations": truncations})
+        if exact is not None and len(exact):
+            ex = exact.rename(columns={"exact_peak": "_exact"})
+            exact_data = _table_data(ex, found, incidence, "_exact").reindex(data.index)
+            if lobe in exact_data:
+                stats = fit_statistics(exact_data[lobe].to_numpy(float), pred)
+                rows.append({**common, "source": "exact geometry", **stats, "m": m, "k": k_used,
+                             "truncations": truncations})
+        thesis = dict(zip(TABLE_METRICS, THESIS_TABLES[table]["rows"][model]))
+        rows.append({**common, "source": "thesis 2001", **thesis, "n": 11, "SSE": np.nan, "converged": True,
+                     "note": "Slattery (2001), Table %d" % table, "truncations": "0, 0.1, ..., 1"})
     return pd.DataFrame(rows), messages
 
 
@@ -907,29 +916,12 @@ def bootstrap_tables(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: flo
     left out (thesis_tables reports them).
     """
     rows = []
-    for wanted in aspects:
-        found = find_aspect(lobes["aspect"], wanted)
-        if found is None:
-            continue
-        data = _table_data(lobes, found, incidence)
-        if data.empty:
-            continue
-        t = data.index.to_numpy(float)
-        k_used = front_facet_share(found, incidence) if k is None else float(k)
-        preds = thesis_model_predictions(t, m, k_used)
-        spec = {
-            1: ("forward", {"Square Area Function": preds["square_area"], "Regressed Model": preds["forward_regressed"]}),
-            2: ("back", {"Triangle Area Function": preds["triangle_area"], "Regressed Model": preds["back_regressed"]}),
-        }
-        for table, (lobe, models) in spec.items():
-            if lobe not in data:
-                continue
-            for model, pred in models.items():
-                ci = bootstrap_statistics(data[lobe].to_numpy(float), pred, n_boot=n_boot, seed=seed)
-                for metric in TABLE_METRICS:
-                    rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
-                                 "metric": metric, "low": ci[metric][0], "high": ci[metric][1], "n": ci["n"],
-                                 "n_boot": n_boot, "n_boot_used": ci["n_boot_used"]})
+    for table, found, data, t, k_used, lobe, model, pred in _table_cells(lobes, aspects, incidence, m, k, []):
+        ci = bootstrap_statistics(data[lobe].to_numpy(float), pred, n_boot=n_boot, seed=seed)
+        for metric in TABLE_METRICS:
+            rows.append({"table": table, "aspect": found, "aspect_label": aspect_label(found), "model": model,
+                         "metric": metric, "low": ci[metric][0], "high": ci[metric][1], "n": ci["n"],
+                         "n_boot": n_boot, "n_boot_used": ci["n_boot_used"]})
     return pd.DataFrame(rows, columns=["table", "aspect", "aspect_label", "model", "metric", "low", "high", "n",
                                        "n_boot", "n_boot_used"])
 
