@@ -160,7 +160,8 @@ def pixel_sweep(surfaces=SURFACES[1:], fast_pixels=FAST_PIXELS, naive_pixels=NAI
     return pd.DataFrame(rows)
 
 
-def elevation_sweep(surfaces=SURFACES, elevations=GRAZING, azimuths=(0.0, 90.0), lighting=None, methods=("fast", "naive")):
+def elevation_sweep(surfaces=SURFACES, elevations=GRAZING, azimuths=(0.0, 30.0, 60.0, 90.0, 120.0, 150.0),
+                    lighting=None, methods=("fast", "naive")):
     """Error and coverage against view elevation down to grazing.
 
     ``x`` is the elevation above the horizon, degrees: views at e and at the
@@ -198,7 +199,7 @@ def shadow_sweep(surfaces=SURFACES, incidences=INCIDENCES, biases=BIASES, map_si
     2048^2 shadow map (experiment ``shadow_bias``, setting ``naive``).
     """
     lighting = lighting or shading.Lighting()
-    az, el = views if views is not None else _views((30, 60, 90, 120, 150), (0, 90))
+    az, el = views if views is not None else _views((30, 60, 90, 120, 150), (0, 30, 60, 90, 120, 150))
     rows = []
     for inc in incidences:
         truths = [reference.reference_sweep(t, a, inc, az, el, lighting) for (t, a, _) in surfaces]
