@@ -293,9 +293,9 @@ def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     reach = int(np.abs(matrix).sum(axis=0).max()) + 1
     side = int(math.ceil(math.sqrt(n_views * per_tile * 1.03))) + 2 * reach
     side = min(max(side, reach + 1), max_framebuffer)
+    inverse = np.linalg.inv(matrix)
     while True:
         width = height = side
-        inverse = np.linalg.inv(matrix)
         corners = np.array([[0, 0], [width, 0], [0, height], [width, height]], float)
         pre = corners @ inverse.T
         lo = np.floor(pre.min(axis=0)).astype(int) - 1
@@ -317,7 +317,7 @@ def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     lo_px = np.minimum(0, matrix.sum(axis=1).clip(max=0)).astype(int) - 1
     ys, xs = np.mgrid[lo_px[1] - box[1]:box[1] + 1, lo_px[0] - box[0]:box[0] + 1]
     centres = np.stack([xs.ravel() + 0.5, ys.ravel() + 0.5], axis=1)
-    home = np.all(np.floor(centres @ np.linalg.inv(matrix).T) == 0, axis=1)
+    home = np.all(np.floor(centres @ inverse.T) == 0, axis=1)
     base = np.stack([xs.ravel()[home], ys.ravel()[home]], axis=1)
     if len(base) != per_tile:
         raise RuntimeError("tile layout: a tile does not hold exactly |det S| pixel centres")
@@ -559,7 +559,7 @@ def render_sweep(
 
     matrix = settings.sampling_matrix()
     width, height_px, slots, pixel_order = _cached_layout(matrix, todo.size, int(settings.max_framebuffer))
-    per_tile = int(round(abs(np.linalg.det(matrix))))
+    per_tile = len(pixel_order) // len(slots)
     # a camera shift by `jitter` pixels is the surface moved the other way, in cell units
     shift = -np.linalg.solve(matrix.astype(float), np.asarray(settings.jitter, float))
     ctx = _context(width, height_px, int(settings.shadow_map_size))
@@ -671,6 +671,18 @@ def _look_pose(direction: np.ndarray, up: np.ndarray, distance: float) -> np.nda
     return pose
 
 
+def _patch_periods(span: float, lowest_elevation: float) -> int:
+    """Odd patch side (periods) that a view ``span`` periods across still fills at ``lowest_elevation`` degrees.
+
+    Seen from elevation e, a window ``span`` periods tall reaches ``span / sin e``
+    periods along the ground (at most ten spans: below about 5.7 degrees the
+    patch stops growing); two periods more on each side keep the shadow
+    casters, and an odd count centres a period on the origin.
+    """
+    reach = span / max(math.sin(math.radians(lowest_elevation)), 0.1)
+    return int(2 * math.ceil(reach / 2.0 + 2)) + 1
+
+
 def patch_mesh(truncation: float, aspect: float, periods: int, averaged_normals: bool = False):
     """A finite ``periods`` x ``periods`` patch of the surface, centred on the origin (trimesh).
 
@@ -706,7 +718,7 @@ class _NaiveScene:
     every render."""
 
     def __init__(self, truncation, aspect, incidence, lighting, size, periods, view_periods, shading_model="flat"):
-        pyrender = _import_pyrender()
+        pyrender = self.pyrender = _import_pyrender()
         self.size = tuple(int(v) for v in size)
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
         material = pyrender.MetallicRoughnessMaterial(
@@ -736,7 +748,7 @@ class _NaiveScene:
         self.shadows = bool(lighting.shadows) and not geometry.is_plate(truncation, aspect)
 
     def render(self, renderer, view, jitter=(0.0, 0.0)):
-        pyrender = _import_pyrender()
+        pyrender = self.pyrender
         pose = _look_pose(view, _up_vector(view), self.distance)
         pixel = 2.0 * self.camera_node.camera.xmag / self.size[0]  # world units per pixel
         pose[:3, 3] += pixel * (jitter[0] * pose[:3, 0] + jitter[1] * pose[:3, 1])
@@ -792,20 +804,19 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     incidence = shading.check_incidence(incidence)
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
-    if periods is None:
-        capture_periods = view_periods * capture / window[0]
-        periods = int(2 * math.ceil(capture_periods / math.sin(math.radians(10.0)) / 2.0 + 2)) + 1
-    renderer = _naive_renderer(tuple(window))
     if shading_model not in SHADINGS:
         raise ValueError(f"shading_model must be one of {SHADINGS}, got {shading_model!r}")
+    if periods is None:
+        periods = _patch_periods(view_periods * capture / window[0], 10.0)
+    renderer = _naive_renderer(tuple(window))
     scene = _NaiveScene(truncation, aspect, incidence, lighting, window, periods, view_periods, shading_model)
     views = shading.view_direction(elevation, azimuth)
     out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
     w, h = window
     x0, y0 = (w - capture) // 2, (h - capture) // 2
+    box = np.s_[y0:y0 + capture, x0:x0 + capture]
     for k in np.flatnonzero(~sweeps.is_grazing(elevation)):
         color, depth = scene.render(renderer, views[k], jitter)
-        box = np.s_[y0:y0 + capture, x0:x0 + capture]
         means = color[box].reshape(-1, color.shape[-1]).mean(axis=0, dtype=np.float64)
         out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]
         out["coverage"][k] = float(np.mean(depth[box] > 0))
@@ -827,7 +838,7 @@ def render_picture(truncation, aspect, incidence, elevation, azimuth, lighting=N
     """
     lighting = lighting or shading.Lighting()
     renderer = _naive_renderer(tuple(size))
-    patch = int(2 * math.ceil(periods / max(math.sin(math.radians(max(float(elevation), 1.0))), 0.1) / 2 + 2)) + 1
+    patch = _patch_periods(periods, max(float(elevation), 1.0))
     scene = _NaiveScene(truncation, aspect, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods)
     view = shading.view_direction(float(elevation), float(azimuth))
     color, _ = scene.render(renderer, view)
