@@ -21,6 +21,7 @@ check_results_writable()
 
 onstart:
     check_results_writable(probe=True)
+    check_osmesa()
 
 
 include: "workflow/rules/render.smk"

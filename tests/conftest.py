@@ -21,3 +21,19 @@ def workflow_dir(tmp_path):
         else:
             shutil.copy(src, tmp_path / name)
     return tmp_path
+
+
+@pytest.fixture
+def broken_osmesa(tmp_path_factory):
+    """A directory whose libOSMesa.so is a real shared library without OpenGL in it (zlib):
+    put first on LD_LIBRARY_PATH, it is what PyOpenGL would load."""
+    import ctypes
+    import ctypes.util
+
+    zlib = ctypes.util.find_library("z")
+    ctypes.CDLL(zlib)  # noqa: the machine has it (numpy needs it too)
+    with open("/proc/self/maps") as maps:
+        source = next(line.split()[-1] for line in maps if "/libz.so" in line)
+    directory = tmp_path_factory.mktemp("broken_osmesa")
+    shutil.copy(source, directory / "libOSMesa.so")
+    return directory

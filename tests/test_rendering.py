@@ -1,8 +1,12 @@
 """Lighting invariants measured from renders of the fast method (pyrender over OSMesa)."""
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
-from roughlight import reference, rendering, shading, sweeps
+from roughlight import osmesa, reference, rendering, shading, sweeps
 
 AZ, EL = sweeps.view_grid(10, 30)  # coarse orbit: 19 elevations x 6 azimuths
 INNER = (EL > 0) & (EL < 180)
@@ -156,6 +160,25 @@ def test_missing_osmesa_ends_with_one_clear_message(monkeypatch):
     monkeypatch.setattr(rendering, "_CONTEXTS", {})
     with pytest.raises(RuntimeError, match="apt-get install libosmesa6"):
         rendering.render_sweep(0.5, 1.0, 30, [0.0], [45.0])
+
+
+def test_missing_or_broken_osmesa_is_named(broken_osmesa):
+    with pytest.raises(osmesa.OSMesaUnavailable, match="libOSMesa is missing .*apt-get install libosmesa6"):
+        osmesa.check_osmesa(names=("libNoSuchOSMesa.so", "libNoSuchOSMesa.so.8"))
+    broken = str(broken_osmesa / "libOSMesa.so")
+    with pytest.raises(osmesa.OSMesaUnavailable, match="libOSMesa is broken: .* lacks OSMesaCreateContextAttribs"):
+        osmesa.check_osmesa(names=(broken,))
+    assert osmesa.check_osmesa().startswith("libOSMesa.so")  # the machine's own is whole
+
+
+def test_broken_osmesa_on_the_library_path_stops_the_import_with_one_message(broken_osmesa):
+    env = {**os.environ, "LD_LIBRARY_PATH": str(broken_osmesa), "PYOPENGL_PLATFORM": "osmesa"}
+    proc = subprocess.run([sys.executable, "-c", "import roughlight.rendering"], env=env, capture_output=True,
+                          text=True, timeout=120)
+    assert proc.returncode != 0
+    last = proc.stderr.strip().splitlines()[-1]
+    assert last.startswith("roughlight.osmesa.OSMesaUnavailable: libOSMesa is broken")
+    assert "apt-get install libosmesa6" in last
 
 
 def test_jitter_moves_sampled_values_but_not_their_mean():

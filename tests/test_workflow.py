@@ -22,9 +22,9 @@ def write_config(workdir, cfg):
     (workdir / "config" / "config.yaml").write_text(yaml.safe_dump(cfg))
 
 
-def snakemake(workdir, *args, check=True):
+def snakemake(workdir, *args, check=True, env=None):
     proc = subprocess.run(
-        [SNAKEMAKE, "--cores", "2", *args], cwd=workdir, capture_output=True, text=True, timeout=600
+        [SNAKEMAKE, "--cores", "2", *args], cwd=workdir, capture_output=True, text=True, timeout=600, env=env
     )
     if check and proc.returncode != 0:
         raise AssertionError(f"snakemake {' '.join(args)} failed:\n{proc.stdout}\n{proc.stderr}")
@@ -177,3 +177,25 @@ def test_unwritable_results_and_corrupt_sweeps_end_with_one_clear_message(workfl
     bad.unlink()
     snakemake(workflow_dir, STUDY)
     assert len(pd.read_parquet(workflow_dir / "results" / "study.parquet")) == 2 * 21 * 3
+
+
+@pytest.mark.slow
+def test_broken_osmesa_stops_before_any_job_and_keeps_what_was_computed(workflow_dir, broken_osmesa):
+    import os
+
+    write_config(workflow_dir, TINY)
+    snakemake(workflow_dir, STUDY)
+    table = workflow_dir / "results" / "study.parquet"
+    kept = table.read_bytes()
+    cfg = yaml.safe_load(yaml.safe_dump(TINY))
+    cfg["grid"]["truncation"].append(0.5)  # new work that would need rendering
+    write_config(workflow_dir, cfg)
+    env = {**os.environ, "LD_LIBRARY_PATH": str(broken_osmesa)}
+    proc = snakemake(workflow_dir, STUDY, check=False, env=env)
+    text = proc.stdout + proc.stderr
+    assert proc.returncode != 0
+    assert "libOSMesa is broken" in text and "apt-get install libosmesa6" in text
+    assert not (workflow_dir / "results" / "sweeps" / "i30" / "t0.5_a1.parquet").exists()
+    assert table.read_bytes() == kept
+    snakemake(workflow_dir, STUDY)  # with the library path mended, the rerun does only the new work
+    assert len(pd.read_parquet(table)) == 3 * 21 * 3

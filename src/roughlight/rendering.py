@@ -51,7 +51,16 @@ import sys  # noqa: E402
 import types  # noqa: E402
 
 import numpy as np  # noqa: E402
-from OpenGL import GL as gl  # noqa: E402
+
+from .osmesa import HELP as _OSMESA_HELP  # noqa: E402
+from .osmesa import OSMesaUnavailable, check_osmesa  # noqa: E402
+
+try:
+    from OpenGL import GL as gl  # noqa: E402
+except (ImportError, AttributeError, OSError) as _exc:  # PyOpenGL's own errors do not say what to do
+    if os.environ.get("PYOPENGL_PLATFORM") == "osmesa":
+        check_osmesa()  # raises OSMesaUnavailable naming the missing or broken library
+    raise OSMesaUnavailable(f"PyOpenGL could not load ({type(_exc).__name__}: {_exc}): {_OSMESA_HELP}") from _exc
 
 
 def _import_pyrender_core():
@@ -110,11 +119,7 @@ __all__ = [
 SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
 
 #: What to do when OpenGL cannot start: the one message a sweep job ends with.
-OSMESA_HELP = (
-    "could not create an OpenGL 3.3 core context with OSMesa (software rendering): install "
-    "Debian's libosmesa6 (`apt-get install libosmesa6`, or `make setup`, which does it), keep "
-    "PYOPENGL_PLATFORM=osmesa, and rerun snakemake; sweeps already written are kept"
-)
+OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software rendering): " + _OSMESA_HELP
 
 #: Pixel sampling patterns of the fast renderer (``render.sampling``).
 SAMPLINGS = ("lattice", "grid")
@@ -369,7 +374,7 @@ class _Context:
                 raise RuntimeError("OSMesaCreateContextAttribs returned no context")
             self.platform.make_current()
         except Exception as exc:
-            raise RuntimeError(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
+            raise OSMesaUnavailable(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
         self.programs = ShaderCache()
         self.shadow_size = int(shadow_map_size)
         # periodic shadow map: a depth texture, one period of light-oblique coordinates

@@ -53,6 +53,16 @@ def check_results_writable(directory="results", probe=False):
         )
 
 
+def check_osmesa():
+    """Stop before any job if libOSMesa (software OpenGL, every renderer and picture) is missing or broken."""
+    from roughlight import osmesa
+
+    try:
+        osmesa.check_osmesa()
+    except osmesa.OSMesaUnavailable as exc:
+        raise WorkflowError(str(exc))
+
+
 def _grid(key):
     return [float(v) for v in config["grid"][key]]
 
