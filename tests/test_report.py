@@ -187,6 +187,7 @@ def test_report_is_self_contained(built):
     imgs = _parse(text).imgs
     assert len(imgs) == len(F.FIGURES)  # every figure of the report, one <img> each
     assert all(i["src"].startswith("data:image/png;base64,") for i in imgs)
+    assert 'id="stability-regressions"' in text and 'id="regression-status"' in text
 
 
 def test_report_in_headless_chromium(built):
@@ -287,3 +288,21 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     archive = workflow_dir / "report.zip"
     res = subprocess.run(snakemake + ["--report", str(archive)], capture_output=True, text=True, env=env, timeout=300)
     assert res.returncode == 0 and archive.stat().st_size > 0, res.stderr[-3000:]
+
+
+def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():
+    """Truncation 0 only: every surface is the plate; the GLMs and Tables 1-2 say why nothing was fitted."""
+    study = make_study([0.0], [0.0, 1.0], elevations=np.arange(0.0, 181.0, 10.0))
+    lobes = an.arc_lobes(study)
+    levels = an.diffuse_levels(study)
+    thesis, _ = an.thesis_tables(lobes, [1.0], 30.0, m=127.0)
+    summary, _, _, messages = an.grid_glms(lobes, levels)
+    assert set(summary["status"]) == {"not fitted"}
+    html = R.regression_failures_html({"glm_summary": summary, "glm_messages": messages, "thesis_tables": thesis})
+    assert 'id="stability-regressions"' in html and 'id="regression-status"' in html
+    assert "nothing to fit" in html and "zero variance" in html
+    assert 'id="regression-notes"' in html and "only 1 points: no regression line" in html
+    assert "No bootstrap intervals" in html
+    # and the whole report builds around it
+    page = R.build_report({"glm_summary": summary, "glm_messages": messages, "thesis_tables": thesis}, {})
+    assert page.count('id="stability-regressions"') == 1

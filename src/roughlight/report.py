@@ -365,6 +365,47 @@ def _figure(stem: str, figures: dict, notes: dict | None = None) -> str:
             f"<i>Ours:</i> {_e(cap['ours'])}{extra_html}</figcaption></figure>")
 
 
+def regression_failures_html(tables: dict) -> str:
+    """The regressions' part of "Where methods fail": every fit that could not be made as asked.
+
+    Lists the grid GLMs' status with what was kept out (zero-variance terms,
+    near-collinear terms, the plate surfaces) and the reason, the Tables 1-2
+    rows (ours and on exact peaks) whose regression line was not fitted or is
+    exact, and points to the bootstrap intervals. ``tables`` as
+    :func:`build_report` (``glm_summary``, ``glm_messages``, ``thesis_tables``,
+    ``bootstrap_tables``); missing ones are said to be missing.
+    """
+    parts = ['<h3 id="stability-regressions">Where the regressions fail</h3>',
+             "<p>Near-collinear predictors, zero-variance cells (truncation 0 and aspect 0 are both the plate) and "
+             "IRLS that does not converge are reported here with the reason and kept out of the fits; no fit "
+             "stops the report.</p>"]
+    summary = tables.get("glm_summary")
+    if summary is not None and len(summary):
+        cols = [c for c in ("response", "n", "terms", "dropped", "converged", "condition_scaled", "status")
+                if c in summary.columns]
+        parts.append(_table(summary[cols], "Grid GLMs: what was fitted, what was kept out (dropped) and the "
+                            "status", table_id="regression-status"))
+    else:
+        parts.append('<p class="note">No grid GLM summary was available.</p>')
+    parts.append(_notes(tables.get("glm_messages") or []))
+    thesis = tables.get("thesis_tables")
+    if thesis is not None and len(thesis) and "note" in thesis:
+        noted = thesis[(thesis["source"] != "thesis 2001") & (thesis["note"].fillna("") != "")]
+        if len(noted):
+            cols = [c for c in ("table", "aspect_label", "model", "source", "n", "converged", "note") if c in noted]
+            parts.append(_table(noted[cols], "Tables 1–2 regressions with a note (no line fitted, exact fit or "
+                                "not converged)", table_id="regression-notes"))
+        else:
+            parts.append("<p>Every Tables 1–2 regression line was fitted and converged.</p>")
+    boot = tables.get("bootstrap_tables")
+    if boot is not None and len(boot):
+        parts.append('<p>How far each Tables 1–2 statistic can be trusted: the bootstrap 95% intervals are in '
+                     '<a href="#bootstrap-tables">the table under Tables 1 and 2</a>.</p>')
+    else:
+        parts.append('<p class="note">No bootstrap intervals were available for Tables 1–2.</p>')
+    return "".join(parts)
+
+
 def _notes(messages) -> str:
     if not messages:
         return ""
@@ -569,7 +610,8 @@ def build_report(
         wide = wide[[m for m in an.TABLE_METRICS if m in wide.columns]].reset_index()
         wide = wide.rename(columns={"aspect_label": "aspect"})
         n_boot = int(b["n_boot"].iloc[0])
-        parts.append(_table(wide, TABLE_CAPTIONS["bootstrap_tables"] + f" ({n_boot} resamples of the 11 "
+        n_trunc = "/".join(str(int(n)) for n in sorted(b["n"].unique()))
+        parts.append(_table(wide, TABLE_CAPTIONS["bootstrap_tables"] + f" ({n_boot} resamples of the {n_trunc} "
                             "truncations, seeded).", table_id="bootstrap-tables"))
     sine = tables.get("sine_refits")
     if sine is not None and len(sine):
@@ -667,13 +709,15 @@ def build_report(
     parts.append(_figure("model_fits", figures))
     parts.append(_figure("hapke", figures))
 
-    # --- provenance
+    # --- where methods fail: the renderers (make bench), then the regressions (always)
     if stability_html:
         parts.append(stability_html)
     else:
         parts.append('<h2 id="stability">Where methods fail</h2><p class="note">No stability measurements '
                      "(results/stability/) were available when this report was built: run <code>make bench</code> "
                      "and rebuild the report.</p>")
+    parts.append(regression_failures_html(tables))
+    # --- provenance
     parts.append('<h2 id="provenance">Settings and provenance</h2>')
     ts = tables.get("timings_summary") or {}
     if ts:
