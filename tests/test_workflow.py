@@ -97,14 +97,17 @@ def test_tiny_study_end_to_end(workflow_dir):
 @pytest.mark.slow
 def test_bad_config_stops_before_any_rendering(workflow_dir):
     cfg = yaml.safe_load(yaml.safe_dump(TINY))
-    cfg["grid"]["truncation"] = [0.0, 1.5]
+    # a grid with no valid combination at all: every problem in one message, nothing rendered
+    cfg["grid"] = {"truncation": [1.5, -0.1], "aspect": [-1.0], "incidence": [95.0]}
     cfg["sweep"]["azimuth_step"] = "five"
     write_config(workflow_dir, cfg)
     proc = snakemake(workflow_dir, check=False)
     assert proc.returncode != 0
     text = proc.stdout + proc.stderr
-    assert "grid.truncation[1] = 1.5 must be <= 1" in text
-    assert "sweep.azimuth_step = 'five' must be of type number" in text
+    for problem in ("grid.truncation[0] = 1.5 must be <= 1", "grid.truncation[1] = -0.1 must be >= 0",
+                    "grid.aspect[0] = -1.0 must be >= 0", "grid.incidence[0] = 95.0 must be <= 90",
+                    "sweep.azimuth_step = 'five' must be of type number"):
+        assert text.count(problem) >= 1, problem
     assert not (workflow_dir / "results" / "sweeps").exists()
 
 
