@@ -143,6 +143,9 @@ def test_naive_method_measures_the_same_quantity():
     # a finite window of whole pixels: close to the truth, but not as close as the fast method
     assert np.mean(np.abs(rough["total"] - exact["total"])) < 5.0
     assert rough["seconds"] > 0
+    # pyrender compiles its programs anew every render; none may pile up (they leaked 2 MB a render)
+    for renderer in rendering._NAIVE_RENDERERS.values():
+        assert len(renderer._renderer._program_cache._program_cache) == 0
 
 
 def test_reference_is_a_method():

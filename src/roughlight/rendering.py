@@ -758,9 +758,14 @@ class _NaiveScene:
         pixel = 2.0 * self.camera_node.camera.xmag / self.size[0]  # world units per pixel
         pose[:3, 3] += pixel * (jitter[0] * pose[:3, 0] + jitter[1] * pose[:3, 1])
         self.scene.set_pose(self.camera_node, pose)
-        renderer._renderer._program_cache.shading = self.shading_model
+        cache = renderer._renderer._program_cache
+        cache.shading = self.shading_model
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.shadows else pyrender.RenderFlags.NONE
         color, depth = renderer.render(self.scene, flags=flags)
+        # pyrender keys its programs on the context object, new on every OSMesa call: it compiles
+        # them anew each render (the cost the naive method keeps) and never frees the old ones
+        # (about 2 MB a render, 4.5 GB over the benchmark's naive views): free them here
+        cache.clear()
         return color, depth
 
 
