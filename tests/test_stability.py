@@ -31,12 +31,15 @@ def frames():
                                      views=views, naive=False)
     shininess = stability.shininess_sweep(SURFACE, shininess=(8.0, 128.0), views=views, methods=("fast",))
     clipping = stability.clipping_sweep(((0.0, 0.0, 30.0), (1.0, 1.0, 30.0)), elevation_step=5.0)
-    return pd.concat([pixels, elevation, shadows, shininess, clipping], ignore_index=True)
+    normals = stability.normals_sweep([(0.5, 1.0, 30.0)], views=(np.array([0.0, 0.0, 45.0, 90.0]),
+                                                                 np.array([60.0, 150.0, 120.0, 40.0])))
+    return pd.concat([pixels, elevation, shadows, shininess, clipping, normals], ignore_index=True)
 
 
 def test_long_format(frames):
     assert list(frames.columns) == ["experiment", "method", "variable", "x", "setting", "component", "metric", "value"]
-    assert set(frames["experiment"]) == {"pixels", "elevation", "shadow_bias", "shadow_map", "shininess", "clipping"}
+    assert set(frames["experiment"]) == {"pixels", "elevation", "shadow_bias", "shadow_map", "shininess", "clipping",
+                                         "normals"}
 
 
 def test_fast_error_and_jitter_fall_with_pixels(frames):
@@ -80,9 +83,38 @@ def test_safe_domain_and_report(frames, tmp_path):
     assert 8 < fast["min_pixels_per_period"] <= 32
     naive = safe.set_index("method").loc["naive"]
     assert np.isfinite(naive["best_mae_pixels"]) and naive["best_mae_pixels"] > 0
+    assert naive["shading_ok"] == "flat"  # averaged normals are never within tolerance of true ones
     path = tmp_path / "stability.png"
-    stability.plot_stability(frames, path)
+    pictures = stability.normals_pictures(size=(80, 60), periods=2)
+    assert set(pictures) == {"flat", "phong", "gouraud"}
+    assert not np.array_equal(pictures["flat"], pictures["gouraud"])  # the normals change the picture
+    stability.plot_stability(frames, path, pictures)
     assert path.stat().st_size > 20_000
     html = stability.report_section({"safe_domain": safe, "stability": frames}, path)
     assert html.startswith('<section id="stability"><h2>Where methods fail</h2>')
-    assert "data:image/png;base64," in html and html.count("<tr>") == 3 and html.endswith("</section>")
+    assert "data:image/png;base64," in html and html.endswith("</section>")
+    assert html.count('<table class="stability">') == 1 and html.count('<table class="stability-normals">') == 1
+    assert html.count("<tr>") == 3 + 4  # safe domain: head + 2 methods; normals: head + 3 models
+
+
+def test_averaged_normals_change_every_lit_component(frames):
+    table = stability.normals_table(frames)
+    assert list(table.index) == ["flat", "phong", "gouraud"]
+    assert (table.loc["flat", ["mae_vs_flat diffuse", "mae_vs_flat specular", "mae_vs_flat total"]] == 0).all()
+    for model in ("phong", "gouraud"):
+        assert table.loc[model, "mae_vs_flat diffuse"] > 1.0, model  # levels, not rounding
+        assert table.loc[model, "mae_vs_flat total"] > stability.TOLERANCE
+        assert table.loc[model, "mae total"] > table.loc["flat", "mae total"]
+
+
+def test_workflow_runs_every_measurement():
+    """workflow/rules/common.smk lists the measurements literally (parsing must not import OpenGL)."""
+    import re
+
+    from .conftest import REPO
+
+    text = (REPO / "workflow" / "rules" / "common.smk").read_text()
+    listed = re.search(r"STABILITY_MEASUREMENTS = \[(.*?)\]", text).group(1)
+    assert [n.strip().strip('"') for n in listed.split(",")] == list(stability.MEASUREMENTS)
+    with pytest.raises(ValueError, match="no stability measurement 'moire'"):
+        stability.run_measurement("moire")

@@ -835,11 +835,12 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
 
 
 def render_picture(truncation, aspect, incidence, elevation, azimuth, lighting=None, size=(400, 300),
-                   periods=6, component="total") -> np.ndarray:
+                   periods=6, component="total", shading_model="flat") -> np.ndarray:
     """A picture of the surface as the detector sees it (the thesis's screenshots).
 
     A finite patch, ``periods`` periods across the picture, orthographic camera
-    at (``elevation``, ``azimuth``) degrees, lit and shadowed as the study.
+    at (``elevation``, ``azimuth``) degrees, lit and shadowed as the study;
+    ``shading_model`` as :func:`naive_sweep` (``flat``: true face normals).
 
     Returns
     -------
@@ -847,9 +848,12 @@ def render_picture(truncation, aspect, incidence, elevation, azimuth, lighting=N
     ``total``) as grey levels.
     """
     lighting = lighting or shading.Lighting()
+    if shading_model not in SHADINGS:
+        raise ValueError(f"shading_model must be one of {SHADINGS}, got {shading_model!r}")
     renderer = _naive_renderer(tuple(size))
     patch = _patch_periods(periods, max(float(elevation), 1.0))
-    scene = _NaiveScene(truncation, aspect, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods)
+    scene = _NaiveScene(truncation, aspect, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods,
+                        shading_model)
     view = shading.view_direction(float(elevation), float(azimuth))
     color, _ = scene.render(renderer, view)
     channel = {"diffuse": 0, "specular": 1, "total": 2}[component]

@@ -15,6 +15,8 @@ rule speed_accuracy:
         lighting=lighting_params,
     log:
         "results/logs/benchmarks/speed_accuracy.log",
+    benchmark:
+        "results/logs/benchmarks/speed_accuracy.benchmark.tsv"
     threads: 1
     resources:
         mem_mb=2048,

@@ -136,3 +136,11 @@ def render_params(wildcards):
 
 def grid_params(wildcards):
     return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}
+
+
+# the stability measurements (roughlight.stability.MEASUREMENTS), one job each
+STABILITY_MEASUREMENTS = ["pixels", "elevation", "shadows", "shininess", "normals", "clipping"]
+
+
+def stability_measurement_files():
+    return [f"results/stability/measurements/{name}.parquet" for name in STABILITY_MEASUREMENTS]

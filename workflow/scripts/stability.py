@@ -1,4 +1,4 @@
-"""Snakemake adapter: where methods fail, to a long Parquet table, the safe-domain CSV and a chart."""
+"""Snakemake adapter: the stability measurements to one long table, the safe-domain CSV and a chart."""
 import os
 import sys
 
@@ -7,16 +7,18 @@ os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
+import pandas as pd  # noqa: E402
 from roughlight import shading, stability  # noqa: E402
 from roughlight.atomic import atomic_path  # noqa: E402
 from roughlight.study import write_table_atomic  # noqa: E402
 
 log = _log.setup(snakemake)
-table = stability.run_all(lighting=shading.Lighting(**snakemake.params.lighting), log=log)
+lighting = shading.Lighting(**snakemake.params.lighting)
+table = pd.concat([pd.read_parquet(path) for path in snakemake.input], ignore_index=True)
 safe = stability.safe_domain(table)
 with atomic_path(snakemake.output.safe) as tmp:
     safe.to_csv(tmp, index=False)
 with atomic_path(snakemake.output.chart) as tmp:
-    stability.plot_stability(table, tmp)
+    stability.plot_stability(table, tmp, stability.normals_pictures(lighting=lighting))
 write_table_atomic(table, snakemake.output.table)
 log(safe.to_string())
