@@ -542,45 +542,30 @@ def plot_stability(frames, path, pictures=None) -> None:
         d["value"] = d["value"].clip(lower=floor)
         return d
 
-    def tol_line(ax):
+    def log_panel(ax, data, hue, xlabel, ylabel, title):
+        sns.lineplot(data=data, x="x", y="value", hue=hue, marker="o", ax=ax)
+        ax.set(xscale="log", yscale="log", xlabel=xlabel, ylabel=ylabel, title=title)
         ax.axhline(TOLERANCE, ls=":", c="k", lw=1)
 
-    ax = axes[0, 0]
-    sns.lineplot(data=worst("pixels"), x="x", y="value", hue="method", marker="o", ax=ax)
-    ax.set(xscale="log", yscale="log", xlabel="pixels per period", ylabel="worst-component MAE (0-255)",
-           title="pixelation / aliasing")
-    tol_line(ax)
-    ax = axes[0, 1]
+    mae = "worst-component MAE (0-255)"
+    log_panel(axes[0, 0], worst("pixels"), "method", "pixels per period", mae, "pixelation / aliasing")
     d = frame[(frame["experiment"] == "pixels") & (frame["metric"] == "jitter_sd")].copy()
     d["value"] = d["value"].clip(lower=floor)
-    sns.lineplot(data=d, x="x", y="value", hue="method", marker="o", ax=ax)
-    ax.set(xscale="log", yscale="log", xlabel="pixels per period", ylabel="SD over sub-pixel jitter (0-255)",
-           title="flashing lines: jitter spread of total")
-    tol_line(ax)
+    log_panel(axes[0, 1], d, "method", "pixels per period", "SD over sub-pixel jitter (0-255)",
+              "flashing lines: jitter spread of total")
     ax = axes[0, 2]
-    sns.lineplot(data=worst("elevation"), x="x", y="value", hue="method", marker="o", ax=ax)
-    ax.set(xscale="log", yscale="log", xlabel="view elevation above horizon (deg, e and 180-e)",
-           ylabel="worst-component MAE", title="grazing views")
-    tol_line(ax)
+    log_panel(ax, worst("elevation"), "method", "view elevation above horizon (deg, e and 180-e)", mae,
+              "grazing views")
     d = frame[(frame["experiment"] == "elevation") & (frame["metric"] == "coverage")]
     ax2 = ax.twinx()
     sns.lineplot(data=d, x="x", y="value", hue="method", ls="--", legend=False, ax=ax2)
     ax2.set(ylabel="coverage (dashed)", ylim=(0, 1.05))
     ax2.grid(False)
-    ax = axes[0, 3]
-    sns.lineplot(data=worst("shadow_bias"), x="x", y="value", hue="setting", marker="o", ax=ax)
-    ax.set(xscale="log", yscale="log", xlabel="incidence (deg)", ylabel="worst-component MAE",
-           title="shadow acne / peter-panning (fast by bias; naive)")
-    tol_line(ax)
-    ax = axes[1, 0]
-    sns.lineplot(data=worst("shadow_map"), x="x", y="value", hue="setting", marker="o", ax=ax)
-    ax.set(xscale="log", yscale="log", xlabel="fast shadow map (texels per period)", ylabel="worst-component MAE",
-           title="shadow-map resolution by incidence")
-    tol_line(ax)
-    ax = axes[1, 1]
-    sns.lineplot(data=worst("shininess"), x="x", y="value", hue="method", marker="o", ax=ax)
-    ax.set(xscale="log", yscale="log", xlabel="shininess", ylabel="worst-component MAE", title="specular exponent")
-    tol_line(ax)
+    log_panel(axes[0, 3], worst("shadow_bias"), "setting", "incidence (deg)", mae,
+              "shadow acne / peter-panning (fast by bias; naive)")
+    log_panel(axes[1, 0], worst("shadow_map"), "setting", "fast shadow map (texels per period)", mae,
+              "shadow-map resolution by incidence")
+    log_panel(axes[1, 1], worst("shininess"), "method", "shininess", mae, "specular exponent")
     ax = axes[1, 2]
     d = frame[(frame["experiment"] == "clipping") & (frame["metric"] == "curve")].copy()
     d["surface"] = d["setting"].str.split(" ").str[0]
@@ -599,9 +584,9 @@ def plot_stability(frames, path, pictures=None) -> None:
     d["what"] = d["setting"] + np.where(d["metric"] == "mae", " vs reference", " vs flat")
     if len(d):
         sns.barplot(data=d, x="component", y="value", hue="what", ax=ax)
-        ax.legend(fontsize=8, loc="lower left", title=None)
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2, title=None)
     ax.set(yscale="log", ylabel="MAE (0-255)", title="averaged vertex normals (naive)")
-    tol_line(ax)
+    ax.axhline(TOLERANCE, ls=":", c="k", lw=1)
     for ax, (model, picture) in zip(axes[2, 1:], (pictures or {}).items()):
         ax.imshow(picture)
         ax.set(title=f"{model} shading", xticks=[], yticks=[])
@@ -686,6 +671,6 @@ def report_section(tables: dict, figure_png_path) -> str:
         "few levels even at its best. The fast method needs at least 2 pixels a period by construction (its "
         "tile is one period) and converges as the pixels grow; a shadow bias of 0 gives shadow acne and a large one "
         "peter-panning (lost shadows) at low incidence. Clipping at 255, which the thesis avoided by using a "
-        "source of 127 after seeing it bend its lobes (Fig. 17), flattens the forward lobe's peak and moves its "
-        f"centre.{clip_text}</p>{normals_html}</section>"
+        "source of 127 after seeing it bend its lobes (Fig. 17), flattens the lobes' peaks and moves their "
+        f"centres (on a clipped plateau the peak's position is arbitrary; the centre is the measure).{clip_text}</p>{normals_html}</section>"
     )
