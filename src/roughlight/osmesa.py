@@ -68,4 +68,5 @@ def check_osmesa(names=LIBRARY_NAMES, symbols=REQUIRED_SYMBOLS) -> str:
                 f"(check LD_LIBRARY_PATH for a stray copy): {HELP}"
             )
         return name
-    raise OSMesaUnavailable(f"libOSMesa is missing (tried {names[0]} ... {names[-1]}): {HELP}")
+    last = f"; last: {errors[-1]}" if errors else ""
+    raise OSMesaUnavailable(f"libOSMesa is missing (tried {names[0]} ... {names[-1]}{last}): {HELP}")
