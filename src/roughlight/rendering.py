@@ -723,6 +723,8 @@ class _NaiveScene:
     every render."""
 
     def __init__(self, truncation, aspect, incidence, lighting, size, periods, view_periods, shading_model="flat"):
+        if shading_model not in SHADINGS:
+            raise ValueError(f"shading_model must be one of {SHADINGS}, got {shading_model!r}")
         pyrender = self.pyrender = _import_pyrender()
         self.size = tuple(int(v) for v in size)
         self.scene = pyrender.Scene(bg_color=[0.0, 0.0, 0.0, 0.0], ambient_light=[0.0, 0.0, 0.0])
@@ -789,7 +791,7 @@ def _naive_renderer(size):
 
 
 def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, window=(400, 300),
-                capture=40, view_periods=40.0, periods=None, jitter=(0.0, 0.0), shading_model="flat") -> dict:
+                capture=40, view_periods=40.0, lowest_elevation=10.0, jitter=(0.0, 0.0), shading_model="flat") -> dict:
     """The thesis's procedure with pyrender as it comes: one render per view.
 
     Each view renders a ``window`` (400 x 300 pixels, as the thesis) of a finite
@@ -798,8 +800,8 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     ever-new context) recompiling its shaders on every render; the value is
     the mean of the central ``capture`` x ``capture`` pixels (the thesis's
     40 x 40). The window spans ``view_periods`` periods across (10 pixels a
-    period by default), the patch ``periods`` x ``periods`` (default: enough
-    for the capture window down to 10 deg elevation). ``coverage`` is the
+    period by default), the patch enough periods to fill the capture window
+    down to ``lowest_elevation`` degrees (10 by default). ``coverage`` is the
     fraction of capture pixels showing the surface (from the depth buffer).
     ``jitter`` shifts the camera by that many pixels (x, y) in its image plane.
     ``shading_model`` is one of :data:`SHADINGS`: ``flat`` is the study's
@@ -814,12 +816,10 @@ def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None
     incidence = shading.check_incidence(incidence)
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
-    if shading_model not in SHADINGS:
-        raise ValueError(f"shading_model must be one of {SHADINGS}, got {shading_model!r}")
-    if periods is None:
-        periods = _patch_periods(view_periods * capture / window[0], 10.0)
-    renderer = _naive_renderer(tuple(window))
+    periods = _patch_periods(view_periods * capture / window[0], lowest_elevation)
+    # the scene first: it checks the shading model before any OpenGL context is made
     scene = _NaiveScene(truncation, aspect, incidence, lighting, window, periods, view_periods, shading_model)
+    renderer = _naive_renderer(tuple(window))
     views = shading.view_direction(elevation, azimuth)
     out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
     w, h = window
@@ -848,12 +848,10 @@ def render_picture(truncation, aspect, incidence, elevation, azimuth, lighting=N
     ``total``) as grey levels.
     """
     lighting = lighting or shading.Lighting()
-    if shading_model not in SHADINGS:
-        raise ValueError(f"shading_model must be one of {SHADINGS}, got {shading_model!r}")
-    renderer = _naive_renderer(tuple(size))
     patch = _patch_periods(periods, max(float(elevation), 1.0))
     scene = _NaiveScene(truncation, aspect, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods,
                         shading_model)
+    renderer = _naive_renderer(tuple(size))
     view = shading.view_direction(float(elevation), float(azimuth))
     color, _ = scene.render(renderer, view)
     channel = {"diffuse": 0, "specular": 1, "total": 2}[component]

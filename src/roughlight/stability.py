@@ -190,9 +190,9 @@ def pixel_sweep(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXEL
                 if method == "fast":
                     settings = rendering.RenderSettings(pixels_per_period=int(p), jitter=jitter)
                     return rendering.render_sweep(t, a, i, az, el, lighting, settings)
-                span = 400.0 / p  # periods across the 400-pixel window
-                return rendering.naive_sweep(t, a, i, az, el, lighting, view_periods=span,
-                                             periods=rendering._patch_periods(span * 40 / 400, lowest), jitter=jitter)
+                # the 400-pixel window spans 400 / p periods
+                return rendering.naive_sweep(t, a, i, az, el, lighting, view_periods=400.0 / p,
+                                             lowest_elevation=lowest, jitter=jitter)
 
             errors, coverage, _ = _compare(_for(surfaces, method), az, el, lighting, run)
             extra = {"coverage": coverage}
