@@ -243,16 +243,15 @@ def shadow_sweep(surfaces=PLAN, incidences=INCIDENCES, biases=BIASES, map_sizes=
         def at(method):
             return [(t, a, inc) for (t, a, _) in _for(surfaces, method)]
 
-        for b in biases:
-            s = rendering.RenderSettings(shadow_bias=b)
+        # (experiment, variable, x, setting, fast renderer's settings)
+        plan = [("shadow_bias", "incidence", inc, f"bias={b:g}", rendering.RenderSettings(shadow_bias=b))
+                for b in biases]
+        plan += [("shadow_map", "shadow_map_size", size, f"i={inc:g}", rendering.RenderSettings(shadow_map_size=int(size)))
+                 for size in map_sizes]
+        for experiment, variable, x, setting, s in plan:
             errors, _, _ = _compare(at("fast"), az, el, lighting,
                                     lambda t, a, i: rendering.render_sweep(t, a, i, az, el, lighting, s))
-            rows += _rows("shadow_bias", "fast", "incidence", inc, f"bias={b:g}", errors)
-        for size in map_sizes:
-            s = rendering.RenderSettings(shadow_map_size=int(size))
-            errors, _, _ = _compare(at("fast"), az, el, lighting,
-                                    lambda t, a, i: rendering.render_sweep(t, a, i, az, el, lighting, s))
-            rows += _rows("shadow_map", "fast", "shadow_map_size", size, f"i={inc:g}", errors)
+            rows += _rows(experiment, "fast", variable, x, setting, errors)
         if naive:
             errors, _, _ = _compare(at("naive"), az, el, lighting,
                                     lambda t, a, i: rendering.naive_sweep(t, a, i, az, el, lighting))
