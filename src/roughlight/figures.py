@@ -139,6 +139,19 @@ def _aspects_present(frame, wanted=(1.0, an.SQRT3_2)):
     return out
 
 
+def _arc_panels(study, component, stem, height):
+    """The phi = 0 arc of one component, its incidence, and a figure with one panel per table aspect
+    present (aspect 1, sqrt(3)/2): ``(arc, incidence, fig, [(ax, aspect), ...])``; the list is empty and
+    ``fig`` a placeholder when neither aspect is in the study."""
+    arc = an.arc(study, component)
+    inc = _incidence(arc)
+    aspects = _aspects_present(arc)
+    if not aspects:
+        return arc, inc, placeholder(FIGURES[stem], "aspect 1 is not in the study"), []
+    fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), height), squeeze=False, sharey=True)
+    return arc, inc, fig, list(zip(axes[0], aspects))
+
+
 def _sel(frame, aspect=None, truncation=None, incidence=None):
     m = np.ones(len(frame), bool)
     if aspect is not None:
@@ -244,13 +257,8 @@ def fig20_plate_incidence(plates: pd.DataFrame):
 def fig21_specular_truncation(study: pd.DataFrame):
     """Fig. 21: specular on the phi = 0 arc against truncation, aspect 1 (and sqrt(3)/2)."""
     _theme()
-    spec = an.arc(study, "specular")
-    inc = _incidence(spec)
-    aspects = _aspects_present(spec)
-    if not aspects:
-        return placeholder(FIGURES["fig21_specular_truncation"], "aspect 1 is not in the study")
-    fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), 3.8), squeeze=False, sharey=True)
-    for ax, a in zip(axes[0], aspects):
+    spec, inc, fig, panels = _arc_panels(study, "specular", "fig21_specular_truncation", 3.8)
+    for ax, a in panels:
         d = _sel(spec, aspect=a, incidence=inc).copy()
         d["truncation"] = d["truncation"].map(lambda t: f"{t:g}")
         n = d["truncation"].nunique()
@@ -518,13 +526,8 @@ def _three_part_curve(row, e):
 def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
     """Fig. 28: diffuse on the phi = 0 arc against truncation, with the fitted three-part model."""
     _theme()
-    diff = an.arc(study, "diffuse")
-    inc = _incidence(diff)
-    aspects = _aspects_present(diff)
-    if not aspects:
-        return placeholder(FIGURES["fig28_diffuse_truncation"], "aspect 1 is not in the study")
-    fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), 3.9), squeeze=False, sharey=True)
-    for ax, a in zip(axes[0], aspects):
+    diff, inc, fig, panels = _arc_panels(study, "diffuse", "fig28_diffuse_truncation", 3.9)
+    for ax, a in panels:
         d = _sel(diff, aspect=a, incidence=inc)
         d = d[d["coverage"] > 0]
         ts = np.unique(d["truncation"].to_numpy(float))
@@ -788,20 +791,13 @@ def surface_pictures(views, lighting=None, size=(400, 300), periods=6):
 
     Returns
     -------
-    list of (label, (H, W, 3) uint8 image)
-
-    Raises
-    ------
-    AttributeError if :func:`roughlight.rendering.render_picture` does not exist.
+    list of (label, (H, W, 3) uint8 image), from :func:`roughlight.rendering.render_picture`
     """
     from . import rendering
 
-    render_picture = rendering.render_picture  # AttributeError when the renderer lacks it
-    out = []
-    for t, a, i, e, phi, label in views:
-        img = render_picture(t, a, i, e, phi, lighting=lighting, size=size, periods=periods)
-        out.append((label, np.asarray(img)))
-    return out
+    return [(label, np.asarray(rendering.render_picture(t, a, i, e, phi, lighting=lighting, size=size,
+                                                        periods=periods)))
+            for t, a, i, e, phi, label in views]
 
 
 def fig_pictures(stem: str, pictures):

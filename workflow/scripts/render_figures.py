@@ -8,7 +8,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 
 from roughlight import figures as F  # noqa: E402
-from roughlight.report import write_frame  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.shading import Lighting  # noqa: E402
 
 log = _log.setup(snakemake)
@@ -33,14 +33,6 @@ log(f"plate sweeps: {plates.groupby(['incidence', 'light']).ngroups} sweeps")
 
 picture_lighting = Lighting(**{**lighting, "shadows": True})
 for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
-    title, views = F.PICTURE_SETS[stem]
-    try:
-        pictures = F.surface_pictures(views, lighting=picture_lighting)
-        fig = F.fig_pictures(stem, pictures)
-    except AttributeError as exc:
-        log(f"{stem}: roughlight.rendering.render_picture is not available ({exc}): placeholder")
-        fig = F.placeholder(title, "roughlight.rendering.render_picture(truncation, aspect, incidence, elevation, "
-                                   "azimuth, lighting, size, periods) is not available in this version of the "
-                                   "renderer: no pictures.")
-    F.save_figure(fig, out[stem])
+    _, views = F.PICTURE_SETS[stem]
+    F.save_figure(F.fig_pictures(stem, F.surface_pictures(views, lighting=picture_lighting)), out[stem])
     log(f"{stem} -> {out[stem]}")
