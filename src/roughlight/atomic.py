@@ -12,7 +12,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path"]
+__all__ = ["atomic_path", "write_text_atomic", "write_frame", "read_frame"]
 
 
 @contextlib.contextmanager
@@ -38,3 +38,35 @@ def atomic_path(path):
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def write_text_atomic(path, text: str) -> None:
+    """Write text (UTF-8) under a temporary name in the same directory, then rename."""
+    with atomic_path(path) as tmp:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+
+
+def write_frame(frame, path) -> None:
+    """Write a DataFrame atomically as CSV or Parquet (by the file's extension)."""
+    path = os.fspath(path)
+    with atomic_path(path) as tmp:
+        if path.endswith(".parquet"):
+            frame.to_parquet(tmp, index=False)
+        elif path.endswith(".csv"):
+            frame.to_csv(tmp, index=False)
+        else:
+            raise ValueError(f"{path}: write_frame writes .csv or .parquet")
+
+
+def read_frame(path):
+    """Read a table written by :func:`write_frame` (an empty CSV is an empty frame)."""
+    import pandas as pd
+
+    path = os.fspath(path)
+    if path.endswith(".parquet"):
+        return pd.read_parquet(path)
+    try:
+        return pd.read_csv(path)
+    except pd.errors.EmptyDataError:
+        return pd.DataFrame()

@@ -28,13 +28,11 @@ import numpy as np
 import pandas as pd
 
 from . import analysis as an
-from .atomic import atomic_path
+from .atomic import write_text_atomic
 
 __all__ = [
     "CAPTIONS",
     "TABLE_CAPTIONS",
-    "atomic_path",
-    "write_text_atomic",
     "package_versions",
     "file_provenance",
     "png_data_uri",
@@ -43,8 +41,6 @@ __all__ = [
     "write_report",
     "caption_rst",
     "study_summary",
-    "write_frame",
-    "read_frame",
 ]
 
 # ---------------------------------------------------------------------------
@@ -197,36 +193,6 @@ def caption_rst(stem: str) -> str:
 
 # ---------------------------------------------------------------------------
 # files and provenance
-
-
-def write_text_atomic(path, text: str) -> None:
-    """Write text (UTF-8) under a temporary name in the same directory, then rename."""
-    with atomic_path(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as fh:
-            fh.write(text)
-
-
-def write_frame(frame: pd.DataFrame, path) -> None:
-    """Write a DataFrame atomically as CSV or Parquet (by the file's extension)."""
-    path = os.fspath(path)
-    with atomic_path(path) as tmp:
-        if path.endswith(".parquet"):
-            frame.to_parquet(tmp, index=False)
-        elif path.endswith(".csv"):
-            frame.to_csv(tmp, index=False)
-        else:
-            raise ValueError(f"{path}: write_frame writes .csv or .parquet")
-
-
-def read_frame(path) -> pd.DataFrame:
-    """Read a table written by :func:`write_frame` (an empty CSV is an empty frame)."""
-    path = os.fspath(path)
-    if path.endswith(".parquet"):
-        return pd.read_parquet(path)
-    try:
-        return pd.read_csv(path)
-    except pd.errors.EmptyDataError:
-        return pd.DataFrame()
 
 
 def package_versions(names=("roughlight", "numpy", "pandas", "pyarrow", "scipy", "statsmodels", "matplotlib",

@@ -9,7 +9,7 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight import analysis as an  # noqa: E402
-from roughlight.report import read_frame, write_frame, write_text_atomic  # noqa: E402
+from roughlight.atomic import read_frame, write_frame, write_text_atomic  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output

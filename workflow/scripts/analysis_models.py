@@ -8,7 +8,7 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight import analysis as an  # noqa: E402
-from roughlight.report import write_frame  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
 
 log = _log.setup(snakemake)
 study = pd.read_parquet(snakemake.input.study)

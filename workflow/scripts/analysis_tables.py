@@ -9,7 +9,8 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight import analysis as an  # noqa: E402
-from roughlight.report import study_summary, write_frame, write_text_atomic  # noqa: E402
+from roughlight.atomic import write_frame, write_text_atomic  # noqa: E402
+from roughlight.report import study_summary  # noqa: E402
 from roughlight.shading import Lighting  # noqa: E402
 
 log = _log.setup(snakemake)

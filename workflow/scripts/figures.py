@@ -8,7 +8,7 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight import figures as F  # noqa: E402
-from roughlight.report import read_frame  # noqa: E402
+from roughlight.atomic import read_frame  # noqa: E402
 
 log = _log.setup(snakemake)
 inp, out = snakemake.input, snakemake.output

@@ -9,6 +9,7 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight import report as R  # noqa: E402
+from roughlight.atomic import read_frame  # noqa: E402
 
 log = _log.setup(snakemake)
 inp = snakemake.input
@@ -21,17 +22,17 @@ tables = {
     "timings_summary": summary["timings"],
     "lobes": pd.read_parquet(inp.lobes),
     "lobes_hemisphere": pd.read_parquet(inp.hemisphere),
-    "diffuse_parts": R.read_frame(inp.diffuse_parts),
-    "exact_peaks": R.read_frame(inp.exact),
-    "thesis_tables": R.read_frame(inp.thesis_tables),
-    "bootstrap_tables": R.read_frame(inp.bootstrap),
-    "sine_refits": R.read_frame(inp.sine),
-    "timings": R.read_frame(inp.timings),
-    "glm_summary": R.read_frame(inp.glm_summary),
-    "glm_coefficients": R.read_frame(inp.glm_coefficients),
+    "diffuse_parts": read_frame(inp.diffuse_parts),
+    "exact_peaks": read_frame(inp.exact),
+    "thesis_tables": read_frame(inp.thesis_tables),
+    "bootstrap_tables": read_frame(inp.bootstrap),
+    "sine_refits": read_frame(inp.sine),
+    "timings": read_frame(inp.timings),
+    "glm_summary": read_frame(inp.glm_summary),
+    "glm_coefficients": read_frame(inp.glm_coefficients),
     "glm_messages": glm_messages,
     "model_fits": pd.read_parquet(inp.fits),
-    "model_fits_summary": R.read_frame(inp.fits_summary),
+    "model_fits_summary": read_frame(inp.fits_summary),
 }
 figures = {os.path.splitext(os.path.basename(p))[0]: p for p in inp.figures}
 benchmarks = None

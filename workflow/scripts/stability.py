@@ -9,15 +9,14 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 from roughlight import shading, stability  # noqa: E402
-from roughlight.atomic import atomic_path  # noqa: E402
+from roughlight.atomic import atomic_path, write_frame  # noqa: E402
 from roughlight.study import write_table_atomic  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
 table = pd.concat([pd.read_parquet(path) for path in snakemake.input], ignore_index=True)
 safe = stability.safe_domain(table)
-with atomic_path(snakemake.output.safe) as tmp:
-    safe.to_csv(tmp, index=False)
+write_frame(safe, snakemake.output.safe)
 with atomic_path(snakemake.output.chart) as tmp:
     stability.plot_stability(table, tmp, stability.normals_pictures(lighting=lighting))
 write_table_atomic(table, snakemake.output.table)
