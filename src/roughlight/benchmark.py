@@ -79,11 +79,8 @@ def default_configs() -> list[Config]:
 
 
 def _measure(config: Config, surface, azimuth, elevation, lighting):
-    t, a, i = surface
-    if config.method == "fast":
-        settings = rendering.RenderSettings(**config.settings)
-        return rendering.render_sweep(t, a, i, azimuth, elevation, lighting, settings)
-    return rendering.measure_sweep(config.method, t, a, i, azimuth, elevation, lighting)
+    settings = rendering.RenderSettings(**config.settings) if config.method == "fast" else None
+    return rendering.measure_sweep(config.method, *surface, azimuth, elevation, lighting, settings)
 
 
 def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=None, log=None, repeats=3):
