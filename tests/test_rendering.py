@@ -217,3 +217,28 @@ def test_averaged_normals_shading_is_wrong_where_flat_is_right():
     assert errors["phong"] > 2 * errors["flat"] and errors["gouraud"] > 2 * errors["flat"]
     with pytest.raises(ValueError, match="shading_model"):
         rendering.naive_sweep(0.5, 1.0, 30, az, el, lighting, shading_model="toon")
+
+
+def test_each_method_records_how_it_sampled(tmp_path):
+    """The study table names the naive method's window and pyrender's shadow map, not the fast defaults."""
+    import pyarrow.parquet as pq
+
+    from roughlight import study
+
+    sweep = {"elevation_step": 60, "azimuth_step": 90}  # 4 views
+    lighting = shading.Lighting().as_dict()
+    seen = {}
+    for method in rendering.METHODS:
+        path = tmp_path / f"{method}.parquet"
+        study.run_sweep(str(path), 0.5, 1.0, 30.0, sweep, lighting, method, {})
+        table = pq.read_table(path).to_pandas()
+        seen[method] = {c: table[c].astype(object).unique().tolist()
+                        for c in ("method", "pixels_per_period", "sampling", "shadow_map_size")}
+    assert seen["fast"] == {"method": ["fast"], "pixels_per_period": [24], "sampling": ["lattice"],
+                            "shadow_map_size": [512]}
+    assert seen["naive"] == {"method": ["naive"], "pixels_per_period": [10], "sampling": ["window"],
+                             "shadow_map_size": [2048]}
+    assert seen["reference"] == {"method": ["reference"], "pixels_per_period": [0], "sampling": ["exact"],
+                                 "shadow_map_size": [0]}
+    with pytest.raises(ValueError, match="render.method"):
+        rendering.recorded_settings("raytrace")

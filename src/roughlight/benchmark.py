@@ -78,9 +78,13 @@ def default_configs() -> list[Config]:
     return configs
 
 
+def _settings(config: Config):
+    """The fast method's RenderSettings of a config (None for the other methods)."""
+    return rendering.RenderSettings(**config.settings) if config.method == "fast" else None
+
+
 def _measure(config: Config, surface, azimuth, elevation, lighting):
-    settings = rendering.RenderSettings(**config.settings) if config.method == "fast" else None
-    return rendering.measure_sweep(config.method, *surface, azimuth, elevation, lighting, settings)
+    return rendering.measure_sweep(config.method, *surface, azimuth, elevation, lighting, _settings(config))
 
 
 def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=None, log=None, repeats=3):
@@ -132,15 +136,14 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
         seconds = min(runs)
         n_views = len(surfaces) * azimuth.size
         log(f"{config.label}: {n_views / seconds:.0f} views/s")
+        recorded = rendering.recorded_settings(config.method, _settings(config))
         for c in COMPONENTS:
             err = np.concatenate(errors[c])
             rows.append(
                 {
                     "method": config.method,
                     "label": config.label,
-                    "sampling": config.settings.get("sampling", "exact" if config.method == "reference" else "window"),
-                    "pixels_per_period": config.settings.get("pixels_per_period", 0),
-                    "shadow_map_size": config.settings.get("shadow_map_size", 2048 if config.method == "naive" else 0),
+                    **recorded,
                     "shadow_bias": config.settings.get("shadow_bias", rendering.RenderSettings().shadow_bias if config.method == "fast" else np.nan),
                     "component": c,
                     "n_views": n_views,

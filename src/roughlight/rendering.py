@@ -99,7 +99,7 @@ def _import_pyrender():
 
 
 _import_pyrender_core()
-from pyrender.constants import GLTF  # noqa: E402
+from pyrender.constants import GLTF, SHADOW_TEX_SZ  # noqa: E402
 from pyrender.platforms.osmesa import OSMesaPlatform  # noqa: E402
 from pyrender.primitive import Primitive  # noqa: E402
 from pyrender.shader_program import ShaderProgram  # noqa: E402
@@ -773,6 +773,33 @@ class _NaiveScene:
 
 _NAIVE_RENDERERS: dict = {}
 
+#: The naive method as it comes: a 400 x 300 window spanning 40 periods (10 pixels a period).
+NAIVE_WINDOW = (400, 300)
+NAIVE_VIEW_PERIODS = 40.0
+#: pyrender's directional shadow map, texels a side (``pyrender.constants.SHADOW_TEX_SZ``).
+NAIVE_SHADOW_MAP = SHADOW_TEX_SZ
+
+
+def recorded_settings(method: str, settings=None) -> dict:
+    """How a method sampled the surface, as the study table and the benchmark record it.
+
+    Returns
+    -------
+    dict: ``pixels_per_period`` (int), ``sampling`` (``lattice`` | ``grid`` for
+    fast, ``window`` for naive, ``exact`` for the reference) and
+    ``shadow_map_size`` (texels a side; 0 for the reference, which needs none).
+    """
+    if method == "fast":
+        settings = settings or RenderSettings()
+        return {"pixels_per_period": int(settings.pixels_per_period), "sampling": settings.sampling,
+                "shadow_map_size": int(settings.shadow_map_size)}
+    if method == "naive":
+        return {"pixels_per_period": int(round(NAIVE_WINDOW[0] / NAIVE_VIEW_PERIODS)), "sampling": "window",
+                "shadow_map_size": NAIVE_SHADOW_MAP}
+    if method == "reference":
+        return {"pixels_per_period": 0, "sampling": "exact", "shadow_map_size": 0}
+    raise ValueError(f"render.method must be one of {METHODS}, got {method!r}")
+
 
 def _naive_renderer(size):
     renderer = _NAIVE_RENDERERS.get(size)
@@ -790,8 +817,8 @@ def _naive_renderer(size):
     return renderer
 
 
-def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, window=(400, 300),
-                capture=40, view_periods=40.0, lowest_elevation=10.0, jitter=(0.0, 0.0), shading_model="flat") -> dict:
+def naive_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, window=NAIVE_WINDOW,
+                capture=40, view_periods=NAIVE_VIEW_PERIODS, lowest_elevation=10.0, jitter=(0.0, 0.0), shading_model="flat") -> dict:
     """The thesis's procedure with pyrender as it comes: one render per view.
 
     Each view renders a ``window`` (400 x 300 pixels, as the thesis) of a finite

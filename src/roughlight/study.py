@@ -20,10 +20,10 @@ ambient        float64 ambient light level A, fraction of J
 shininess      float64 specular exponent
 specular_model string  'phong' or 'blinn'
 shadows        bool    inner shadows cast
-method         string  'fast' or 'reference'
-pixels_per_period int64 fast method's pixels per period (0 for reference)
-sampling       string  fast method's pixel sampling, 'lattice' or 'grid' ('exact' for reference)
-shadow_map_size   int64 fast method's shadow texels per period (0 for reference)
+method         string  'fast', 'naive' or 'reference'
+pixels_per_period int64 pixels per period (naive: 10, its window's; reference: 0)
+sampling       string  'lattice' or 'grid' (fast), 'window' (naive), 'exact' (reference)
+shadow_map_size   int64 shadow texels per side (naive: pyrender's 2048; reference: 0)
 render_seconds float64 wall time of the sweep that produced the row
 ============== ======= =====================================================
 
@@ -74,7 +74,9 @@ def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation,
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : roughlight.shading.Lighting
     method : str
-    render_settings : dict with ``pixels_per_period`` and ``shadow_map_size``
+    render_settings : dict
+        How the method sampled (:func:`roughlight.rendering.recorded_settings`):
+        ``pixels_per_period``, ``sampling``, ``shadow_map_size``.
     """
     import pyarrow as pa
 
@@ -82,7 +84,6 @@ def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation,
     elevation = np.asarray(elevation, float)
     n = azimuth.size
     k = len(COMPONENTS)
-    fast = method == "fast"
     columns = {
         "truncation": np.full(n * k, float(truncation)),
         "aspect": np.full(n * k, float(aspect)),
@@ -101,9 +102,9 @@ def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation,
         "specular_model": pa.array([lighting.specular_model] * (n * k), pa.dictionary(pa.int8(), pa.string())),
         "shadows": np.full(n * k, bool(lighting.shadows)),
         "method": pa.array([method] * (n * k), pa.dictionary(pa.int8(), pa.string())),
-        "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]) if fast else 0, np.int64),
-        "sampling": pa.array([render_settings["sampling"] if fast else "exact"] * (n * k), pa.dictionary(pa.int8(), pa.string())),
-        "shadow_map_size": np.full(n * k, int(render_settings["shadow_map_size"]) if fast else 0, np.int64),
+        "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]), np.int64),
+        "sampling": pa.array([render_settings["sampling"]] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "shadow_map_size": np.full(n * k, int(render_settings["shadow_map_size"]), np.int64),
         "render_seconds": np.full(n * k, float(result["seconds"])),
     }
     return pa.table(columns)
@@ -182,7 +183,7 @@ def run_sweep(path, truncation, aspect, incidence, sweep, lighting, method, rend
     truncation, aspect, incidence : float
     sweep : dict with ``elevation_step`` and ``azimuth_step`` (degrees)
     lighting : dict of :class:`roughlight.shading.Lighting` fields
-    method : str, ``fast`` or ``reference``
+    method : str, ``fast``, ``naive`` or ``reference``
     render : dict of :class:`roughlight.rendering.RenderSettings` fields (may be empty)
     log : callable taking a message, optional
     """
@@ -198,12 +199,8 @@ def run_sweep(path, truncation, aspect, incidence, sweep, lighting, method, rend
     )
     result = rendering.measure_sweep(method, truncation, aspect, incidence, azimuth, elevation, lighting, settings)
     log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
-    render_settings = {
-        "pixels_per_period": settings.pixels_per_period,
-        "sampling": settings.sampling,
-        "shadow_map_size": settings.shadow_map_size,
-    }
-    table = sweep_table(result, truncation, aspect, incidence, azimuth, elevation, lighting, method, render_settings)
+    table = sweep_table(result, truncation, aspect, incidence, azimuth, elevation, lighting, method,
+                        rendering.recorded_settings(method, settings))
     write_table_atomic(table, path)
     log(f"wrote {table.num_rows} rows to {path}")
     return result
