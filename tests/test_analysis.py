@@ -12,8 +12,28 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight import analysis as an
+from roughlight.diffuse import diffuse_breakpoints, diffuse_levels, diffuse_three_part
+from roughlight.geometry import lobe_centres, reflecting_areas
+from roughlight.glm import grid_glm, grid_glms
+from roughlight.lobes import arc_lobes, hemisphere_lobes, profile_lobe
 from roughlight.shading import Lighting, phase_angle, quantize
+from roughlight.surface_models import (
+    analytic_model_fits,
+    facet_model,
+    fit_hapke,
+    model_fit_summary,
+    oren_nayar,
+    oren_nayar_sigma,
+)
+from roughlight.thesis import (
+    TABLE_METRICS,
+    bootstrap_statistics,
+    exact_lobe_peaks,
+    fit_statistics,
+    sine_refits,
+    thesis_tables,
+)
+from roughlight.timings import render_timings
 
 J = 127.0
 S32 = math.sqrt(3.0) / 2.0
@@ -64,22 +84,22 @@ def exact_study():
 
 
 def test_lobe_centres_follow_the_facets():
-    c = an.lobe_centres(30, S32)
+    c = lobe_centres(30, S32)
     assert c["forward"] == pytest.approx(150.0)
     assert c["back"] == pytest.approx(30.0, abs=1e-9)  # zero phase: the facet faces the light
     assert c["west"] is None
-    c1 = an.lobe_centres(30, 1.0)
+    c1 = lobe_centres(30, 1.0)
     assert c1["back"] == pytest.approx(180 - 2 * math.degrees(math.atan(2.0)) - 30)  # 23.13
     # the back side's mirror lobe exists only while 2 s < i (thesis Fig. 26, aspect 0.1)
-    c01 = an.lobe_centres(30, 0.1)
+    c01 = lobe_centres(30, 0.1)
     assert c01["west"] == pytest.approx(180 + 2 * math.degrees(math.atan(0.2)) - 30)
-    assert an.lobe_centres(30, 0.2)["west"] is None
-    assert an.lobe_centres(30, 0.0)["back"] is None
+    assert lobe_centres(30, 0.2)["west"] is None
+    assert lobe_centres(30, 0.0)["back"] is None
 
 
 def test_diffuse_breakpoints_are_the_thesis_domains_at_60_degree_facets():
-    assert an.diffuse_breakpoints(30, S32) == pytest.approx((30.0, 120.0))
-    e1, e2 = an.diffuse_breakpoints(30, 1.0)
+    assert diffuse_breakpoints(30, S32) == pytest.approx((30.0, 120.0))
+    e1, e2 = diffuse_breakpoints(30, 1.0)
     assert (e1, e2) == pytest.approx((30.0, 180 - math.degrees(math.atan(2.0))))
 
 
@@ -91,22 +111,22 @@ def test_profile_lobe_recovers_peak_centre_and_width():
     e = np.arange(0.0, 181.0, 1.0)
     sigma = 7.0
     v = 100 * np.exp(-0.5 * ((e - 37.0) / sigma) ** 2) + 40 * np.exp(-0.5 * ((e - 120.0) / 5.0) ** 2)
-    out = an.profile_lobe(e, v, 37.0, (0.0, 78.0))
+    out = profile_lobe(e, v, 37.0, (0.0, 78.0))
     assert out["peak"] == pytest.approx(100.0)
     assert out["peak_elevation"] == 37.0
     assert out["fwhm"] == pytest.approx(2 * math.sqrt(2 * math.log(2)) * sigma, abs=0.2)
     assert out["centroid"] == pytest.approx(37.0, abs=0.05)
-    other = an.profile_lobe(e, v, 120.0, (78.0, 180.0))
+    other = profile_lobe(e, v, 120.0, (78.0, 180.0))
     assert other["peak"] == pytest.approx(40.0, abs=1e-6) and other["peak_elevation"] == 120.0
     # a window cutting the lobe before half maximum gives no width, and says so
-    cut = an.profile_lobe(e, v, 37.0, (30.0, 40.0))
+    cut = profile_lobe(e, v, 37.0, (30.0, 40.0))
     assert np.isnan(cut["fwhm"]) and "half maximum" in cut["note"]
-    none = an.profile_lobe(e, np.zeros_like(e), 37.0, (0.0, 90.0))
+    none = profile_lobe(e, np.zeros_like(e), 37.0, (0.0, 90.0))
     assert none["peak"] == 0 and np.isnan(none["peak_elevation"]) and "no lobe" in none["note"]
 
 
 def test_arc_lobes_on_exact_data_follow_the_area_laws(exact_study):
-    lobes = an.arc_lobes(exact_study)
+    lobes = arc_lobes(exact_study)
     for (t, a), g in lobes.groupby(["truncation", "aspect"]):
         fwd = g[g["lobe"] == "forward"].iloc[0]
         back = g[g["lobe"] == "back"].iloc[0]
@@ -117,7 +137,7 @@ def test_arc_lobes_on_exact_data_follow_the_area_laws(exact_study):
             # Phong 64: full width at half maximum 2 acos(0.5^(1/64)) = 16.8 deg; the 8-bit steps move it a little
             assert fwd["fwhm"] == pytest.approx(2 * math.degrees(math.acos(0.5 ** (1 / 64))), abs=0.6)
         if t > 0:
-            expected = an.lobe_centres(30, a)["back"]
+            expected = lobe_centres(30, a)["back"]
             assert abs(back["peak_elevation"] - expected) <= 0.5 + 1e-9  # the 1-degree grid
     sq = lobes[(lobes["aspect"] == S32) & (lobes["lobe"] == "back") & (lobes["truncation"] == 1.0)].iloc[0]
     assert sq["phase_at_peak"] == pytest.approx(0.0, abs=1e-9)  # zero phase: the thesis's retro lobe
@@ -125,7 +145,7 @@ def test_arc_lobes_on_exact_data_follow_the_area_laws(exact_study):
 
 def test_hemisphere_lobes_find_the_mirror_directions():
     study = make_study([0.5], [S32], azimuths=np.arange(0.0, 180.0, 30.0), elevations=np.arange(0.0, 181.0, 3.0))
-    h = an.hemisphere_lobes(study)
+    h = hemisphere_lobes(study)
     fwd = h[h["lobe"] == "forward"].iloc[0]
     back = h[h["lobe"] == "back"].iloc[0]
     assert (fwd["peak_azimuth"], fwd["peak_elevation"]) == (0.0, 150.0)
@@ -136,8 +156,8 @@ def test_hemisphere_lobes_find_the_mirror_directions():
 
 
 def test_exact_lobe_peaks_agree_with_an_exact_study(exact_study):
-    lobes = an.arc_lobes(exact_study)
-    ex = an.exact_lobe_peaks(lobes)
+    lobes = arc_lobes(exact_study)
+    ex = exact_lobe_peaks(lobes)
     assert len(ex) == 2 * 4 * 2  # aspects x truncations x lobes
     np.testing.assert_allclose(ex["error"], 0.0, atol=1e-9)
 
@@ -150,7 +170,7 @@ def test_fit_statistics_is_the_thesis_glm():
     rng = np.random.default_rng(5)
     pred = np.linspace(0, 127, 11)
     obs = 2.0 + 1.1 * pred + rng.normal(0, 1.5, pred.size)
-    st = an.fit_statistics(obs, pred)
+    st = fit_statistics(obs, pred)
     b1, b0 = np.polyfit(pred, obs, 1)  # a Gaussian GLM with identity link is least squares
     assert st["b0"] == pytest.approx(b0, rel=1e-8) and st["b1"] == pytest.approx(b1, rel=1e-8)
     assert st["RSS"] == pytest.approx(np.sum((obs - (b0 + b1 * pred)) ** 2), rel=1e-8)
@@ -162,7 +182,7 @@ def test_fit_statistics_is_the_thesis_glm():
 
 @pytest.mark.parametrize("pred, why", [(np.full(11, 5.0), "one value"), (np.arange(2.0), "only 2 points")])
 def test_fit_statistics_degenerate_inputs_are_reported(pred, why):
-    st = an.fit_statistics(pred + 1.0, pred)
+    st = fit_statistics(pred + 1.0, pred)
     assert np.isnan(st["b0"]) and why in st["note"]
 
 
@@ -179,7 +199,7 @@ def _synthetic_lobes(aspects, law="area"):
 
 def test_thesis_tables_rank_the_true_law_first():
     for law, winner in (("area", "Area Function"), ("sine", "Regressed Model")):
-        tables, messages = an.thesis_tables(_synthetic_lobes([1.0, S32], law))
+        tables, messages = thesis_tables(_synthetic_lobes([1.0, S32], law))
         assert messages == []
         ours = tables[tables["source"] == "ours"]
         assert len(ours) == 8  # 2 aspects x 2 tables x 2 models
@@ -190,14 +210,14 @@ def test_thesis_tables_rank_the_true_law_first():
             assert best["b1"] == pytest.approx(1.0) and best["RSS"] == pytest.approx(0.0, abs=1e-9)
         thesis = tables[(tables["source"] == "thesis 2001") & (tables["table"] == 1)
                         & (tables["model"] == "Square Area Function")]
-        assert thesis[an.TABLE_METRICS].iloc[0].tolist() == [4.10, 3.08, -4.684, 1.012, 122.407]
+        assert thesis[TABLE_METRICS].iloc[0].tolist() == [4.10, 3.08, -4.684, 1.012, 122.407]
 
 
 def test_thesis_tables_without_sqrt3_2_say_so():
-    tables, messages = an.thesis_tables(_synthetic_lobes([1.0]))
+    tables, messages = thesis_tables(_synthetic_lobes([1.0]))
     assert set(tables["aspect"]) == {1.0}
     assert any("√3/2" in m and "not in the study" in m for m in messages)
-    empty, messages = an.thesis_tables(_synthetic_lobes([0.5]))
+    empty, messages = thesis_tables(_synthetic_lobes([0.5]))
     assert empty.empty and len(messages) == 2
 
 
@@ -209,7 +229,7 @@ def test_sine_refits_recover_parameters_and_intervals():
                      "peak": 120 * (1 - math.sin(1.8 * t)) + rng.normal(0, 0.3)})
         rows.append({"truncation": t, "aspect": 1.0, "incidence": 30.0, "lobe": "back",
                      "peak": 60 * math.sin(1.3 * t) + rng.normal(0, 0.3)})
-    fits = an.sine_refits(pd.DataFrame(rows), aspects=(1.0,))
+    fits = sine_refits(pd.DataFrame(rows), aspects=(1.0,))
     got = {(r.lobe, r.parameter): r for r in fits.itertuples()}
     truth = {("forward", "A"): 120, ("forward", "omega"): 1.8, ("back", "A"): 60, ("back", "omega"): 1.3}
     for key, true in truth.items():
@@ -220,7 +240,7 @@ def test_sine_refits_recover_parameters_and_intervals():
 
 
 def test_reflecting_areas_are_the_normalised_area_functions():
-    areas = an.reflecting_areas(S32, 30.0, truncations=[0.0, 0.25, 0.5, 1.0])
+    areas = reflecting_areas(S32, 30.0, truncations=[0.0, 0.25, 0.5, 1.0])
     np.testing.assert_allclose(areas["top"], (1 - areas["truncation"]) ** 2, atol=1e-9)
     np.testing.assert_allclose(areas["front"], 0.5 * (1 - (1 - areas["truncation"]) ** 2), atol=1e-9)
     assert areas["k"].iloc[0] == pytest.approx(0.5)
@@ -234,7 +254,7 @@ def _diffuse_frame(levels):
     rows = []
     e = np.arange(0.0, 181.0, 1.0)
     for (t, a), (L1, L3, k) in levels.items():
-        e1, e2 = an.diffuse_breakpoints(30, a)
+        e1, e2 = diffuse_breakpoints(30, a)
         v = np.where(e <= e1, L1, np.where(e >= e2, L3, L3 + (L1 - L3) * np.exp(-k * (e - e1))))
         cov = ((e > 0) & (e < 180)).astype(float)
         rows.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": 30.0, "azimuth": 0.0, "elevation": e,
@@ -245,7 +265,7 @@ def _diffuse_frame(levels):
 
 def test_diffuse_three_part_recovers_levels_and_decay():
     frame = _diffuse_frame({(0.5, 1.0): (75.0, 27.0, 0.03), (0.0, 1.0): (64.0, 64.0, 0.0)})
-    parts = an.diffuse_three_part(frame).set_index("truncation")
+    parts = diffuse_three_part(frame).set_index("truncation")
     r = parts.loc[0.5]
     assert (r["level1"], r["level3"]) == pytest.approx((75.0, 27.0))
     assert r["rate"] == pytest.approx(0.03, rel=1e-3) and r["rmse"] < 1e-6
@@ -255,7 +275,7 @@ def test_diffuse_three_part_recovers_levels_and_decay():
 
 
 def test_diffuse_three_part_on_exact_data(exact_study):
-    parts = an.diffuse_three_part(exact_study)
+    parts = diffuse_three_part(exact_study)
     full = parts[(parts["truncation"] == 1.0) & (parts["aspect"] == S32)].iloc[0]
     # part one: only lit facets are seen (no shadow below zero phase); part three: the lit front facet is hidden
     assert full["level1"] > full["level3"] and np.isfinite(full["rate"]) and full["rate"] > 0
@@ -276,7 +296,7 @@ def _grid(ts, as_, f, noise=0.0, seed=0):
 def test_grid_glm_recovers_an_interaction_model():
     g = np.round(np.arange(0, 1.01, 0.1), 10)
     data = _grid(g, g, lambda t, a: 1 + 2 * t + 3 * a + 4 * t * a, noise=0.05)
-    res = an.grid_glm(data, "y")
+    res = grid_glm(data, "y")
     assert res.summary["status"] == "ok" and res.summary["converged"]
     assert res.summary["n"] == 100  # the 21 plate surfaces are kept out
     assert any("plate" in m for m in res.messages)
@@ -288,31 +308,31 @@ def test_grid_glm_recovers_an_interaction_model():
 
 def test_grid_glm_degenerate_grids_never_crash():
     # only plates: nothing left to fit
-    res = an.grid_glm(_grid([0.0], [0.0, 0.5, 1.0], lambda t, a: 5.0), "y")
+    res = grid_glm(_grid([0.0], [0.0, 0.5, 1.0], lambda t, a: 5.0), "y")
     assert res.summary["status"] == "not fitted" and res.coefficients.empty
     assert any("nothing to fit" in m or "zero variance" in m for m in res.messages)
     # one truncation: zero variance, the fit keeps aspect only
-    res = an.grid_glm(_grid([0.5], [0.2, 0.4, 0.6, 0.8, 1.0], lambda t, a: 2 * a, noise=0.01), "y")
+    res = grid_glm(_grid([0.5], [0.2, 0.4, 0.6, 0.8, 1.0], lambda t, a: 2 * a, noise=0.01), "y")
     assert "truncation" in " ".join(res.messages) and "zero variance" in " ".join(res.messages)
     assert list(res.coefficients["term"]) == ["const", "aspect"]
     # aspect tied to truncation: collinear, a term is kept out with a message
     data = pd.DataFrame({"truncation": np.linspace(0.1, 1, 10), "incidence": 30.0})
     data["aspect"] = data["truncation"]
     data["y"] = np.arange(10.0)
-    res = an.grid_glm(data, "y")
+    res = grid_glm(data, "y")
     assert any("near-collinear" in m for m in res.messages)
     assert res.summary["dropped"]
     # missing responses (no lobe) are reported and skipped
     data = _grid([0.5, 1.0], [0.5, 1.0], lambda t, a: t + a)
     data.loc[0, "y"] = np.nan
-    res = an.grid_glm(data, "y")
+    res = grid_glm(data, "y")
     assert any("without a value" in m for m in res.messages)
 
 
 def test_grid_glms_on_lobes(exact_study):
-    lobes = an.arc_lobes(exact_study)
-    levels = an.diffuse_levels(exact_study)
-    summary, coefs, diags, messages = an.grid_glms(lobes, levels)
+    lobes = arc_lobes(exact_study)
+    levels = diffuse_levels(exact_study)
+    summary, coefs, diags, messages = grid_glms(lobes, levels)
     assert list(summary["response"]) == ["forward_peak", "back_peak", "diffuse_level"]
     assert (summary["n"] == 6).all()  # 3 rough truncations x 2 aspects
     assert isinstance(messages, list) and any("plate" in m for m in messages)
@@ -324,17 +344,17 @@ def test_grid_glms_on_lobes(exact_study):
 
 def test_oren_nayar_limits():
     e = np.array([30.0, 90.0, 150.0])
-    lam = an.oren_nayar(30, e, np.zeros(3), 0.0)
+    lam = oren_nayar(30, e, np.zeros(3), 0.0)
     np.testing.assert_allclose(lam, J * math.sin(math.radians(30)))
-    rough = an.oren_nayar(30, e, np.zeros(3), 0.5)
+    rough = oren_nayar(30, e, np.zeros(3), 0.5)
     assert rough[0] > rough[2]  # backscatter: brighter toward the light than away from it
-    assert an.oren_nayar_sigma(0.0, 1.0) == 0.0
-    assert an.oren_nayar_sigma(1.0, S32) == pytest.approx(math.radians(60.0))
+    assert oren_nayar_sigma(0.0, 1.0) == 0.0
+    assert oren_nayar_sigma(1.0, S32) == pytest.approx(math.radians(60.0))
 
 
 def test_facet_model_is_exact_on_the_plate():
     e = np.arange(1.0, 180.0, 1.0)
-    out = an.facet_model(0.0, 0.0, 30.0, e, np.zeros_like(e))
+    out = facet_model(0.0, 0.0, 30.0, e, np.zeros_like(e))
     i = math.radians(30)
     rdotv = -math.cos(i) * np.cos(np.radians(e)) + math.sin(i) * np.sin(np.radians(e))
     np.testing.assert_allclose(out["specular"], quantize(J * np.maximum(rdotv, 0) ** 64))
@@ -345,8 +365,8 @@ def test_vcavity_masking_improves_the_facet_model(exact_study):
     comp = exact_study[(exact_study["component"] == "specular") & (exact_study["truncation"] == 1.0)
                        & (exact_study["aspect"] == 1.0) & (exact_study["coverage"] > 0)]
     e, phi = comp["elevation"].to_numpy(), comp["azimuth"].to_numpy()
-    masked = an.facet_model(1.0, 1.0, 30.0, e, phi)["specular"]
-    plain = an.facet_model(1.0, 1.0, 30.0, e, phi, masking="none")["specular"]
+    masked = facet_model(1.0, 1.0, 30.0, e, phi)["specular"]
+    plain = facet_model(1.0, 1.0, 30.0, e, phi, masking="none")["specular"]
     err_m = np.sqrt(np.mean((masked - comp["rough"].to_numpy()) ** 2))
     err_p = np.sqrt(np.mean((plain - comp["rough"].to_numpy()) ** 2))
     assert err_m < err_p and err_m < 2.0
@@ -356,24 +376,24 @@ def test_fit_hapke_recovers_a_surge():
     g = np.repeat(np.arange(0.0, 60.0, 0.5), 3)
     c, d, S, h = 50.0, -0.3, 40.0, 0.05
     v = c + d * g + S / (1 + np.tan(np.radians(g) / 2) / h)
-    fit = an.fit_hapke(g, v)
+    fit = fit_hapke(g, v)
     assert fit["h"] == pytest.approx(h, rel=0.02) and fit["B0"] == pytest.approx(S / c, rel=0.02)
     assert fit["rmse"] < 0.05 < fit["rmse_constant"]
-    flat = an.fit_hapke(g, 70 - 0.2 * g)
+    flat = fit_hapke(g, 70 - 0.2 * g)
     assert flat["S"] == 0 and "no surge" in flat["note"]
-    few = an.fit_hapke(np.array([1.0, 2.0]), np.array([3.0, 4.0]))
+    few = fit_hapke(np.array([1.0, 2.0]), np.array([3.0, 4.0]))
     assert np.isnan(few["rmse"]) and "only" in few["note"]
 
 
 def test_analytic_model_fits_rank_the_models(exact_study):
-    fits = an.analytic_model_fits(exact_study)
+    fits = analytic_model_fits(exact_study)
     rough = fits[~fits["plate"]]
     assert len(rough) == 6
     # the explicit surfaces are V-cavity-like: the facet model beats the plate's Phong lobe
     assert (rough["rmse_facet_vcavity_specular"] < rough["rmse_phong_plate"]).all()
     plate = fits[fits["plate"]]
     np.testing.assert_allclose(plate["rmse_lambert"], 0.0, atol=1e-9)
-    summary = an.model_fit_summary(fits)
+    summary = model_fit_summary(fits)
     assert {"plate", "all"} <= set(summary["band"])
     by = summary.groupby(["component", "band"])
     assert (by["best_in"].sum() == by["surfaces"].first()).all()  # every surface has exactly one best model
@@ -381,7 +401,7 @@ def test_analytic_model_fits_rank_the_models(exact_study):
 
 def test_render_timings():
     study = make_study([0.0, 1.0], [1.0], elevations=np.arange(0.0, 181.0, 30.0))
-    per, summary = an.render_timings(study)
+    per, summary = render_timings(study)
     assert len(per) == 2 and (per["views"] == 7).all()
     assert summary["sweeps"] == 2 and summary["views"] == 14
     assert summary["total_seconds"] == pytest.approx(per["seconds"].sum())
@@ -393,7 +413,7 @@ def test_grid_glm_uses_incidence_when_the_grid_has_several():
     b = a.copy()
     b["incidence"] = 45.0
     b["y"] += 5.0
-    res = an.grid_glm(pd.concat([a, b], ignore_index=True), "y")
+    res = grid_glm(pd.concat([a, b], ignore_index=True), "y")
     est = dict(zip(res.coefficients["term"], res.coefficients["estimate"]))
     assert est["incidence"] == pytest.approx(5.0 / 15.0, abs=0.01)
 
@@ -401,16 +421,14 @@ def test_grid_glm_uses_incidence_when_the_grid_has_several():
 def test_bootstrap_intervals_cover_the_statistics_and_match_statsmodels():
     import numpy as np
 
-    from roughlight import analysis as an
-
     rng = np.random.default_rng(3)
     t = np.linspace(0, 1, 11)
     predicted = 127 * (1 - t) ** 2
     observed = predicted + rng.normal(0, 2.0, size=t.size)
-    stats = an.fit_statistics(observed, predicted)
-    ci = an.bootstrap_statistics(observed, predicted, n_boot=2000, seed=0)
+    stats = fit_statistics(observed, predicted)
+    ci = bootstrap_statistics(observed, predicted, n_boot=2000, seed=0)
     assert ci["n_boot_used"] == 2000
-    for metric in an.TABLE_METRICS:
+    for metric in TABLE_METRICS:
         low, high = ci[metric]
         assert low < high, metric
         assert low <= stats[metric] <= high or metric == "RSS", (metric, low, stats[metric], high)
@@ -419,10 +437,10 @@ def test_bootstrap_intervals_cover_the_statistics_and_match_statsmodels():
     assert b0 == pytest.approx(stats["b0"], abs=1e-9) and b1 == pytest.approx(stats["b1"], abs=1e-12)
     assert np.sum((observed - b0 - b1 * predicted) ** 2) == pytest.approx(stats["RSS"], rel=1e-9)
     # an exact model has zero-width error intervals; seeded resampling is reproducible
-    exact = an.bootstrap_statistics(predicted, predicted, n_boot=200, seed=1)
+    exact = bootstrap_statistics(predicted, predicted, n_boot=200, seed=1)
     assert exact["Mean Abs Error"] == (0.0, 0.0)
-    assert an.bootstrap_statistics(observed, predicted, n_boot=300, seed=5) == an.bootstrap_statistics(
+    assert bootstrap_statistics(observed, predicted, n_boot=300, seed=5) == bootstrap_statistics(
         observed, predicted, n_boot=300, seed=5)
     # a model that predicts one value everywhere gives no line, and says so by using no resample
-    flat = an.bootstrap_statistics(observed, np.full(11, 50.0), n_boot=100, seed=0)
+    flat = bootstrap_statistics(observed, np.full(11, 50.0), n_boot=100, seed=0)
     assert flat["n_boot_used"] == 0 and np.isnan(flat["b1"][0])

@@ -24,10 +24,17 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight import analysis as an
 from roughlight import figures as F
 from roughlight import report as R
+from roughlight.diffuse import diffuse_levels, diffuse_three_part
+from roughlight.geometry import reflecting_areas
+from roughlight.glm import grid_glms
+from roughlight.lobes import arc_lobes, hemisphere_lobes
+from roughlight.selection import find_aspect
 from roughlight.shading import Lighting
+from roughlight.surface_models import analytic_model_fits, model_fit_summary
+from roughlight.thesis import exact_lobe_peaks, sine_refits, thesis_tables
+from roughlight.timings import render_timings
 
 from .conftest import REPO
 from .test_analysis import make_study
@@ -42,17 +49,17 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     """Everything the workflow's report rules do, in-process: tables, figures, the HTML page."""
     lighting = Lighting()
     fig_dir = workdir / "figures"
-    lobes = an.arc_lobes(study)
-    parts = an.diffuse_three_part(study)
-    levels = an.diffuse_levels(study)
-    exact = an.exact_lobe_peaks(lobes, SETTINGS["table_aspects"], 30.0, lighting)
-    tables, messages = an.thesis_tables(lobes, SETTINGS["table_aspects"], 30.0, m=127.0, exact=exact)
-    sine = an.sine_refits(lobes, SETTINGS["table_aspects"], 30.0)
-    glm_summary, glm_coefs, glm_diag, glm_messages = an.grid_glms(lobes, levels)
-    fits = an.analytic_model_fits(study)
-    per_sweep, timing_summary = an.render_timings(study)
-    areas = {a: an.reflecting_areas(a, 30.0, np.linspace(0, 1, 5))
-             for a in (an.find_aspect(study["aspect"], w) for w in SETTINGS["table_aspects"]) if a is not None}
+    lobes = arc_lobes(study)
+    parts = diffuse_three_part(study)
+    levels = diffuse_levels(study)
+    exact = exact_lobe_peaks(lobes, SETTINGS["table_aspects"], 30.0, lighting)
+    tables, messages = thesis_tables(lobes, SETTINGS["table_aspects"], 30.0, m=127.0, exact=exact)
+    sine = sine_refits(lobes, SETTINGS["table_aspects"], 30.0)
+    glm_summary, glm_coefs, glm_diag, glm_messages = grid_glms(lobes, levels)
+    fits = analytic_model_fits(study)
+    per_sweep, timing_summary = render_timings(study)
+    areas = {a: reflecting_areas(a, 30.0, np.linspace(0, 1, 5))
+             for a in (find_aspect(study["aspect"], w) for w in SETTINGS["table_aspects"]) if a is not None}
     figs = {
         "fig19_topdown": F.fig19_topdown(study),
         "fig21_specular_truncation": F.fig21_specular_truncation(study),
@@ -84,10 +91,10 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     summary = R.study_summary(study)
     html = R.build_report(
         {"study_summary": summary, "timings_summary": timing_summary, "lobes": lobes,
-         "lobes_hemisphere": an.hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
+         "lobes_hemisphere": hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
          "thesis_tables": tables, "sine_refits": sine, "timings": per_sweep, "glm_summary": glm_summary,
          "glm_coefficients": glm_coefs, "glm_messages": glm_messages, "model_fits": fits,
-         "model_fits_summary": an.model_fit_summary(fits)},
+         "model_fits_summary": model_fit_summary(fits)},
         paths, config={"grid": {"aspect": summary["aspects"]}}, messages=messages,
         provenance={"settings": SETTINGS}, benchmarks=None,
     )
@@ -197,10 +204,10 @@ def test_report_in_headless_chromium(built):
     assert total == len(F.FIGURES)
     assert json.loads(dom.check["data-bad"]) == [] and int(dom.check["data-loaded"]) == total
     # Tables 1 and 2, for both aspects, with the thesis's rows and columns
-    thesis_tables = [t for t in dom.tables if t.get("class") == "thesis-table"]
-    assert {(t["data-table"], t["data-aspect"]) for t in thesis_tables} == {("1", "1"), ("2", "1"), ("1", "√3/2"),
+    printed = [t for t in dom.tables if t.get("class") == "thesis-table"]
+    assert {(t["data-table"], t["data-aspect"]) for t in printed} == {("1", "1"), ("2", "1"), ("1", "√3/2"),
                                                                            ("2", "√3/2")}
-    for t in thesis_tables:
+    for t in printed:
         rows = [cells for table, cells in dom.rows if table.get("id") == t["id"]]
         assert rows[0][:7] == ["Model", "Source", "Mean Abs Error", "Standard Deviation", "b0", "b1", "RSS"]
         models = {r[0] for r in rows[1:] if r[0] not in ("ours", "exact geometry", "thesis 2001")}
@@ -213,7 +220,7 @@ def test_report_in_headless_chromium(built):
     tables = pd.read_csv(workdir / "thesis_tables.csv")
     ours = tables[(tables["source"] == "ours") & (tables["table"] == 1) & (tables["model"] == "Square Area Function")
                   & (tables["aspect"] == 1.0)].iloc[0]
-    t1 = next(t for t in thesis_tables if t["data-table"] == "1" and t["data-aspect"] == "1")
+    t1 = next(t for t in printed if t["data-table"] == "1" and t["data-aspect"] == "1")
     row = next(cells for table, cells in dom.rows if table.get("id") == t1["id"] and "Square Area Function" in cells)
     assert row[2] == f"{ours['Mean Abs Error']:.2f}"
     thesis_row = next(cells for table, cells in dom.rows
@@ -240,8 +247,8 @@ def test_the_image_check_catches_a_broken_image(built):
 def test_report_without_sqrt3_2_says_so(built, tmp_path):
     study, _, _ = built
     study = study[np.abs(study["aspect"] - S32) > 1e-9]
-    lobes = an.arc_lobes(study)
-    tables, messages = an.thesis_tables(lobes, SETTINGS["table_aspects"], 30.0)
+    lobes = arc_lobes(study)
+    tables, messages = thesis_tables(lobes, SETTINGS["table_aspects"], 30.0)
     assert any("√3/2" in m for m in messages)
     html = R.build_report({"study_summary": R.study_summary(study), "thesis_tables": tables, "lobes": lobes},
                           {}, messages=messages)
@@ -293,10 +300,10 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
 def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():
     """Truncation 0 only: every surface is the plate; the GLMs and Tables 1-2 say why nothing was fitted."""
     study = make_study([0.0], [0.0, 1.0], elevations=np.arange(0.0, 181.0, 10.0))
-    lobes = an.arc_lobes(study)
-    levels = an.diffuse_levels(study)
-    thesis, _ = an.thesis_tables(lobes, [1.0], 30.0, m=127.0)
-    summary, _, _, messages = an.grid_glms(lobes, levels)
+    lobes = arc_lobes(study)
+    levels = diffuse_levels(study)
+    thesis, _ = thesis_tables(lobes, [1.0], 30.0, m=127.0)
+    summary, _, _, messages = grid_glms(lobes, levels)
     assert set(summary["status"]) == {"not fitted"}
     html = R.regression_failures_html({"glm_summary": summary, "glm_messages": messages, "thesis_tables": thesis})
     assert 'id="stability-regressions"' in html and 'id="regression-status"' in html

@@ -23,7 +23,14 @@ import pandas as pd  # noqa: E402
 import seaborn as sns  # noqa: E402
 
 from .atomic import atomic_path  # noqa: E402
-from . import analysis as an  # noqa: E402
+from .diffuse import diffuse_breakpoints, exponential_part  # noqa: E402
+from .geometry import front_facet_share, is_plate, lobe_centres  # noqa: E402
+from .lobes import MIN_LOBE_PEAK, lobe_directions  # noqa: E402
+from .selection import ASPECT_TOL, arc, find_aspect, surface_grids  # noqa: E402
+from .shading import phase_angle, view_direction  # noqa: E402
+from .surface import SQRT3_2, aspect_label  # noqa: E402
+from .surface_models import MODEL_COLUMNS  # noqa: E402
+from .thesis import THESIS_INCIDENCE, table_data, thesis_model_predictions  # noqa: E402
 
 __all__ = [
     "FIGURES",
@@ -130,10 +137,10 @@ def placeholder(title: str, message: str):
     return fig
 
 
-def _aspects_present(frame, wanted=(1.0, an.SQRT3_2)):
+def _aspects_present(frame, wanted=(1.0, SQRT3_2)):
     out = []
     for a in wanted:
-        found = an.find_aspect(frame["aspect"], a)
+        found = find_aspect(frame["aspect"], a)
         if found is not None:
             out.append(found)
     return out
@@ -143,19 +150,19 @@ def _arc_panels(study, component, stem, height):
     """The phi = 0 arc of one component, its incidence, and a figure with one panel per table aspect
     present (aspect 1, sqrt(3)/2): ``(arc, incidence, fig, [(ax, aspect), ...])``; the list is empty and
     ``fig`` a placeholder when neither aspect is in the study."""
-    arc = an.arc(study, component)
-    inc = _incidence(arc)
-    aspects = _aspects_present(arc)
+    views = arc(study, component)
+    inc = _incidence(views)
+    aspects = _aspects_present(views)
     if not aspects:
-        return arc, inc, placeholder(FIGURES[stem], "aspect 1 is not in the study"), []
+        return views, inc, placeholder(FIGURES[stem], "aspect 1 is not in the study"), []
     fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), height), squeeze=False, sharey=True)
-    return arc, inc, fig, list(zip(axes[0], aspects))
+    return views, inc, fig, list(zip(axes[0], aspects))
 
 
 def _sel(frame, aspect=None, truncation=None, incidence=None):
     m = np.ones(len(frame), bool)
     if aspect is not None:
-        m &= np.abs(frame["aspect"].to_numpy(float) - aspect) <= an.ASPECT_TOL
+        m &= np.abs(frame["aspect"].to_numpy(float) - aspect) <= ASPECT_TOL
     if truncation is not None:
         m &= np.isclose(frame["truncation"].to_numpy(float), truncation)
     if incidence is not None:
@@ -163,7 +170,7 @@ def _sel(frame, aspect=None, truncation=None, incidence=None):
     return frame.loc[m]
 
 
-def _incidence(frame, wanted=an.THESIS_INCIDENCE):
+def _incidence(frame, wanted=THESIS_INCIDENCE):
     inc = np.unique(frame["incidence"].to_numpy(float))
     return float(wanted) if np.any(np.isclose(inc, wanted)) else float(inc[0])
 
@@ -263,7 +270,7 @@ def fig21_specular_truncation(study: pd.DataFrame):
         d["truncation"] = d["truncation"].map(lambda t: f"{t:g}")
         n = d["truncation"].nunique()
         sns.lineplot(data=d, x="elevation", y="rough", hue="truncation", palette=_hue_palette(n), ax=ax, lw=1.2)
-        c = an.lobe_centres(inc, a)
+        c = lobe_centres(inc, a)
         for name, e in (("back", c["back"]), ("forward", c["forward"])):
             if e is not None:
                 ax.axvline(e, color="0.4", ls="--", lw=0.8)
@@ -272,24 +279,24 @@ def fig21_specular_truncation(study: pd.DataFrame):
         ax.set_xlim(0, 180)
         ax.set_xlabel("view elevation (deg), azimuth 0; dotted: zero phase")
         ax.set_ylabel("specular (0-255)")
-        ax.set_title(f"aspect {an.aspect_label(a)}, incidence {inc:g}", loc="left")
+        ax.set_title(f"aspect {aspect_label(a)}, incidence {inc:g}", loc="left")
         ax.legend(title="truncation", ncol=2, fontsize=7, title_fontsize=8)
     return fig
 
 
 def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
-    data = an._table_data(lobes, aspect, inc)
+    data = table_data(lobes, aspect, inc)
     if lobe not in data:
         ax.text(0.5, 0.5, f"no {lobe} lobe", ha="center", transform=ax.transAxes)
         return
     t = data.index.to_numpy(float)
     tt = np.linspace(0, 1, 201)
     if k is None:
-        k = an.front_facet_share(aspect, inc) if lobe == "back" else 0.5
-    pred = an.thesis_model_predictions(tt, m, k)
+        k = front_facet_share(aspect, inc) if lobe == "back" else 0.5
+    pred = thesis_model_predictions(tt, m, k)
     ax.plot(t, data[lobe], "o", color="k", label="our data (lobe peak)", zorder=5)
     if exact is not None and len(exact):
-        ex = exact[(np.abs(exact["aspect"] - aspect) <= an.ASPECT_TOL) & (exact["lobe"] == lobe)
+        ex = exact[(np.abs(exact["aspect"] - aspect) <= ASPECT_TOL) & (exact["lobe"] == lobe)
                    & np.isclose(exact["incidence"], inc)]
         if len(ex):
             ax.plot(ex["truncation"], ex["exact_peak"], "o", mfc="none", mec="#ff7f0e", ms=9, mew=1.4,
@@ -300,7 +307,7 @@ def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
     else:
         ax.plot(tt, pred["triangle_area"], color="#1f77b4", label=f"triangle area  {k:.3g}m(1-(1-t)²)")
         ax.plot(tt, pred["back_regressed"], color="#d62728", label="regressed  m sin(tπ/2)/2")
-    s = sine[(np.abs(sine["aspect"] - aspect) <= an.ASPECT_TOL) & (sine["lobe"] == lobe)] if len(sine) else sine
+    s = sine[(np.abs(sine["aspect"] - aspect) <= ASPECT_TOL) & (sine["lobe"] == lobe)] if len(sine) else sine
     if len(s) == 2 and np.isfinite(s["estimate"]).all():
         A = float(s.loc[s["parameter"] == "A", "estimate"].iloc[0])
         w = float(s.loc[s["parameter"] == "omega", "estimate"].iloc[0])
@@ -308,7 +315,7 @@ def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
         ax.plot(tt, y, color="#2ca02c", ls="--", label=f"refit  A={A:.1f}, ω={w:.3f}")
     ax.set_xlabel("truncation t")
     ax.set_ylabel(f"{lobe} lobe peak (0-255)")
-    ax.set_title(f"aspect {an.aspect_label(aspect)}, incidence {inc:g}", loc="left")
+    ax.set_title(f"aspect {aspect_label(aspect)}, incidence {inc:g}", loc="left")
     ax.legend(fontsize=7)
 
 
@@ -360,7 +367,7 @@ def fig24_reflecting_areas(areas: dict):
                 label=f"k(1-(1-t)²), k = {d['k'].iloc[0]:.3g}")
         ax.set_xlabel("truncation t")
         ax.set_ylabel("visible lit share of the image")
-        ax.set_title(f"aspect {an.aspect_label(a)}", loc="left")
+        ax.set_title(f"aspect {aspect_label(a)}", loc="left")
         ax.legend(fontsize=7)
     return fig
 
@@ -368,14 +375,14 @@ def fig24_reflecting_areas(areas: dict):
 def fig26_specular_aspect(study: pd.DataFrame, truncations=(0.2, 1.0)):
     """Fig. 26: specular on the phi = 0 arc against aspect, at a few truncations."""
     _theme()
-    spec = an.arc(study, "specular")
+    spec = arc(study, "specular")
     inc = _incidence(spec)
     have = np.unique(spec["truncation"].to_numpy(float))
     ts = [t for t in truncations if np.any(np.isclose(have, t))] or [float(have.max())]
     fig, axes = plt.subplots(1, len(ts), figsize=(6.2 * len(ts), 3.8), squeeze=False, sharey=True)
     for ax, t in zip(axes[0], ts):
         d = _sel(spec, truncation=t, incidence=inc).copy()
-        d["aspect"] = d["aspect"].map(an.aspect_label)
+        d["aspect"] = d["aspect"].map(aspect_label)
         n = d["aspect"].nunique()
         sns.lineplot(data=d, x="elevation", y="rough", hue="aspect", palette=_hue_palette(n, "rocket_r"), ax=ax,
                      lw=1.1)
@@ -408,14 +415,14 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
     the dot's azimuth: a lobe centred on zero phase would keep phase 0.
     """
     _theme()
-    grids = {key: (az, el, v) for key, az, el, v in an.surface_grids(study, "specular")}
+    grids = {key: (az, el, v) for key, az, el, v in surface_grids(study, "specular")}
     inc = _incidence(study)
     if surfaces is None:
         surfaces = []
-        for t, a in ((0.0, 0.0), (0.5, 1.0), (1.0, 1.0), (1.0, an.SQRT3_2)):
-            hit = [k for k in grids if np.isclose(k[0], t) and abs(k[1] - a) <= an.ASPECT_TOL and np.isclose(k[2], inc)]
+        for t, a in ((0.0, 0.0), (0.5, 1.0), (1.0, 1.0), (1.0, SQRT3_2)):
+            hit = [k for k in grids if np.isclose(k[0], t) and abs(k[1] - a) <= ASPECT_TOL and np.isclose(k[2], inc)]
             if t == 0.0 and not hit:
-                hit = [k for k in grids if an._plate(k[0], k[1]) and np.isclose(k[2], inc)]
+                hit = [k for k in grids if is_plate(k[0], k[1]) and np.isclose(k[2], inc)]
             if hit:
                 surfaces.append(hit[0])
     if not surfaces:
@@ -440,25 +447,25 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
         ax.set_ylim(-1.05, 1.05)
         ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.5", lw=0.6))
         ax.plot([math.cos(math.radians(i))], [0], marker="*", color="gold", ms=11, mec="k", mew=0.5, ls="none")
-        ax.set_title(f"t {t:g}, aspect {an.aspect_label(a)} (max {vmax:.0f})", loc="left", fontsize=9)
+        ax.set_title(f"t {t:g}, aspect {aspect_label(a)} (max {vmax:.0f})", loc="left", fontsize=9)
         ax.set_xticks([])
         ax.set_yticks([])
-        label = f"t {t:g}, a {an.aspect_label(a)}"
-        dirs = an._lobe_directions(t, a, i)
-        if "back" in dirs and not an._plate(t, a):
+        label = f"t {t:g}, a {aspect_label(a)}"
+        dirs = lobe_directions(t, a, i)
+        if "back" in dirs and not is_plate(t, a):
             A, E = np.meshgrid(az, el, indexing="ij")
-            V = an.view_direction(E, A)
+            V = view_direction(E, A)
             near = (V @ dirs["back"]) >= math.cos(math.radians(max_angle))
             for k_ in range(len(az)):
                 sel = near[k_] & np.isfinite(v[k_])
                 if not sel.any():
                     continue
                 jj = np.flatnonzero(sel)[int(np.argmax(v[k_, sel]))]
-                if v[k_, jj] < an.MIN_LOBE_PEAK:
+                if v[k_, jj] < MIN_LOBE_PEAK:
                     continue
                 d = V[k_, jj]
                 track_rows.append({"surface": label, "azimuth": math.degrees(math.atan2(d[1], d[0])),
-                                   "value": float(v[k_, jj]), "phase": float(an.phase_angle(i, el[jj], az[k_])),
+                                   "value": float(v[k_, jj]), "phase": float(phase_angle(i, el[jj], az[k_])),
                                    "x": d[0], "y": d[1]})
             tr = [r for r in track_rows if r["surface"] == label]
             if tr:
@@ -491,7 +498,7 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
 def fig27_diffuse_plate(study: pd.DataFrame):
     """Fig. 27: diffuse of the smooth surface (plate and control) against view elevation."""
     _theme()
-    diff = an.arc(study, "diffuse")
+    diff = arc(study, "diffuse")
     inc = _incidence(diff)
     d = diff[np.isclose(diff["incidence"], inc) & (diff["coverage"] > 0)]
     plate = d[(d["truncation"] * d["aspect"]) < 1e-9]
@@ -519,7 +526,7 @@ def _three_part_curve(row, e):
     if not np.isfinite(row.get("rate", np.nan)):
         return None
     y = np.where(e <= e1, row["level1"], np.where(e >= e2, row["level3"],
-                 an._exp_part(e, row["level1"], row["level3"], row["rate"], e1)))
+                 exponential_part(e, row["level1"], row["level3"], row["rate"], e1)))
     return np.where((e <= 0) | (e >= 180), np.nan, y)
 
 
@@ -541,7 +548,7 @@ def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
                 y = _three_part_curve(pr.iloc[0], ee)
                 if y is not None:
                     ax.plot(ee, y, color=color, lw=0.8, ls="--")
-        e1, e2 = an.diffuse_breakpoints(inc, a)
+        e1, e2 = diffuse_breakpoints(inc, a)
         for e in (e1, e2):
             ax.axvline(e, color="0.3", ls=":", lw=1)
         ax.text(e1 / 2, 2, "part 1", ha="center", fontsize=8)
@@ -551,7 +558,7 @@ def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
         ax.set_ylim(bottom=0)
         ax.set_xlabel(f"view elevation (deg), azimuth 0; breaks at {e1:g} and {e2:.1f}")
         ax.set_ylabel("diffuse (0-255)")
-        ax.set_title(f"aspect {an.aspect_label(a)}, incidence {inc:g} (dashed: three-part fit)", loc="left")
+        ax.set_title(f"aspect {aspect_label(a)}, incidence {inc:g} (dashed: three-part fit)", loc="left")
         ax.legend(title="truncation", ncol=2, fontsize=7, title_fontsize=8, loc="upper right")
     return fig
 
@@ -559,7 +566,7 @@ def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
 def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0):
     """Fig. 29: diffuse on the phi = 0 arc against aspect (full pyramids by default)."""
     _theme()
-    diff = an.arc(study, "diffuse")
+    diff = arc(study, "diffuse")
     inc = _incidence(diff)
     have = np.unique(diff["truncation"].to_numpy(float))
     t = truncation if np.any(np.isclose(have, truncation)) else float(have.max())
@@ -568,10 +575,10 @@ def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0):
     aspects = np.unique(d["aspect"].to_numpy(float))
     fig, ax = plt.subplots(figsize=(7.5, 3.9))
     for color, a in zip(_hue_palette(len(aspects), "rocket_r"), aspects):
-        da = d[np.abs(d["aspect"] - a) <= an.ASPECT_TOL]
-        ax.plot(da["elevation"], da["rough"], color=color, lw=1.1, label=an.aspect_label(a))
+        da = d[np.abs(d["aspect"] - a) <= ASPECT_TOL]
+        ax.plot(da["elevation"], da["rough"], color=color, lw=1.1, label=aspect_label(a))
         if a > 0:
-            e2 = an.diffuse_breakpoints(inc, a)[1]
+            e2 = diffuse_breakpoints(inc, a)[1]
             ax.plot([e2], [np.interp(e2, da["elevation"], da["rough"])], "v", color=color, ms=5)
     ax.axvline(inc, color="0.3", ls=":", lw=1)
     ax.set_xlim(0, 180)
@@ -597,7 +604,7 @@ def fig_lobe_geometry(lobes: pd.DataFrame):
     inc = _incidence(d)
     d = d[np.isclose(d["incidence"], inc)]
     aa = np.linspace(0.0, max(1.0, float(d["aspect"].max())), 200)
-    pred_back = [an.lobe_centres(inc, a)["back"] for a in aa]
+    pred_back = [lobe_centres(inc, a)["back"] for a in aa]
     ax = axes[0]
     ax.plot(aa, [np.nan if p is None else p for p in pred_back], "k-", lw=1, label="back: 180 - 2 atan(2a) - i")
     ax.axhline(180 - inc, color="k", ls="--", lw=1, label="forward: 180 - i")
@@ -670,7 +677,7 @@ def fig_glm_diagnostics(diag: pd.DataFrame, summary: pd.DataFrame):
         ax.axhline(0, color="k", lw=0.8)
         top = d.nlargest(3, "cooks_distance")
         for _, row in top.iterrows():
-            ax.annotate(f"t{row['truncation']:g},a{an.aspect_label(row['aspect'])}",
+            ax.annotate(f"t{row['truncation']:g},a{aspect_label(row['aspect'])}",
                         (row["leverage"], row["pearson_residual"]), fontsize=7)
         ax.set_xlabel("leverage (hat); dotted 2p/n")
         ax.set_ylabel("Pearson residual")
@@ -687,14 +694,14 @@ def fig_model_fits(fits: pd.DataFrame):
     inc = _incidence(fits)
     d = fits[np.isclose(fits["incidence"], inc)].copy()
     d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
-    panels = [(col, f"{comp}: {name}") for comp, cols in an.MODEL_COLUMNS.items() for col, name in cols.items()
+    panels = [(col, f"{comp}: {name}") for comp, cols in MODEL_COLUMNS.items() for col, name in cols.items()
               if col in d]
     ncol = 4
     nrow = math.ceil(len(panels) / ncol)
     fig, axes = plt.subplots(nrow, ncol, figsize=(4.4 * ncol, 3.5 * nrow), squeeze=False)
-    vmax = {comp: float(np.nanmax(d[[c for c in cols if c in d]].to_numpy())) for comp, cols in an.MODEL_COLUMNS.items()
+    vmax = {comp: float(np.nanmax(d[[c for c in cols if c in d]].to_numpy())) for comp, cols in MODEL_COLUMNS.items()
             if any(c in d for c in cols)}
-    comp_of = {col: comp for comp, cols in an.MODEL_COLUMNS.items() for col in cols}
+    comp_of = {col: comp for comp, cols in MODEL_COLUMNS.items() for col in cols}
     for ax, (col, title) in zip(axes.flat, panels):
         p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
         _heatmap(ax, p, cmap="mako_r", vmin=0, vmax=vmax[comp_of[col]] or 1)
@@ -711,8 +718,8 @@ def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, 
     inc = _incidence(study)
     if surfaces is None:
         surfaces = []
-        for t, a in ((0.5, 1.0), (1.0, 1.0), (1.0, an.SQRT3_2), (1.0, 0.5)):
-            r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= an.ASPECT_TOL)
+        for t, a in ((0.5, 1.0), (1.0, 1.0), (1.0, SQRT3_2), (1.0, 0.5)):
+            r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= ASPECT_TOL)
                      & np.isclose(fits["incidence"], inc)]
             if len(r):
                 surfaces.append((float(r["truncation"].iloc[0]), float(r["aspect"].iloc[0]), inc))
@@ -721,12 +728,12 @@ def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, 
     tot = study[study["component"].astype(str) == "total"]
     fig, axes = plt.subplots(1, len(surfaces), figsize=(4.3 * len(surfaces), 3.5), squeeze=False, sharey=True)
     for ax, (t, a, i) in zip(axes[0], surfaces):
-        d = tot[np.isclose(tot["truncation"], t) & (np.abs(tot["aspect"] - a) <= an.ASPECT_TOL)
+        d = tot[np.isclose(tot["truncation"], t) & (np.abs(tot["aspect"] - a) <= ASPECT_TOL)
                 & np.isclose(tot["incidence"], i) & (tot["coverage"] > 0) & (tot["phase"] <= max_phase)]
         ax.scatter(d["phase"], d["rough"], s=3, alpha=0.35, color="0.3", label="views (all azimuths)")
         curve = d.groupby(np.floor(d["phase"]))["rough"].mean()
         ax.plot(curve.index + 0.5, curve.values, color="k", lw=1.5, label="phase curve (fitted)")
-        r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= an.ASPECT_TOL)
+        r = fits[np.isclose(fits["truncation"], t) & (np.abs(fits["aspect"] - a) <= ASPECT_TOL)
                  & np.isclose(fits["incidence"], i)].iloc[0]
         g = np.linspace(0, max_phase, 200)
         if np.isfinite(r["hapke_c"]):
@@ -737,7 +744,7 @@ def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, 
                 ax.plot(g, y, color="#d62728", label=f"+ Hapke B(g): B0 {r['hapke_B0']:.3g}, h {r['hapke_h']:.3g}")
         ax.set_xlabel("phase angle g (deg)")
         ax.set_ylabel("total (0-255)")
-        ax.set_title(f"t {t:g}, aspect {an.aspect_label(a)}: RMSE {r['rmse_hapke']:.1f} "
+        ax.set_title(f"t {t:g}, aspect {aspect_label(a)}: RMSE {r['rmse_hapke']:.1f} "
                      f"(background alone {r['rmse_constant_near_opposition']:.1f})", loc="left", fontsize=8)
         ax.legend(fontsize=7)
     return fig

@@ -26,6 +26,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pandas as pd
 
 __all__ = [
     "FACET_NAMES",
@@ -39,6 +40,10 @@ __all__ = [
     "period_mesh",
     "control_mesh",
     "facet_areas",
+    "facets",
+    "lobe_centres",
+    "front_facet_share",
+    "reflecting_areas",
 ]
 
 #: Facet names in the order :func:`facet_polygons` returns them. ``east`` is
@@ -216,3 +221,100 @@ def export_mesh_atomic(mesh, path) -> None:
 
     with atomic_path(path) as tmp:
         mesh.export(tmp)
+
+
+# ---------------------------------------------------------------------------
+# facets and the directions they mirror the light to
+def lobe_centres(incidence: float, aspect: float) -> dict:
+    """Predicted elevations (phi = 0 arc) of the facets' mirror directions.
+
+    Parameters
+    ----------
+    incidence : float
+        Light elevation ``i``, degrees.
+    aspect : float
+        Pyramid height / period (sets the side tilt ``s = atan(2 aspect)``).
+
+    Returns
+    -------
+    dict
+        ``forward``: ``180 - i`` (top facet / plate); ``back``: ``180 - 2s - i``
+        (the side facet facing the light), None when it leaves [0, 180] or the
+        aspect is 0 (no side facets); ``west``: ``180 + 2s - i`` when it lies
+        below 180 (only while ``2 s < i``), else None. Degrees.
+    """
+    i = float(incidence)
+    s = side_slope_deg(aspect)
+    out = {"forward": 180.0 - i, "back": None, "west": None}
+    if float(aspect) > 0:
+        back = 180.0 - 2.0 * s - i
+        out["back"] = back if 0.0 < back < 180.0 else None
+        west = 180.0 + 2.0 * s - i
+        out["west"] = west if west < 180.0 else None
+    return out
+
+
+def facets(truncation: float, aspect: float) -> list[tuple[str, np.ndarray, float]]:
+    """The facets of one period with their unit normal and plan (x-y projected) area.
+
+    Returns
+    -------
+    list of (name, normal (3,) array, plan_area float); plan areas sum to 1.
+    """
+    areas = facet_areas(truncation, aspect)
+    _, normals, names = period_triangles(truncation, aspect)
+    out = []
+    for name, true_area in areas.items():
+        n = normals[names.index(name)]
+        out.append((name, np.asarray(n, float), float(true_area * n[2])))
+    return out
+
+
+def front_facet_share(aspect: float, incidence: float) -> float:
+    """The back-lobe area factor ``k`` from geometry.
+
+    The share of the image that the full pyramid's light-facing facet fills,
+    visible and lit, seen from its mirror direction (exact polygon clipping):
+    0.5 at aspects 1 and sqrt(3)/2 with incidence 30. NaN when that mirror
+    direction is below the horizon (no back lobe).
+    """
+    from .reference import visible_lit_areas
+
+    back = lobe_centres(incidence, aspect)["back"]
+    if back is None:
+        return float("nan")
+    return float(visible_lit_areas(1.0, aspect, incidence, 0.0, back).get("east", (0.0, 0.0))[0])
+
+
+def reflecting_areas(aspect: float, incidence: float, truncations=None) -> pd.DataFrame:
+    """Visible-and-lit areas of the reflecting facets against truncation (the thesis's Fig. 24).
+
+    For each truncation, the top's share of the image seen from the forward
+    mirror direction and the light-facing facet's share seen from the back
+    mirror direction (exact polygon clipping,
+    :func:`roughlight.reference.visible_lit_areas`), beside the normalised
+    square and triangle area functions ``(1 - t)^2`` and
+    ``k (1 - (1 - t)^2)`` with ``k`` the full pyramid's value.
+
+    Returns
+    -------
+    DataFrame: ``truncation``, ``top`` and ``front`` (fractions of the image,
+    0-1), ``square_area`` and ``triangle_area`` (same scale), ``k``.
+    """
+    from .reference import visible_lit_areas
+
+    t_values = np.linspace(0, 1, 21) if truncations is None else np.asarray(truncations, float)
+    centres = lobe_centres(incidence, aspect)
+    rows = []
+    for t in t_values:
+        top = visible_lit_areas(t, aspect, incidence, 0.0, centres["forward"]).get("top", (0.0, 0.0))[0]
+        front = np.nan
+        if centres["back"] is not None:
+            front = visible_lit_areas(t, aspect, incidence, 0.0, centres["back"]).get("east", (0.0, 0.0))[0]
+        rows.append({"truncation": float(t), "top": float(top), "front": float(front)})
+    out = pd.DataFrame(rows)
+    k = front_facet_share(aspect, incidence)
+    out["square_area"] = (1 - out["truncation"]) ** 2
+    out["triangle_area"] = k * (1 - (1 - out["truncation"]) ** 2)
+    out["k"] = k
+    return out

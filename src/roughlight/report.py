@@ -27,8 +27,10 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from . import analysis as an
 from .atomic import write_text_atomic
+from .selection import ASPECT_TOL, SURFACE_KEYS, find_aspect
+from .surface import SQRT3_2, aspect_label
+from .thesis import TABLE_METRICS, THESIS_TABLES
 
 __all__ = [
     "CAPTIONS",
@@ -216,7 +218,7 @@ def file_provenance(path) -> dict:
             h.update(chunk)
     st = p.stat()
     return {"path": str(path), "bytes": st.st_size,
-            "modified": _dt.datetime.fromtimestamp(st.st_mtime, _dt.timezone.utc).isoformat(timespec="seconds"),
+            "modified": _dt.datetime.fromtimestamp(st.st_mtime, _dt.UTC).isoformat(timespec="seconds"),
             "sha256": h.hexdigest()}
 
 
@@ -295,11 +297,11 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float) -> str:
     'exact geometry' when present, 'thesis 2001'); columns Mean Abs Error,
     Standard Deviation, b0, b1, RSS.
     """
-    spec = an.THESIS_TABLES[table]
-    sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= an.ASPECT_TOL)]
-    label = an.aspect_label(aspect)
+    spec = THESIS_TABLES[table]
+    sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= ASPECT_TOL)]
+    label = aspect_label(aspect)
     tid = f"table{table}-aspect-{label.replace('√3/2', 'sqrt3-2')}"
-    head = "<th>Model</th><th>Source</th>" + "".join(f"<th>{_e(m)}</th>" for m in an.TABLE_METRICS)
+    head = "<th>Model</th><th>Source</th>" + "".join(f"<th>{_e(m)}</th>" for m in TABLE_METRICS)
     rows = []
     order = {"ours": 0, "exact geometry": 1, "thesis 2001": 2}
     for model in spec["rows"]:
@@ -308,7 +310,7 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float) -> str:
             cls = {"ours": "ours", "exact geometry": "exact", "thesis 2001": "thesis"}[r["source"]]
             first = f'<td rowspan="{len(block)}"><b>{_e(model)}</b></td>' if k == 0 else ""
             digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "b0": 3, "b1": 3, "RSS": 3}
-            cells = "".join(f"<td>{_e(_fmt(r[m], digits[m]))}</td>" for m in an.TABLE_METRICS)
+            cells = "".join(f"<td>{_e(_fmt(r[m], digits[m]))}</td>" for m in TABLE_METRICS)
             rows.append(f'<tr class="{cls}">{first}<td class="src">{_e(r["source"])}</td>{cells}</tr>')
     cap = f"Table {table}: {spec['title']} (aspect {label}, incidence 30)"
     return (f'<table class="thesis-table" id="{tid}" data-table="{table}" data-aspect="{_e(label)}">'
@@ -383,7 +385,7 @@ def _notes(messages) -> str:
 
 
 def _stat(tables, table, aspect, model, source, metric):
-    sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= an.ASPECT_TOL)
+    sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= ASPECT_TOL)
                  & (tables["model"] == model) & (tables["source"] == source)]
     return float(sel[metric].iloc[0]) if len(sel) else float("nan")
 
@@ -393,7 +395,7 @@ def _table_findings(tables: pd.DataFrame, exact: pd.DataFrame | None) -> str:
         return '<p class="note">No table could be computed (see the notes above).</p>'
     out = []
     for aspect in sorted(tables["aspect"].unique(), reverse=True):
-        lab = an.aspect_label(aspect)
+        lab = aspect_label(aspect)
         sq = _stat(tables, 1, aspect, "Square Area Function", "ours", "Mean Abs Error")
         fr = _stat(tables, 1, aspect, "Regressed Model", "ours", "Mean Abs Error")
         tr = _stat(tables, 2, aspect, "Triangle Area Function", "ours", "Mean Abs Error")
@@ -514,7 +516,7 @@ def build_report(
     study = tables.get("study_summary", {}) or {}
     thesis = tables.get("thesis_tables")
     exact = tables.get("exact_peaks")
-    now = _dt.datetime.now(_dt.timezone.utc).isoformat(timespec="seconds")
+    now = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
     parts = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_e(title)}</title>"
              f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><style>{CSS}</style></head>"
              "<body><main>"]
@@ -536,11 +538,11 @@ def build_report(
             f"{_e(study.get('views_per_surface', '?'))} views each (azimuth 0–175 × elevation 0–180), "
             f"{_e(study.get('rows', '?'))} rows. "
             f"Truncations: {_e(', '.join(f'{t:g}' for t in study.get('truncations', [])))}. "
-            f"Aspects: {_e(', '.join(an.aspect_label(a) for a in aspects))}. "
+            f"Aspects: {_e(', '.join(aspect_label(a) for a in aspects))}. "
             f"Incidences: {_e(', '.join(f'{i:g}' for i in study.get('incidences', [])))}. "
             f"Light J = {_e(_fmt(study.get('light'), 0))}, shininess {_e(_fmt(study.get('shininess'), 0))}, "
             f"shadows {_e(study.get('shadows'))}, method {_e(study.get('method'))}.</p>")
-        if an.find_aspect(aspects, an.SQRT3_2) is None:
+        if find_aspect(aspects, SQRT3_2) is None:
             parts.append('<p class="note">Aspect √3/2 (0.8660254037844386, side facets at 60°, facing a light at '
                          "incidence 30 — the thesis's actual geometry) is not in this study: the tables and figures "
                          "below show aspect 1 only. Add it to <code>grid.aspect</code> to get its tables.</p>")
@@ -573,7 +575,7 @@ def build_report(
         b["interval"] = [f"[{lo:.3g}, {hi:.3g}]" for lo, hi in zip(b["low"], b["high"])]
         wide = b.pivot_table(index=["table", "aspect_label", "model"], columns="metric", values="interval",
                              aggfunc="first")
-        wide = wide[[m for m in an.TABLE_METRICS if m in wide.columns]].reset_index()
+        wide = wide[[m for m in TABLE_METRICS if m in wide.columns]].reset_index()
         wide = wide.rename(columns={"aspect_label": "aspect"})
         n_boot = int(b["n_boot"].iloc[0])
         n_trunc = "/".join(str(int(n)) for n in sorted(b["n"].unique()))
@@ -602,12 +604,12 @@ def build_report(
         parts.append(_figure(stem, figures))
     dp = tables.get("diffuse_parts")
     if dp is not None and len(dp):
-        want = [a for a in (1.0, an.SQRT3_2) if an.find_aspect(dp["aspect"], a) is not None]
-        sel = dp[np.isin(dp["aspect"].round(12), [round(an.find_aspect(dp["aspect"], a), 12) for a in want])] \
+        want = [a for a in (1.0, SQRT3_2) if find_aspect(dp["aspect"], a) is not None]
+        sel = dp[np.isin(dp["aspect"].round(12), [round(find_aspect(dp["aspect"], a), 12) for a in want])] \
             if want else dp.head(0)
         cols = ["truncation", "aspect", "e1", "e2", "level1", "level3", "rate", "decay_length", "rmse", "note"]
         sel = sel[cols].copy()
-        sel["aspect"] = sel["aspect"].map(an.aspect_label)
+        sel["aspect"] = sel["aspect"].map(aspect_label)
         parts.append(_table(sel, "The three-part diffuse model (Ch. V.F) fitted on the azimuth-0 arc: breaks e1 "
                                  "(incidence) and e2 (front facet edge-on), levels of parts one and three, decay "
                                  "rate k (1/deg) and length 1/k (deg) of part two", table_id="diffuse-parts"))
@@ -621,20 +623,20 @@ def build_report(
     parts.append(_figure("lobe_geometry", figures))
     lobes = tables.get("lobes")
     if lobes is not None and len(lobes):
-        want = [an.find_aspect(lobes["aspect"], a) for a in (1.0, an.SQRT3_2)]
+        want = [find_aspect(lobes["aspect"], a) for a in (1.0, SQRT3_2)]
         want = [a for a in want if a is not None]
         sel = lobes[lobes["aspect"].isin(want) & lobes["lobe"].isin(["forward", "back"])].copy()
-        sel["aspect"] = sel["aspect"].map(an.aspect_label)
+        sel["aspect"] = sel["aspect"].map(aspect_label)
         sel = sel[["truncation", "aspect", "incidence", "lobe", "predicted", "peak", "peak_elevation", "centroid",
                    "fwhm", "phase_at_peak", "note"]]
         parts.append(_table(sel, "Lobes on the azimuth-0 arc (peak 0-255; predicted centre, peak elevation, "
                                  "centroid and FWHM in degrees)", table_id="arc-lobes"))
     hemi = tables.get("lobes_hemisphere")
     if hemi is not None and len(hemi):
-        want = [an.find_aspect(hemi["aspect"], a) for a in (1.0, an.SQRT3_2)]
+        want = [find_aspect(hemi["aspect"], a) for a in (1.0, SQRT3_2)]
         want = [a for a in want if a is not None]
         sel = hemi[hemi["aspect"].isin(want)].copy()
-        sel["aspect"] = sel["aspect"].map(an.aspect_label)
+        sel["aspect"] = sel["aspect"].map(aspect_label)
         parts.append("<details><summary>Lobes over the whole hemisphere</summary>" +
                      _table(sel, "Lobes over the hemisphere: peak, where it is, and the solid angle above half "
                                  "maximum (sr) with the equivalent cone's full angle (deg)",
@@ -695,7 +697,7 @@ def build_report(
     timings = tables.get("timings")
     if timings is not None and len(timings):
         t = timings.copy()
-        t["aspect"] = t["aspect"].map(an.aspect_label)
+        t["aspect"] = t["aspect"].map(aspect_label)
         parts.append("<details><summary>Per-sweep timings</summary>" +
                      _table(t, "Render wall time per sweep", digits=2, table_id="timings") + "</details>")
     parts.append(_figure("timings", figures))
@@ -744,10 +746,10 @@ def write_report(path, html_text: str) -> str:
 
 def study_summary(study: pd.DataFrame) -> dict:
     """What the report says about the study table (grid, views, settings)."""
-    keys = study[an.SURFACE_KEYS].drop_duplicates()
+    keys = study[SURFACE_KEYS].drop_duplicates()
     comp = study["component"].astype(str)
     first = study.loc[comp == comp.iloc[0]]
-    per = first.groupby(an.SURFACE_KEYS).size()
+    per = first.groupby(SURFACE_KEYS).size()
     row = study.iloc[0]
     return {
         "rows": int(len(study)),

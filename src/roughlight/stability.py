@@ -37,6 +37,7 @@ import numpy as np
 import pandas as pd
 
 from . import reference, rendering, shading
+from .surface import SQRT3_2
 
 __all__ = [
     "TOLERANCE",
@@ -60,7 +61,6 @@ __all__ = [
 #: Largest mean absolute error (0-255 scale, each component) counted as "within tolerance".
 TOLERANCE = 0.5
 COMPONENTS = ("diffuse", "specular", "total")
-SQRT3_2 = math.sqrt(3.0) / 2.0
 #: Surfaces (truncation, aspect, incidence) the fast method is measured on: the thesis's
 #: aspect-1 quarter, half and full pyramids, a low half pyramid, the 30-degree facets
 #: (aspect sqrt(3)/2, its side facets facing a light at incidence 30) and a wide low mesa.

@@ -8,14 +8,14 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight import analysis as an  # noqa: E402
 from roughlight.atomic import read_frame, write_frame, write_text_atomic  # noqa: E402
+from roughlight.glm import grid_glms  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output
 lobes = pd.read_parquet(snakemake.input.lobes)
 levels = read_frame(snakemake.input.diffuse_levels)
-summary, coefficients, diagnostics, messages = an.grid_glms(
+summary, coefficients, diagnostics, messages = grid_glms(
     lobes, levels, collinearity_limit=float(snakemake.params.settings["collinearity_limit"])
 )
 for msg in messages:

@@ -8,10 +8,15 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight import analysis as an  # noqa: E402
 from roughlight.atomic import write_frame, write_text_atomic  # noqa: E402
+from roughlight.diffuse import diffuse_levels, diffuse_three_part  # noqa: E402
+from roughlight.geometry import reflecting_areas  # noqa: E402
+from roughlight.lobes import arc_lobes, hemisphere_lobes  # noqa: E402
 from roughlight.report import study_summary  # noqa: E402
+from roughlight.selection import SURFACE_KEYS, find_aspect  # noqa: E402
 from roughlight.shading import Lighting  # noqa: E402
+from roughlight.thesis import bootstrap_tables, exact_lobe_peaks, sine_refits, thesis_tables  # noqa: E402
+from roughlight.timings import render_timings  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output
@@ -25,43 +30,43 @@ study = pd.read_parquet(snakemake.input.study)
 log(f"study: {len(study)} rows from {snakemake.input.study}")
 messages = []
 
-lobes = an.arc_lobes(study, max_halfwidth=float(settings["lobe_halfwidth"]))
+lobes = arc_lobes(study, max_halfwidth=float(settings["lobe_halfwidth"]))
 write_frame(lobes, out.lobes)
-write_frame(an.hemisphere_lobes(study, max_angle=float(settings["lobe_halfwidth"])), out.hemisphere)
+write_frame(hemisphere_lobes(study, max_angle=float(settings["lobe_halfwidth"])), out.hemisphere)
 log(f"lobes: {len(lobes)} arc lobes")
 
-parts = an.diffuse_three_part(study)
+parts = diffuse_three_part(study)
 write_frame(parts, out.diffuse_parts)
-levels = an.diffuse_levels(study)
+levels = diffuse_levels(study)
 write_frame(levels, out.diffuse_levels)
 log(f"diffuse: {int(parts['rate'].notna().sum())} of {len(parts)} surfaces with a fitted decay")
 
 if settings["exact_check"]:
-    exact = an.exact_lobe_peaks(lobes, aspects, incidence, lighting)
+    exact = exact_lobe_peaks(lobes, aspects, incidence, lighting)
     log(f"exact peaks: {len(exact)}; max |measured - exact| = {exact['error'].abs().max():.3f}")
 else:
-    exact = pd.DataFrame(columns=an.SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation", "error"])
+    exact = pd.DataFrame(columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation", "error"])
     messages.append("the exact-reference check of the lobe peaks is switched off (report.exact_check)")
 write_frame(exact, out.exact)
 
-tables, table_messages = an.thesis_tables(lobes, aspects, incidence, m=m, k=None, exact=exact if len(exact) else None)
+tables, table_messages = thesis_tables(lobes, aspects, incidence, m=m, k=None, exact=exact if len(exact) else None)
 messages += table_messages
 write_frame(tables, out.thesis_tables)
-write_frame(an.bootstrap_tables(lobes, aspects, incidence, m=m), out.bootstrap)
-write_frame(an.sine_refits(lobes, aspects, incidence, m=m), out.sine)
+write_frame(bootstrap_tables(lobes, aspects, incidence, m=m), out.bootstrap)
+write_frame(sine_refits(lobes, aspects, incidence, m=m), out.sine)
 for msg in table_messages:
     log(msg)
 
 areas = []
 for wanted in aspects:
-    found = an.find_aspect(study["aspect"], wanted)
+    found = find_aspect(study["aspect"], wanted)
     if found is not None:
-        frame = an.reflecting_areas(found, incidence)
+        frame = reflecting_areas(found, incidence)
         frame.insert(0, "aspect", found)
         areas.append(frame)
 write_frame(pd.concat(areas, ignore_index=True) if areas else pd.DataFrame(), out.areas)
 
-per_sweep, timing_summary = an.render_timings(study)
+per_sweep, timing_summary = render_timings(study)
 write_frame(per_sweep, out.timings)
 summary = {"study": study_summary(study), "timings": timing_summary, "messages": messages}
 write_text_atomic(out.summary, json.dumps(summary, indent=1))
