@@ -1,4 +1,4 @@
-"""Tests of the analysis (roughlight.analysis): lobes, the thesis's tables, GLMs, analytic models.
+"""Tests of the analysis: lobes, diffuse parts, the thesis's tables, GLMs, analytic models.
 
 The data are made here: small studies from the exact polygon-clipping
 reference (``make_study``) or synthetic curves with known parameters.
@@ -17,6 +17,7 @@ from roughlight.geometry import lobe_centres, reflecting_areas
 from roughlight.glm import grid_glm, grid_glms
 from roughlight.lobes import arc_lobes, hemisphere_lobes, profile_lobe
 from roughlight.shading import Lighting, phase_angle, quantize
+from roughlight.surface import Surface
 from roughlight.surface_models import (
     analytic_model_fits,
     facet_model,
@@ -45,7 +46,8 @@ def make_study(truncations, aspects, incidence=30.0, azimuths=(0.0,), elevations
 
     ``method`` 'reference' uses the exact polygon clipping, 'fast' the renderer.
     """
-    from roughlight.rendering import RenderSettings, measure_sweep
+    from roughlight.measure import measure_sweep
+    from roughlight.sampling import RenderSettings
 
     lighting = lighting or Lighting()
     elevations = np.arange(0.0, 181.0, 1.0) if elevations is None else np.asarray(elevations, float)
@@ -53,11 +55,11 @@ def make_study(truncations, aspects, incidence=30.0, azimuths=(0.0,), elevations
     az, el = az.ravel(), el.ravel()
     rs = RenderSettings(**(settings or {}))
     plate_lighting = Lighting(**{**lighting.as_dict(), "shadows": False})
-    control = measure_sweep(method, 0.0, 0.0, incidence, az, el, plate_lighting, rs)
+    control = measure_sweep(method, Surface(0.0, 0.0), incidence, az, el, plate_lighting, rs)
     frames = []
     for t in truncations:
         for a in aspects:
-            out = measure_sweep(method, t, a, incidence, az, el, lighting, rs)
+            out = measure_sweep(method, Surface(t, a), incidence, az, el, lighting, rs)
             for comp in ("diffuse", "specular", "total"):
                 frames.append(pd.DataFrame({
                     "truncation": float(t), "aspect": float(a), "incidence": float(incidence),
@@ -203,7 +205,7 @@ def test_thesis_tables_rank_the_true_law_first():
         assert messages == []
         ours = tables[tables["source"] == "ours"]
         assert len(ours) == 8  # 2 aspects x 2 tables x 2 models
-        for (table, aspect), g in ours.groupby(["table", "aspect"]):
+        for _, g in ours.groupby(["table", "aspect"]):
             best = g.sort_values("Mean Abs Error").iloc[0]
             assert winner in best["model"]
             assert best["Mean Abs Error"] == pytest.approx(0.0, abs=1e-9)

@@ -10,6 +10,7 @@ import pytest
 from roughlight import reference
 from roughlight.reference import reference_sweep, visible_lit_areas
 from roughlight.shading import Lighting, facet_components, light_direction, quantize, view_direction
+from roughlight.surface import Surface
 
 J = 127.0
 
@@ -31,7 +32,7 @@ def test_plate_closed_forms(incidence, shadows):
     az, el = _views(20.0, 5.0)
     inner = (el > 0) & (el < 180)
     for lighting in (Lighting(shadows=shadows), Lighting(shadows=shadows, ambient=0.2, shininess=10)):
-        out = reference_sweep(0.0, 1.0, incidence, az, el, lighting)
+        out = reference_sweep(Surface(0.0, 1.0), incidence, az, el, lighting)
         i = math.radians(incidence)
         diffuse = quantize(J * (0.2 * (lighting.ambient > 0) + max(math.sin(i), 0.0)))
         np.testing.assert_array_equal(out["diffuse"][inner], diffuse)
@@ -51,17 +52,17 @@ def test_plate_closed_forms(incidence, shadows):
 
 @pytest.mark.parametrize("incidence", [15.0, 30.0, 60.0])
 def test_plate_specular_peak_in_mirror_direction(incidence):
-    out = reference_sweep(0.0, 0.0, incidence, [0.0, 0.0, 5.0], [180.0 - incidence, 90.0, 180.0 - incidence])
+    out = reference_sweep(Surface(0.0, 0.0), incidence, [0.0, 0.0, 5.0], [180.0 - incidence, 90.0, 180.0 - incidence])
     assert out["specular"][0] == 127.0  # m_s = 1, R.V = 1
     assert out["specular"][0] > out["specular"][2] >= out["specular"][1]
 
 
 def test_plate_quantized_false_is_raw():
-    out = reference_sweep(0.0, 1.0, 30.0, [0.0], [45.0], quantized=False)
+    out = reference_sweep(Surface(0.0, 1.0), 30.0, [0.0], [45.0], quantized=False)
     assert out["diffuse"][0] == pytest.approx(J * 0.5, abs=1e-9)
     raw = J * math.sin(math.radians(30.0))  # 63.49999999999999 in float64
     assert out["diffuse"][0] == raw
-    assert reference_sweep(0.0, 1.0, 30.0, [0.0], [45.0])["diffuse"][0] == quantize(raw)
+    assert reference_sweep(Surface(0.0, 1.0), 30.0, [0.0], [45.0])["diffuse"][0] == quantize(raw)
 
 
 # ---------------------------------------------------------------------------
@@ -71,7 +72,7 @@ def test_plate_quantized_false_is_raw():
 @pytest.mark.parametrize("t", [0.25, 0.5, 0.8, 1.0])
 def test_top_view_areas_and_values(t):
     aspect, incidence = 0.9, 40.0
-    areas = visible_lit_areas(t, aspect, incidence, 0.0, 90.0, shadows=False)
+    areas = visible_lit_areas(Surface(t, aspect), incidence, 0.0, 90.0, shadows=False)
     side = (1.0 - (1.0 - t) ** 2) / 4.0
     expected = {"top": (1.0 - t) ** 2, "east": side, "west": side, "north": side, "south": side}
     if t == 1.0:
@@ -84,7 +85,7 @@ def test_top_view_areas_and_values(t):
     assert areas["east"][1] == 0.0
 
     lighting = Lighting(shadows=False, ambient=0.1)
-    out = reference_sweep(t, aspect, incidence, [0.0], [90.0], lighting)
+    out = reference_sweep(Surface(t, aspect), incidence, [0.0], [90.0], lighting)
     normals = {
         "top": (0.0, 0.0, 1.0),
         "east": (2 * aspect, 0.0, 1.0),
@@ -123,7 +124,7 @@ def test_cast_shadow_full_pyramid_by_hand(aspect, incidence):
     ac = aspect / math.tan(math.radians(incidence))
     assert 0.5 <= ac <= 1.5
     frac = (ac - 0.5) / (ac + 0.5)
-    areas = visible_lit_areas(1.0, aspect, incidence, 0.0, 90.0)
+    areas = visible_lit_areas(Surface(1.0, aspect), incidence, 0.0, 90.0)
     assert areas["east"][0] == pytest.approx(0.25 * (1 - frac), abs=1e-12)
     assert areas["east"][1] == pytest.approx(0.25 * frac, abs=1e-12)
     assert areas["west"] == (0.0, pytest.approx(0.25, abs=1e-12))
@@ -134,15 +135,15 @@ def test_cast_shadow_full_pyramid_by_hand(aspect, incidence):
         # in plan: the east facet is z = 2 (1 - x), light coordinate
         # x - z = 3 x - 2; the shadow triangle's apex (0.5, 0.5) maps back to
         # x = 5/6, so the shadow is the plan triangle (1, 0), (1, 1), (5/6, 1/2)
-        lit = reference.lit_footprints(1.0, 1.0, 45.0)["east"]
+        lit = reference.lit_footprints(Surface(1.0, 1.0), 45.0)["east"]
         assert lit.area == pytest.approx(0.25 - 0.5 * (1 - 5 / 6), abs=1e-12)
 
 
 @pytest.mark.parametrize("aspect", [0.3, 1.0])
 def test_west_self_shadow_threshold(aspect):
     threshold = math.degrees(math.atan(2 * aspect))
-    below = visible_lit_areas(1.0, aspect, threshold - 0.5, 0.0, 90.0)
-    above = visible_lit_areas(1.0, aspect, threshold + 0.5, 0.0, 90.0)
+    below = visible_lit_areas(Surface(1.0, aspect), threshold - 0.5, 0.0, 90.0)
+    above = visible_lit_areas(Surface(1.0, aspect), threshold + 0.5, 0.0, 90.0)
     assert below["west"][0] == 0.0 and below["west"][1] == pytest.approx(0.25)
     # just above the threshold nothing casts a shadow (a cot i < 0.5)
     assert above["west"] == (pytest.approx(0.25, abs=1e-12), 0.0)
@@ -155,20 +156,20 @@ def test_incidence_zero_all_shadowed():
     az, el = _views(45.0, 15.0)
     inner = (el > 0) & (el < 180)
     lighting = Lighting(ambient=0.3)
-    out = reference_sweep(0.5, 1.0, 0.0, az, el, lighting)
+    out = reference_sweep(Surface(0.5, 1.0), 0.0, az, el, lighting)
     np.testing.assert_allclose(out["diffuse"][inner], quantize(J * 0.3), atol=1e-9)
     assert np.all(out["specular"] == 0.0)
-    for lit, _ in visible_lit_areas(0.5, 1.0, 0.0, 10.0, 60.0).values():
+    for lit, _ in visible_lit_areas(Surface(0.5, 1.0), 0.0, 10.0, 60.0).values():
         assert lit == 0.0
     # without shadows the east facet (N.L > 0) is lit at incidence 0
-    areas = visible_lit_areas(0.5, 1.0, 0.0, 0.0, 90.0, shadows=False)
+    areas = visible_lit_areas(Surface(0.5, 1.0), 0.0, 0.0, 90.0, shadows=False)
     assert areas["east"][0] > 0 and areas["top"][0] == 0.0
 
 
 def test_shadows_only_darken():
     az, el = _views(30.0, 10.0)
-    on = reference_sweep(0.6, 1.1, 25.0, az, el, Lighting(shadows=True))
-    off = reference_sweep(0.6, 1.1, 25.0, az, el, Lighting(shadows=False))
+    on = reference_sweep(Surface(0.6, 1.1), 25.0, az, el, Lighting(shadows=True))
+    off = reference_sweep(Surface(0.6, 1.1), 25.0, az, el, Lighting(shadows=False))
     assert np.all(on["diffuse"] <= off["diffuse"] + 1e-9)
     assert np.all(on["specular"] <= off["specular"] + 1e-9)
     assert np.any(on["diffuse"] < off["diffuse"] - 1.0)
@@ -315,8 +316,8 @@ def test_against_brute_force_ray_marcher(case):
     n_side = 256
     rng = np.random.default_rng([int(round(v * 100)) for v in case])
     per_ray = _brute_force(t, a, incidence, phi, e, lighting, n_side, rng)
-    ref = reference_sweep(t, a, incidence, [phi], [e], lighting)
-    areas = visible_lit_areas(t, a, incidence, phi, e)
+    ref = reference_sweep(Surface(t, a), incidence, [phi], [e], lighting)
+    areas = visible_lit_areas(Surface(t, a), incidence, phi, e)
     for key, y in per_ray.items():
         if isinstance(key, tuple):
             name, state = key
@@ -347,25 +348,25 @@ def test_mirror_symmetry(surface):
     az, el = np.meshgrid(phi, e, indexing="ij")
     az, el = az.ravel(), el.ravel()
     lighting = Lighting(ambient=0.1, shininess=16)
-    out = reference_sweep(t, a, 35.0, az, el, lighting)
-    mirrored = reference_sweep(t, a, 35.0, 180.0 - az, 180.0 - el, lighting)
+    out = reference_sweep(Surface(t, a), 35.0, az, el, lighting)
+    mirrored = reference_sweep(Surface(t, a), 35.0, 180.0 - az, 180.0 - el, lighting)
     for key in ("diffuse", "specular", "total", "coverage"):
         np.testing.assert_allclose(out[key], mirrored[key], atol=1e-9)
     # the per-facet areas swap north and south
-    m = visible_lit_areas(t, a, 35.0, 60.0, 140.0)
-    mm = visible_lit_areas(t, a, 35.0, 120.0, 40.0)
+    m = visible_lit_areas(Surface(t, a), 35.0, 60.0, 140.0)
+    mm = visible_lit_areas(Surface(t, a), 35.0, 120.0, 40.0)
     for name, other in (("north", "south"), ("south", "north"), ("east", "east"), ("west", "west")):
         np.testing.assert_allclose(m[name], mm[other], atol=1e-12)
     # and phi -> 180 - phi alone is not a symmetry (the test can fail)
-    not_mirror = reference_sweep(t, a, 35.0, 180.0 - az, el, lighting)
+    not_mirror = reference_sweep(Surface(t, a), 35.0, 180.0 - az, el, lighting)
     assert np.max(np.abs(not_mirror["total"] - out["total"])) > 1.0
 
 
 def test_mirror_symmetry_phi_90():
     # V(e, 90) = (0, cos e, sin e) mirrors to (0, -cos e, sin e) = V(180 - e, 90).
     e = np.array([10.0, 35.0, 70.0])
-    out = reference_sweep(0.4, 1.2, 50.0, np.full(3, 90.0), e)
-    mirrored = reference_sweep(0.4, 1.2, 50.0, np.full(3, 90.0), 180.0 - e)
+    out = reference_sweep(Surface(0.4, 1.2), 50.0, np.full(3, 90.0), e)
+    mirrored = reference_sweep(Surface(0.4, 1.2), 50.0, np.full(3, 90.0), 180.0 - e)
     np.testing.assert_allclose(out["total"], mirrored["total"], atol=1e-9)
 
 
@@ -378,23 +379,23 @@ def test_coverage(surface):
     az, el = _views(15.0, 7.5)
     el = np.concatenate([el, [0.0, 180.0, 1.0, 179.0]])
     az = np.concatenate([az, [0.0, 90.0, 45.0, 135.0]])
-    out = reference_sweep(*surface, 20.0, az, el)
+    out = reference_sweep(Surface(*surface), 20.0, az, el)
     grazing = (el == 0) | (el == 180)
     np.testing.assert_allclose(out["coverage"][~grazing], 1.0, atol=reference.AREA_TOLERANCE)
     assert np.all(out["coverage"][grazing] == 0.0)
     for key in ("diffuse", "specular", "total"):
         assert np.all(out[key][grazing] == 0.0)
         assert out[key].shape == az.shape and out[key].dtype == np.float64
-    for lit, shadowed in visible_lit_areas(*surface, 20.0, 45.0, 1.0).values():
+    for lit, shadowed in visible_lit_areas(Surface(*surface), 20.0, 45.0, 1.0).values():
         assert lit >= 0 and shadowed >= -1e-15
-    assert sum(sum(v) for v in visible_lit_areas(*surface, 20.0, 45.0, 1.0).values()) == pytest.approx(1.0, abs=1e-9)
+    assert sum(sum(v) for v in visible_lit_areas(Surface(*surface), 20.0, 45.0, 1.0).values()) == pytest.approx(1.0, abs=1e-9)
 
 
 def test_input_validation():
     with pytest.raises(ValueError):
-        reference_sweep(0.5, 1.0, 95.0, [0.0], [45.0])
+        reference_sweep(Surface(0.5, 1.0), 95.0, [0.0], [45.0])
     with pytest.raises(ValueError):
-        reference_sweep(0.5, 1.0, 30.0, [0.0], [181.0])
+        reference_sweep(Surface(0.5, 1.0), 30.0, [0.0], [181.0])
     with pytest.raises(ValueError):
-        reference_sweep(1.5, 1.0, 30.0, [0.0], [45.0])
+        reference_sweep(Surface(1.5, 1.0), 30.0, [0.0], [45.0])
     assert reference.REFERENCE_ERROR < 0.5

@@ -6,14 +6,15 @@ import sys
 import numpy as np
 import pytest
 
-from roughlight import osmesa, reference, rendering, shading, sweeps
+from roughlight import gl, measure, naive, osmesa, periodic, reference, sampling, shading, sweeps
+from roughlight.surface import Surface
 
 AZ, EL = sweeps.view_grid(10, 30)  # coarse orbit: 19 elevations x 6 azimuths
 INNER = (EL > 0) & (EL < 180)
 
 
 def render(t, a, i, lighting=None, az=AZ, el=EL, **kw):
-    return rendering.render_sweep(t, a, i, az, el, lighting or shading.Lighting(), rendering.RenderSettings(**kw))
+    return periodic.fast_sweep(Surface(t, a), i, az, el, lighting or shading.Lighting(), sampling.RenderSettings(**kw))
 
 
 @pytest.mark.parametrize("incidence", [10, 30, 45, 60, 90])
@@ -82,14 +83,14 @@ def test_shadows_darken_at_low_incidence():
     # the shadowed amount is right: the east facets, facing the light, are partly
     # shadowed by the next pyramid; at e = 90 the exact lit area says how much
     fine = render(1.0, 1.0, 10, shadowed, az=[0.0], el=[90.0], pixels_per_period=128)
-    exact = reference.reference_sweep(1.0, 1.0, 10, [0.0], [90.0], shadowed)
+    exact = reference.reference_sweep(Surface(1.0, 1.0), 10, [0.0], [90.0], shadowed)
     assert abs(fine["diffuse"][0] - exact["diffuse"][0]) < 0.5
 
 
 @pytest.mark.parametrize("t,a,i", [(0.5, 1.0, 30), (1.0, 1.0, 30), (0.8, 0.8660254037844386, 30), (0.3, 0.5, 60)])
 def test_fast_agrees_with_the_exact_reference(t, a, i):
     lighting = shading.Lighting()
-    exact = reference.reference_sweep(t, a, i, AZ, EL, lighting)
+    exact = reference.reference_sweep(Surface(t, a), i, AZ, EL, lighting)
     keep = (EL >= 10) & (EL <= 170)
     errors = {}
     for pixels in (32, 64):
@@ -117,7 +118,7 @@ def test_blinn_and_phong_differ_and_both_peak_at_the_mirror():
 
 def test_shader_programs_are_compiled_once():
     render(0.5, 1.0, 30)
-    ctx = next(iter(rendering._CONTEXTS.values()))
+    ctx = next(iter(gl.CONTEXTS.values()))
     before = dict(ctx.programs._programs)
     render(0.7, 0.5, 45)
     render(0.2, 1.0, 20)
@@ -129,40 +130,40 @@ def test_bad_incidence_and_shapes_are_refused():
     with pytest.raises(ValueError, match="incidence"):
         render(0.5, 1.0, 95)
     with pytest.raises(ValueError, match="same shape"):
-        rendering.render_sweep(0.5, 1.0, 30, [0, 5], [10])
+        periodic.fast_sweep(Surface(0.5, 1.0), 30, [0, 5], [10])
 
 
 def test_naive_method_measures_the_same_quantity():
     az, el = sweeps.view_grid(40, 60)
     keep = (el >= 10) & (el <= 170)
-    plate = rendering.measure_sweep("naive", 0.0, 0.0, 30, az, el)
+    plate = measure.measure_sweep("naive", Surface(0.0, 0.0), 30, az, el)
     assert np.all(np.abs(plate["diffuse"][keep] - 127 * 0.5) <= 0.5 + 1e-9)
     assert np.all(plate["coverage"][keep] == 1.0)
-    rough = rendering.measure_sweep("naive", 0.5, 1.0, 30, az[keep], el[keep])
-    exact = reference.reference_sweep(0.5, 1.0, 30, az[keep], el[keep], shading.Lighting())
+    rough = measure.measure_sweep("naive", Surface(0.5, 1.0), 30, az[keep], el[keep])
+    exact = reference.reference_sweep(Surface(0.5, 1.0), 30, az[keep], el[keep], shading.Lighting())
     # a finite window of whole pixels: close to the truth, but not as close as the fast method
     assert np.mean(np.abs(rough["total"] - exact["total"])) < 5.0
     assert rough["seconds"] > 0
     # pyrender compiles its programs anew every render; none may pile up (they leaked 2 MB a render)
-    for renderer in rendering._NAIVE_RENDERERS.values():
+    for renderer in naive._NAIVE_RENDERERS.values():
         assert len(renderer._renderer._program_cache._program_cache) == 0
 
 
 def test_reference_is_a_method():
-    out = rendering.measure_sweep("reference", 0.5, 1.0, 30, AZ, EL)
+    out = measure.measure_sweep("reference", Surface(0.5, 1.0), 30, AZ, EL)
     assert set(out) >= {"diffuse", "specular", "total", "coverage", "seconds"}
     with pytest.raises(ValueError, match="render.method"):
-        rendering.measure_sweep("raytrace", 0.5, 1.0, 30, AZ, EL)
+        measure.measure_sweep("raytrace", Surface(0.5, 1.0), 30, AZ, EL)
 
 
 def test_missing_osmesa_ends_with_one_clear_message(monkeypatch):
     def broken(self):
         raise ImportError("Unable to load OpenGL library", "libOSMesa.so.8: cannot open shared object file")
 
-    monkeypatch.setattr(rendering.OSMesaPlatform, "init_context", broken)
-    monkeypatch.setattr(rendering, "_CONTEXTS", {})
+    monkeypatch.setattr(gl.OSMesaPlatform, "init_context", broken)
+    monkeypatch.setattr(gl, "CONTEXTS", {})
     with pytest.raises(RuntimeError, match="apt-get install libosmesa6"):
-        rendering.render_sweep(0.5, 1.0, 30, [0.0], [45.0])
+        periodic.fast_sweep(Surface(0.5, 1.0), 30, [0.0], [45.0])
 
 
 def test_missing_or_broken_osmesa_is_named(broken_osmesa):
@@ -176,7 +177,7 @@ def test_missing_or_broken_osmesa_is_named(broken_osmesa):
 
 def test_broken_osmesa_on_the_library_path_stops_the_import_with_one_message(broken_osmesa):
     env = {**os.environ, "LD_LIBRARY_PATH": str(broken_osmesa), "PYOPENGL_PLATFORM": "osmesa"}
-    proc = subprocess.run([sys.executable, "-c", "import roughlight.rendering"], env=env, capture_output=True,
+    proc = subprocess.run([sys.executable, "-c", "import roughlight.periodic"], env=env, capture_output=True,
                           text=True, timeout=120)
     assert proc.returncode != 0
     last = proc.stderr.strip().splitlines()[-1]
@@ -187,7 +188,7 @@ def test_broken_osmesa_on_the_library_path_stops_the_import_with_one_message(bro
 def test_jitter_moves_sampled_values_but_not_their_mean():
     az, el = sweeps.view_grid(20, 45)
     keep = (el >= 10) & (el <= 170)
-    exact = reference.reference_sweep(0.5, 1.0, 30, az, el, shading.Lighting())["total"][keep]
+    exact = reference.reference_sweep(Surface(0.5, 1.0), 30, az, el, shading.Lighting())["total"][keep]
     runs = [render(0.5, 1.0, 30, az=az, el=el, jitter=(dx, dy))["total"][keep]
             for dx, dy in [(0, 0), (0.5, 0), (0, 0.5), (0.25, 0.75), (0.8, 0.3)]]
     spread = np.std(runs, axis=0)
@@ -197,8 +198,8 @@ def test_jitter_moves_sampled_values_but_not_their_mean():
         assert np.mean(np.abs(run - exact)) < 0.5
     plate = [render(0.0, 0.0, 30, jitter=j)["total"] for j in [(0, 0), (0.37, 0.61)]]
     np.testing.assert_array_equal(plate[0], plate[1])
-    naive = [rendering.naive_sweep(0.5, 1.0, 30, [0.0], [60.0], jitter=j)["total"][0] for j in [(0, 0), (0.5, 0.5)]]
-    assert naive[0] != naive[1]
+    shifted = [naive.naive_sweep(Surface(0.5, 1.0), 30, [0.0], [60.0], jitter=j)["total"][0] for j in [(0, 0), (0.5, 0.5)]]
+    assert shifted[0] != shifted[1]
 
 
 def test_averaged_normals_shading_is_wrong_where_flat_is_right():
@@ -207,16 +208,16 @@ def test_averaged_normals_shading_is_wrong_where_flat_is_right():
     az, el = az[keep], el[keep]
     lighting = shading.Lighting()
     # on the plate the averaged normals are the face normal: all three shadings agree
-    plate = [rendering.naive_sweep(0.0, 0.0, 30, az, el, lighting, shading_model=m)["total"]
-             for m in rendering.SHADINGS]
+    plate = [naive.naive_sweep(Surface(0.0, 0.0), 30, az, el, lighting, shading_model=m)["total"]
+             for m in shading.SHADINGS]
     np.testing.assert_allclose(plate[1], plate[0], atol=0.5)
     np.testing.assert_allclose(plate[2], plate[0], atol=0.5)
-    exact = reference.reference_sweep(0.5, 1.0, 30, az, el, lighting)
-    errors = {m: np.mean(np.abs(rendering.naive_sweep(0.5, 1.0, 30, az, el, lighting, shading_model=m)["total"]
-                                - exact["total"])) for m in rendering.SHADINGS}
+    exact = reference.reference_sweep(Surface(0.5, 1.0), 30, az, el, lighting)
+    errors = {m: np.mean(np.abs(naive.naive_sweep(Surface(0.5, 1.0), 30, az, el, lighting, shading_model=m)["total"]
+                                - exact["total"])) for m in shading.SHADINGS}
     assert errors["phong"] > 2 * errors["flat"] and errors["gouraud"] > 2 * errors["flat"]
     with pytest.raises(ValueError, match="shading_model"):
-        rendering.naive_sweep(0.5, 1.0, 30, az, el, lighting, shading_model="toon")
+        naive.naive_sweep(Surface(0.5, 1.0), 30, az, el, lighting, shading_model="toon")
 
 
 def test_each_method_records_how_it_sampled(tmp_path):
@@ -228,9 +229,9 @@ def test_each_method_records_how_it_sampled(tmp_path):
     sweep = {"elevation_step": 60, "azimuth_step": 90}  # 4 views
     lighting = shading.Lighting().as_dict()
     seen = {}
-    for method in rendering.METHODS:
+    for method in measure.METHODS:
         path = tmp_path / f"{method}.parquet"
-        study.run_sweep(str(path), 0.5, 1.0, 30.0, sweep, lighting, method, {})
+        study.run_sweep(str(path), Surface(0.5, 1.0), 30.0, sweep, lighting, method, {})
         table = pq.read_table(path).to_pandas()
         seen[method] = {c: table[c].astype(object).unique().tolist()
                         for c in ("method", "pixels_per_period", "sampling", "shadow_map_size")}
@@ -241,4 +242,4 @@ def test_each_method_records_how_it_sampled(tmp_path):
     assert seen["reference"] == {"method": ["reference"], "pixels_per_period": [0], "sampling": ["exact"],
                                  "shadow_map_size": [0]}
     with pytest.raises(ValueError, match="render.method"):
-        rendering.recorded_settings("raytrace")
+        measure.recorded_settings("raytrace")

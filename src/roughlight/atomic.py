@@ -48,11 +48,21 @@ def write_text_atomic(path, text: str) -> None:
 
 
 def write_frame(frame, path) -> None:
-    """Write a DataFrame atomically as CSV or Parquet (by the file's extension)."""
+    """Write a table atomically as CSV or Parquet (by the file's extension).
+
+    ``frame`` is a pandas DataFrame, or for Parquet also a ``pyarrow.Table``
+    (the sweeps keep their dictionary-encoded columns that way). Parquet is
+    written with zstd compression, without the DataFrame's index.
+    """
     path = os.fspath(path)
     with atomic_path(path) as tmp:
         if path.endswith(".parquet"):
-            frame.to_parquet(tmp, index=False)
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+
+            if not isinstance(frame, pa.Table):
+                frame = pa.Table.from_pandas(frame, preserve_index=False)
+            pq.write_table(frame, tmp, compression="zstd")
         elif path.endswith(".csv"):
             frame.to_csv(tmp, index=False)
         else:

@@ -28,11 +28,10 @@ import math
 import numpy as np
 import pandas as pd
 
+from .surface import LENGTH_EPS, PLATE, Surface
+
 __all__ = [
     "FACET_NAMES",
-    "validate_surface",
-    "is_plate",
-    "surface_height",
     "top_side",
     "side_slope_deg",
     "facet_polygons",
@@ -51,53 +50,6 @@ __all__ = [
 #: azimuth is 0), ``west`` toward -x, ``north`` toward +y, ``south`` toward -y.
 FACET_NAMES = ("top", "east", "west", "north", "south")
 
-#: Lengths below this (in periods) are zero: a surface lower than this is the
-#: plate, and a top face narrower than this is the apex of a full pyramid.
-#: It keeps every triangle of every valid surface non-degenerate.
-LENGTH_EPS = 1e-9
-
-
-def validate_surface(truncation: float, aspect: float) -> tuple[float, float]:
-    """Check a surface's parameters and return them as floats.
-
-    Parameters
-    ----------
-    truncation : float
-        Fraction of the pyramid's height kept, in [0, 1].
-    aspect : float
-        Pyramid height over base width, >= 0 (finite).
-
-    Raises
-    ------
-    ValueError
-        Naming the parameter and the allowed range.
-    """
-    try:
-        t = float(truncation)
-        a = float(aspect)
-    except (TypeError, ValueError) as exc:
-        raise ValueError(
-            f"truncation and aspect must be numbers, got {truncation!r}, {aspect!r}"
-        ) from exc
-    if not (math.isfinite(t) and 0.0 <= t <= 1.0):
-        raise ValueError(f"truncation must be within [0, 1], got {truncation!r}")
-    if not (math.isfinite(a) and a >= 0.0):
-        raise ValueError(f"aspect must be a finite number >= 0, got {aspect!r}")
-    return t, a
-
-
-def is_plate(truncation: float, aspect: float) -> bool:
-    """True when the surface is the flat plate (``t = 0`` or ``aspect = 0``, or lower than :data:`LENGTH_EPS`)."""
-    t, a = validate_surface(truncation, aspect)
-    return t * a < LENGTH_EPS
-
-
-def surface_height(truncation: float, aspect: float) -> float:
-    """Height of the truncated pyramid, ``t * aspect`` (units of the period)."""
-    t, a = validate_surface(truncation, aspect)
-    return 0.0 if is_plate(t, a) else t * a
-
-
 def top_side(truncation: float) -> float:
     """Side of the top face, ``1 - t`` (units of the period)."""
     return 1.0 - float(truncation)
@@ -112,12 +64,12 @@ def side_slope_deg(aspect: float) -> float:
     return math.degrees(math.atan(2.0 * float(aspect)))
 
 
-def facet_polygons(truncation: float, aspect: float) -> list[tuple[str, np.ndarray]]:
+def facet_polygons(surface: Surface) -> list[tuple[str, np.ndarray]]:
     """The facets of one period as planar convex polygons.
 
     Parameters
     ----------
-    truncation, aspect : float
+    surface : Surface
         See module docstring.
 
     Returns
@@ -128,10 +80,10 @@ def facet_polygons(truncation: float, aspect: float) -> list[tuple[str, np.ndarr
         left out: the plate is a single ``top`` square at ``z = 0``; the full
         pyramid (``t = 1``) has no top and four triangular sides.
     """
-    t, a = validate_surface(truncation, aspect)
-    if is_plate(t, a):
+    if surface.is_plate:
         return [("top", np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float))]
-    height = t * a
+    t = surface.truncation
+    height = surface.height
     lo = 0.5 - 0.5 * (1.0 - t)
     hi = 0.5 + 0.5 * (1.0 - t)
     b00, b10, b11, b01 = (0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)
@@ -155,7 +107,7 @@ def facet_polygons(truncation: float, aspect: float) -> list[tuple[str, np.ndarr
     return facets
 
 
-def period_triangles(truncation: float, aspect: float) -> tuple[np.ndarray, np.ndarray, list[str]]:
+def period_triangles(surface: Surface) -> tuple[np.ndarray, np.ndarray, list[str]]:
     """Triangles of one period with their true face normals.
 
     Returns
@@ -168,7 +120,7 @@ def period_triangles(truncation: float, aspect: float) -> tuple[np.ndarray, np.n
         The facet each triangle belongs to.
     """
     tris, names = [], []
-    for name, verts in facet_polygons(truncation, aspect):
+    for name, verts in facet_polygons(surface):
         for k in range(1, len(verts) - 1):
             tris.append(verts[[0, k, k + 1]])
             names.append(name)
@@ -178,7 +130,7 @@ def period_triangles(truncation: float, aspect: float) -> tuple[np.ndarray, np.n
     return tris, normals, names
 
 
-def period_mesh(truncation: float, aspect: float):
+def period_mesh(surface: Surface):
     """One period as a :class:`trimesh.Trimesh` with unshared vertices.
 
     Each triangle has its own three vertices, so per-vertex normals equal the
@@ -187,7 +139,7 @@ def period_mesh(truncation: float, aspect: float):
     """
     import trimesh
 
-    tris, normals, _ = period_triangles(truncation, aspect)
+    tris, normals, _ = period_triangles(surface)
     vertices = tris.reshape(-1, 3)
     faces = np.arange(len(vertices)).reshape(-1, 3)
     mesh = trimesh.Trimesh(
@@ -202,13 +154,13 @@ def period_mesh(truncation: float, aspect: float):
 
 def control_mesh():
     """The control: the flat plate, one period of the ``z = 0`` plane."""
-    return period_mesh(0.0, 0.0)
+    return period_mesh(PLATE)
 
 
-def facet_areas(truncation: float, aspect: float) -> dict[str, float]:
+def facet_areas(surface: Surface) -> dict[str, float]:
     """True (not projected) area of each facet of one period, by name."""
     areas: dict[str, float] = {}
-    tris, _, names = period_triangles(truncation, aspect)
+    tris, _, names = period_triangles(surface)
     cross = np.cross(tris[:, 1] - tris[:, 0], tris[:, 2] - tris[:, 0])
     for name, area in zip(names, 0.5 * np.linalg.norm(cross, axis=1)):
         areas[name] = areas.get(name, 0.0) + float(area)
@@ -261,8 +213,9 @@ def facets(truncation: float, aspect: float) -> list[tuple[str, np.ndarray, floa
     -------
     list of (name, normal (3,) array, plan_area float); plan areas sum to 1.
     """
-    areas = facet_areas(truncation, aspect)
-    _, normals, names = period_triangles(truncation, aspect)
+    surface = Surface(truncation, aspect)
+    areas = facet_areas(surface)
+    _, normals, names = period_triangles(surface)
     out = []
     for name, true_area in areas.items():
         n = normals[names.index(name)]
@@ -283,7 +236,7 @@ def front_facet_share(aspect: float, incidence: float) -> float:
     back = lobe_centres(incidence, aspect)["back"]
     if back is None:
         return float("nan")
-    return float(visible_lit_areas(1.0, aspect, incidence, 0.0, back).get("east", (0.0, 0.0))[0])
+    return float(visible_lit_areas(Surface(1.0, aspect), incidence, 0.0, back).get("east", (0.0, 0.0))[0])
 
 
 def reflecting_areas(aspect: float, incidence: float, truncations=None) -> pd.DataFrame:
@@ -307,10 +260,10 @@ def reflecting_areas(aspect: float, incidence: float, truncations=None) -> pd.Da
     centres = lobe_centres(incidence, aspect)
     rows = []
     for t in t_values:
-        top = visible_lit_areas(t, aspect, incidence, 0.0, centres["forward"]).get("top", (0.0, 0.0))[0]
+        top = visible_lit_areas(Surface(t, aspect), incidence, 0.0, centres["forward"]).get("top", (0.0, 0.0))[0]
         front = np.nan
         if centres["back"] is not None:
-            front = visible_lit_areas(t, aspect, incidence, 0.0, centres["back"]).get("east", (0.0, 0.0))[0]
+            front = visible_lit_areas(Surface(t, aspect), incidence, 0.0, centres["back"]).get("east", (0.0, 0.0))[0]
         rows.append({"truncation": float(t), "top": float(top), "front": float(front)})
     out = pd.DataFrame(rows)
     k = front_facet_share(aspect, incidence)

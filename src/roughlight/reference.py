@@ -43,7 +43,7 @@ once per sweep and stored as a region of the facet's plan footprint (its
 ``(x, y)`` projection); each view maps it through the facet's plane into
 ``(s, u)`` (an affine map) and intersects it with the facet's visible region.
 
-Conventions shared with the renderer (:mod:`roughlight.rendering`)
+Conventions shared with the renderer (:mod:`roughlight.periodic`)
 ------------------------------------------------------------------
 * Grazing views, ``e`` = 0 or 180 (``sweeps.is_grazing`` or
   ``|sin e| < 1e-9``): the detector sees no area; every component and the
@@ -81,8 +81,9 @@ import shapely
 from shapely import affinity
 
 from . import sweeps
-from .geometry import facet_polygons, is_plate, period_triangles, validate_surface
+from .geometry import facet_polygons, period_triangles
 from .shading import Lighting, check_incidence, facet_components, light_direction, quantize, view_direction
+from .surface import Surface
 
 __all__ = [
     "REFERENCE_ERROR",
@@ -129,7 +130,7 @@ def is_grazing_view(elevation) -> np.ndarray:
 
 
 @dataclass
-class _Surface:
+class _Facets:
     names: list
     verts: list  # (n, 3) arrays, one per facet
     normals: np.ndarray  # (F, 3) unit normals (period_triangles', as the renderer uses)
@@ -141,20 +142,19 @@ class _Surface:
     footprints: list = field(default_factory=list)  # shapely polygons in (x, y)
 
 
-def _surface(truncation: float, aspect: float) -> _Surface:
-    t, a = validate_surface(truncation, aspect)
-    polys = facet_polygons(t, a)
-    _, tri_normals, tri_names = period_triangles(t, a)
+def _facets(surface: Surface) -> _Facets:
+    polys = facet_polygons(surface)
+    _, tri_normals, tri_names = period_triangles(surface)
     names = [name for name, _ in polys]
     verts = [np.asarray(v, float) for _, v in polys]
     normals = np.array([tri_normals[tri_names.index(name)] for name in names], float)
     alpha = -normals[:, 0] / normals[:, 2]
     beta = -normals[:, 1] / normals[:, 2]
     gamma = np.array([v[0, 2] - al * v[0, 0] - be * v[0, 1] for v, al, be in zip(verts, alpha, beta)])
-    plate = is_plate(t, a)
-    height = 0.0 if plate else t * a
+    plate = surface.is_plate
+    height = surface.height
     footprints = [shapely.Polygon(v[:, :2]) for v in verts]
-    return _Surface(names, verts, normals, alpha, beta, gamma, height, plate, footprints)
+    return _Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints)
 
 
 def _lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
@@ -197,7 +197,7 @@ def _lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
     return off[order]
 
 
-def _visible_regions(surf: _Surface, d) -> tuple[list, np.ndarray]:
+def _visible_regions(surf: _Facets, d) -> tuple[list, np.ndarray]:
     """Visible region of each facet of period 0 along the direction with plan shift ``d``.
 
     ``d = (Dx/Dz, Dy/Dz)`` for a direction ``D`` (toward the viewer or the
@@ -273,7 +273,7 @@ def _visible_regions(surf: _Surface, d) -> tuple[list, np.ndarray]:
     return out, det
 
 
-def _to_oblique(surf: _Surface, f: int, d) -> list:
+def _to_oblique(surf: _Facets, f: int, d) -> list:
     """Affine map (shapely's 6-list) from plan ``(x, y)`` on facet ``f``'s plane to oblique coords."""
     al, be, ga = surf.alpha[f], surf.beta[f], surf.gamma[f]
     dx, dy = d
@@ -281,7 +281,7 @@ def _to_oblique(surf: _Surface, f: int, d) -> list:
     return [1.0 - dx * al, -dx * be, -dy * al, 1.0 - dy * be, -dx * ga, -dy * ga]
 
 
-def _from_oblique(surf: _Surface, f: int, d) -> list:
+def _from_oblique(surf: _Facets, f: int, d) -> list:
     """Inverse of :func:`_to_oblique` (the facet must not be edge-on)."""
     a, b, c, e, xo, yo = _to_oblique(surf, f, d)
     det = a * e - b * c
@@ -296,7 +296,7 @@ def _check_sum(total: float, what: str) -> None:
         )
 
 
-def _lit_regions(surf: _Surface, incidence: float, shadows: bool) -> list:
+def _lit_regions(surf: _Facets, incidence: float, shadows: bool) -> list:
     """Lit part of each facet's plan footprint (shapely geometries)."""
     L = light_direction(incidence)
     ndotl = surf.normals @ L
@@ -323,8 +323,8 @@ def _lit_regions(surf: _Surface, incidence: float, shadows: bool) -> list:
 class _Scene:
     """Everything of a sweep that does not depend on the view."""
 
-    def __init__(self, truncation, aspect, incidence, shadows):
-        self.surf = _surface(truncation, aspect)
+    def __init__(self, surface: Surface, incidence, shadows):
+        self.surf = _facets(surface)
         self.incidence = check_incidence(incidence)
         self.lit = _lit_regions(self.surf, self.incidence, bool(shadows))
         fp_area = np.array([fp.area for fp in self.surf.footprints])
@@ -370,13 +370,13 @@ def _check_views(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
 # public API
 
 
-def lit_footprints(truncation, aspect, incidence, shadows=True) -> dict:
+def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
     """Lit part of each facet of one period, as a region of its plan footprint.
 
     Parameters
     ----------
-    truncation, aspect : float
-        The surface (:mod:`roughlight.geometry`).
+    surface : Surface
+        The surface (:mod:`roughlight.surface`).
     incidence : float
         Light elevation above the plane, degrees in [0, 90]; the light is at
         azimuth 0, ``L = (cos i, 0, sin i)``.
@@ -391,17 +391,17 @@ def lit_footprints(truncation, aspect, incidence, shadows=True) -> dict:
         the facet is wholly shadowed. The facet's true lit area is the plan
         area divided by its normal's ``z``.
     """
-    scene = _Scene(truncation, aspect, incidence, shadows)
+    scene = _Scene(surface, incidence, shadows)
     return dict(zip(scene.surf.names, scene.lit))
 
 
-def visible_lit_areas(truncation, aspect, incidence, azimuth, elevation, shadows=True) -> dict:
+def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=True) -> dict:
     """Visible-and-lit and visible-and-shadowed area of each facet, one view.
 
     Parameters
     ----------
-    truncation, aspect : float
-        The surface (:mod:`roughlight.geometry`).
+    surface : Surface
+        The surface (:mod:`roughlight.surface`).
     incidence : float
         Light elevation, degrees in [0, 90] (light at azimuth 0).
     azimuth, elevation : float
@@ -420,7 +420,7 @@ def visible_lit_areas(truncation, aspect, incidence, azimuth, elevation, shadows
         top of the full pyramid, the sides of the plate) are absent. "Lit"
         means reached by the light with ``N.L > 0``.
     """
-    scene = _Scene(truncation, aspect, incidence, shadows)
+    scene = _Scene(surface, incidence, shadows)
     az, el = _check_views(azimuth, elevation)
     if len(az) != 1:
         raise ValueError("visible_lit_areas takes one view; use reference_sweep for many")
@@ -428,16 +428,14 @@ def visible_lit_areas(truncation, aspect, incidence, azimuth, elevation, shadows
     return {name: (float(a), float(b)) for name, a, b in zip(scene.surf.names, lit, shadow)}
 
 
-def reference_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=None, quantized=True) -> dict:
+def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, quantized=True) -> dict:
     """Exact mean image value of each component for many views of one surface.
 
     Parameters
     ----------
-    truncation : float
-        Fraction of the pyramid height kept, in [0, 1] (0 = flat plate,
-        1 = full pyramid).
-    aspect : float
-        Full pyramid height over the period (base width), >= 0.
+    surface : Surface
+        Truncation (fraction of the pyramid height kept, 0 = flat plate,
+        1 = full pyramid) and aspect (full pyramid height over the period).
     incidence : float
         Light elevation above the surface plane ``i``, degrees in [0, 90];
         the light is at azimuth 0: ``L = (cos i, 0, sin i)``.
@@ -471,7 +469,7 @@ def reference_sweep(truncation, aspect, incidence, azimuth, elevation, lighting=
     200,000 lattice copies.
     """
     lighting = Lighting() if lighting is None else lighting
-    scene = _Scene(truncation, aspect, incidence, lighting.shadows)
+    scene = _Scene(surface, incidence, lighting.shadows)
     az, el = _check_views(azimuth, elevation)
     n_views = len(az)
     n_f = len(scene.surf.names)

@@ -52,6 +52,11 @@ COMPONENTS = ("diffuse", "specular", "total")
 #: Specular models the renderer and the reference both implement.
 SPECULAR_MODELS = ("phong", "blinn")
 
+#: Shading of a faceted mesh (the naive method's): ``flat`` (true face normals, the
+#: study's), ``phong`` (averaged vertex normals interpolated per fragment),
+#: ``gouraud`` (the equation at the vertices with averaged normals, interpolated).
+SHADINGS = ("flat", "phong", "gouraud")
+
 
 @dataclass(frozen=True)
 class Lighting:

@@ -36,13 +36,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .atomic import atomic_path
+from .atomic import write_frame
 from .shading import COMPONENTS, phase_angle
+from .surface import Surface
 
 __all__ = [
     "STUDY_COLUMNS",
     "sweep_table",
-    "write_table_atomic",
     "read_sweep",
     "aggregate",
 ]
@@ -63,19 +63,20 @@ STUDY_COLUMNS = KEY_COLUMNS + ["rough", "control", "coverage"] + SETTING_COLUMNS
 SWEEP_COLUMNS = KEY_COLUMNS + ["value", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
 
 
-def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation, lighting, method, render_settings):
+def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, lighting, method, render_settings):
     """One sweep's measurements as a long ``pyarrow.Table`` (rows: view x component).
 
     Parameters
     ----------
     result : dict
-        Output of :func:`roughlight.rendering.measure_sweep`.
-    truncation, aspect, incidence : float
+        Output of :func:`roughlight.measure.measure_sweep`.
+    surface : Surface
+    incidence : float
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : roughlight.shading.Lighting
     method : str
     render_settings : dict
-        How the method sampled (:func:`roughlight.rendering.recorded_settings`):
+        How the method sampled (:func:`roughlight.measure.recorded_settings`):
         ``pixels_per_period``, ``sampling``, ``shadow_map_size``.
     """
     import pyarrow as pa
@@ -85,8 +86,8 @@ def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation,
     n = azimuth.size
     k = len(COMPONENTS)
     columns = {
-        "truncation": np.full(n * k, float(truncation)),
-        "aspect": np.full(n * k, float(aspect)),
+        "truncation": np.full(n * k, surface.truncation),
+        "aspect": np.full(n * k, surface.aspect),
         "incidence": np.full(n * k, float(incidence)),
         "azimuth": np.repeat(azimuth, k),
         "elevation": np.repeat(elevation, k),
@@ -108,21 +109,6 @@ def sweep_table(result: dict, truncation, aspect, incidence, azimuth, elevation,
         "render_seconds": np.full(n * k, float(result["seconds"])),
     }
     return pa.table(columns)
-
-
-def write_table_atomic(table, path) -> None:
-    """Write a ``pyarrow.Table`` (or DataFrame) to Parquet under a temporary name, then rename.
-
-    A reader never sees a half-written file: an interrupted write leaves only
-    the temporary file, which the next run overwrites.
-    """
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    if not isinstance(table, pa.Table):
-        table = pa.Table.from_pandas(table, preserve_index=False)
-    with atomic_path(path) as tmp:
-        pq.write_table(table, tmp, compression="zstd")
 
 
 def read_sweep(path):
@@ -173,34 +159,38 @@ def aggregate(rough_paths, control_paths):
     return study
 
 
-def run_sweep(path, truncation, aspect, incidence, sweep, lighting, method, render, log=None):
+def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render, log=None):
     """Measure one sweep and write its table to ``path`` atomically.
 
     Parameters
     ----------
     path : str
         Output Parquet file.
-    truncation, aspect, incidence : float
+    surface : Surface
+    incidence : float
+        Light elevation, degrees.
     sweep : dict with ``elevation_step`` and ``azimuth_step`` (degrees)
     lighting : dict of :class:`roughlight.shading.Lighting` fields
     method : str, ``fast``, ``naive`` or ``reference``
-    render : dict of :class:`roughlight.rendering.RenderSettings` fields (may be empty)
+    render : dict of :class:`roughlight.sampling.RenderSettings` fields (may be empty)
     log : callable taking a message, optional
     """
-    from . import rendering, shading, sweeps
+    from . import shading, sweeps
+    from .measure import measure_sweep, recorded_settings
+    from .sampling import RenderSettings
 
     log = log or (lambda message: None)
     lighting = shading.Lighting(**lighting)
-    settings = rendering.RenderSettings(**render)
+    settings = RenderSettings(**render)
     azimuth, elevation = sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"])
     log(
-        f"sweep truncation={truncation} aspect={aspect} incidence={incidence}: "
+        f"sweep truncation={surface.truncation} aspect={surface.aspect} incidence={incidence}: "
         f"{azimuth.size} views, method={method}, {lighting}, {settings}"
     )
-    result = rendering.measure_sweep(method, truncation, aspect, incidence, azimuth, elevation, lighting, settings)
+    result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
     log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
-    table = sweep_table(result, truncation, aspect, incidence, azimuth, elevation, lighting, method,
-                        rendering.recorded_settings(method, settings))
-    write_table_atomic(table, path)
+    table = sweep_table(result, surface, incidence, azimuth, elevation, lighting, method,
+                        recorded_settings(method, settings))
+    write_frame(table, path)
     log(f"wrote {table.num_rows} rows to {path}")
     return result

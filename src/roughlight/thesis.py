@@ -21,10 +21,13 @@ import pandas as pd
 from .geometry import front_facet_share
 from .lobes import MIN_LOBE_PEAK
 from .selection import ASPECT_TOL, SURFACE_KEYS, find_aspect
-from .surface import SQRT3_2, aspect_label
+from .surface import SQRT3_2, Surface, aspect_label
 
 #: The thesis's analysis ran at this incidence (Ch. V.B).
 THESIS_INCIDENCE = 30.0
+#: The aspects of Tables 1-2 by default (``report.table_aspects``): the thesis's runs, 1, and its
+#: 30-degree facets, sqrt(3)/2 (side facets facing a light at incidence 30).
+TABLE_ASPECTS = (1.0, SQRT3_2)
 
 
 #: Columns of Tables 1 and 2, as the thesis names them.
@@ -177,7 +180,7 @@ def table_data(lobes: pd.DataFrame, aspect: float, incidence: float, value: str 
     return piv.sort_index()
 
 
-def exact_lobe_peaks(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = THESIS_INCIDENCE,
+def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE,
                      lighting=None, halfwidth: float = 10.0, step: float = 1.0) -> pd.DataFrame:
     """Exact (polygon-clipping reference) lobe peaks beside the measured ones, for the table surfaces.
 
@@ -216,7 +219,7 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: flo
                 el = np.arange(np.ceil((c - halfwidth) / step) * step, c + halfwidth + 1e-9, step)
                 el = el[(el > 0) & (el < 180)]
                 if len(el):
-                    out = reference_sweep(r["truncation"], a, r["incidence"], np.zeros_like(el), el, lighting)
+                    out = reference_sweep(Surface(r["truncation"], a), r["incidence"], np.zeros_like(el), el, lighting)
                     k = int(np.argmax(out["specular"]))
                     peak = float(out["specular"][k])
                     row.update(exact_peak=peak, exact_peak_elevation=float(el[k]) if peak >= MIN_LOBE_PEAK else np.nan)
@@ -228,7 +231,7 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: flo
 
 def thesis_tables(
     lobes: pd.DataFrame,
-    aspects=(1.0, SQRT3_2),
+    aspects=TABLE_ASPECTS,
     incidence: float = THESIS_INCIDENCE,
     m: float = 127.0,
     k: float | None = None,
@@ -333,7 +336,7 @@ def bootstrap_statistics(observed, predicted, n_boot: int = 2000, seed: int = 0,
     return out
 
 
-def bootstrap_tables(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = THESIS_INCIDENCE,
+def bootstrap_tables(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE,
                      m: float = 127.0, k: float | None = None, n_boot: int = 2000, seed: int = 0) -> pd.DataFrame:
     """95% bootstrap intervals of our Tables 1-2 statistics (the 'ours' rows of :func:`thesis_tables`).
 
@@ -355,7 +358,7 @@ def bootstrap_tables(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: flo
                                        "n_boot", "n_boot_used"])
 
 
-def sine_refits(lobes: pd.DataFrame, aspects=(1.0, SQRT3_2), incidence: float = THESIS_INCIDENCE,
+def sine_refits(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE,
                 m: float = 127.0) -> pd.DataFrame:
     """Nonlinear least-squares refits of the thesis's sine models with 95% confidence intervals.
 

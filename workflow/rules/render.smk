@@ -4,6 +4,15 @@
 rule control_sweep:
     output:
         "results/sweeps/i{incidence}/control.parquet",
+    log:
+        "results/logs/sweeps/i{incidence}/control.log",
+    benchmark:
+        "results/logs/sweeps/i{incidence}/control.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=1024,
     params:
         surface={"truncation": 0.0, "aspect": 0.0},
         incidence=incidence_param,
@@ -11,22 +20,22 @@ rule control_sweep:
         lighting=control_lighting_params,
         method=method_param,
         render=render_params,
-    log:
-        "results/logs/sweeps/i{incidence}/control.log",
-    benchmark:
-        "results/logs/sweeps/i{incidence}/control.benchmark.tsv"
-    threads: 1
-    resources:
-        mem_mb=1024,
-    conda:
-        "../../envs/render.yaml"
     script:
-        "../scripts/render_sweep.py"
+        "../scripts/sweep.py"
 
 
 rule rough_sweep:
     output:
         "results/sweeps/i{incidence}/t{truncation}_a{aspect}.parquet",
+    log:
+        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.log",
+    benchmark:
+        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=1024,
     params:
         surface=surface_params,
         incidence=incidence_param,
@@ -34,30 +43,21 @@ rule rough_sweep:
         lighting=lighting_params,
         method=method_param,
         render=render_params,
-    log:
-        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.log",
-    benchmark:
-        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.benchmark.tsv"
-    threads: 1
-    resources:
-        mem_mb=1024,
-    conda:
-        "../../envs/render.yaml"
     script:
-        "../scripts/render_sweep.py"
+        "../scripts/sweep.py"
 
 
 rule surface_meshes:
     output:
         mesh_files(),
-    params:
-        grid=grid_params,
     log:
         "results/logs/meshes.log",
+    conda:
+        "../../envs/render.yaml"
     threads: 1
     resources:
         mem_mb=512,
-    conda:
-        "../../envs/render.yaml"
+    params:
+        grid=grid_params,
     script:
-        "../scripts/write_meshes.py"
+        "../scripts/surface_meshes.py"

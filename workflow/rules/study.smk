@@ -9,10 +9,10 @@ rule study_table:
         "results/study.parquet",
     log:
         "results/logs/study.log",
+    conda:
+        "../../envs/study.yaml"
     threads: 1
     resources:
         mem_mb=4096,
-    conda:
-        "../../envs/study.yaml"
     script:
         "../scripts/study_table.py"

@@ -8,13 +8,14 @@ os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
+
 from roughlight.study import run_sweep  # noqa: E402
+from roughlight.surface import Surface  # noqa: E402
 
 log = _log.setup(snakemake)
 run_sweep(
     snakemake.output[0],
-    truncation=snakemake.params.surface["truncation"],
-    aspect=snakemake.params.surface["aspect"],
+    surface=Surface(**snakemake.params.surface),
     incidence=snakemake.params.incidence,
     sweep=snakemake.params.sweep,
     lighting=snakemake.params.lighting,

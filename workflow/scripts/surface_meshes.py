@@ -5,17 +5,19 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
+
 from roughlight import config, geometry  # noqa: E402
+from roughlight.surface import PLATE, Surface  # noqa: E402
 
 log = _log.setup(snakemake)
 targets = {
-    f"results/meshes/t{config.label(t)}_a{config.label(a)}.ply": (t, a)
+    f"results/meshes/t{config.label(t)}_a{config.label(a)}.ply": Surface(t, a)
     for t in snakemake.params.grid["truncation"]
     for a in snakemake.params.grid["aspect"]
 }
-targets["results/meshes/control.ply"] = (0.0, 0.0)
+targets["results/meshes/control.ply"] = PLATE
 for path in snakemake.output:
-    truncation, aspect = targets[path]
-    mesh = geometry.period_mesh(truncation, aspect)
+    surface = targets[path]
+    mesh = geometry.period_mesh(surface)
     geometry.export_mesh_atomic(mesh, path)
-    log(f"{path}: {len(mesh.faces)} triangles, truncation={truncation}, aspect={aspect}")
+    log(f"{path}: {len(mesh.faces)} triangles, truncation={surface.truncation}, aspect={surface.aspect}")

@@ -1,0 +1,202 @@
+"""OpenGL for the renderers: OSMesa, the parts of pyrender they use, shader programs, contexts.
+
+This is the one module that loads OpenGL. It selects PyOpenGL's OSMesa
+platform (``PYOPENGL_PLATFORM=osmesa``, unless the caller chose another
+before), turns PyOpenGL's bare import errors into one message that says what
+to install, and loads only the parts of pyrender the fast method needs (see
+:func:`import_pyrender_core`). The renderers (:mod:`roughlight.periodic`,
+:mod:`roughlight.naive`) import it; nothing else does, so measuring with the
+exact reference or analysing a study table never loads OpenGL.
+
+pyrender's program cache keys programs on the GL context object, which OSMesa
+hands back anew on every call (every render would recompile):
+:class:`ShaderCache` keys them on the shader files and defines only.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+
+import importlib  # noqa: E402
+import importlib.util  # noqa: E402
+import sys  # noqa: E402
+import types  # noqa: E402
+
+from .osmesa import HELP as _OSMESA_HELP  # noqa: E402
+from .osmesa import OSMesaUnavailable, check_osmesa  # noqa: E402
+
+try:
+    from OpenGL import GL as gl  # noqa: E402
+except (ImportError, AttributeError, OSError) as _exc:  # PyOpenGL's own errors do not say what to do
+    if os.environ.get("PYOPENGL_PLATFORM") == "osmesa":
+        check_osmesa()  # raises OSMesaUnavailable naming the missing or broken library
+    raise OSMesaUnavailable(f"PyOpenGL could not load ({type(_exc).__name__}: {_exc}): {_OSMESA_HELP}") from _exc
+
+
+def import_pyrender_core():
+    """Load the parts of pyrender the fast method uses, without pyrender's package ``__init__``.
+
+    ``import pyrender`` imports its viewer (pyglet), its trimesh-based Mesh and
+    Scene, and through trimesh scipy and networkx: about 1.7 s, paid again by
+    every sweep job (each is a fresh process). The fast method needs only the
+    OSMesa platform, Primitive (vertex buffers with instancing) and the shader
+    programs, whose modules import nothing heavy. When pyrender is not yet
+    imported, an empty package module stands in for its ``__init__`` so that
+    those submodules load alone; :func:`import_pyrender` swaps in the real
+    package whenever the whole of pyrender is needed (the naive method).
+    """
+    if "pyrender" not in sys.modules:
+        spec = importlib.util.find_spec("pyrender")
+        if spec is None or not spec.submodule_search_locations:
+            raise ImportError("pyrender is not installed: run `make setup` (pip package pyrender2)")
+        package = types.ModuleType("pyrender")
+        package.__path__ = list(spec.submodule_search_locations)
+        package.__spec__ = spec
+        package.__file__ = spec.origin
+        package._roughlight_core_only = True
+        sys.modules["pyrender"] = package
+    for name in ("constants", "primitive", "shader_program", "platforms.osmesa"):
+        importlib.import_module(f"pyrender.{name}")
+    return sys.modules["pyrender"]
+
+
+def import_pyrender():
+    """The whole pyrender package (Scene, OffscreenRenderer, ...), for the naive method."""
+    module = sys.modules.get("pyrender")
+    if module is not None and getattr(module, "_roughlight_core_only", False):
+        del sys.modules["pyrender"]  # the real __init__ reuses the submodules already loaded
+    return importlib.import_module("pyrender")
+
+
+import_pyrender_core()
+from pyrender.constants import GLTF, SHADOW_TEX_SZ  # noqa: E402
+from pyrender.platforms.osmesa import OSMesaPlatform  # noqa: E402
+from pyrender.primitive import Primitive  # noqa: E402
+from pyrender.shader_program import ShaderProgram  # noqa: E402
+from pyrender.shader_program import ShaderProgramCache as PyrenderShaderCache  # noqa: E402
+
+__all__ = [
+    "gl",
+    "GLTF",
+    "SHADOW_TEX_SZ",
+    "Primitive",
+    "PyrenderShaderCache",
+    "SHADER_DIR",
+    "OSMESA_HELP",
+    "ShaderCache",
+    "Context",
+    "context",
+    "release_contexts",
+    "import_pyrender",
+]
+
+SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
+
+#: What to do when OpenGL cannot start: the one message a sweep job ends with.
+OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software rendering): " + _OSMESA_HELP
+
+
+class ShaderCache:
+    """pyrender shader programs keyed by shader files and defines, not by GL context."""
+
+    def __init__(self, shader_dir: str = SHADER_DIR):
+        self.shader_dir = shader_dir
+        self._programs = {}
+
+    def get_program(self, vertex_shader, fragment_shader, defines=None):
+        defines = dict(defines or {})
+        key = (vertex_shader, fragment_shader, tuple(sorted(defines.items())))
+        program = self._programs.get(key)
+        if program is None:
+            program = ShaderProgram(
+                vertex_shader=os.path.join(self.shader_dir, vertex_shader),
+                fragment_shader=os.path.join(self.shader_dir, fragment_shader),
+                defines=defines,
+            )
+            program._add_to_context()
+            self._programs[key] = program
+        return program
+
+    def __len__(self):
+        return len(self._programs)
+
+    def clear(self):
+        for program in self._programs.values():
+            program.delete()
+        self._programs = {}
+
+
+class Context:
+    """One OSMesa context of a fixed framebuffer size, with its programs and shadow target."""
+
+    def __init__(self, width: int, height: int, shadow_map_size: int):
+        self.width, self.height = int(width), int(height)
+        self.platform = OSMesaPlatform(self.width, self.height)
+        try:
+            self.platform.init_context()
+            if not self.platform._context:
+                raise RuntimeError("OSMesaCreateContextAttribs returned no context")
+            self.platform.make_current()
+        except Exception as exc:
+            raise OSMesaUnavailable(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
+        self.programs = ShaderCache()
+        self.shadow_size = int(shadow_map_size)
+        # periodic shadow map: a depth texture, one period of light-oblique coordinates
+        self.shadow_tex = gl.glGenTextures(1)
+        gl.glBindTexture(gl.GL_TEXTURE_2D, self.shadow_tex)
+        gl.glTexImage2D(
+            gl.GL_TEXTURE_2D, 0, gl.GL_DEPTH_COMPONENT24, self.shadow_size, self.shadow_size, 0,
+            gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT, None,
+        )
+        for pname, value in (
+            (gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST),
+            (gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST),
+            (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT),
+            (gl.GL_TEXTURE_WRAP_T, gl.GL_REPEAT),
+            (gl.GL_TEXTURE_COMPARE_MODE, gl.GL_NONE),
+        ):
+            gl.glTexParameteri(gl.GL_TEXTURE_2D, pname, value)
+        self.shadow_fbo = gl.glGenFramebuffers(1)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, self.shadow_fbo)
+        gl.glFramebufferTexture2D(
+            gl.GL_FRAMEBUFFER, gl.GL_DEPTH_ATTACHMENT, gl.GL_TEXTURE_2D, self.shadow_tex, 0
+        )
+        gl.glDrawBuffer(gl.GL_NONE)
+        gl.glReadBuffer(gl.GL_NONE)
+        status = gl.glCheckFramebufferStatus(gl.GL_FRAMEBUFFER)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+        if status != gl.GL_FRAMEBUFFER_COMPLETE:
+            raise RuntimeError(f"shadow framebuffer incomplete (status {status})")
+
+    def delete(self):
+        self.platform.make_current()
+        self.programs.clear()
+        gl.glDeleteFramebuffers(1, [self.shadow_fbo])
+        gl.glDeleteTextures([self.shadow_tex])
+        self.platform.delete_context()
+
+
+#: The fast method's live OSMesa contexts, by (width, height, shadow map size): one at a time.
+CONTEXTS: dict = {}
+
+
+def context(width: int, height: int, shadow_map_size: int) -> Context:
+    key = (width, height, shadow_map_size)
+    ctx = CONTEXTS.get(key)
+    if ctx is None:
+        # one framebuffer size at a time: OSMesa buffers are fixed at creation
+        for other in list(CONTEXTS.values()):
+            other.delete()
+        CONTEXTS.clear()
+        ctx = CONTEXTS[key] = Context(width, height, shadow_map_size)
+    ctx.platform.make_current()
+    return ctx
+
+
+def release_contexts() -> None:
+    """Delete the fast method's OSMesa contexts (before the naive method makes its own: one at a time)."""
+    for ctx in list(CONTEXTS.values()):
+        ctx.delete()
+    CONTEXTS.clear()

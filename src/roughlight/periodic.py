@@ -1,0 +1,246 @@
+"""The fast method: every view of a sweep in one framebuffer, one period per view (pyrender over OSMesa).
+
+A sweep is one surface under one directional light seen from many views. The
+renderer draws *every view of a sweep in one framebuffer*, one small tile per
+view, with one instanced draw call:
+
+* Each view's tile shows exactly one period of the projected image of the
+  infinite periodic surface. The projection is the oblique parallel projection
+  along the view direction onto the base plane (``shaders/periodic.vert``): it
+  is an orthographic camera whose image plane is sheared onto the surface's
+  lattice, so the pixels of a tile sample one period uniformly and the tile
+  mean is the mean over the infinite surface: no background, no patch edge,
+  no moire between the surface period and the pixel grid. ``coverage`` is
+  the fraction of the tile's pixels that show the surface (1 for every view
+  but the grazing ones, ``e`` = 0 or 180, which see no area and are 0).
+  How the tile samples the period is :mod:`roughlight.sampling`.
+* The scene holds only what the measurement needs: one period (at most 10
+  triangles), instanced at the lattice copies whose projection reaches the
+  tile (more copies only near grazing views of tall surfaces).
+* The light does not move during a sweep, so the shadow map is drawn once per
+  sweep. It is periodic too: one period of light-oblique coordinates,
+  sampled with wrap-around, storing the height of the first surface along
+  each light ray; a fragment compares its own facet's height at the texel
+  centre (receiver-plane depth), so a facet never shadows itself.
+* The lighting equation (:mod:`roughlight.shading`) is evaluated per fragment
+  in ``shaders/periodic.frag``; diffuse, specular and total go to the r, g and
+  b channels of one pass and are each stored as 8-bit values.
+
+pyrender provides the OSMesa context, the vertex buffers with instancing and
+the shader programs (:mod:`roughlight.gl`); its stock shader
+(metallic-roughness PBR with gamma) is not the study's equation and is not used.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from . import geometry, shading, sweeps
+from .gl import GLTF, Context, Primitive, context, gl
+from .sampling import RenderSettings, lattice_copies, tile_layout
+from .surface import Surface
+
+
+def _primitive(surface: Surface, poses: np.ndarray):
+    tris, normals, _ = geometry.period_triangles(surface)
+    return Primitive(
+        positions=tris.reshape(-1, 3).astype(np.float32),
+        normals=np.repeat(normals, 3, axis=0).astype(np.float32),
+        mode=GLTF.TRIANGLES,
+        poses=poses,
+    )
+
+
+def _draw(ctx: Context, primitive, program):
+    primitive._add_to_context()
+    try:
+        primitive._bind()
+        gl.glDrawArraysInstanced(gl.GL_TRIANGLES, 0, len(primitive.positions), len(primitive.poses))
+        primitive._unbind()
+    finally:
+        primitive.delete()
+
+
+def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
+    """Instance matrices (see ``shaders/periodic.vert``), one per copy.
+
+    ``shear``, ``view`` and ``tile`` (the slot's integer cell offset) are per
+    copy ((m, 2), (m, 3), (m, 2)) or broadcast from one view.
+    """
+    n = len(copies)
+    poses = np.zeros((n, 4, 4), np.float32)
+    poses[:, 0, 0] = copies[:, 0]
+    poses[:, 1, 0] = copies[:, 1]
+    poses[:, 0, 1] = shear[..., 0]
+    poses[:, 1, 1] = shear[..., 1]
+    poses[:, 0:3, 2] = view
+    poses[:, 0:2, 3] = tile
+    return poses
+
+
+def _begin_pass(framebuffer, width: int, height: int, clear_bits) -> None:
+    """Bind a framebuffer and set the state both passes draw with: depth test
+    keeping the highest surface, back faces culled, copies clipped to their tile."""
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, framebuffer)
+    gl.glViewport(0, 0, width, height)
+    gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+    gl.glClearDepth(1.0)
+    gl.glEnable(gl.GL_DEPTH_TEST)
+    gl.glDepthMask(gl.GL_TRUE)
+    gl.glDepthFunc(gl.GL_LESS)
+    gl.glDisable(gl.GL_BLEND)
+    gl.glEnable(gl.GL_CULL_FACE)
+    gl.glCullFace(gl.GL_BACK)
+    gl.glFrontFace(gl.GL_CCW)
+    for plane in range(4):
+        gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
+    gl.glClear(clear_bits)
+
+
+def _shadow_pass(ctx: Context, surface: Surface, light_dir, depth_scale):
+    height = surface.height
+    shear = light_dir[:2] / light_dir[2]
+    _, copies = lattice_copies(height * shear[None, :])
+    poses = _copy_poses(copies, shear, light_dir, np.zeros(2))
+    _begin_pass(ctx.shadow_fbo, ctx.shadow_size, ctx.shadow_size, gl.GL_DEPTH_BUFFER_BIT)
+    primitive = _primitive(surface, poses)
+    program = ctx.programs.get_program(
+        "periodic.vert", "periodic_depth.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
+    )
+    program._bind()
+    program.set_uniform("depth_scale", float(depth_scale))
+    program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
+    program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
+    program.set_uniform("surface_shift", np.zeros(2, np.float32))
+    _draw(ctx, primitive, program)
+    program._unbind()
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+
+
+_LAYOUTS: dict = {}
+
+
+def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
+    if key not in _LAYOUTS:
+        _LAYOUTS.clear()
+        _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
+    return _LAYOUTS[key]
+
+
+def fast_sweep(
+    surface: Surface,
+    incidence: float,
+    azimuth,
+    elevation,
+    lighting: shading.Lighting | None = None,
+    settings: RenderSettings | None = None,
+) -> dict:
+    """Render one sweep with the ``fast`` method (pyrender over OSMesa).
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface (see :mod:`roughlight.surface`).
+    incidence : float
+        Light elevation above the surface plane, degrees in [0, 90]; the light
+        comes from azimuth 0.
+    azimuth, elevation : (n_views,) arrays
+        Views, degrees: azimuth in [0, 180), elevation in [0, 180].
+    lighting : Lighting
+    settings : RenderSettings
+
+    Returns
+    -------
+    dict
+        ``diffuse``, ``specular``, ``total``: (n_views,) means of the 8-bit
+        pixel values of the view's tile (0-255); ``coverage``: (n_views,)
+        fraction of the tile's pixels showing the surface; ``seconds``: wall
+        time of the sweep.
+    """
+    start = time.perf_counter()
+    lighting = lighting or shading.Lighting()
+    settings = settings or RenderSettings()
+    incidence = shading.check_incidence(incidence)
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    if azimuth.shape != elevation.shape:
+        raise ValueError("azimuth and elevation must have the same shape")
+    n = azimuth.size
+    out = {key: np.zeros(n) for key in ("diffuse", "specular", "total", "coverage")}
+    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
+    if todo.size == 0:
+        out["seconds"] = time.perf_counter() - start
+        return out
+
+    matrix = settings.sampling_matrix()
+    width, height_px, slots, pixel_order = _cached_layout(matrix, todo.size, int(settings.max_framebuffer))
+    per_tile = len(pixel_order) // len(slots)
+    # a camera shift by `jitter` pixels is the surface moved the other way, in cell units
+    shift = -np.linalg.solve(matrix.astype(float), np.asarray(settings.jitter, float))
+    ctx = context(width, height_px, int(settings.shadow_map_size))
+    height = surface.height
+    depth_scale = 1.0 / max(height * 1.001, 1e-6)
+    light_dir = shading.light_direction(incidence)
+
+    shadow_mode = 0
+    if lighting.shadows and height > 0:
+        if light_dir[2] < 1e-9:
+            shadow_mode = 2
+        else:
+            shadow_mode = 1
+            _shadow_pass(ctx, surface, light_dir, depth_scale)
+
+    program = ctx.programs.get_program(
+        "periodic.vert", "periodic.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
+    )
+    views = shading.view_direction(elevation[todo], azimuth[todo])
+    shears = views[:, :2] / views[:, 2:3]
+    per_pass = len(slots)
+    for first in range(0, todo.size, per_pass):
+        idx = np.arange(first, min(first + per_pass, todo.size))
+        owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift).max()))
+        poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[idx - first][owner])
+
+        _begin_pass(0, ctx.width, ctx.height, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+        program._bind()
+        _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
+        program.set_uniform("sampling", matrix.astype(np.float32))
+        program.set_uniform("ndc_scale", np.array([2.0 / ctx.width, 2.0 / ctx.height], np.float32))
+        program.set_uniform("surface_shift", shift.astype(np.float32))
+        gl.glActiveTexture(gl.GL_TEXTURE0)
+        gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
+        program.set_uniform("shadow_map", 0)
+        _draw(ctx, _primitive(surface, poses), program)
+        program._unbind()
+        gl.glFinish()
+
+        raw = gl.glReadPixels(0, 0, ctx.width, ctx.height, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+        image = np.frombuffer(raw, np.uint8).reshape(-1, 4)
+        tiles_px = image[pixel_order[: idx.size * per_tile]].reshape(idx.size, per_tile, 4)
+        means = tiles_px.mean(axis=1, dtype=np.float64)
+        target = todo[idx]
+        out["diffuse"][target] = means[:, 0]
+        out["specular"][target] = means[:, 1]
+        out["total"][target] = means[:, 2]
+        out["coverage"][target] = means[:, 3] / 255.0
+    out["seconds"] = time.perf_counter() - start
+    return out
+
+
+def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):
+    program.set_uniform("light_dir", np.asarray(light_dir, np.float32))
+    program.set_uniform("light", float(lighting.light) / 255.0)
+    program.set_uniform("ambient_term", float(lighting.ambient_reflectance * lighting.ambient))
+    program.set_uniform("diffuse_reflectance", float(lighting.diffuse_reflectance))
+    program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
+    program.set_uniform("shininess", float(lighting.shininess))
+    program.set_uniform("specular_model", int(shading.SPECULAR_MODELS.index(lighting.specular_model)))
+    program.set_uniform("shadow_mode", int(shadow_mode))
+    program.set_uniform("shadow_size", int(ctx.shadow_size))
+    lz = max(float(light_dir[2]), 1e-12)
+    program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
+    program.set_uniform("depth_scale", float(depth_scale))
+    program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))
