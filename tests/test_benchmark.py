@@ -1,7 +1,8 @@
 import numpy as np
 import pandas as pd
 
-from roughlight import benchmark
+from roughlight import benchmark, figures
+from roughlight.surface import Surface
 
 
 def test_pareto_front():
@@ -18,7 +19,7 @@ def test_benchmark_runs_every_method_against_the_reference(tmp_path):
         benchmark.Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512}),
         benchmark.Config("fast", {"sampling": "grid", "pixels_per_period": 8, "shadow_map_size": 64}),
     ]
-    table = benchmark.run_benchmark(configs, surfaces=[(0.5, 1.0, 30.0)], views=views, repeats=1)
+    table = benchmark.run_benchmark(configs, surfaces=[(Surface(0.5, 1.0), 30.0)], views=views, repeats=1)
     assert len(table) == len(configs) * 3
     assert set(table["component"]) == {"diffuse", "specular", "total"}
     ref = table[table["method"] == "reference"]
@@ -28,6 +29,15 @@ def test_benchmark_runs_every_method_against_the_reference(tmp_path):
     # finer sampling is more accurate
     assert fast.set_index("component")["mae"]["diffuse"] < coarse.set_index("component")["mae"]["diffuse"]
     assert (table.loc[table["method"] == "fast", "speedup_vs_naive"] > 1).all()
-    benchmark.plot_speed_accuracy(table, tmp_path / "chart.png")
+    figures.plot_speed_accuracy(table, tmp_path / "chart.png")
     assert (tmp_path / "chart.png").stat().st_size > 10_000
     assert isinstance(table, pd.DataFrame)
+
+
+def test_plans_name_their_sizes():
+    assert set(benchmark.PLANS) == {"full", "quick"}
+    full, quick = benchmark.PLANS["full"], benchmark.PLANS["quick"]
+    assert [c.label for c in full["configs"]()] == [c.label for c in benchmark.default_configs()]
+    assert full["surfaces"] == benchmark.BENCH_SURFACES
+    assert len(quick["configs"]()) < len(full["configs"]()) and len(quick["surfaces"]) < len(full["surfaces"])
+    assert {c.method for c in quick["configs"]()} == {"naive", "reference", "fast"}

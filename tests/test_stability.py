@@ -3,9 +3,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight import stability
+from roughlight import figures, report, stability
+from roughlight.surface import PLATE, Surface
 
-SURFACE = [(1.0, 1.0, 30.0)]
+SURFACE = [(Surface(1.0, 1.0), 30.0)]
 
 
 def _mae(frame, method, x, component="total", setting=None, experiment=None):
@@ -22,16 +23,16 @@ def _mae(frame, method, x, component="total", setting=None, experiment=None):
 @pytest.fixture(scope="module")
 def frames():
     views = (np.array([0.0, 90.0, 0.0, 45.0]), np.array([45.0, 70.0, 120.0, 150.0]))
-    pixels = stability.pixel_sweep(
+    pixels = stability.pixel_scan(
         SURFACE, fast_pixels=(2, 8, 32), naive_pixels=(0.25, 10.0), n_jitter=3, naive_jitter_pixels=(10.0,),
         fast_views=views, naive_views=(np.array([0.0]), np.array([60.0])),
     )
-    elevation = stability.elevation_sweep(SURFACE, elevations=(1.0, 45.0, 90.0), azimuths=(0.0,), methods=("fast",))
-    shadows = stability.shadow_sweep(SURFACE, incidences=(5.0, 45.0), biases=(0.0, 1e-4), map_sizes=(16, 512),
+    elevation = stability.elevation_scan(SURFACE, elevations=(1.0, 45.0, 90.0), azimuths=(0.0,), methods=("fast",))
+    shadows = stability.shadow_scan(SURFACE, incidences=(5.0, 45.0), biases=(0.0, 1e-4), map_sizes=(16, 512),
                                      views=views, naive=False)
-    shininess = stability.shininess_sweep(SURFACE, shininess=(8.0, 128.0), views=views, methods=("fast",))
-    clipping = stability.clipping_sweep(((0.0, 0.0, 30.0), (1.0, 1.0, 30.0)), elevation_step=5.0)
-    normals = stability.normals_sweep([(0.5, 1.0, 30.0)], views=(np.array([0.0, 0.0, 45.0, 90.0]),
+    shininess = stability.shininess_scan(SURFACE, shininess=(8.0, 128.0), views=views, methods=("fast",))
+    clipping = stability.clipping_scan(((PLATE, 30.0), (Surface(1.0, 1.0), 30.0)), elevation_step=5.0)
+    normals = stability.normals_scan([(Surface(0.5, 1.0), 30.0)], views=(np.array([0.0, 0.0, 45.0, 90.0]),
                                                                  np.array([60.0, 150.0, 120.0, 40.0])))
     return pd.concat([pixels, elevation, shadows, shininess, clipping, normals], ignore_index=True)
 
@@ -66,7 +67,8 @@ def test_shadow_bias_zero_gives_acne(frames):
 
 
 def test_clipping_only_at_255(frames):
-    clip = frames[(frames["experiment"] == "clipping") & (frames["metric"] == "clipped_fraction")].set_index(["setting", "x"])["value"]
+    clipping = frames[(frames["experiment"] == "clipping") & (frames["metric"] == "clipped_fraction")]
+    clip = clipping.set_index(["setting", "x"])["value"]
     assert clip[("t0_a0_i30", 127.0)] == 0.0
     assert clip[("t0_a0_i30", 255.0)] > 0.0
     assert clip[("t1_a1_i30", 255.0)] > 0.0
@@ -88,9 +90,9 @@ def test_safe_domain_and_report(frames, tmp_path):
     pictures = stability.normals_pictures(size=(80, 60), periods=2)
     assert set(pictures) == {"flat", "phong", "gouraud"}
     assert not np.array_equal(pictures["flat"], pictures["gouraud"])  # the normals change the picture
-    stability.plot_stability(frames, path, pictures)
+    figures.plot_stability(frames, path, pictures)
     assert path.stat().st_size > 20_000
-    html = stability.report_section({"safe_domain": safe, "stability": frames}, path)
+    html = report.stability_section({"safe_domain": safe, "stability": frames}, path)
     assert html.startswith('<section id="stability"><h2>Where methods fail</h2>')
     assert "data:image/png;base64," in html and html.endswith("</section>")
     assert html.count('<table class="stability">') == 1 and html.count('<table class="stability-normals">') == 1
@@ -107,14 +109,21 @@ def test_averaged_normals_change_every_lit_component(frames):
         assert table.loc[model, "mae total"] > table.loc["flat", "mae total"]
 
 
-def test_workflow_runs_every_measurement():
-    """workflow/rules/common.smk lists the measurements literally (parsing must not import OpenGL)."""
-    import re
+def test_importing_stability_loads_no_opengl():
+    """The workflow reads stability.MEASUREMENTS while it parses: that must not load OpenGL."""
+    import subprocess
+    import sys
 
-    from .conftest import REPO
-
-    text = (REPO / "workflow" / "rules" / "common.smk").read_text()
-    listed = re.search(r"STABILITY_MEASUREMENTS = \[(.*?)\]", text).group(1)
-    assert [n.strip().strip('"') for n in listed.split(",")] == list(stability.MEASUREMENTS)
+    code = "import sys, roughlight.stability; print(sorted(m for m in sys.modules if m.split('.')[0] in ('OpenGL', 'pyrender')))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"
     with pytest.raises(ValueError, match="no stability measurement 'moire'"):
         stability.run_measurement("moire")
+    with pytest.raises(ValueError, match="no stability plan 'huge'"):
+        stability.run_measurement("pixels", plan="huge")
+
+
+def test_every_plan_names_every_measurement():
+    assert set(stability.PLANS) == {"full", "quick"}
+    for plan in stability.PLANS.values():
+        assert set(plan) == set(stability.MEASUREMENTS)

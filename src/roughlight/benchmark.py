@@ -12,30 +12,33 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import reference, rendering, shading
+from . import reference, shading
+from .measure import measure_sweep, recorded_settings
+from .sampling import RenderSettings
+from .shading import COMPONENTS
+from .surface import SQRT3_2, Surface
 
 __all__ = [
     "BENCH_SURFACES",
     "bench_views",
     "Config",
     "default_configs",
+    "quick_configs",
+    "PLANS",
     "run_benchmark",
     "pareto_front",
-    "plot_speed_accuracy",
 ]
 
-#: Surfaces spread over the grid (truncation, aspect, incidence): low and tall,
+#: Surfaces under a light (Surface, incidence) spread over the grid: low and tall,
 #: truncated and full, the thesis's aspect 1 and the 30-degree facets of sqrt(3)/2.
 BENCH_SURFACES = (
-    (0.2, 0.3, 30.0),
-    (0.5, 1.0, 30.0),
-    (0.8, 0.8660254037844386, 30.0),
-    (1.0, 1.0, 30.0),
-    (1.0, 0.5, 60.0),
-    (0.3, 0.7, 15.0),
+    (Surface(0.2, 0.3), 30.0),
+    (Surface(0.5, 1.0), 30.0),
+    (Surface(0.8, SQRT3_2), 30.0),
+    (Surface(1.0, 1.0), 30.0),
+    (Surface(1.0, 0.5), 60.0),
+    (Surface(0.3, 0.7), 15.0),
 )
-
-COMPONENTS = ("diffuse", "specular", "total")
 
 
 def bench_views(elevation_step: float = 5.0, azimuth_step: float = 20.0):
@@ -74,17 +77,47 @@ def default_configs() -> list[Config]:
     for size in (32, 128, 2048):
         configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": size}))
     for bias in (0.0, 1e-2):
-        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512, "shadow_bias": bias}))
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512,
+                                       "shadow_bias": bias}))
     return configs
+
+
+def quick_configs() -> list[Config]:
+    """A few of :func:`default_configs`: the naive baseline, the reference and the fast method's
+    pixels per period around the default, lattice and grid (the default workflow's chart)."""
+    configs = [Config("naive"), Config("reference")]
+    for pixels in (8, 16, 24, 32):
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": pixels, "shadow_map_size": 512}))
+    configs.append(Config("fast", {"sampling": "grid", "pixels_per_period": 24, "shadow_map_size": 512}))
+    return configs
+
+
+#: Sizes of the benchmark, by name (``report.speed_accuracy.plan`` in the config): ``full`` is
+#: ``make bench``'s measurement; ``quick`` the same code on fewer configs, surfaces and views,
+#: sized for the default workflow's chart.
+PLANS = {
+    "full": {"configs": default_configs, "surfaces": BENCH_SURFACES, "views": (5.0, 20.0), "repeats": 3},
+    "quick": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:4:2], "views": (20.0, 45.0), "repeats": 1},
+}
 
 
 def _settings(config: Config):
     """The fast method's RenderSettings of a config (None for the other methods)."""
-    return rendering.RenderSettings(**config.settings) if config.method == "fast" else None
+    return RenderSettings(**config.settings) if config.method == "fast" else None
 
 
-def _measure(config: Config, surface, azimuth, elevation, lighting):
-    return rendering.measure_sweep(config.method, *surface, azimuth, elevation, lighting, _settings(config))
+def _measure(config: Config, lit_surface, azimuth, elevation, lighting):
+    surface, incidence = lit_surface
+    return measure_sweep(config.method, surface, incidence, azimuth, elevation, lighting, _settings(config))
+
+
+def run_plan(plan: str = "full", lighting=None, log=None):
+    """The benchmark at one of the sizes of :data:`PLANS`."""
+    if plan not in PLANS:
+        raise ValueError(f"no benchmark plan {plan!r}: one of {', '.join(PLANS)}")
+    size = PLANS[plan]
+    return run_benchmark(size["configs"](), size["surfaces"], bench_views(*size["views"]), lighting, log,
+                         size["repeats"])
 
 
 def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=None, log=None, repeats=3):
@@ -93,7 +126,7 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
     Parameters
     ----------
     configs : list of Config (default :func:`default_configs`)
-    surfaces : sequence of (truncation, aspect, incidence)
+    surfaces : sequence of (Surface, incidence)
     views : (azimuth, elevation) arrays, degrees (default :func:`bench_views`)
     lighting : shading.Lighting
     log : callable, optional
@@ -117,7 +150,7 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
     log = log or (lambda message: None)
     azimuth, elevation = views if views is not None else bench_views()
     exact = [
-        reference.reference_sweep(t, a, i, azimuth, elevation, lighting) for (t, a, i) in surfaces
+        reference.reference_sweep(surface, i, azimuth, elevation, lighting) for (surface, i) in surfaces
     ]
     rows = []
     for config in configs:
@@ -136,7 +169,7 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
         seconds = min(runs)
         n_views = len(surfaces) * azimuth.size
         log(f"{config.label}: {n_views / seconds:.0f} views/s")
-        recorded = rendering.recorded_settings(config.method, _settings(config))
+        recorded = recorded_settings(config.method, _settings(config))
         for c in COMPONENTS:
             err = np.concatenate(errors[c])
             rows.append(
@@ -144,7 +177,8 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
                     "method": config.method,
                     "label": config.label,
                     **recorded,
-                    "shadow_bias": config.settings.get("shadow_bias", rendering.RenderSettings().shadow_bias if config.method == "fast" else np.nan),
+                    "shadow_bias": config.settings.get(
+                        "shadow_bias", RenderSettings().shadow_bias if config.method == "fast" else np.nan),
                     "component": c,
                     "n_views": n_views,
                     "seconds": seconds,
@@ -155,9 +189,9 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
                 }
             )
     table = pd.DataFrame(rows)
-    default = Config("fast", {"sampling": rendering.RenderSettings().sampling,
-                              "pixels_per_period": rendering.RenderSettings().pixels_per_period,
-                              "shadow_map_size": rendering.RenderSettings().shadow_map_size}).label
+    defaults = RenderSettings()
+    default = Config("fast", {"sampling": defaults.sampling, "pixels_per_period": defaults.pixels_per_period,
+                              "shadow_map_size": defaults.shadow_map_size}).label
     naive = table.loc[table["method"] == "naive", "views_per_second"]
     table["speedup_vs_naive"] = table["views_per_second"] / naive.iloc[0] if len(naive) else np.nan
     table["default"] = table["label"] == default
@@ -178,38 +212,3 @@ def pareto_front(cost, error) -> np.ndarray:
         strictly = (cost < cost[k]) | (error < error[k])
         front[k] = not np.any(better_or_equal & strictly)
     return front
-
-
-def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
-    """Error against time per view, log scales, one panel per component, Pareto front marked.
-
-    The reference's error is zero (up to floating point); it is drawn at
-    ``floor`` so that it shows on the log scale.
-    """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import seaborn as sns
-
-    data = table[table["component"].isin(["diffuse", "specular"])].copy()
-    data["mean abs error (0-255)"] = data["mae"].clip(lower=floor)
-    data["ms per view"] = data["ms_per_view"]
-    sns.set_theme(style="whitegrid")
-    grid = sns.relplot(
-        data=data, x="ms per view", y="mean abs error (0-255)", hue="method", style="sampling",
-        col="component", kind="scatter", s=70, height=4.2, aspect=1.15, facet_kws={"sharey": False},
-    )
-    for ax, (component, sub) in zip(grid.axes.flat, data.groupby("component", sort=False)):
-        front = sub[sub["pareto"]].sort_values("ms per view")
-        (line,) = ax.plot(front["ms per view"], front["mean abs error (0-255)"], color="black", lw=1, ls="--", label="Pareto front")
-        for _, row in sub.iterrows():
-            if row["method"] == "fast" and row["sampling"] == "lattice" and row["shadow_map_size"] == 512 and np.isclose(row["shadow_bias"], rendering.RenderSettings().shadow_bias):
-                ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row["mean abs error (0-255)"]),
-                            fontsize=7, xytext=(3, 3), textcoords="offset points")
-        ax.axhline(0.5, color="grey", lw=0.8, ls=":")
-        ax.set(xscale="log", yscale="log")
-        ax.legend(handles=[line], loc="lower left", fontsize=7)
-    grid.figure.suptitle("Speed against accuracy: error against the exact reference vs time per view", y=1.03)
-    grid.figure.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(grid.figure)

@@ -1,26 +1,26 @@
-# Speed against accuracy (`make bench`): every method and setting on one fixed
-# set of surfaces and views, in one process. Not part of `rule all`: the naive
-# baseline renders one view at a time and takes about a minute on its own.
+# Speed against accuracy: every method and setting on one fixed set of surfaces and views, in one
+# process, at a size named by its folder: `quick` (the default workflow's chart, measurements.plan)
+# or `full` (`make bench`).
 
 
 rule speed_accuracy:
     output:
-        table="results/benchmarks/speed_accuracy.parquet",
+        table="results/benchmarks/{plan}/speed_accuracy.parquet",
         chart=report(
-            "results/benchmarks/speed_accuracy.png",
+            "results/benchmarks/{plan}/speed_accuracy.png",
             caption="../report/speed_accuracy.rst",
             category="Speed and accuracy",
         ),
-    params:
-        lighting=lighting_params,
     log:
-        "results/logs/benchmarks/speed_accuracy.log",
+        "results/logs/benchmarks/{plan}/speed_accuracy.log",
     benchmark:
-        "results/logs/benchmarks/speed_accuracy.benchmark.tsv"
+        "results/logs/benchmarks/{plan}/speed_accuracy.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
     threads: 1
     resources:
         mem_mb=2048,
-    conda:
-        "../../envs/render.yaml"
+    params:
+        lighting=lighting_params,
     script:
-        "../scripts/benchmark.py"
+        "../scripts/speed_accuracy.py"

@@ -8,9 +8,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
-from roughlight import shading, stability  # noqa: E402
+
+from roughlight import figures, shading, stability  # noqa: E402
 from roughlight.atomic import atomic_path, write_frame  # noqa: E402
-from roughlight.study import write_table_atomic  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
@@ -18,6 +18,6 @@ table = pd.concat([pd.read_parquet(path) for path in snakemake.input], ignore_in
 safe = stability.safe_domain(table)
 write_frame(safe, snakemake.output.safe)
 with atomic_path(snakemake.output.chart) as tmp:
-    stability.plot_stability(table, tmp, stability.normals_pictures(lighting=lighting))
-write_table_atomic(table, snakemake.output.table)
+    figures.plot_stability(table, tmp, stability.normals_pictures(lighting=lighting))
+write_frame(table, snakemake.output.table)
 log(safe.to_string())

@@ -1,0 +1,20 @@
+"""Snakemake adapter: the speed/accuracy benchmark (at the plan its folder names) to a Parquet table and a chart."""
+import os
+import sys
+
+os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+
+from roughlight import benchmark, figures, shading  # noqa: E402
+from roughlight.atomic import atomic_path, write_frame  # noqa: E402
+
+log = _log.setup(snakemake)
+lighting = shading.Lighting(**snakemake.params.lighting)
+table = benchmark.run_plan(snakemake.wildcards.plan, lighting=lighting, log=log)
+write_frame(table, snakemake.output.table)
+with atomic_path(snakemake.output.chart) as tmp:
+    figures.plot_speed_accuracy(table, tmp)
+log(table[table.component != "total"].round(4).to_string())
