@@ -14,7 +14,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium study test bench lint clean
+.PHONY: setup system-deps chromium study test bench style lint clean
 
 setup: system-deps $(STAMP)
 
@@ -40,13 +40,20 @@ chromium:
 study: setup
 	$(BIN)/snakemake --cores $(CORES)
 
-test: setup chromium
+test: setup chromium style
 	$(BIN)/python -m pytest -q
 
+# the full-size speed/accuracy benchmark and stability scans (results/benchmarks/full/, results/stability/full/),
+# and the report built with them
 bench: setup
-	$(BIN)/snakemake --cores $(CORES) results/benchmarks/speed_accuracy.parquet results/stability/stability.parquet
+	$(BIN)/snakemake --cores $(CORES) --config 'measurements={plan: full}'
 
-lint: setup
+# style: ruff over the Python, snakefmt over the rules (as the workflow catalog's template); part of `make test`
+style: setup
+	$(BIN)/ruff check src tests workflow/scripts
+	$(BIN)/snakefmt --check Snakefile workflow/rules
+
+lint: style
 	$(BIN)/snakemake --lint
 
 clean:

@@ -32,8 +32,8 @@ include: "workflow/rules/report.smk"
 
 
 rule all:
+    default_target: True
     input:
         "results/study.parquet",
         mesh_files(),
         "reports/roughlight_report.html",
-    default_target: True

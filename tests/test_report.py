@@ -25,6 +25,7 @@ import pandas as pd
 import pytest
 
 from roughlight import figures as F
+from roughlight import pictures, registry
 from roughlight import report as R
 from roughlight.diffuse import diffuse_levels, diffuse_three_part
 from roughlight.geometry import reflecting_areas
@@ -58,8 +59,9 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     glm_summary, glm_coefs, glm_diag, glm_messages = grid_glms(lobes, levels)
     fits = analytic_model_fits(study)
     per_sweep, timing_summary = render_timings(study)
-    areas = {a: reflecting_areas(a, 30.0, np.linspace(0, 1, 5))
-             for a in (find_aspect(study["aspect"], w) for w in SETTINGS["table_aspects"]) if a is not None}
+    areas = pd.concat([reflecting_areas(a, 30.0, np.linspace(0, 1, 5)).assign(aspect=a)
+                       for a in (find_aspect(study["aspect"], w) for w in SETTINGS["table_aspects"]) if a is not None],
+                      ignore_index=True)
     figs = {
         "fig19_topdown": F.fig19_topdown(study),
         "fig21_specular_truncation": F.fig21_specular_truncation(study),
@@ -78,15 +80,12 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
         "timings": F.fig_timings(per_sweep),
     }
     if render:
-        plates = F.plate_sweeps([0, 30, 60, 90], [127, 255], elevation_step=2.0)
+        plates = pictures.plate_sweeps([0, 30, 60, 90], [127, 255], elevation_step=2.0)
         figs["fig17_clipping"] = F.fig17_clipping(plates[plates["incidence"] == 30])
         figs["fig20_plate_incidence"] = F.fig20_plate_incidence(plates[plates["light"] == 127])
         for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
-            title, views = F.PICTURE_SETS[stem]
-            try:
-                figs[stem] = F.fig_pictures(stem, F.surface_pictures(views[:2], size=(160, 120), periods=3))
-            except AttributeError:
-                figs[stem] = F.placeholder(title, "render_picture is not available in this renderer")
+            _, views = pictures.PICTURE_SETS[stem]
+            figs[stem] = F.fig_pictures(stem, pictures.surface_pictures(views[:2], size=(160, 120), periods=3))
     paths = {stem: F.save_figure(fig, fig_dir / f"{stem}.png") for stem, fig in figs.items()}
     summary = R.study_summary(study)
     html = R.build_report(
@@ -192,7 +191,7 @@ def test_report_is_self_contained(built):
                     r"url\("):
         assert not re.search(pattern, text, re.I), f"external resource or script: {pattern}"
     imgs = _parse(text).imgs
-    assert len(imgs) == len(F.FIGURES)  # every figure of the report, one <img> each
+    assert len(imgs) == len(registry.FIGURES)  # every figure of the report, one <img> each
     assert all(i["src"].startswith("data:image/png;base64,") for i in imgs)
     assert 'id="stability-regressions"' in text and 'id="regression-status"' in text
 
@@ -201,7 +200,7 @@ def test_report_in_headless_chromium(built):
     _, html_path, workdir = built
     dom = _loaded_in_chromium(html_path, workdir)
     total = int(dom.check["data-total"])
-    assert total == len(F.FIGURES)
+    assert total == len(registry.FIGURES)
     assert json.loads(dom.check["data-bad"]) == [] and int(dom.check["data-loaded"]) == total
     # Tables 1 and 2, for both aspects, with the thesis's rows and columns
     printed = [t for t in dom.tables if t.get("class") == "thesis-table"]
@@ -254,16 +253,22 @@ def test_report_without_sqrt3_2_says_so(built, tmp_path):
                           {}, messages=messages)
     dom = _parse(html)
     assert {t["data-aspect"] for t in dom.tables if t.get("class") == "thesis-table"} == {"1"}
-    assert "is not in this study" in html and "Figure" in html  # missing figures are noted, not fatal
+    assert "not in this study" in html and "Figure" in html  # missing figures are noted, not fatal
 
 
 def test_captions_exist_for_every_figure():
-    for stem in F.FIGURES:
-        rst = REPO / "workflow" / "report" / f"{stem}.rst"
+    """Each registry figure has its caption file, a drawing function, and the page shows the caption's text."""
+    for figure in registry.FIGURES:
+        rst = REPO / "workflow" / "report" / f"{figure.name}.rst"
         assert rst.exists(), rst
         text = rst.read_text()
         assert "*Thesis:*" in text and "*Ours:*" in text
-        assert R.CAPTIONS[stem]["ours"] in text  # the HTML and snakemake --report say the same
+        caption = registry.caption(figure.name)
+        assert caption["title"] and caption["thesis"] and caption["ours"]
+        assert caption["ours"].split()[:5] == text.split("*Ours:*")[1].split()[:5]
+        assert figure.rendered or callable(getattr(F, figure.draw))
+    with pytest.raises(KeyError, match="no figure"):
+        registry.caption("fig99_missing")
 
 
 @pytest.mark.slow
@@ -279,6 +284,7 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     config = {
         "grid": {"truncation": [0.0, 0.5, 1.0], "aspect": [1.0, S32], "incidence": [30]},
         "sweep": {"elevation_step": 5, "azimuth_step": 90},
+        "report": {"speed_accuracy": False, "stability": False},  # the measurements have tests of their own
     }
     (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
@@ -288,13 +294,63 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
                          env=env, timeout=600)
     assert res.returncode == 0, res.stderr[-4000:]
     html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
-    assert html.count('class="thesis-table"') == 4 and html.count("<img ") == len(F.FIGURES)
+    assert html.count('class="thesis-table"') == 4 and html.count("<img ") == len(registry.FIGURES)
+    for figure in registry.FIGURES:  # every caption of the registry is on the page
+        assert f'id="fig-{figure.name}"' in html
     lint = subprocess.run(snakemake + ["--lint"], capture_output=True, text=True, env=env, timeout=300)
     text = lint.stdout + lint.stderr
-    assert "report.smk" not in text and "rule report_" not in text, text[-3000:]
+    assert "report.smk" not in text, text[-3000:]
+    for rule in ("analysis_tables", "analysis_glm", "analysis_models", "figures", "render_figures", "report_html"):
+        assert f"rule {rule}" not in text, text[-3000:]
     archive = workflow_dir / "report.zip"
     res = subprocess.run(snakemake + ["--report", str(archive)], capture_output=True, text=True, env=env, timeout=300)
     assert res.returncode == 0 and archive.stat().st_size > 0, res.stderr[-3000:]
+
+    # every setting reaches every consumer: other table aspects, incidence and figure lights/incidences
+    sweeps = sorted((workflow_dir / "results" / "sweeps").rglob("*.parquet"))
+    stamps = [p.stat().st_mtime_ns for p in sweeps]
+    follow = {"report": {"speed_accuracy": False, "stability": False, "table_aspects": [S32], "table_incidence": 30,
+                         "figure_incidences": [30, 60], "figure_lights": [127]}}
+    (workflow_dir / "follow.yaml").write_text(json.dumps(follow))
+    configs = [str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "follow.yaml")]
+    res = subprocess.run(snakemake + ["reports/roughlight_report.html", "--configfile", *configs],
+                         capture_output=True, text=True, env=env, timeout=600)
+    assert res.returncode == 0, res.stderr[-4000:]
+    assert [p.stat().st_mtime_ns for p in sweeps] == stamps  # report settings render no sweep again
+    html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
+    aspects = {t["data-aspect"] for t in _parse(html).tables if t.get("class") == "thesis-table"}
+    assert aspects == {"√3/2"} and html.count('class="thesis-table"') == 2
+    plates = pd.read_parquet(workflow_dir / "results" / "analysis" / "plate_sweeps.parquet")
+    assert set(plates["incidence"]) == {30.0, 60.0} and set(plates["light"]) == {127.0}
+    tables = pd.read_csv(workflow_dir / "results" / "analysis" / "thesis_tables.csv")
+    assert set(tables.loc[tables["source"] == "ours", "aspect_label"]) == {"√3/2"}
+
+
+def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
+    """report.speed_accuracy / report.stability switch the measurements in and out of the DAG; files that
+    happen to exist do not (the same command always builds the same DAG)."""
+    config = {"grid": {"truncation": [0.5], "aspect": [1.0], "incidence": [30]},
+              "sweep": {"elevation_step": 45, "azimuth_step": 90}}
+    (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
+    snakemake = [sys.executable, "-m", "snakemake", "--cores", "2", "--directory", str(workflow_dir), "--snakefile",
+                 str(workflow_dir / "Snakefile"), "-n", "--quiet", "rules"]
+    (workflow_dir / "off.yaml").write_text(json.dumps({"report": {"speed_accuracy": False, "stability": False}}))
+
+    def jobs(*extra):
+        res = subprocess.run(snakemake + list(extra), capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, (res.stdout + res.stderr)[-3000:]
+        return res.stdout.split("Job stats:")[-1].split("Reasons:")[0]
+
+    default = jobs()
+    assert "speed_accuracy" in default and "stability_measurement" in default  # on by default, quick plan
+    off = jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml"))
+    assert "speed_accuracy" not in off and "stability" not in off
+    # a stray full-size chart changes nothing: the DAG comes from the config
+    (workflow_dir / "results" / "benchmarks" / "full").mkdir(parents=True)
+    (workflow_dir / "results" / "benchmarks" / "full" / "speed_accuracy.png").write_bytes(b"not a chart")
+    assert jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml")) == off
+    full = jobs("--config", "measurements={plan: full}")
+    assert "speed_accuracy" in full and "stability_measurement" in full
 
 
 def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():

@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .geometry import is_plate, side_slope_deg
+from .geometry import side_slope_deg
 from .selection import SURFACE_KEYS, arc, solid_angle_weights, surface_grids
+from .surface import is_plate
 
 
 def diffuse_breakpoints(incidence: float, aspect: float) -> tuple[float, float]:

@@ -1,11 +1,15 @@
 """Figures of the report: the thesis's Figures 9-29 regenerated from our study, and beyond.
 
-Every ``fig_*`` function takes frames from :mod:`roughlight.analysis` (or
-the study table) and returns a :class:`matplotlib.figure.Figure`;
-:func:`save_figure` writes it as a PNG atomically and closes it. Functions
-that need to render (:func:`plate_sweeps`, :func:`surface_pictures`) are
-the only ones that touch OpenGL; set ``PYOPENGL_PLATFORM=osmesa`` before
-calling them. Intensities are on the 0-255 scale, angles in degrees.
+Every ``fig*`` function takes frames of the analysis (:mod:`roughlight.lobes`,
+:mod:`roughlight.thesis`, ...), the study table or what :mod:`roughlight.pictures`
+rendered, and returns a :class:`matplotlib.figure.Figure`; :func:`save_figure`
+writes it as a PNG atomically and closes it. Nothing here renders. The figures
+of the report are :data:`roughlight.registry.FIGURES`; a figure's function names
+the tables it draws by its parameter names (``study``, ``lobes``, ``sine``, ...),
+and ``aspects`` / ``incidence`` are the table aspects and incidence
+(``report.table_aspects``, ``report.table_incidence``). The benchmark's and the
+stability scans' charts are here too (:func:`plot_speed_accuracy`,
+:func:`plot_stability`). Intensities are on the 0-255 scale, angles in degrees.
 """
 
 from __future__ import annotations
@@ -24,19 +28,22 @@ import seaborn as sns  # noqa: E402
 
 from .atomic import atomic_path  # noqa: E402
 from .diffuse import diffuse_breakpoints, exponential_part  # noqa: E402
-from .geometry import front_facet_share, is_plate, lobe_centres  # noqa: E402
+from .geometry import front_facet_share, lobe_centres  # noqa: E402
 from .lobes import MIN_LOBE_PEAK, lobe_directions  # noqa: E402
+from .registry import title as figure_title  # noqa: E402
 from .selection import ASPECT_TOL, arc, find_aspect, surface_grids  # noqa: E402
 from .shading import phase_angle, view_direction  # noqa: E402
-from .surface import SQRT3_2, aspect_label  # noqa: E402
+from .surface import (  # noqa: E402
+    SQRT3_2,
+    aspect_label,
+    is_plate,  # noqa: E402
+)
 from .surface_models import MODEL_COLUMNS  # noqa: E402
-from .thesis import THESIS_INCIDENCE, table_data, thesis_model_predictions  # noqa: E402
+from .thesis import TABLE_ASPECTS, THESIS_INCIDENCE, table_data, thesis_model_predictions  # noqa: E402
 
 __all__ = [
-    "FIGURES",
     "save_figure",
     "placeholder",
-    "plate_sweeps",
     "fig17_clipping",
     "fig19_topdown",
     "fig20_plate_incidence",
@@ -54,34 +61,10 @@ __all__ = [
     "fig_model_fits",
     "fig_hapke",
     "fig_timings",
-    "surface_pictures",
     "fig_pictures",
-    "PICTURE_SETS",
 ]
 
 #: File stem -> short title of every figure the report shows (in report order).
-FIGURES = {
-    "fig09_shadows": "Fig. 9: shadows at several incidences",
-    "fig10_grazing": "Fig. 10: views near grazing",
-    "fig13_tops": "Fig. 13: truncated tops at low incidence",
-    "fig17_clipping": "Fig. 17: clipping of the specular lobe at source 255",
-    "fig19_topdown": "Fig. 19: the lobes from above (phase shift)",
-    "fig20_plate_incidence": "Fig. 20: specular of the smooth surface, incidence 0-90",
-    "fig21_specular_truncation": "Fig. 21: specular against truncation",
-    "fig23_forward_models": "Fig. 23: forward lobe models against data",
-    "fig24_reflecting_areas": "Fig. 24: reflecting areas against truncation",
-    "fig25_back_models": "Fig. 25: back lobe models against data",
-    "fig26_specular_aspect": "Fig. 26: specular against aspect",
-    "fig27_diffuse_plate": "Fig. 27: diffuse of the smooth surface",
-    "fig28_diffuse_truncation": "Fig. 28: diffuse against truncation",
-    "fig29_diffuse_aspect": "Fig. 29: diffuse against aspect",
-    "lobe_geometry": "Lobe centres and widths against geometry",
-    "diffuse_parts": "The three-part diffuse model over the grid",
-    "glm_diagnostics": "Grid GLMs: residuals and influence",
-    "model_fits": "Analytic models: fit errors over the grid",
-    "hapke": "Hapke's opposition term fitted near zero phase",
-    "timings": "Render timings per sweep",
-}
 
 DPI = 110
 
@@ -137,7 +120,7 @@ def placeholder(title: str, message: str):
     return fig
 
 
-def _aspects_present(frame, wanted=(1.0, SQRT3_2)):
+def _aspects_present(frame, wanted):
     out = []
     for a in wanted:
         found = find_aspect(frame["aspect"], a)
@@ -146,17 +129,21 @@ def _aspects_present(frame, wanted=(1.0, SQRT3_2)):
     return out
 
 
-def _arc_panels(study, component, stem, height):
+def _no_table_aspect(aspects) -> str:
+    return "none of the table aspects (" + ", ".join(aspect_label(a) for a in aspects) + ") is in the study"
+
+
+def _arc_panels(study, component, stem, height, aspects, incidence):
     """The phi = 0 arc of one component, its incidence, and a figure with one panel per table aspect
-    present (aspect 1, sqrt(3)/2): ``(arc, incidence, fig, [(ax, aspect), ...])``; the list is empty and
-    ``fig`` a placeholder when neither aspect is in the study."""
+    present (``report.table_aspects``): ``(arc, incidence, fig, [(ax, aspect), ...])``; the list is empty
+    and ``fig`` a placeholder when none of them is in the study."""
     views = arc(study, component)
-    inc = _incidence(views)
-    aspects = _aspects_present(views)
-    if not aspects:
-        return views, inc, placeholder(FIGURES[stem], "aspect 1 is not in the study"), []
+    inc = _incidence(views, incidence)
+    present = _aspects_present(views, aspects)
+    if not present:
+        return views, inc, placeholder(figure_title(stem), _no_table_aspect(aspects)), []
     fig, axes = plt.subplots(1, len(aspects), figsize=(6.2 * len(aspects), height), squeeze=False, sharey=True)
-    return views, inc, fig, list(zip(axes[0], aspects))
+    return views, inc, fig, list(zip(axes[0], present))
 
 
 def _sel(frame, aspect=None, truncation=None, incidence=None):
@@ -179,52 +166,12 @@ def _hue_palette(n, name="viridis"):
     return sns.color_palette(name, n_colors=max(n, 1))
 
 
-# ---------------------------------------------------------------------------
-# rendered plate sweeps (Figs. 17 and 20)
-
-
-def plate_sweeps(incidences, lights, elevation_step: float = 1.0, lighting=None, settings=None) -> pd.DataFrame:
-    """Render the flat plate on the phi = 0 arc for several incidences and light levels.
-
-    Parameters
-    ----------
-    incidences : iterable of degrees; lights : iterable of J (0-255)
-    elevation_step : degrees
-    lighting : dict of :class:`roughlight.shading.Lighting` fields (the
-        light level is replaced by each of ``lights``); settings : dict of
-        :class:`roughlight.rendering.RenderSettings` fields.
-
-    Returns
-    -------
-    long DataFrame: ``incidence``, ``light``, ``elevation``, ``component``, ``value`` (0-255), ``seconds``.
-    """
-    from .rendering import RenderSettings, measure_sweep
-    from .shading import Lighting
-    from .sweeps import elevations
-
-    base = dict(lighting or {})
-    base["shadows"] = False  # the plate casts none
-    el = elevations(elevation_step)
-    az = np.zeros_like(el)
-    rs = RenderSettings(**(settings or {}))
-    rows = []
-    for inc in incidences:
-        for J in lights:
-            lit = Lighting(**{**base, "light": float(J)})
-            out = measure_sweep("fast", 0.0, 0.0, float(inc), az, el, lit, rs)
-            for comp in ("diffuse", "specular", "total"):
-                rows.append(pd.DataFrame({"incidence": float(inc), "light": float(J), "elevation": el,
-                                          "component": comp, "value": np.asarray(out[comp], float),
-                                          "seconds": float(out["seconds"])}))
-    return pd.concat(rows, ignore_index=True)
-
-
 def fig17_clipping(plates: pd.DataFrame):
     """Fig. 17: the plate's specular and total at source 127 and 255 (phi = 0 arc)."""
     _theme()
     d = plates[plates["component"].isin(["specular", "total"])].copy()
     if d.empty:
-        return placeholder(FIGURES["fig17_clipping"], "no plate sweeps")
+        return placeholder(figure_title("fig17_clipping"), "no plate sweeps")
     d["source J"] = d["light"].map(lambda j: f"{j:g}")
     g = sns.relplot(data=d, x="elevation", y="value", hue="source J", col="component", kind="line",
                     height=3.2, aspect=1.3, palette=["#1f77b4", "#d62728"], facet_kws={"sharey": True})
@@ -234,7 +181,7 @@ def fig17_clipping(plates: pd.DataFrame):
         ax.set_xlim(0, 180)
         ax.set_xlabel("view elevation (deg), azimuth 0")
     g.set_ylabels("mean pixel value (0-255)")
-    g.figure.suptitle("Flat plate, incidence %g: the specular lobe clips at source 255" % d["incidence"].iloc[0],
+    g.figure.suptitle(f"Flat plate, incidence {d['incidence'].iloc[0]:g}: the specular lobe clips at source 255",
                       y=1.04)
     return g.figure
 
@@ -244,7 +191,7 @@ def fig20_plate_incidence(plates: pd.DataFrame):
     _theme()
     d = plates[plates["component"] == "specular"].copy()
     if d.empty:
-        return placeholder(FIGURES["fig20_plate_incidence"], "no plate sweeps")
+        return placeholder(figure_title("fig20_plate_incidence"), "no plate sweeps")
     d["incidence (deg)"] = d["incidence"].map(lambda i: f"{i:g}")
     n = d["incidence (deg)"].nunique()
     fig, ax = plt.subplots(figsize=(7.5, 3.6))
@@ -252,7 +199,7 @@ def fig20_plate_incidence(plates: pd.DataFrame):
     ax.set_xlim(0, 180)
     ax.set_xlabel("view elevation (deg), azimuth 0 (mirror direction at 180 - incidence)")
     ax.set_ylabel("specular (0-255)")
-    ax.set_title("Specular reflection on a smooth surface, source J = %g" % d["light"].iloc[0], loc="left")
+    ax.set_title(f"Specular reflection on a smooth surface, source J = {d['light'].iloc[0]:g}", loc="left")
     ax.legend(title="incidence", ncol=2, fontsize=8, title_fontsize=8, loc="upper left")
     return fig
 
@@ -261,10 +208,10 @@ def fig20_plate_incidence(plates: pd.DataFrame):
 # specular figures
 
 
-def fig21_specular_truncation(study: pd.DataFrame):
-    """Fig. 21: specular on the phi = 0 arc against truncation, aspect 1 (and sqrt(3)/2)."""
+def fig21_specular_truncation(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE):
+    """Fig. 21: specular on the phi = 0 arc against truncation, one panel per table aspect."""
     _theme()
-    spec, inc, fig, panels = _arc_panels(study, "specular", "fig21_specular_truncation", 3.8)
+    spec, inc, fig, panels = _arc_panels(study, "specular", "fig21_specular_truncation", 3.8, aspects, incidence)
     for ax, a in panels:
         d = _sel(spec, aspect=a, incidence=inc).copy()
         d["truncation"] = d["truncation"].map(lambda t: f"{t:g}")
@@ -319,45 +266,48 @@ def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
     ax.legend(fontsize=7)
 
 
-def _models_figure(lobes, sine, lobe, m, k, key, exact=None):
+def _models_figure(lobes, sine, lobe, m, k, key, exact, aspects, incidence):
     _theme()
-    inc = _incidence(lobes)
-    aspects = _aspects_present(lobes)
-    if not aspects:
-        return placeholder(FIGURES[key], "neither aspect 1 nor √3/2 is in the study")
-    fig, axes = plt.subplots(1, len(aspects), figsize=(5.6 * len(aspects), 3.8), squeeze=False, sharey=True)
-    for ax, a in zip(axes[0], aspects):
+    inc = _incidence(lobes, incidence)
+    present = _aspects_present(lobes, aspects)
+    if not present:
+        return placeholder(figure_title(key), _no_table_aspect(aspects))
+    fig, axes = plt.subplots(1, len(present), figsize=(5.6 * len(present), 3.8), squeeze=False, sharey=True)
+    for ax, a in zip(axes[0], present):
         _model_panel(ax, lobes, sine, a, lobe, m, k, inc, exact)
     return fig
 
 
-def fig23_forward_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0, exact=None):
+def fig23_forward_models(lobes: pd.DataFrame, sine: pd.DataFrame, light: float = 127.0, exact=None,
+                         aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE):
     """Fig. 23: forward lobe peak against truncation with the square area and regressed models.
 
-    ``exact``: optional :func:`roughlight.analysis.exact_lobe_peaks` frame, drawn as open circles.
+    ``exact``: optional :func:`roughlight.thesis.exact_lobe_peaks` frame, drawn as open circles.
     """
-    return _models_figure(lobes, sine, "forward", m, None, "fig23_forward_models", exact)
+    return _models_figure(lobes, sine, "forward", light, None, "fig23_forward_models", exact, aspects, incidence)
 
 
-def fig25_back_models(lobes: pd.DataFrame, sine: pd.DataFrame, m: float = 127.0, k: float | None = None,
-                      exact=None):
+def fig25_back_models(lobes: pd.DataFrame, sine: pd.DataFrame, light: float = 127.0, k: float | None = None,
+                      exact=None, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE):
     """Fig. 25: back lobe peak against truncation with the triangle area and regressed models.
 
-    ``k`` (the triangle area's factor) defaults to geometry, :func:`roughlight.analysis.front_facet_share`.
+    ``k`` (the triangle area's factor) defaults to geometry, :func:`roughlight.geometry.front_facet_share`.
     """
-    return _models_figure(lobes, sine, "back", m, k, "fig25_back_models", exact)
+    return _models_figure(lobes, sine, "back", light, k, "fig25_back_models", exact, aspects, incidence)
 
 
-def fig24_reflecting_areas(areas: dict):
+def fig24_reflecting_areas(reflecting_areas: pd.DataFrame):
     """Fig. 24: visible-lit area of the top (forward) and the front facet (back) against truncation.
 
     Parameters
     ----------
-    areas : dict aspect -> :func:`roughlight.analysis.reflecting_areas` frame
+    reflecting_areas : :func:`roughlight.geometry.reflecting_areas` frames of the aspects, stacked
     """
+    areas = ({a: g.reset_index(drop=True) for a, g in reflecting_areas.groupby("aspect", sort=False)}
+             if len(reflecting_areas) else {})
     _theme()
     if not areas:
-        return placeholder(FIGURES["fig24_reflecting_areas"], "no aspect to draw")
+        return placeholder(figure_title("fig24_reflecting_areas"), "no aspect to draw")
     fig, axes = plt.subplots(1, len(areas), figsize=(5.4 * len(areas), 3.6), squeeze=False, sharey=True)
     for ax, (a, d) in zip(axes[0], areas.items()):
         ax.plot(d["truncation"], d["top"], "o", color="#1f77b4", label="top, seen from the forward mirror")
@@ -372,11 +322,11 @@ def fig24_reflecting_areas(areas: dict):
     return fig
 
 
-def fig26_specular_aspect(study: pd.DataFrame, truncations=(0.2, 1.0)):
+def fig26_specular_aspect(study: pd.DataFrame, truncations=(0.2, 1.0), incidence: float = THESIS_INCIDENCE):
     """Fig. 26: specular on the phi = 0 arc against aspect, at a few truncations."""
     _theme()
     spec = arc(study, "specular")
-    inc = _incidence(spec)
+    inc = _incidence(spec, incidence)
     have = np.unique(spec["truncation"].to_numpy(float))
     ts = [t for t in truncations if np.any(np.isclose(have, t))] or [float(have.max())]
     fig, axes = plt.subplots(1, len(ts), figsize=(6.2 * len(ts), 3.8), squeeze=False, sharey=True)
@@ -402,7 +352,7 @@ def _topdown_xy(az, el):
     return x, y
 
 
-def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
+def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, incidence: float = THESIS_INCIDENCE):
     """Fig. 19: top-down maps of the specular over the hemisphere, and the back lobe's track.
 
     The top row maps the specular component seen from every direction
@@ -416,7 +366,7 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
     """
     _theme()
     grids = {key: (az, el, v) for key, az, el, v in surface_grids(study, "specular")}
-    inc = _incidence(study)
+    inc = _incidence(study, incidence)
     if surfaces is None:
         surfaces = []
         for t, a in ((0.0, 0.0), (0.5, 1.0), (1.0, 1.0), (1.0, SQRT3_2)):
@@ -426,7 +376,7 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
             if hit:
                 surfaces.append(hit[0])
     if not surfaces:
-        return placeholder(FIGURES["fig19_topdown"], "none of the example surfaces is in the study")
+        return placeholder(figure_title("fig19_topdown"), "none of the example surfaces is in the study")
     n = len(surfaces)
     fig = plt.figure(figsize=(3.4 * n + 0.6, 7.2))
     gs = fig.add_gridspec(2, 2 * n, height_ratios=[1.25, 1])
@@ -485,7 +435,7 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
     else:
         for ax in (ax1, ax2):
             ax.text(0.5, 0.5, "no back lobe on these surfaces", ha="center", transform=ax.transAxes)
-    fig.suptitle("Specular from above (light ★ at azimuth 0, elevation %g) and the back lobe's track" % inc,
+    fig.suptitle(f"Specular from above (light ★ at azimuth 0, elevation {inc:g}) and the back lobe's track",
                  y=0.995)
     fig.tight_layout()
     return fig
@@ -495,11 +445,11 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0):
 # diffuse figures
 
 
-def fig27_diffuse_plate(study: pd.DataFrame):
+def fig27_diffuse_plate(study: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     """Fig. 27: diffuse of the smooth surface (plate and control) against view elevation."""
     _theme()
     diff = arc(study, "diffuse")
-    inc = _incidence(diff)
+    inc = _incidence(diff, incidence)
     d = diff[np.isclose(diff["incidence"], inc) & (diff["coverage"] > 0)]
     plate = d[(d["truncation"] * d["aspect"]) < 1e-9]
     fig, ax = plt.subplots(figsize=(7, 3.4))
@@ -530,10 +480,12 @@ def _three_part_curve(row, e):
     return np.where((e <= 0) | (e >= 180), np.nan, y)
 
 
-def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
+def fig28_diffuse_truncation(study: pd.DataFrame, diffuse_parts: pd.DataFrame, aspects=TABLE_ASPECTS,
+                             incidence: float = THESIS_INCIDENCE):
     """Fig. 28: diffuse on the phi = 0 arc against truncation, with the fitted three-part model."""
     _theme()
-    diff, inc, fig, panels = _arc_panels(study, "diffuse", "fig28_diffuse_truncation", 3.9)
+    parts = diffuse_parts
+    diff, inc, fig, panels = _arc_panels(study, "diffuse", "fig28_diffuse_truncation", 3.9, aspects, incidence)
     for ax, a in panels:
         d = _sel(diff, aspect=a, incidence=inc)
         d = d[d["coverage"] > 0]
@@ -563,11 +515,11 @@ def fig28_diffuse_truncation(study: pd.DataFrame, parts: pd.DataFrame):
     return fig
 
 
-def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0):
+def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0, incidence: float = THESIS_INCIDENCE):
     """Fig. 29: diffuse on the phi = 0 arc against aspect (full pyramids by default)."""
     _theme()
     diff = arc(study, "diffuse")
-    inc = _incidence(diff)
+    inc = _incidence(diff, incidence)
     have = np.unique(diff["truncation"].to_numpy(float))
     t = truncation if np.any(np.isclose(have, truncation)) else float(have.max())
     d = _sel(diff, truncation=t, incidence=inc)
@@ -594,14 +546,14 @@ def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0):
 # beyond the thesis
 
 
-def fig_lobe_geometry(lobes: pd.DataFrame):
+def fig_lobe_geometry(lobes: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     """Measured lobe centres against the geometric mirror directions, and lobe widths."""
     _theme()
     d = lobes[np.isfinite(lobes["peak_elevation"]) & ~lobes["plate"]].copy()
     if d.empty:
-        return placeholder(FIGURES["lobe_geometry"], "no lobes outside the plate")
+        return placeholder(figure_title("lobe_geometry"), "no lobes outside the plate")
     fig, axes = plt.subplots(1, 3, figsize=(15, 3.9))
-    inc = _incidence(d)
+    inc = _incidence(d, incidence)
     d = d[np.isclose(d["incidence"], inc)]
     aa = np.linspace(0.0, max(1.0, float(d["aspect"].max())), 200)
     pred_back = [lobe_centres(inc, a)["back"] for a in aa]
@@ -626,13 +578,14 @@ def fig_lobe_geometry(lobes: pd.DataFrame):
     return fig
 
 
-def fig_diffuse_parts(parts: pd.DataFrame):
+def fig_diffuse_parts(diffuse_parts: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     """Heatmaps over (truncation, aspect) of the three-part diffuse model's parameters."""
+    parts = diffuse_parts
     _theme()
     d = parts[np.isfinite(parts["rate"])]
     if d.empty:
-        return placeholder(FIGURES["diffuse_parts"], "no surface with a fitted decay (all plates?)")
-    inc = _incidence(d)
+        return placeholder(figure_title("diffuse_parts"), "no surface with a fitted decay (all plates?)")
+    inc = _incidence(d, incidence)
     d = d[np.isclose(d["incidence"], inc)].copy()
     d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
     fig, axes = plt.subplots(1, 4, figsize=(17, 3.9))
@@ -646,11 +599,12 @@ def fig_diffuse_parts(parts: pd.DataFrame):
     return fig
 
 
-def fig_glm_diagnostics(diag: pd.DataFrame, summary: pd.DataFrame):
+def fig_glm_diagnostics(glm_diagnostics: pd.DataFrame, glm_summary: pd.DataFrame):
     """Residuals against fitted values and influence (leverage, Cook's distance) of each grid GLM."""
+    diag, summary = glm_diagnostics, glm_summary
     _theme()
     if diag is None or diag.empty:
-        return placeholder(FIGURES["glm_diagnostics"], "no GLM was fitted (see the messages in the report)")
+        return placeholder(figure_title("glm_diagnostics"), "no GLM was fitted (see the messages in the report)")
     responses = list(dict.fromkeys(diag["response"]))
     fig, axes = plt.subplots(2, len(responses), figsize=(4.8 * len(responses), 7), squeeze=False)
     for j, r in enumerate(responses):
@@ -686,12 +640,13 @@ def fig_glm_diagnostics(diag: pd.DataFrame, summary: pd.DataFrame):
     return fig
 
 
-def fig_model_fits(fits: pd.DataFrame):
+def fig_model_fits(model_fits: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     """Heatmaps of each analytic model's RMSE over (truncation, aspect)."""
+    fits = model_fits
     _theme()
     if fits is None or fits.empty:
-        return placeholder(FIGURES["model_fits"], "no model fits")
-    inc = _incidence(fits)
+        return placeholder(figure_title("model_fits"), "no model fits")
+    inc = _incidence(fits, incidence)
     d = fits[np.isclose(fits["incidence"], inc)].copy()
     d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
     panels = [(col, f"{comp}: {name}") for comp, cols in MODEL_COLUMNS.items() for col, name in cols.items()
@@ -712,10 +667,12 @@ def fig_model_fits(fits: pd.DataFrame):
     return fig
 
 
-def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, surfaces=None):
+def fig_hapke(study: pd.DataFrame, model_fits: pd.DataFrame, hapke_max_phase: float = 60.0, surfaces=None,
+              incidence: float = THESIS_INCIDENCE):
     """The total component against phase near opposition, with Hapke's fitted curve, for a few surfaces."""
+    fits, max_phase = model_fits, hapke_max_phase
     _theme()
-    inc = _incidence(study)
+    inc = _incidence(study, incidence)
     if surfaces is None:
         surfaces = []
         for t, a in ((0.5, 1.0), (1.0, 1.0), (1.0, SQRT3_2), (1.0, 0.5)):
@@ -724,7 +681,7 @@ def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, 
             if len(r):
                 surfaces.append((float(r["truncation"].iloc[0]), float(r["aspect"].iloc[0]), inc))
     if not surfaces:
-        return placeholder(FIGURES["hapke"], "none of the example surfaces is in the study")
+        return placeholder(figure_title("hapke"), "none of the example surfaces is in the study")
     tot = study[study["component"].astype(str) == "total"]
     fig, axes = plt.subplots(1, len(surfaces), figsize=(4.3 * len(surfaces), 3.5), squeeze=False, sharey=True)
     for ax, (t, a, i) in zip(axes[0], surfaces):
@@ -750,11 +707,12 @@ def fig_hapke(study: pd.DataFrame, fits: pd.DataFrame, max_phase: float = 60.0, 
     return fig
 
 
-def fig_timings(per_sweep: pd.DataFrame):
+def fig_timings(render_timings: pd.DataFrame):
     """Render seconds per sweep over (truncation, aspect), one panel per incidence."""
+    per_sweep = render_timings
     _theme()
     if per_sweep is None or per_sweep.empty:
-        return placeholder(FIGURES["timings"], "no timings")
+        return placeholder(figure_title("timings"), "no timings")
     d = per_sweep.copy()
     d["aspect"] = d["aspect"].map(lambda a: round(a, 3))
     incs = sorted(d["incidence"].unique())
@@ -770,46 +728,11 @@ def fig_timings(per_sweep: pd.DataFrame):
 # ---------------------------------------------------------------------------
 # pictures of the surfaces (the thesis's Figs. 9, 10, 13)
 
-#: stem -> (title, list of (truncation, aspect, incidence, elevation, azimuth, label))
-PICTURE_SETS = {
-    "fig09_shadows": (
-        "Shadows at several incidences (full pyramids, aspect 1, seen from elevation 20, azimuth 60)",
-        [(1.0, 1.0, i, 20.0, 60.0, f"incidence {i:g}") for i in (15.0, 30.0, 45.0, 70.0)]
-        + [(0.5, 1.0, 30.0, 20.0, 60.0, "truncation 0.5, incidence 30")],
-    ),
-    "fig10_grazing": (
-        "Views near grazing (truncation 1, aspect 1, incidence 30, azimuth 0 from the light's side)",
-        [(1.0, 1.0, 30.0, e, 0.0, f"elevation {e:g}") for e in (2.0, 10.0, 30.0, 90.0)],
-    ),
-    "fig13_tops": (
-        "Truncated tops at low incidence (aspect 1, incidence 10, seen from the mirror direction, elevation 170)",
-        [(t, 1.0, 10.0, 170.0, 0.0, f"truncation {t:g}") for t in (0.3, 0.6, 0.9, 1.0)],
-    ),
-}
-
-
-def surface_pictures(views, lighting=None, size=(400, 300), periods=6):
-    """Render pictures of finite patches (as the thesis's screenshots).
-
-    Parameters
-    ----------
-    views : list of (truncation, aspect, incidence, elevation, azimuth, label)
-    lighting : :class:`roughlight.shading.Lighting` or None
-
-    Returns
-    -------
-    list of (label, (H, W, 3) uint8 image), from :func:`roughlight.rendering.render_picture`
-    """
-    from . import rendering
-
-    return [(label, np.asarray(rendering.render_picture(t, a, i, e, phi, lighting=lighting, size=size,
-                                                        periods=periods)))
-            for t, a, i, e, phi, label in views]
-
-
 def fig_pictures(stem: str, pictures):
     """A row of rendered pictures with their labels (Figs. 9, 10, 13)."""
     _theme()
+    from .pictures import PICTURE_SETS
+
     title = PICTURE_SETS[stem][0] if stem in PICTURE_SETS else stem
     n = len(pictures)
     if n == 0:
@@ -821,3 +744,115 @@ def fig_pictures(stem: str, pictures):
         ax.axis("off")
     fig.suptitle(title, fontsize=10, y=1.02)
     return fig
+
+
+# ---------------------------------------------------------------------------
+# speed against accuracy (the benchmark) and where methods fail (the stability scans)
+
+
+def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
+    """Error against time per view, log scales, one panel per component, Pareto front marked.
+
+    The reference's error is zero (up to floating point); it is drawn at
+    ``floor`` so that it shows on the log scale.
+    """
+    from .sampling import RenderSettings
+
+    data = table[table["component"].isin(["diffuse", "specular"])].copy()
+    data["mean abs error (0-255)"] = data["mae"].clip(lower=floor)
+    data["ms per view"] = data["ms_per_view"]
+    sns.set_theme(style="whitegrid")
+    grid = sns.relplot(
+        data=data, x="ms per view", y="mean abs error (0-255)", hue="method", style="sampling",
+        col="component", kind="scatter", s=70, height=4.2, aspect=1.15, facet_kws={"sharey": False},
+    )
+    for ax, (_, sub) in zip(grid.axes.flat, data.groupby("component", sort=False)):
+        front = sub[sub["pareto"]].sort_values("ms per view")
+        (line,) = ax.plot(front["ms per view"], front["mean abs error (0-255)"], color="black", lw=1, ls="--",
+                          label="Pareto front")
+        for _, row in sub.iterrows():
+            default_bias = np.isclose(row["shadow_bias"], RenderSettings().shadow_bias)
+            lattice_512 = row["sampling"] == "lattice" and row["shadow_map_size"] == 512
+            if row["method"] == "fast" and lattice_512 and default_bias:
+                ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row["mean abs error (0-255)"]),
+                            fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax.axhline(0.5, color="grey", lw=0.8, ls=":")
+        ax.set(xscale="log", yscale="log")
+        ax.legend(handles=[line], loc="lower left", fontsize=7)
+    grid.figure.suptitle("Speed against accuracy: error against the exact reference vs time per view", y=1.03)
+    grid.figure.savefig(path, dpi=120, bbox_inches="tight")
+    plt.close(grid.figure)
+
+
+def plot_stability(frames, path, pictures=None) -> None:
+    """Worst-component MAE against pixels per period, jitter spread, elevation, incidence
+    by shadow bias, shadow-map size and shininess; the clipped lobes; averaged normals
+    by component, and ``pictures`` ({shading model: (H, W, 3) uint8}, from
+    :func:`roughlight.stability.normals_pictures`) when given."""
+    from .stability import TOLERANCE
+
+    frame = frames if isinstance(frames, pd.DataFrame) else pd.concat(list(frames), ignore_index=True)
+    sns.set_theme(style="whitegrid")
+    fig, axes = plt.subplots(3, 4, figsize=(20, 13.5))
+    floor = 1e-2
+
+    def worst(experiment, by=("method", "setting", "x")):
+        d = frame[(frame["experiment"] == experiment) & (frame["metric"] == "mae")]
+        d = d.groupby(list(by), as_index=False)["value"].max()
+        d["value"] = d["value"].clip(lower=floor)
+        return d
+
+    def log_panel(ax, data, hue, xlabel, ylabel, title):
+        sns.lineplot(data=data, x="x", y="value", hue=hue, marker="o", ax=ax)
+        ax.set(xscale="log", yscale="log", xlabel=xlabel, ylabel=ylabel, title=title)
+        ax.axhline(TOLERANCE, ls=":", c="k", lw=1)
+
+    mae = "worst-component MAE (0-255)"
+    log_panel(axes[0, 0], worst("pixels"), "method", "pixels per period", mae, "pixelation / aliasing")
+    d = frame[(frame["experiment"] == "pixels") & (frame["metric"] == "jitter_sd")].copy()
+    d["value"] = d["value"].clip(lower=floor)
+    log_panel(axes[0, 1], d, "method", "pixels per period", "SD over sub-pixel jitter (0-255)",
+              "flashing lines: jitter spread of total")
+    ax = axes[0, 2]
+    log_panel(ax, worst("elevation"), "method", "view elevation above horizon (deg, e and 180-e)", mae,
+              "grazing views")
+    d = frame[(frame["experiment"] == "elevation") & (frame["metric"] == "coverage")]
+    ax2 = ax.twinx()
+    sns.lineplot(data=d, x="x", y="value", hue="method", ls="--", legend=False, ax=ax2)
+    ax2.set(ylabel="coverage (dashed)", ylim=(0, 1.05))
+    ax2.grid(False)
+    log_panel(axes[0, 3], worst("shadow_bias"), "setting", "incidence (deg)", mae,
+              "shadow acne / peter-panning (fast by bias; naive)")
+    log_panel(axes[1, 0], worst("shadow_map"), "setting", "fast shadow map (texels per period)", mae,
+              "shadow-map resolution by incidence")
+    log_panel(axes[1, 1], worst("shininess"), "method", "shininess", mae, "specular exponent")
+    ax = axes[1, 2]
+    d = frame[(frame["experiment"] == "clipping") & (frame["metric"] == "curve")].copy()
+    d["surface"] = d["setting"].str.split(" ").str[0]
+    d["source"] = d["setting"].str.split(" ").str[1]
+    sns.lineplot(data=d, x="x", y="value", hue="surface", style="source", ax=ax)
+    ax.axhline(255, c="r", lw=1)
+    ax.set(xlabel="view elevation at azimuth 0 (deg)", ylabel="total (0-255)", title="clipping at 255 (Fig. 17)")
+    ax = axes[1, 3]
+    d = frame[(frame["experiment"] == "clipping") & frame["metric"].isin(["peak_shift", "centre_shift"])].copy()
+    sns.barplot(data=d, y="setting", x="value", hue="metric", orient="h", ax=ax)
+    ax.set(xlabel="lobe shift, source 127 -> 255 (deg elevation)", ylabel="", title="how far clipping moves the lobes")
+    ax = axes[2, 0]
+    d = frame[(frame["experiment"] == "normals") & frame["metric"].isin(["mae", "mae_vs_flat"])].copy()
+    d = d[~((d["setting"] == "flat") & (d["metric"] == "mae_vs_flat"))]  # zero by construction
+    d["value"] = d["value"].clip(lower=floor)
+    d["what"] = d["setting"] + np.where(d["metric"] == "mae", " vs reference", " vs flat")
+    if len(d):
+        sns.barplot(data=d, x="component", y="value", hue="what", ax=ax)
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2, title=None)
+    ax.set(yscale="log", ylabel="MAE (0-255)", title="averaged vertex normals (naive)")
+    ax.axhline(TOLERANCE, ls=":", c="k", lw=1)
+    for ax, (model, picture) in zip(axes[2, 1:], (pictures or {}).items()):
+        ax.imshow(picture)
+        ax.set(title=f"{model} shading", xticks=[], yticks=[])
+        ax.grid(False)
+    for ax in axes[2, 1 + len(pictures or {}):]:
+        ax.axis("off")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)

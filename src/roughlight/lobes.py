@@ -22,9 +22,10 @@ import math
 import numpy as np
 import pandas as pd
 
-from .geometry import facets, is_plate, lobe_centres
+from .geometry import facets, lobe_centres
 from .selection import SURFACE_KEYS, arc, solid_angle_weights, surface_grids
 from .shading import light_direction, phase_angle, view_direction
+from .surface import is_plate
 
 #: A lobe whose peak is below this (0-255 scale) is "no lobe" (less than an 8-bit step).
 MIN_LOBE_PEAK = 0.5

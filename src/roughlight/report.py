@@ -1,14 +1,14 @@
 """The study's report: one self-contained HTML page (tables inline, figures as data URIs).
 
-:func:`build_report` takes the analysis tables (:mod:`roughlight.analysis`),
-the figure PNGs (:mod:`roughlight.figures`), the configuration and
-provenance, and returns the page as a string; :func:`write_report` writes it
-atomically. The page loads nothing from anywhere: no scripts, no fonts, no
-external images, so it opens from disk without a server.
-
-:data:`CAPTIONS` holds, for every figure, what the thesis (Slattery 2001)
-saw and what our study shows; ``workflow/report/*.rst`` carry the same text
-for ``snakemake --report``.
+:func:`build_report` takes the analysis tables (:mod:`roughlight.lobes`,
+:mod:`roughlight.thesis`, :mod:`roughlight.glm`, ...), the figure PNGs
+(:mod:`roughlight.figures`), the configuration and provenance, and returns the
+page as a string, one function a section (``_section_*``) over shared HTML
+helpers; :func:`write_report` writes it atomically. The page loads nothing from
+anywhere: no scripts, no fonts, no external images, so it opens from disk
+without a server. Each figure's title and caption (what the thesis, Slattery
+2001, saw and what our study shows) come from :mod:`roughlight.registry`, that
+is from ``workflow/report/*.rst``, the same text ``snakemake --report`` shows.
 """
 
 from __future__ import annotations
@@ -18,7 +18,6 @@ import datetime as _dt
 import hashlib
 import html
 import importlib.metadata
-import json
 import math
 import os
 import platform
@@ -27,13 +26,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from . import registry
 from .atomic import write_text_atomic
 from .selection import ASPECT_TOL, SURFACE_KEYS, find_aspect
-from .surface import SQRT3_2, aspect_label
-from .thesis import TABLE_METRICS, THESIS_TABLES
+from .surface import aspect_label
+from .thesis import TABLE_ASPECTS, TABLE_METRICS, THESIS_INCIDENCE, THESIS_TABLES
 
 __all__ = [
-    "CAPTIONS",
     "TABLE_CAPTIONS",
     "package_versions",
     "file_provenance",
@@ -41,136 +40,9 @@ __all__ = [
     "thesis_table_html",
     "build_report",
     "write_report",
-    "caption_rst",
     "study_summary",
+    "stability_section",
 ]
-
-# ---------------------------------------------------------------------------
-# captions: what the thesis saw, what we see
-
-CAPTIONS = {
-    "fig09_shadows": {
-        "thesis": "Fig. 9 showed the simulator's hand-made shadows on full and truncated pyramids at several "
-                  "incidences, each cast by an identical pyramid in front; shadows beyond these cases were "
-                  "'extremely difficult' to compute.",
-        "ours": "Our renderer casts every shadow with a shadow map, so each picture shows self- and cast "
-                "shadows on all facets; the shadowed share of the view grows as the incidence falls.",
-    },
-    "fig10_grazing": {
-        "thesis": "Fig. 10 showed that near grazing views the finite surface fills little of the window, "
-                  "which is why a fixed 40 x 40 capture window at the centre was used.",
-        "ours": "Our measurements do not depend on a window: every view samples one period of the infinite "
-                "surface (coverage 1 except exactly at grazing). The pictures of a finite patch show what the "
-                "thesis's window had to cope with.",
-    },
-    "fig13_tops": {
-        "thesis": "Fig. 13 showed truncated tops reflecting light forward at low incidence: the flat tops act "
-                  "as the 'slightly rounded peaks' that make rough surfaces shine near grazing.",
-        "ours": "Seen from the mirror side at low incidence, only the flat tops reflect; their share of the "
-                "image, (1-t)^2, sets the forward glint.",
-    },
-    "fig17_clipping": {
-        "thesis": "Fig. 17: at source 255 the specular lobe of the flat plate was cut off at the 8-bit maximum; "
-                  "at 127 it was not, so the thesis ran at 127.",
-        "ours": "The same: the specular alone reaches 255 at source 255, and diffuse plus specular is clamped "
-                "at 255 over the whole top of the lobe; at 127 the total stays below the ceiling.",
-    },
-    "fig19_topdown": {
-        "thesis": "Fig. 19: top-down contour plots showed a rectangular reflection pattern whose peak shifts "
-                  "in phase as the view azimuth moves away from the light: the pyramids' single set of "
-                  "normals, not a physical random surface.",
-        "ours": "The same rectangular pattern: the back lobe is the mirror image of the light in the facet "
-                "facing it, so away from azimuth 0 the brightest view drifts off zero phase (bottom right) "
-                "instead of staying centred on the light. At aspect 1 the lobe's centre is off zero phase even "
-                "at azimuth 0; at aspect √3/2 it sits on it.",
-    },
-    "fig20_plate_incidence": {
-        "thesis": "Fig. 20: on the smooth surface the specular lobe travels with the mirror direction, 180 - i, "
-                  "and keeps the source's intensity 127 for every incidence.",
-        "ours": "The same: the plate's Phong lobe peaks at 127 at 180 - i for every incidence above 0 "
-                "(at incidence 0 N.L = 0 and there is no specular).",
-    },
-    "fig21_specular_truncation": {
-        "thesis": "Fig. 21: as truncation grows the forward lobe (150 deg) fades and a back lobe appears; the "
-                  "thesis places it at 30 deg, zero phase, at its aspect 1.0.",
-        "ours": "The same trade between the two lobes, with widths unchanged. The back lobe is where the facet "
-                "facing the light mirrors it, 180 - 2 atan(2 aspect) - i: 23.1 deg at our aspect 1, 30 deg "
-                "(zero phase) at aspect √3/2, the thesis's 60-degree facets.",
-    },
-    "fig23_forward_models": {
-        "thesis": "Fig. 23 / Table 1: the regressed model m(1 - sin(t pi/2)) fitted the forward lobe better "
-                  "than the square area function, which the thesis explained by light added from the sides.",
-        "ours": "Our forward peaks follow the top's share of the image, m(1-t)^2, to within the renderer's "
-                "sampling error; the regressed sine model lies above them at mid truncation. With flat facets "
-                "and true normals no side light reaches the forward mirror direction.",
-    },
-    "fig24_reflecting_areas": {
-        "thesis": "Fig. 24: the areas of the top square and the front triangle against truncation; the ratio "
-                  "of the square at t = 0 to the triangle at t = 1 matched that of the two lobes.",
-        "ours": "Computed exactly (polygon clipping) as the visible, lit share of the image seen from each "
-                "mirror direction: the top gives (1-t)^2, the front facet k(1-(1-t)^2) with k = 1/2 at both "
-                "aspects, which is the thesis's ratio.",
-    },
-    "fig25_back_models": {
-        "thesis": "Fig. 25 / Table 2: the regressed model m sin(t pi/2)/2 fitted the back lobe better than the "
-                  "triangle area function.",
-        "ours": "Our back peaks follow the front facet's share, (m/2)(1-(1-t)^2); the sine model rises too "
-                "slowly at low truncation. Deviations are the renderer's sampling of thin facets.",
-    },
-    "fig26_specular_aspect": {
-        "thesis": "Fig. 26: aspect moves the lobes as well as scaling them; at very low aspect a second lobe "
-                  "from the back side of the pyramid appears (seen at truncation 0.2).",
-        "ours": "The same: the back lobe moves from the forward lobe toward the light as aspect grows, and at "
-                "aspect 0.1 the facet facing away mirrors the light to 180 + 2 atan(2 aspect) - i, the "
-                "thesis's second lobe.",
-    },
-    "fig27_diffuse_plate": {
-        "thesis": "Fig. 27: the diffuse component of the smooth surface is independent of the view.",
-        "ours": "The same: the plate's diffuse is J sin(i) at every view (grazing views see no surface and "
-                "are left out).",
-    },
-    "fig28_diffuse_truncation": {
-        "thesis": "Fig. 28: with truncation the diffuse becomes view dependent, in three parts: constant up to "
-                  "the incidence (0-30), an exponential-like decay (31-120) from inner shadows, then constant "
-                  "(121-180).",
-        "ours": "The same three parts, with the breaks from geometry: the incidence (zero phase; no shadow is "
-                "visible below it) and 180 - atan(2 aspect), where the lit front facet turns edge-on (116.6 deg "
-                "at aspect 1, 120 at √3/2). Dashed: the fitted three-part model.",
-    },
-    "fig29_diffuse_aspect": {
-        "thesis": "Fig. 29: aspect has effects like truncation on the diffuse; not examined further.",
-        "ours": "Like truncation, aspect raises part one and lowers part three; the second break moves with "
-                "the front facet's tilt (markers).",
-    },
-    "lobe_geometry": {
-        "thesis": "The thesis noted that truncation changes the lobes' intensity only, and aspect their centre.",
-        "ours": "Measured lobe centres against the mirror directions of the top and the facet facing the "
-                "light, and the lobes' widths: truncation does not change the width.",
-    },
-    "diffuse_parts": {
-        "thesis": "The thesis derived no formulas for the three parts.",
-        "ours": "Levels of parts one and three, the decay length of part two and the model's error over the "
-                "whole grid.",
-    },
-    "glm_diagnostics": {
-        "thesis": "The thesis did not combine truncation and aspect (Ch. V.G).",
-        "ours": "Gaussian GLMs over the grid; residuals against fitted values and influence (leverage, Cook's "
-                "distance). Curved residual bands show the linear predictor misses the (1-t)^2 shape.",
-    },
-    "model_fits": {
-        "thesis": "Beyond the thesis.",
-        "ours": "RMSE of analytic rough-surface models against every surface of the study.",
-    },
-    "hapke": {
-        "thesis": "The thesis aimed at the opposition effect (Ch. II) but fitted no opposition law.",
-        "ours": "The total component near zero phase with Hapke's shadow-hiding term fitted to the phase "
-                "curve (binned over all azimuths) on a linear phase background.",
-    },
-    "timings": {
-        "thesis": "The thesis's simulator took minutes per surface (Java3D, screen capture per view).",
-        "ours": "Wall time of every sweep of the study.",
-    },
-}
 
 TABLE_CAPTIONS = {
     "thesis_tables": "Tables 1 and 2 of the thesis recomputed from our lobe peaks (incidence 30), beside the "
@@ -182,15 +54,6 @@ TABLE_CAPTIONS = {
     "glm_coefficients": "Grid GLM coefficients with 95% confidence intervals.",
     "model_fits_summary": "Analytic models: median RMSE and number of surfaces where each fits best, by band.",
 }
-
-
-def caption_rst(stem: str) -> str:
-    """The reStructuredText caption of a figure (for ``snakemake --report``)."""
-    from .figures import FIGURES
-
-    c = CAPTIONS[stem]
-    title = FIGURES.get(stem, stem)
-    return f"**{title}.**\n\n*Thesis:* {c['thesis']}\n\n*Ours:* {c['ours']}\n"
 
 
 # ---------------------------------------------------------------------------
@@ -318,10 +181,9 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float) -> str:
 
 
 def _figure(stem: str, figures: dict, notes: dict | None = None) -> str:
-    from .figures import FIGURES
-
-    title = FIGURES.get(stem, stem)
-    cap = CAPTIONS.get(stem, {"thesis": "", "ours": ""})
+    """A figure of the page with its caption (:func:`roughlight.registry.caption`), or a note that it is missing."""
+    cap = registry.caption(stem)
+    title = cap["title"]
     extra = (notes or {}).get(stem, "")
     path = figures.get(stem)
     if not path or not os.path.exists(path):
@@ -473,63 +335,9 @@ def _model_findings(summary: pd.DataFrame) -> str:
 # the page
 
 
-def build_report(
-    tables: dict,
-    figures: dict,
-    config: dict | None = None,
-    provenance: dict | None = None,
-    messages: list | None = None,
-    benchmarks: dict | None = None,
-    stability_html: str | None = None,
-    title: str = "roughlight: rough surface lighting behaviours, rebuilt",
-) -> str:
-    """The report as one self-contained HTML string.
-
-    Parameters
-    ----------
-    tables : dict of DataFrames (missing keys are reported, not an error):
-        ``thesis_tables``, ``sine_refits``, ``lobes`` (arc lobes),
-        ``lobes_hemisphere``, ``exact_peaks``, ``diffuse_parts``,
-        ``glm_summary``, ``glm_coefficients``, ``model_fits``,
-        ``model_fits_summary``, ``timings`` (per sweep); and dicts
-        ``timings_summary``, ``study_summary``.
-    figures : dict stem -> PNG path (:data:`roughlight.figures.FIGURES` stems).
-    config : the configuration used (shown as YAML).
-    provenance : dict with ``versions`` (package -> version), ``inputs``
-        (list of :func:`file_provenance` dicts), ``settings`` (analysis settings).
-    messages : list of str, shown as notes (what was left out and why).
-    stability_html : the "Where methods fail" section
-        (:func:`roughlight.stability.report_section`); None: the section says
-        how to make it (``make bench``).
-    benchmarks : dict with optional ``png`` (path) and ``table`` (DataFrame)
-        of the speed/accuracy benchmark; None: the section says it is absent.
-
-    Returns
-    -------
-    str (UTF-8 HTML document)
-    """
-    import yaml
-
-    tables = tables or {}
-    messages = list(messages or [])
-    provenance = provenance or {}
-    study = tables.get("study_summary", {}) or {}
-    thesis = tables.get("thesis_tables")
-    exact = tables.get("exact_peaks")
-    now = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
-    parts = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_e(title)}</title>"
-             f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><style>{CSS}</style></head>"
-             "<body><main>"]
-    parts.append(f"<h1>{_e(title)}</h1>")
-    parts.append("<p>A rebuild of C. Slattery, <i>Analysis of Rough Surface Lighting Behaviors with OpenGL</i>, "
-                 f"NPS thesis, 2001 (Ch. V, Tables 1–2). Generated {_e(now)}.</p>")
-    nav = [("study", "The study"), ("tables", "Tables 1 and 2"), ("specular", "Specular: Figs. 17–26"),
-           ("diffuse", "Diffuse: Figs. 27–29"), ("pictures", "Pictures: Figs. 9, 10, 13"),
-           ("lobes", "Lobes"), ("glm", "Grid GLMs"), ("models", "Analytic models"),
-           ("stability", "Where methods fail"), ("provenance", "Settings and provenance")]
-    parts.append("<nav><ul>" + "".join(f'<li><a href="#{a}">{_e(b)}</a></li>' for a, b in nav) + "</ul></nav>")
-
-    # --- the study
+def _section_study(study: dict, messages: list, table_aspects) -> list[str]:
+    """The report's section: the study."""
+    parts = []
     parts.append('<h2 id="study">The study</h2>')
     if study:
         aspects = study.get("aspects", [])
@@ -542,20 +350,25 @@ def build_report(
             f"Incidences: {_e(', '.join(f'{i:g}' for i in study.get('incidences', [])))}. "
             f"Light J = {_e(_fmt(study.get('light'), 0))}, shininess {_e(_fmt(study.get('shininess'), 0))}, "
             f"shadows {_e(study.get('shadows'))}, method {_e(study.get('method'))}.</p>")
-        if find_aspect(aspects, SQRT3_2) is None:
-            parts.append('<p class="note">Aspect √3/2 (0.8660254037844386, side facets at 60°, facing a light at '
-                         "incidence 30 — the thesis's actual geometry) is not in this study: the tables and figures "
-                         "below show aspect 1 only. Add it to <code>grid.aspect</code> to get its tables.</p>")
+        missing = [a for a in table_aspects if find_aspect(aspects, a) is None]
+        if missing:
+            parts.append('<p class="note">The table aspects ' + _e(", ".join(aspect_label(a) for a in missing))
+                         + " (<code>report.table_aspects</code>) are not in this study: the tables and figures below "
+                         "show the others only. Add them to <code>grid.aspect</code> to get their tables.</p>")
     parts.append(_notes(messages))
+    return parts
 
-    # --- tables 1 and 2
+
+def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> list[str]:
+    """The report's section: tables 1 and 2."""
+    parts = []
     k_text = "k from geometry"
     if thesis is not None and len(thesis) and "k" in thesis:
         ks = thesis[thesis["source"] == "ours"].groupby("aspect_label")["k"].first()
         k_text = "k from geometry (" + ", ".join(f"{_e(a)}: {v:.4g}" for a, v in ks.items()) + ")"
     parts.append('<h2 id="tables">Tables 1 and 2</h2>')
     parts.append("<p>Data: the forward (mirror, elevation 180 − i) and back (the light-facing facet's mirror "
-                 "direction) specular lobe peaks on the light's plane (azimuth 0), incidence 30, truncation "
+                 f"direction) specular lobe peaks on the light's plane (azimuth 0), incidence {table_incidence:g}, truncation "
                  "0–1. Models (m = J·m_s): square area <span class=\"formula\">m(1−t)²</span>, forward regressed "
                  "<span class=\"formula\">m(1 − sin(tπ/2))</span>, triangle area "
                  f"<span class=\"formula\">m·k·(1 − (1−t)²)</span> with {k_text}, back regressed "
@@ -567,8 +380,8 @@ def build_report(
         parts.append(_table_findings(thesis, exact))
         parts.append(WHY_DIFFERENT)
     else:
-        parts.append('<p class="note">Neither aspect 1 nor √3/2 at incidence 30 is in the study: Tables 1–2 '
-                     "could not be computed.</p>")
+        parts.append(f'<p class="note">None of the table aspects at incidence {table_incidence:g} is in the study: '
+                     "Tables 1–2 could not be computed.</p>")
     boot = tables.get("bootstrap_tables")
     if boot is not None and len(boot):
         b = boot.copy()
@@ -593,18 +406,26 @@ def build_report(
         parts.append("<details><summary>Measured and exact lobe peaks of the table surfaces</summary>" +
                      _table(exact, "Lobe peaks: measured (fast renderer) against exact (polygon clipping)",
                             table_id="exact-peaks") + "</details>")
+    return parts
 
-    # --- figures
-    parts.append('<h2 id="specular">The specular component (Figs. 17–26)</h2>')
-    for stem in ("fig17_clipping", "fig20_plate_incidence", "fig21_specular_truncation", "fig23_forward_models",
-                 "fig24_reflecting_areas", "fig25_back_models", "fig26_specular_aspect", "fig19_topdown"):
-        parts.append(_figure(stem, figures))
-    parts.append('<h2 id="diffuse">The diffuse component (Figs. 27–29)</h2>')
-    for stem in ("fig27_diffuse_plate", "fig28_diffuse_truncation", "fig29_diffuse_aspect"):
-        parts.append(_figure(stem, figures))
+
+#: Headings of the figure sections of the page (registry sections), in page order.
+FIGURE_SECTIONS = {"specular": "The specular component (Figs. 17–26)", "diffuse": "The diffuse component (Figs. 27–29)",
+                   "pictures": "Pictures of the surfaces (Figs. 9, 10, 13)"}
+
+
+def _section_figures(section: str, figures: dict) -> list[str]:
+    """A figure section of the page: its heading and its figures (:data:`roughlight.registry.FIGURES`)."""
+    return [f'<h2 id="{section}">{_e(FIGURE_SECTIONS[section])}</h2>'] + [
+        _figure(f.name, figures) for f in registry.figures(section=section)]
+
+
+def _diffuse_parts_table(tables: dict, table_aspects) -> list[str]:
+    """The three-part diffuse model's fits at the table aspects."""
+    parts = []
     dp = tables.get("diffuse_parts")
     if dp is not None and len(dp):
-        want = [a for a in (1.0, SQRT3_2) if find_aspect(dp["aspect"], a) is not None]
+        want = [a for a in table_aspects if find_aspect(dp["aspect"], a) is not None]
         sel = dp[np.isin(dp["aspect"].round(12), [round(find_aspect(dp["aspect"], a), 12) for a in want])] \
             if want else dp.head(0)
         cols = ["truncation", "aspect", "e1", "e2", "level1", "level3", "rate", "decay_length", "rmse", "note"]
@@ -613,17 +434,17 @@ def build_report(
         parts.append(_table(sel, "The three-part diffuse model (Ch. V.F) fitted on the azimuth-0 arc: breaks e1 "
                                  "(incidence) and e2 (front facet edge-on), levels of parts one and three, decay "
                                  "rate k (1/deg) and length 1/k (deg) of part two", table_id="diffuse-parts"))
-    parts.append(_figure("diffuse_parts", figures))
-    parts.append('<h2 id="pictures">Pictures of the surfaces (Figs. 9, 10, 13)</h2>')
-    for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
-        parts.append(_figure(stem, figures))
+    return parts
 
-    # --- lobes
+
+def _section_lobes(tables: dict, figures: dict, table_aspects) -> list[str]:
+    """The report's section: lobes."""
+    parts = []
     parts.append('<h2 id="lobes">Lobes</h2>')
-    parts.append(_figure("lobe_geometry", figures))
+    parts += [_figure(f.name, figures) for f in registry.figures(section="lobes")]
     lobes = tables.get("lobes")
     if lobes is not None and len(lobes):
-        want = [find_aspect(lobes["aspect"], a) for a in (1.0, SQRT3_2)]
+        want = [find_aspect(lobes["aspect"], a) for a in table_aspects]
         want = [a for a in want if a is not None]
         sel = lobes[lobes["aspect"].isin(want) & lobes["lobe"].isin(["forward", "back"])].copy()
         sel["aspect"] = sel["aspect"].map(aspect_label)
@@ -633,7 +454,7 @@ def build_report(
                                  "centroid and FWHM in degrees)", table_id="arc-lobes"))
     hemi = tables.get("lobes_hemisphere")
     if hemi is not None and len(hemi):
-        want = [find_aspect(hemi["aspect"], a) for a in (1.0, SQRT3_2)]
+        want = [find_aspect(hemi["aspect"], a) for a in table_aspects]
         want = [a for a in want if a is not None]
         sel = hemi[hemi["aspect"].isin(want)].copy()
         sel["aspect"] = sel["aspect"].map(aspect_label)
@@ -641,8 +462,12 @@ def build_report(
                      _table(sel, "Lobes over the hemisphere: peak, where it is, and the solid angle above half "
                                  "maximum (sr) with the equivalent cone's full angle (deg)",
                             table_id="hemisphere-lobes") + "</details>")
+    return parts
 
-    # --- GLMs
+
+def _section_glm(tables: dict, figures: dict) -> list[str]:
+    """The report's section: GLMs."""
+    parts = []
     parts.append('<h2 id="glm">Beyond the thesis: GLMs over the grid</h2>')
     parts.append("<p>Gaussian GLMs (IRLS) of the forward lobe peak, the back lobe peak and the diffuse level "
                  "(solid-angle weighted hemisphere mean) on truncation, aspect and their interaction (and incidence "
@@ -653,9 +478,13 @@ def build_report(
     parts.append(_table(tables.get("glm_summary"), TABLE_CAPTIONS["glm_summary"], table_id="glm-summary"))
     parts.append(_table(tables.get("glm_coefficients"), TABLE_CAPTIONS["glm_coefficients"],
                         table_id="glm-coefficients"))
-    parts.append(_figure("glm_diagnostics", figures))
+    parts += [_figure(f.name, figures) for f in registry.figures(section="glm")]
+    return parts
 
-    # --- analytic models
+
+def _section_models(tables: dict, figures: dict, provenance: dict) -> list[str]:
+    """The report's section: analytic models."""
+    parts = []
     parts.append('<h2 id="models">Beyond the thesis: analytic rough-surface models</h2>')
     parts.append(
         "<p>Fitted to every view of every surface: <b>diffuse</b> — Lambert (the plate), Oren–Nayar's qualitative "
@@ -674,18 +503,27 @@ def build_report(
         parts.append("<details><summary>By band of surfaces</summary>" +
                      _table(msum[msum["band"] != "all"], TABLE_CAPTIONS["model_fits_summary"], digits=2,
                             table_id="model-summary-bands") + "</details>")
-    parts.append(_figure("model_fits", figures))
-    parts.append(_figure("hapke", figures))
+    parts += [_figure(f.name, figures) for f in registry.figures(section="models")]
+    return parts
 
-    # --- where methods fail: the renderers (make bench), then the regressions (always)
+
+def _section_stability(tables: dict, stability_html: str | None) -> list[str]:
+    """The report's section: where methods fail: the renderers (make bench), then the regressions (always)."""
+    parts = []
     if stability_html:
         parts.append(stability_html)
     else:
-        parts.append('<h2 id="stability">Where methods fail</h2><p class="note">No stability measurements '
-                     "(results/stability/) were available when this report was built: run <code>make bench</code> "
-                     "and rebuild the report.</p>")
+        parts.append('<h2 id="stability">Where methods fail</h2><p class="note">The stability scans are switched '
+                     "off (<code>report.stability: false</code>): only the regressions are shown.</p>")
     parts.append(regression_failures_html(tables))
-    # --- provenance
+    return parts
+
+
+def _section_provenance(tables: dict, figures: dict, config, provenance: dict, benchmarks) -> list[str]:
+    """The report's section: provenance."""
+    import yaml
+
+    parts = []
     parts.append('<h2 id="provenance">Settings and provenance</h2>')
     ts = tables.get("timings_summary") or {}
     if ts:
@@ -700,18 +538,18 @@ def build_report(
         t["aspect"] = t["aspect"].map(aspect_label)
         parts.append("<details><summary>Per-sweep timings</summary>" +
                      _table(t, "Render wall time per sweep", digits=2, table_id="timings") + "</details>")
-    parts.append(_figure("timings", figures))
+    parts += [_figure(f.name, figures) for f in registry.figures(section="provenance")]
     parts.append("<h3>Speed and accuracy of the renderer</h3>")
     if benchmarks and (benchmarks.get("png") or benchmarks.get("table") is not None):
         if benchmarks.get("png") and os.path.exists(benchmarks["png"]):
             parts.append(f'<figure id="fig-speed-accuracy"><img src="{png_data_uri(benchmarks["png"])}" '
                          'alt="speed and accuracy"><figcaption>Speed against accuracy of the renderer '
-                         "(results/benchmarks/speed_accuracy.png).</figcaption></figure>")
+                         f"({_e(benchmarks['png'])}).</figcaption></figure>")
         if benchmarks.get("table") is not None:
             parts.append(_table(benchmarks["table"], "Speed and accuracy benchmark", table_id="speed-accuracy"))
     else:
-        parts.append('<p class="note">No speed/accuracy benchmark (results/benchmarks/speed_accuracy.png/.parquet) '
-                     "was available when this report was built: section skipped.</p>")
+        parts.append('<p class="note">The speed/accuracy chart is switched off (<code>report.speed_accuracy: '
+                     "false</code>).</p>")
     settings = provenance.get("settings")
     if settings:
         parts.append("<h3>Analysis settings</h3><pre>" + _e(yaml.safe_dump(settings, sort_keys=False)) + "</pre>")
@@ -723,8 +561,83 @@ def build_report(
     inputs = provenance.get("inputs")
     if inputs:
         parts.append(_table(pd.DataFrame(inputs), "Inputs", table_id="inputs"))
+    return parts
+
+
+def build_report(
+    tables: dict,
+    figures: dict,
+    config: dict | None = None,
+    provenance: dict | None = None,
+    messages: list | None = None,
+    benchmarks: dict | None = None,
+    stability_html: str | None = None,
+    title: str = "roughlight: rough surface lighting behaviours, rebuilt",
+    table_aspects=TABLE_ASPECTS,
+    table_incidence: float = THESIS_INCIDENCE,
+) -> str:
+    """The report as one self-contained HTML string.
+
+    Parameters
+    ----------
+    tables : dict of DataFrames (missing keys are reported, not an error):
+        ``thesis_tables``, ``sine_refits``, ``lobes`` (arc lobes),
+        ``lobes_hemisphere``, ``exact_peaks``, ``diffuse_parts``,
+        ``glm_summary``, ``glm_coefficients``, ``model_fits``,
+        ``model_fits_summary``, ``timings`` (per sweep); and dicts
+        ``timings_summary``, ``study_summary``.
+    figures : dict stem -> PNG path (:data:`roughlight.figures.FIGURES` stems).
+    config : the configuration used (shown as YAML).
+    provenance : dict with ``versions`` (package -> version), ``inputs``
+        (list of :func:`file_provenance` dicts), ``settings`` (analysis settings).
+    messages : list of str, shown as notes (what was left out and why).
+    stability_html : the "Where methods fail" section (:func:`stability_section`);
+        None: switched off (``report.stability: false``), only the regressions are shown.
+    benchmarks : dict with optional ``png`` (path) and ``table`` (DataFrame)
+        of the speed/accuracy benchmark; None: switched off (``report.speed_accuracy: false``).
+    table_aspects, table_incidence : the aspects and incidence of Tables 1-2
+        (``report.table_aspects``, ``report.table_incidence``): every table and text of the
+        page that speaks of "the table aspects" shows these.
+
+    Returns
+    -------
+    str (UTF-8 HTML document)
+    """
+    tables = tables or {}
+    messages = list(messages or [])
+    provenance = provenance or {}
+    study = tables.get("study_summary", {}) or {}
+    thesis = tables.get("thesis_tables")
+    exact = tables.get("exact_peaks")
+    now = _dt.datetime.now(_dt.UTC).isoformat(timespec="seconds")
+    parts = [f"<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\"><title>{_e(title)}</title>"
+             f"<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><style>{CSS}</style></head>"
+             "<body><main>"]
+    parts.append(f"<h1>{_e(title)}</h1>")
+    parts.append("<p>A rebuild of C. Slattery, <i>Analysis of Rough Surface Lighting Behaviors with OpenGL</i>, "
+                 f"NPS thesis, 2001 (Ch. V, Tables 1–2). Generated {_e(now)}.</p>")
+    nav = [("study", "The study"), ("tables", "Tables 1 and 2"), ("specular", "Specular: Figs. 17–26"),
+           ("diffuse", "Diffuse: Figs. 27–29"), ("pictures", "Pictures: Figs. 9, 10, 13"),
+           ("lobes", "Lobes"), ("glm", "Grid GLMs"), ("models", "Analytic models"),
+           ("stability", "Where methods fail"), ("provenance", "Settings and provenance")]
+    parts.append("<nav><ul>" + "".join(f'<li><a href="#{a}">{_e(b)}</a></li>' for a, b in nav) + "</ul></nav>")
+
+    parts += _section_study(study, messages, table_aspects)
+    parts += _section_tables_1_2(tables, thesis, exact, table_incidence)
+    parts += _section_figures("specular", figures)
+    parts += _section_figures("diffuse", figures)
+    parts += _diffuse_parts_table(tables, table_aspects)
+    parts += _section_figures("pictures", figures)
+    parts += _section_lobes(tables, figures, table_aspects)
+    parts += _section_glm(tables, figures)
+    parts += _section_models(tables, figures, provenance)
+    parts += _section_stability(tables, stability_html)
+    parts += _section_provenance(tables, figures, config, provenance, benchmarks)
     parts.append("</main></body></html>")
     return "\n".join(p for p in parts if p)
+
+
+
 
 
 def _plain(obj):
@@ -764,6 +677,84 @@ def study_summary(study: pd.DataFrame) -> dict:
         "method": str(row["method"]),
     }
 
+def _fmt_domain(v):
+    """A safe-domain cell: a bound to 3 significant digits, 'never' where no tested value was within tolerance."""
+    if isinstance(v, str):
+        return html.escape(v)
+    if v is None or (isinstance(v, float) and not np.isfinite(v)):
+        return "never"
+    return f"{v:.3g}"
 
-def messages_json(messages) -> str:
-    return json.dumps(list(messages), indent=1)
+
+def stability_section(tables: dict, figure_png_path, plan: str = "full") -> str:
+    """HTML fragment for the report: the safe-domain table, the figure, what fails where.
+
+    Parameters
+    ----------
+    tables : dict
+        ``"safe_domain"``: the frame of :func:`safe_domain`; optionally
+        ``"stability"``: the long frame (for the clipping numbers).
+    figure_png_path : path of the PNG from :func:`roughlight.figures.plot_stability`.
+    plan : the size the measurements ran at (:data:`roughlight.stability.PLANS`).
+    """
+    from .stability import TOLERANCE, normals_table, plan_surfaces
+
+    surfaces_of = plan_surfaces(plan)
+    safe = tables["safe_domain"]
+    if not isinstance(safe, pd.DataFrame):
+        safe = pd.DataFrame(safe)
+    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in safe.columns)
+    body = "".join("<tr>" + "".join(f"<td>{_fmt_domain(v)}</td>" for v in row) + "</tr>" for row in safe.itertuples(index=False))
+    clip_text = ""
+    long = tables.get("stability")
+    if long is not None:
+        cf = long[(long["experiment"] == "clipping") & (long["metric"] == "clipped_fraction")]
+        parts = [f"{s} at {x:g}: {v:.0%}" for s, x, v in zip(cf["setting"], cf["x"], cf["value"])]
+        clip_text = " Fraction of views (azimuth 0) with the total clipped: " + html.escape("; ".join(parts)) + "."
+    normals_html = ""
+    nt = normals_table(long) if long is not None else pd.DataFrame()
+    if len(nt):
+        n_head = "<th>shading</th>" + "".join(f"<th>{html.escape(c)}</th>" for c in nt.columns)
+        n_body = "".join(f"<tr><td>{html.escape(str(m))}</td>" + "".join(f"<td>{_fmt_domain(v)}</td>" for v in row) + "</tr>"
+                         for m, row in zip(nt.index, nt.itertuples(index=False)))
+        surfaces = ", ".join(f"t={s.truncation:g} a={s.aspect:.3g}" for s, _ in surfaces_of["normals"])
+        normals_html = (
+            '<h3 id="stability-normals">Shading on faceted geometry</h3>'
+            "<p>The pyramids are flat facets, so the study shades each facet with its true normal (flat). "
+            "Gouraud and Phong shading with normals averaged over the facets that meet at a vertex bend every "
+            "facet's normal towards its neighbours': mae is against the exact reference, mae_vs_flat against "
+            "the same renderer with true normals (what the averaged normals alone change), and highlight_ratio is "
+            "the brightest specular view over the reference's (below 1: highlights missed). Naive method, "
+            f"surfaces {html.escape(surfaces)}, incidence 30.</p>"
+            f'<table class="stability-normals"><thead><tr>{n_head}</tr></thead><tbody>{n_body}</tbody></table>'
+            "<p>Mach banding (the eye's overshoot at a change of intensity slope along Gouraud's triangle edges) "
+            "is a perceptual effect, not a change of a capture window's mean: the pictures in the figure's "
+            "bottom row show it; the means above show what the averaged normals do to the measurement.</p>"
+        )
+    return (
+        '<section id="stability"><h2>Where methods fail</h2>'
+        f"<p>Each method against the exact reference ({html.escape(plan)} plan): the fast method on "
+        f"{len(surfaces_of['fast'])} surfaces, the naive one (one render a view) on {len(surfaces_of['naive'])}, "
+        "on coarse view sets. The table gives, per "
+        f"method, the domain where the mean absolute error stays within {TOLERANCE} on the 0&ndash;255 scale for "
+        "every component (diffuse, specular, total); &ldquo;never&rdquo; means no tested value was within tolerance "
+        "(the best_mae columns then say how close it came).</p>"
+        f'<table class="stability"><thead><tr>{head}</tr></thead><tbody>{body}</tbody></table>'
+        f'<figure><img alt="stability" src="{png_data_uri(figure_png_path)}" style="max-width:100%">'
+        "<figcaption>Worst-component MAE against pixels per period, jitter spread, view elevation, incidence "
+        "(by shadow bias), shadow-map size and shininess; the dotted line is the tolerance. Middle row, right: "
+        "the total in the light's plane at source 127 and 255, and how far each lobe moves. Bottom row: "
+        "averaged vertex normals against true face normals by component, and one surface under each "
+        "shading model.</figcaption></figure>"
+        "<p>What fails where. The naive procedure (pyrender as it comes: 10 pixels a period, a finite patch, "
+        "one render per view) aliases: at whole numbers of pixels per period every pixel samples the same "
+        "point of the period and a sub-pixel shift of the camera moves the value by tens of levels (the "
+        "thesis's &ldquo;flashing lines&rdquo; and pixelation, Ch. IV); its patch, sized for views above 10&deg;, "
+        "runs out at grazing views (coverage below 1); its fixed shadow map and pyramid edges leave errors of a "
+        "few levels even at its best. The fast method needs at least 2 pixels a period by construction (its "
+        "tile is one period) and converges as the pixels grow; a shadow bias of 0 gives shadow acne and a large one "
+        "peter-panning (lost shadows) at low incidence. Clipping at 255, which the thesis avoided by using a "
+        "source of 127 after seeing it bend its lobes (Fig. 17), flattens the lobes' peaks and moves their "
+        "centres (on a clipped plateau the peak's position is arbitrary; the centre is the measure)."
+        f"{clip_text}</p>{normals_html}</section>"
+    )

@@ -16,9 +16,10 @@ import math
 import numpy as np
 import pandas as pd
 
-from .geometry import facets, is_plate, side_slope_deg
+from .geometry import facets, side_slope_deg
 from .selection import SURFACE_KEYS, recorded_lighting
 from .shading import light_direction, quantize, view_direction
+from .surface import is_plate
 
 
 def _view_vectors(elevation, azimuth):

@@ -3,7 +3,11 @@ import os
 
 try:
     from roughlight import config as rl_config
-except ImportError as exc:  # the package is installed by `make setup` (pip install -e .)
+    from roughlight import registry as rl_registry
+    from roughlight import stability as rl_stability
+except (
+    ImportError
+) as exc:  # the package is installed by `make setup` (pip install -e .)
     raise WorkflowError(
         "the roughlight package is not importable: run `make setup` (or `pip install -e .` "
         f"in the environment that runs snakemake) first ({exc})"
@@ -11,6 +15,7 @@ except ImportError as exc:  # the package is installed by `make setup` (pip inst
 
 
 wildcard_constraints:
+    plan="quick|full",
     incidence=r"[0-9][0-9.e+-]*",
     truncation=r"[0-9][0-9.e+-]*",
     aspect=r"[0-9][0-9.e+-]*",
@@ -37,7 +42,9 @@ def check_results_writable(directory="results", probe=False):
         problem = "it exists but is not a directory"
     elif os.path.isdir(directory) and not os.access(directory, os.W_OK | os.X_OK):
         problem = "permission denied"
-    elif not os.path.exists(directory) and not os.access(os.path.dirname(os.path.abspath(directory)), os.W_OK):
+    elif not os.path.exists(directory) and not os.access(
+        os.path.dirname(os.path.abspath(directory)), os.W_OK
+    ):
         problem = "it cannot be created here"
     elif probe:
         try:
@@ -85,7 +92,10 @@ def rough_sweep_files():
 
 
 def control_sweep_files():
-    return [f"results/sweeps/i{rl_config.label(i)}/control.parquet" for i in _grid("incidence")]
+    return [
+        f"results/sweeps/i{rl_config.label(i)}/control.parquet"
+        for i in _grid("incidence")
+    ]
 
 
 def mesh_files():
@@ -109,7 +119,9 @@ def incidence_param(wildcards):
 
 
 def sweep_params(wildcards):
-    return {key: float(config["sweep"][key]) for key in ("elevation_step", "azimuth_step")}
+    return {
+        key: float(config["sweep"][key]) for key in ("elevation_step", "azimuth_step")
+    }
 
 
 def lighting_params(wildcards):
@@ -138,9 +150,55 @@ def grid_params(wildcards):
     return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}
 
 
-# the stability measurements (roughlight.stability.MEASUREMENTS), one job each
-STABILITY_MEASUREMENTS = ["pixels", "elevation", "shadows", "shininess", "normals", "clipping"]
+# the stability scans, one job each (importing roughlight.stability loads no OpenGL)
+STABILITY_MEASUREMENTS = list(rl_stability.MEASUREMENTS)
 
 
-def stability_measurement_files():
-    return [f"results/stability/measurements/{name}.parquet" for name in STABILITY_MEASUREMENTS]
+def stability_measurement_files(wildcards):
+    return [
+        f"results/stability/{wildcards.plan}/measurements/{name}.parquet"
+        for name in STABILITY_MEASUREMENTS
+    ]
+
+
+def measurement_plan(wildcards=None):
+    """The size of the speed/accuracy benchmark and the stability scans (measurements.plan): it names their folder."""
+    return config["measurements"]["plan"]
+
+
+def report_measurements(wildcards):
+    """The report's optional inputs, switched by report.speed_accuracy and report.stability (never by
+    which files exist): the measurements at measurements.plan."""
+    plan = measurement_plan()
+    inputs = {}
+    if config["report"]["speed_accuracy"]:
+        inputs["speed_accuracy_table"] = (
+            f"results/benchmarks/{plan}/speed_accuracy.parquet"
+        )
+        inputs["speed_accuracy_chart"] = f"results/benchmarks/{plan}/speed_accuracy.png"
+    if config["report"]["stability"]:
+        inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
+        inputs["stability_safe"] = f"results/stability/{plan}/safe_domain.csv"
+        inputs["stability_chart"] = f"results/stability/{plan}/stability.png"
+    return inputs
+
+
+def report_settings(wildcards):
+    """The `report:` section of the config (validated, defaults filled), as plain types."""
+    settings = dict(config["report"])
+    settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
+    settings["table_incidence"] = float(settings["table_incidence"])
+    return settings
+
+
+def figure_outputs(rendered):
+    """The `report()` outputs of the registry's figures, drawn (False) or rendered (True), by name."""
+    return {
+        figure.name: report(
+            figure.path,
+            caption=figure.caption_file,
+            category="Figures",
+            subcategory=rl_registry.SUBCATEGORIES[figure.section],
+        )
+        for figure in rl_registry.figures(rendered=rendered)
+    }

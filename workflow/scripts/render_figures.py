@@ -8,15 +8,16 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 
 from roughlight import figures as F  # noqa: E402
+from roughlight import pictures  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.shading import Lighting  # noqa: E402
 
 log = _log.setup(snakemake)
 out, params = snakemake.output, snakemake.params
 lighting = dict(params.lighting)
-incidence = 30.0
+incidence = float(params.incidence)  # Fig. 17's: the tables' incidence
 
-plates = F.plate_sweeps(
+plates = pictures.plate_sweeps(
     sorted(set(float(i) for i in params.incidences) | {incidence}),
     [float(j) for j in params.lights],
     elevation_step=params.elevation_step,
@@ -24,15 +25,15 @@ plates = F.plate_sweeps(
     settings=params.render,
 )
 write_frame(plates, out.plates)
-clip = plates[plates["incidence"] == incidence]
-F.save_figure(F.fig17_clipping(clip), out.fig17_clipping)
+F.save_figure(F.fig17_clipping(plates[plates["incidence"] == incidence]), out.fig17_clipping)
 base_light = float(lighting["light"])
-F.save_figure(F.fig20_plate_incidence(plates[plates["light"] == base_light] if (plates["light"] == base_light).any()
-                                      else plates[plates["light"] == plates["light"].min()]), out.fig20_plate_incidence)
+at_base = plates["light"] == base_light
+F.save_figure(F.fig20_plate_incidence(plates[at_base] if at_base.any() else plates[plates["light"] == plates["light"].min()]),
+              out.fig20_plate_incidence)
 log(f"plate sweeps: {plates.groupby(['incidence', 'light']).ngroups} sweeps")
 
 picture_lighting = Lighting(**{**lighting, "shadows": True})
 for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
-    _, views = F.PICTURE_SETS[stem]
-    F.save_figure(F.fig_pictures(stem, F.surface_pictures(views, lighting=picture_lighting)), out[stem])
+    _, views = pictures.PICTURE_SETS[stem]
+    F.save_figure(F.fig_pictures(stem, pictures.surface_pictures(views, lighting=picture_lighting)), out[stem])
     log(f"{stem} -> {out[stem]}")

@@ -36,25 +36,22 @@ tables = {
 }
 figures = {os.path.splitext(os.path.basename(p))[0]: p for p in inp.figures}
 benchmarks = None
-bench = list(inp.benchmarks)
-if bench:
-    png = next((p for p in bench if p.endswith(".png")), None)
-    table = next((pd.read_parquet(p) for p in bench if p.endswith(".parquet")), None)
-    benchmarks = {"png": png, "table": table}
+if "speed_accuracy_chart" in inp.keys():  # report.speed_accuracy
+    benchmarks = {"png": inp.speed_accuracy_chart, "table": pd.read_parquet(inp.speed_accuracy_table)}
 stability_html = None
-if len(inp.stability) == 3:
-    from roughlight import stability as rl_stability
-
-    png, safe_csv, table = inp.stability
-    stability_html = rl_stability.report_section(
-        {"safe_domain": pd.read_csv(safe_csv), "stability": pd.read_parquet(table)}, png
+if "stability_chart" in inp.keys():  # report.stability
+    stability_html = R.stability_section(
+        {"safe_domain": pd.read_csv(inp.stability_safe), "stability": pd.read_parquet(inp.stability_table)},
+        inp.stability_chart, plan=snakemake.params.plan,
     )
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],
     "settings": dict(snakemake.params.settings),
 }
+settings = snakemake.params.settings
 html = R.build_report(tables, figures, config=dict(snakemake.params.config), provenance=provenance,
-                      messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html)
+                      messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html,
+                      table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"])
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")
