@@ -243,3 +243,13 @@ def test_each_method_records_how_it_sampled(tmp_path):
                                  "shadow_map_size": [0]}
     with pytest.raises(ValueError, match="render.method"):
         measure.recorded_settings("raytrace")
+
+
+def test_a_sweep_job_imports_only_what_it_renders_with():
+    """A sweep job is a fresh process: pandas, scipy, trimesh or the whole of pyrender would each cost it
+    a large share of its start-up (pandas alone 0.4 s), so the measuring path must not import them."""
+    code = ("import sys, roughlight.study, roughlight.measure, roughlight.periodic, roughlight.sweeps; "
+            "print(sorted(m for m in ('pandas', 'scipy', 'trimesh', 'shapely', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={**os.environ, "PYOPENGL_PLATFORM": "osmesa"}).stdout
+    assert out.strip() == "[]"

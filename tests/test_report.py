@@ -369,3 +369,80 @@ def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():
     # and the whole report builds around it
     page = R.build_report({"glm_summary": summary, "glm_messages": messages, "thesis_tables": thesis}, {})
     assert page.count('id="stability-regressions"') == 1
+
+
+def _html_tables(html_path):
+    sys.path.insert(0, str(REPO / "tests"))
+    from compare_results import report_tables
+
+    return report_tables(Path(html_path))
+
+
+def test_every_thesis_table_shows_the_frame_it_came_from(built):
+    """Each printed Tables 1-2 cell is the analysis frame's value at the printed precision."""
+    _, html_path, workdir = built
+    frame = pd.read_csv(workdir / "thesis_tables.csv")
+    printed = [t for t in _html_tables(html_path) if t["caption"].startswith("Table ")]
+    assert len(printed) == 4
+    digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "b0": 3, "b1": 3, "RSS": 3}
+    checked = 0
+    for table in printed:
+        number = int(table["caption"].split(":")[0].split()[1])
+        label = table["caption"].split("(aspect ")[1].split(",")[0]
+        header, *rows = table["rows"]
+        model = None
+        for row in rows:
+            if len(row) == len(header):
+                model, row = row[0], row[1:]
+            source, values = row[0], row[1:]
+            want = frame[(frame["table"] == number) & (frame["aspect_label"] == label) & (frame["model"] == model)
+                         & (frame["source"] == source)]
+            assert len(want) == 1, (number, label, model, source)
+            for metric, text in zip(header[2:], values):
+                assert text == f"{want.iloc[0][metric]:.{digits[metric]}f}", (number, label, model, source, metric)
+                checked += 1
+    assert checked == len(frame[frame["aspect_label"].isin(["1", "√3/2"])]) * 5
+
+
+def test_lobe_table_shows_the_lobes_frame(built):
+    study, html_path, _ = built
+    lobes = arc_lobes(study)
+    printed = next(t for t in _html_tables(html_path) if t["caption"].startswith("Lobes on the azimuth-0 arc"))
+    header, *rows = printed["rows"]
+    want = lobes[lobes["aspect"].isin([find_aspect(lobes["aspect"], a) for a in SETTINGS["table_aspects"]])
+                 & lobes["lobe"].isin(["forward", "back"])]
+    assert len(rows) == len(want)
+    printed_peaks = sorted(r[header.index("peak")] for r in rows)
+    assert printed_peaks == sorted("–" if np.isnan(p) else f"{p:.3f}" for p in want["peak"])
+
+
+def test_fig21_plots_the_studys_arc(built):
+    """Fig. 21's curves are the study's specular values on the light's arc, per truncation."""
+    study, _, _ = built
+    fig = F.fig21_specular_truncation(study, aspects=[1.0], incidence=30.0)
+    ax = fig.axes[0]
+    arc_views = study[(study["component"] == "specular") & (study["azimuth"] == 0.0) & (study["aspect"] == 1.0)]
+    lines = [line for line in ax.get_lines() if len(line.get_xdata()) > 10]
+    assert len(lines) == arc_views["truncation"].nunique()
+    for line in lines:
+        x, y = np.asarray(line.get_xdata(), float), np.asarray(line.get_ydata(), float)
+        matches = [t for t, g in arc_views.groupby("truncation")
+                   if np.allclose(g.sort_values("elevation")["rough"].to_numpy(), y)
+                   and np.allclose(g.sort_values("elevation")["elevation"].to_numpy(), x)]
+        assert len(matches) == 1
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def test_pictures_are_rendered_from_the_view_they_name():
+    """surface_pictures renders each (elevation, azimuth) as named: a swap would show another view."""
+    from roughlight.naive import render_picture
+    from roughlight.surface import Surface
+
+    views = [(1.0, 1.0, 30.0, 20.0, 60.0, "e20 phi60")]
+    (_, picture), = pictures.surface_pictures(views, size=(80, 60), periods=2)
+    direct = render_picture(Surface(1.0, 1.0), 30.0, elevation=20.0, azimuth=60.0, size=(80, 60), periods=2)
+    swapped = render_picture(Surface(1.0, 1.0), 30.0, elevation=60.0, azimuth=20.0, size=(80, 60), periods=2)
+    assert np.array_equal(picture, direct)
+    assert not np.array_equal(direct, swapped)

@@ -26,7 +26,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pandas as pd
 
 from .surface import LENGTH_EPS, PLATE, Surface
 
@@ -239,7 +238,7 @@ def front_facet_share(aspect: float, incidence: float) -> float:
     return float(visible_lit_areas(Surface(1.0, aspect), incidence, 0.0, back).get("east", (0.0, 0.0))[0])
 
 
-def reflecting_areas(aspect: float, incidence: float, truncations=None) -> pd.DataFrame:
+def reflecting_areas(aspect: float, incidence: float, truncations=None):
     """Visible-and-lit areas of the reflecting facets against truncation (the thesis's Fig. 24).
 
     For each truncation, the top's share of the image seen from the forward
@@ -254,6 +253,8 @@ def reflecting_areas(aspect: float, incidence: float, truncations=None) -> pd.Da
     DataFrame: ``truncation``, ``top`` and ``front`` (fractions of the image,
     0-1), ``square_area`` and ``triangle_area`` (same scale), ``k``.
     """
+    import pandas as pd  # here, not at the top: the renderers import this module, and pandas costs a sweep job 0.4 s
+
     from .reference import visible_lit_areas
 
     t_values = np.linspace(0, 1, 21) if truncations is None else np.asarray(truncations, float)

@@ -153,7 +153,7 @@ def _table(df: pd.DataFrame, caption: str = "", digits: int = 3, table_id: str =
     return f"<table{tid}>{cap}<thead><tr>{head}</tr></thead><tbody>{''.join(body)}</tbody></table>"
 
 
-def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float) -> str:
+def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float, incidence: float = THESIS_INCIDENCE) -> str:
     """One of the thesis's Tables 1-2 for one aspect, in the thesis's form, ours beside the thesis's values.
 
     Rows are the thesis's models; for each model a row per source ('ours',
@@ -175,7 +175,7 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float) -> str:
             digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "b0": 3, "b1": 3, "RSS": 3}
             cells = "".join(f"<td>{_e(_fmt(r[m], digits[m]))}</td>" for m in TABLE_METRICS)
             rows.append(f'<tr class="{cls}">{first}<td class="src">{_e(r["source"])}</td>{cells}</tr>')
-    cap = f"Table {table}: {spec['title']} (aspect {label}, incidence 30)"
+    cap = f"Table {table}: {spec['title']} (aspect {label}, incidence {incidence:g})"
     return (f'<table class="thesis-table" id="{tid}" data-table="{table}" data-aspect="{_e(label)}">'
             f"<caption>{_e(cap)}</caption><thead><tr>{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>")
 
@@ -376,7 +376,7 @@ def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> 
     if thesis is not None and len(thesis):
         for aspect in sorted(thesis["aspect"].unique(), reverse=True):
             for table in (1, 2):
-                parts.append(thesis_table_html(thesis, table, aspect))
+                parts.append(thesis_table_html(thesis, table, aspect, table_incidence))
         parts.append(_table_findings(thesis, exact))
         parts.append(WHY_DIFFERENT)
     else:
