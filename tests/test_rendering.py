@@ -96,8 +96,8 @@ def test_fast_agrees_with_the_exact_reference(t, a, i):
     for pixels in (32, 64):
         fast = render(t, a, i, lighting, pixels_per_period=pixels)
         errors[pixels] = {c: np.abs(fast[c] - exact[c])[keep] for c in ("diffuse", "specular", "total")}
-    for c, err in errors[32].items():
-        assert err.mean() < 1.0 and err.max() < 4.0, (c, err.mean(), err.max())
+    for c, err in errors[32].items():  # measured: mean <= 0.23, worst view <= 2.44 (bounds about twice that)
+        assert err.mean() < 0.45 and err.max() < 4.0, (c, err.mean(), err.max())
     # pixel sampling is the only error: it shrinks as the tiles get finer
     for c, err in errors[64].items():
         assert err.mean() < 0.5 and err.max() < 2.5, (c, err.mean(), err.max())
@@ -253,3 +253,13 @@ def test_a_sweep_job_imports_only_what_it_renders_with():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={**os.environ, "PYOPENGL_PLATFORM": "osmesa"}).stdout
     assert out.strip() == "[]"
+
+
+def test_the_reference_method_loads_no_opengl():
+    """measure_sweep imports a renderer only for the methods that need one: the exact reference needs none."""
+    code = ("import sys; from roughlight.measure import measure_sweep; from roughlight.surface import Surface; "
+            "out = measure_sweep('reference', Surface(0.5, 1.0), 30.0, [0.0], [60.0]); "
+            "print(sorted({m.split('.')[0] for m in sys.modules} & {'OpenGL', 'pyrender'}), out['diffuse'][0] > 0)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env={**os.environ, "PYOPENGL_PLATFORM": "osmesa"}).stdout
+    assert out.split() == ["[]", "True"]
