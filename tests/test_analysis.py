@@ -446,3 +446,61 @@ def test_bootstrap_intervals_cover_the_statistics_and_match_statsmodels():
     # a model that predicts one value everywhere gives no line, and says so by using no resample
     flat = bootstrap_statistics(observed, np.full(11, 50.0), n_boot=100, seed=0)
     assert flat["n_boot_used"] == 0 and np.isnan(flat["b1"][0])
+
+
+# ---------------------------------------------------------------------------
+# errors a referee found (issue 14): each of these failed on the earlier code
+
+
+def test_the_plates_diffuse_level_is_J_sin_i():
+    """Views that see no surface (e = 0, 180: coverage 0, value 0) stay out of the hemisphere mean."""
+    from roughlight.selection import solid_angle_weights
+
+    study = make_study([0.0], [0.0], azimuths=np.arange(0.0, 180.0, 45.0), elevations=np.arange(0.0, 181.0, 5.0))
+    level = diffuse_levels(study).iloc[0]
+    assert level["diffuse_level"] == 64.0 and level["control_level"] == 64.0  # quantize(127 sin 30) = 64
+    for az, el in ((np.arange(0.0, 180.0, 5.0), np.arange(0.0, 181.0, 1.0)), (np.arange(0.0, 180.0, 45.0),
+                                                                            np.arange(0.0, 181.0, 5.0))):
+        assert solid_angle_weights(az, el).sum() == pytest.approx(2 * math.pi, abs=1e-12)
+
+
+def test_a_maximum_on_the_windows_edge_is_no_lobe():
+    """A back-lobe window whose maximum is its edge holds the forward lobe's tail: no peak, and why."""
+    e = np.arange(0.0, 181.0, 1.0)
+    values = np.exp(-((e - 150.0) / 15.0) ** 2) * 100.0  # one forward lobe at 150
+    tail = profile_lobe(e, values, centre=100.0, window=(60.0, 138.0))
+    assert np.isnan(tail["peak"]) and "window's edge at 138" in tail["note"]
+    real = profile_lobe(e, values, centre=150.0, window=(110.0, 180.0))
+    assert real["peak"] == pytest.approx(100.0) and real["note"] == ""
+    # at the end of the arc the edge is the horizon, not another lobe's tail: a peak there stays a peak
+    rising = profile_lobe(e, e, centre=170.0, window=(140.0, 180.0))
+    assert rising["peak"] == 180.0
+
+
+def test_the_three_part_model_is_continuous_at_its_second_break():
+    from roughlight.diffuse import continuous_part, exponential_part
+
+    L1, L3, k, e1, e2 = 80.0, 20.0, 0.05, 30.0, 120.0
+    assert continuous_part(e1, L1, L3, k, e1, e2) == pytest.approx(L1)
+    assert continuous_part(e2, L1, L3, k, e1, e2) == pytest.approx(L3)
+    assert exponential_part(e2, L1, L3, k, e1) - L3 == pytest.approx((L1 - L3) * math.exp(-k * (e2 - e1)))
+    assert continuous_part(75.0, L1, L3, 1e-12, e1, e2) == pytest.approx(50.0)  # k -> 0: the straight line
+    study = make_study([1.0], [1.0], elevations=np.arange(0.0, 181.0, 2.0))
+    row = diffuse_three_part(study).iloc[0]
+    assert abs(row["jump_at_e2"]) > 0.5  # the thesis's form jumps at e2
+    assert np.isfinite(row["rate_continuous"]) and np.isfinite(row["rmse_continuous"])
+    e = np.array([row["e2"] - 1e-9])
+    assert continuous_part(e, row["level1"], row["level3"], row["rate_continuous"], row["e1"], row["e2"])[0] == \
+        pytest.approx(row["level3"], abs=1e-6)
+
+
+def test_every_model_is_scored_on_the_same_8_bit_values():
+    """The fitted Oren-Nayar sigma is scored as the geometric one (quantized): on the plate it cannot lose
+    to its own special case, and a fit that ends on a bound is flagged."""
+    study = make_study([0.0, 1.0], [0.0, 1.0], azimuths=np.arange(0.0, 180.0, 45.0),
+                       elevations=np.arange(0.0, 181.0, 5.0))
+    fits = analytic_model_fits(study)
+    assert (fits["rmse_oren_nayar_fitted"] <= fits["rmse_oren_nayar"] + 1e-12).all()
+    plate = fits[fits["truncation"] * fits["aspect"] == 0]
+    assert (plate["rmse_oren_nayar_fitted"] == 0.0).all()
+    assert fits["sigma_fitted_at_bound"].dtype == bool

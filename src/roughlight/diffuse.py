@@ -33,7 +33,21 @@ def diffuse_breakpoints(incidence: float, aspect: float) -> tuple[float, float]:
 
 
 def exponential_part(e, level1, level3, rate, e1):
+    """The thesis's part two, ``L3 + (L1 - L3) exp(-k (e - e1))``: level one at e1, but not level three at e2."""
     return level3 + (level1 - level3) * np.exp(-rate * (e - e1))
+
+
+def continuous_part(e, level1, level3, rate, e1, e2):
+    """Part two continuous at both breaks: the same exponential decay rescaled to run from L1 at e1 to L3 at e2.
+
+    ``L3 + (L1 - L3) (exp(-k (e - e1)) - exp(-k (e2 - e1))) / (1 - exp(-k (e2 - e1)))``; it tends to the
+    straight line from (e1, L1) to (e2, L3) as ``k`` goes to 0. Angles in degrees, ``k`` in 1/degree.
+    """
+    span = e2 - e1
+    if rate * span < 1e-9:
+        return level1 + (level3 - level1) * (np.asarray(e, float) - e1) / span
+    far = np.exp(-rate * span)
+    return level3 + (level1 - level3) * (np.exp(-rate * (np.asarray(e, float) - e1)) - far) / (1.0 - far)
 
 
 def diffuse_three_part(study: pd.DataFrame, azimuth: float = 0.0) -> pd.DataFrame:
@@ -41,16 +55,21 @@ def diffuse_three_part(study: pd.DataFrame, azimuth: float = 0.0) -> pd.DataFram
 
     On the arc, part one (``0 < e <= e1``) and part three (``e >= e2``) are
     constant levels (their means); part two decays exponentially from level
-    one to level three, ``L3 + (L1 - L3) exp(-k (e - e1))``, with ``k`` fitted
-    by least squares. Breakpoints from :func:`diffuse_breakpoints` (geometry).
-    Grazing views (coverage 0) are left out.
+    one to level three. Two forms of part two are fitted by least squares:
+    the thesis's, ``L3 + (L1 - L3) exp(-k (e - e1))`` (:func:`exponential_part`),
+    which does not reach L3 at e2 (the model jumps there by ``jump_at_e2``), and
+    the same decay made continuous at both breaks (:func:`continuous_part`).
+    Breakpoints from :func:`diffuse_breakpoints` (geometry). Grazing views
+    (coverage 0) are left out.
 
     Returns
     -------
     DataFrame, one row per surface: keys, ``e1``/``e2`` (degrees),
     ``level1``/``level3`` (0-255), ``rate`` (k, 1/degree), ``decay_length``
-    (1/k, degrees), ``rmse`` (whole arc, 0-255), ``rmse_part2``, ``n_part1``,
-    ``n_part2``, ``n_part3``, ``note``.
+    (1/k, degrees), ``rmse`` (whole arc, 0-255), ``rmse_part2``, ``jump_at_e2``
+    (the thesis's form at e2 minus L3, 0-255); ``rate_continuous``,
+    ``rmse_continuous``, ``rmse_part2_continuous`` (the continuous form);
+    ``n_part1``, ``n_part2``, ``n_part3``, ``note``.
     """
     from scipy.optimize import curve_fit
 
@@ -68,7 +87,8 @@ def diffuse_three_part(study: pd.DataFrame, azimuth: float = 0.0) -> pd.DataFram
                "n_part1": int(p1.sum()), "n_part2": int(p2.sum()), "n_part3": int(p3.sum()),
                "level1": float(v[p1].mean()) if p1.any() else np.nan,
                "level3": float(v[p3].mean()) if p3.any() else np.nan,
-               "rate": np.nan, "decay_length": np.nan, "rmse": np.nan, "rmse_part2": np.nan, "note": ""}
+               "rate": np.nan, "decay_length": np.nan, "rmse": np.nan, "rmse_part2": np.nan, "jump_at_e2": np.nan,
+               "rate_continuous": np.nan, "rmse_continuous": np.nan, "rmse_part2_continuous": np.nan, "note": ""}
         if is_plate(t, a):
             row["note"] = "plate: one constant level, no decay"
             pred = np.full_like(v, float(v.mean())) if len(v) else v
@@ -97,12 +117,33 @@ def diffuse_three_part(study: pd.DataFrame, azimuth: float = 0.0) -> pd.DataFram
         ok = np.isfinite(pred)
         row["rmse"] = float(np.sqrt(np.mean((v[ok] - pred[ok]) ** 2)))
         row["rmse_part2"] = float(np.sqrt(np.mean((v[p2] - pred[p2]) ** 2))) if np.isfinite(row["rate"]) else np.nan
+        if np.isfinite(row["rate"]):
+            row["jump_at_e2"] = float(exponential_part(e2, L1, L3, row["rate"], e1) - L3)
+        if abs(L1 - L3) >= 1e-9:
+            row.update(_continuous_fit(e, v, p1, p2, p3, L1, L3, e1, e2))
         rows.append(row)
     return pd.DataFrame(rows)
 
 
+def _continuous_fit(e, v, p1, p2, p3, L1, L3, e1, e2) -> dict:
+    """Rate and errors of the three-part model with part two continuous at both breaks."""
+    from scipy.optimize import curve_fit
+
+    def decay(x, k):
+        return continuous_part(x, L1, L3, k, e1, e2)
+
+    try:
+        (rate,), _ = curve_fit(decay, e[p2], v[p2], p0=[0.05], bounds=([0.0], [10.0]))
+    except (RuntimeError, ValueError):
+        return {}
+    pred = np.where(p1, L1, np.where(p3, L3, decay(e, rate)))
+    return {"rate_continuous": float(rate), "rmse_continuous": float(np.sqrt(np.mean((v - pred) ** 2))),
+            "rmse_part2_continuous": float(np.sqrt(np.mean((v[p2] - pred[p2]) ** 2)))}
+
+
 def diffuse_levels(study: pd.DataFrame) -> pd.DataFrame:
-    """Solid-angle-weighted hemisphere mean of the diffuse component per surface.
+    """Solid-angle-weighted hemisphere mean of the diffuse component per surface, over the views that see
+    the surface (coverage > 0: the grazing views, which see none, are left out).
 
     Returns
     -------
@@ -110,15 +151,16 @@ def diffuse_levels(study: pd.DataFrame) -> pd.DataFrame:
     ``control_level`` (the plate's), ``ratio`` (rough / control).
     """
     rows = []
-    controls = {key: (az, el, v) for key, az, el, v in surface_grids(study, "diffuse", "control")}
+    controls = {key: v for key, _, _, v in surface_grids(study, "diffuse", "control")}
+    coverage = {key: v for key, _, _, v in surface_grids(study, "diffuse", "coverage")}
     for key, az, el, vals in surface_grids(study, "diffuse"):
         w = solid_angle_weights(az, el)
-        ok = np.isfinite(vals)
+        # views that see no surface (the grazing ones, coverage 0) measure nothing: out of the average
+        ok = np.isfinite(vals) & (coverage[key] > 0)
         level = float(np.sum(w[ok] * vals[ok]) / np.sum(w[ok]))
-        caz, cel, cv = controls[key]
-        cw = solid_angle_weights(caz, cel)
-        cok = np.isfinite(cv)
-        control = float(np.sum(cw[cok] * cv[cok]) / np.sum(cw[cok]))
+        cv = controls[key]
+        cok = np.isfinite(cv) & (coverage[key] > 0)
+        control = float(np.sum(w[cok] * cv[cok]) / np.sum(w[cok]))
         rows.append({"truncation": key[0], "aspect": key[1], "incidence": key[2], "diffuse_level": level,
                      "control_level": control, "ratio": level / control if control > 0 else np.nan})
     return pd.DataFrame(rows)

@@ -27,7 +27,7 @@ import pandas as pd  # noqa: E402
 import seaborn as sns  # noqa: E402
 
 from .atomic import atomic_path  # noqa: E402
-from .diffuse import diffuse_breakpoints, exponential_part  # noqa: E402
+from .diffuse import continuous_part, diffuse_breakpoints, exponential_part  # noqa: E402
 from .geometry import front_facet_share, lobe_centres  # noqa: E402
 from .lobes import MIN_LOBE_PEAK, lobe_directions  # noqa: E402
 from .registry import title as figure_title  # noqa: E402
@@ -472,11 +472,16 @@ def fig27_diffuse_plate(study: pd.DataFrame, incidence: float = THESIS_INCIDENCE
 
 
 def _three_part_curve(row, e):
+    """The fitted three-part model along ``e`` (degrees): part two continuous at both breaks when that form
+    was fitted (:func:`roughlight.diffuse.continuous_part`), else the thesis's form."""
     e1, e2 = row["e1"], row["e2"]
-    if not np.isfinite(row.get("rate", np.nan)):
+    if np.isfinite(row.get("rate_continuous", np.nan)):
+        part2 = continuous_part(e, row["level1"], row["level3"], row["rate_continuous"], e1, e2)
+    elif np.isfinite(row.get("rate", np.nan)):
+        part2 = exponential_part(e, row["level1"], row["level3"], row["rate"], e1)
+    else:
         return None
-    y = np.where(e <= e1, row["level1"], np.where(e >= e2, row["level3"],
-                 exponential_part(e, row["level1"], row["level3"], row["rate"], e1)))
+    y = np.where(e <= e1, row["level1"], np.where(e >= e2, row["level3"], part2))
     return np.where((e <= 0) | (e >= 180), np.nan, y)
 
 

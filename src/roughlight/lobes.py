@@ -46,7 +46,9 @@ def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) 
     Returns
     -------
     dict
-        ``peak`` (max value in the window), ``peak_elevation`` (mean of the
+        ``peak`` (max value in the window; NaN when that maximum sits on a
+        window edge that the arc continues past: the tail of another lobe,
+        not a peak of this one), ``peak_elevation`` (mean of the
         elevations attaining it), ``centroid`` (value-weighted mean elevation
         over the part above half maximum), ``fwhm`` (degrees, half-maximum
         crossings interpolated linearly; NaN when a crossing lies outside the
@@ -66,6 +68,13 @@ def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) 
         out["note"] = "no lobe (peak below one 8-bit step)"
         return out
     at = np.flatnonzero(vw == peak)
+    # a maximum on the window's edge, where the arc goes on, is the tail of a neighbouring lobe rising out of
+    # the window, not a peak of this one: no value enters a fit or a table
+    edge = [ew[j] for j in (at[0], at[-1]) if (j == 0 and ew[0] > e.min()) or (j == len(vw) - 1 and ew[-1] < e.max())]
+    if edge:
+        out["peak"] = np.nan
+        out["note"] = f"no lobe: the maximum ({peak:.3g}) is on the window's edge at {edge[0]:g} deg, another lobe's tail"
+        return out
     out["peak_elevation"] = float(ew[at].mean())
     half = peak / 2.0
     k = int(at[0])

@@ -428,12 +428,17 @@ def _diffuse_parts_table(tables: dict, table_aspects) -> list[str]:
         want = [a for a in table_aspects if find_aspect(dp["aspect"], a) is not None]
         sel = dp[np.isin(dp["aspect"].round(12), [round(find_aspect(dp["aspect"], a), 12) for a in want])] \
             if want else dp.head(0)
-        cols = ["truncation", "aspect", "e1", "e2", "level1", "level3", "rate", "decay_length", "rmse", "note"]
+        cols = ["truncation", "aspect", "e1", "e2", "level1", "level3", "rate", "decay_length", "rmse", "jump_at_e2",
+                "rate_continuous", "rmse_continuous", "note"]
+        cols = [c for c in cols if c in sel]
         sel = sel[cols].copy()
         sel["aspect"] = sel["aspect"].map(aspect_label)
         parts.append(_table(sel, "The three-part diffuse model (Ch. V.F) fitted on the azimuth-0 arc: breaks e1 "
                                  "(incidence) and e2 (front facet edge-on), levels of parts one and three, decay "
-                                 "rate k (1/deg) and length 1/k (deg) of part two", table_id="diffuse-parts"))
+                                 "rate k (1/deg) and length 1/k (deg) of part two, the whole arc's RMSE and the jump "
+                                 "of the thesis's form at e2 (it does not reach level three there); then the same "
+                                 "decay made continuous at both breaks, its rate and RMSE (the dashed fits of Fig. 28)",
+                    table_id="diffuse-parts"))
     return parts
 
 

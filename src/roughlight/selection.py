@@ -100,9 +100,22 @@ def recorded_lighting(study: pd.DataFrame) -> dict:
 
 
 def solid_angle_weights(azimuth, elevation) -> np.ndarray:
-    """(A, E) solid angle (sr) of each view's cell: |cos e| de dphi (sums to ~2 pi)."""
+    """(A, E) solid angle (sr) each view stands for; they sum to 2 pi over the half great circles.
+
+    A view at elevation ``e`` (degrees, ascending over [0, 180]) on one of the ``A`` half great circles
+    stands for the cell between the midpoints to its neighbours (clipped to [0, 180]) and ``pi / A`` of
+    azimuth: the exact integral of ``|cos e| de dphi`` over it.
+    """
     az = np.asarray(azimuth, float)
-    el = np.asarray(elevation, float)
-    dphi = math.radians(180.0 / len(az)) if len(az) else 0.0
-    de = np.gradient(np.radians(el)) if len(el) > 1 else np.array([math.pi])
-    return np.abs(np.cos(np.radians(el)))[None, :] * de[None, :] * dphi * np.ones((len(az), 1))
+    el = np.radians(np.asarray(elevation, float))
+    dphi = math.pi / len(az) if len(az) else 0.0
+    edges = np.concatenate([[max(el[0] - (el[1] - el[0]) / 2, 0.0) if len(el) > 1 else 0.0],
+                            (el[1:] + el[:-1]) / 2,
+                            [min(el[-1] + (el[-1] - el[-2]) / 2, math.pi) if len(el) > 1 else math.pi]])
+    edges = np.clip(edges, 0.0, math.pi)
+
+    def primitive(x):  # an antiderivative of |cos x| on [0, pi]
+        return np.where(x <= math.pi / 2, np.sin(x), 2.0 - np.sin(x))
+
+    cells = primitive(edges[1:]) - primitive(edges[:-1])
+    return cells[None, :] * dphi * np.ones((len(az), 1))

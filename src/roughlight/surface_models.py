@@ -213,6 +213,8 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
 
 #: RMSEs closer than this (0-255 scale) are a tie; the simpler model (listed first) wins it.
 RMSE_TIE = 1e-6
+#: Oren-Nayar's sigma is fitted within these bounds (radians); a fit that ends on one is flagged.
+SIGMA_BOUNDS = (0.0, 1.5)
 
 
 def _best(errors: dict):
@@ -257,7 +259,9 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
     Returns
     -------
     DataFrame, one row per surface: keys, ``sigma_geometric``,
-    ``sigma_fitted`` (radians), the ``rmse_*`` columns (0-255),
+    ``sigma_fitted`` (radians; ``sigma_fitted_at_bound`` when the fit ended on a bound of
+    :data:`SIGMA_BOUNDS`), the ``rmse_*`` columns (0-255; every model scored on quantized,
+    8-bit predictions),
     ``hapke_B0``, ``hapke_h``, ``best_diffuse``, ``best_specular``.
     """
     from scipy.optimize import minimize_scalar
@@ -293,9 +297,16 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
         def score(s, yd=yd, i=i, e=e, phi=phi, m=m):
             return _rmse(yd, oren_nayar(i, e, phi, s, J, md, amb, ma), m)
 
-        res = minimize_scalar(score, bounds=(0.0, 1.5), method="bounded", options={"xatol": 1e-4})
-        row["sigma_fitted"] = float(res.x)
-        row["rmse_oren_nayar_fitted"] = float(res.fun)
+        res = minimize_scalar(score, bounds=SIGMA_BOUNDS, method="bounded", options={"xatol": 1e-4})
+        # scored as every other model: on the 8-bit values the framebuffer would store; the geometric sigma
+        # is a candidate the fit must beat (the fit minimises the smooth unquantized error)
+        fitted = _rmse(yd, quantize(oren_nayar(i, e, phi, float(res.x), J, md, amb, ma)), m)
+        if fitted <= row["rmse_oren_nayar"]:
+            row["sigma_fitted"], row["rmse_oren_nayar_fitted"] = float(res.x), fitted
+        else:
+            row["sigma_fitted"], row["rmse_oren_nayar_fitted"] = sig, row["rmse_oren_nayar"]
+        row["sigma_fitted_at_bound"] = bool(min(abs(row["sigma_fitted"] - b) for b in SIGMA_BOUNDS) < 1e-3
+                                            and row["sigma_fitted"] != sig)
         kw = dict(light=J, shininess=zeta, diffuse_reflectance=md, specular_reflectance=ms, ambient=amb,
                   ambient_reflectance=ma)
         es, ps = gs["elevation"].to_numpy(float), gs["azimuth"].to_numpy(float)
