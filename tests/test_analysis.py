@@ -504,3 +504,14 @@ def test_every_model_is_scored_on_the_same_8_bit_values():
     plate = fits[fits["truncation"] * fits["aspect"] == 0]
     assert (plate["rmse_oren_nayar_fitted"] == 0.0).all()
     assert fits["sigma_fitted_at_bound"].dtype == bool
+
+
+def test_the_report_flags_sigma_fits_on_a_bound():
+    from roughlight import report
+
+    fits = pd.DataFrame({"truncation": [0.0, 0.5, 1.0], "aspect": [0.0, 1.0, 1.0],
+                         "sigma_fitted_at_bound": [False, True, False]})
+    text = "".join(report._section_models({"model_fits": fits}, {}, {}))
+    assert "ended on a bound" in text and "1 of 2 rough surfaces" in text
+    fits["sigma_fitted_at_bound"] = False
+    assert "ended on a bound" not in "".join(report._section_models({"model_fits": fits}, {}, {}))

@@ -499,7 +499,16 @@ def _section_models(tables: dict, figures: dict, provenance: dict) -> list[str]:
         "masking-shadowing term G = min(1, 2n_zV_z/(n·V), 2n_zL_z/(n·L))); <b>specular</b> — Phong on the plate, "
         "the facet model without masking and with the V-cavity term; <b>near opposition</b> — Hapke's shadow-hiding "
         "term B(g) = B0/(1 + tan(g/2)/h) on a linear phase background, fitted to the phase curve within "
-        f"{_e(_fmt((provenance.get('settings') or {}).get('hapke_max_phase', 60), 0))}° of zero phase.</p>")
+        f"{_e(_fmt((provenance.get('settings') or {}).get('hapke_max_phase', 60), 0))}° of zero phase. Every model "
+        "is scored by the RMSE of its 8-bit (quantized) predictions over the views that see the surface.</p>")
+    fits = tables.get("model_fits")
+    if fits is not None and "sigma_fitted_at_bound" in fits:
+        rough = fits[fits["truncation"] * fits["aspect"] > 0]
+        n_bound = int(rough["sigma_fitted_at_bound"].sum())
+        if n_bound:
+            parts.append(f'<p class="note">Oren–Nayar\'s fitted σ ended on a bound of its search (0–1.5 rad) on '
+                         f"{n_bound} of {len(rough)} rough surfaces: there the fit is limited by the bound, not by "
+                         "the data, and its σ is no roughness estimate.</p>")
     msum = tables.get("model_fits_summary")
     parts.append(_model_findings(msum))
     if msum is not None and len(msum):
