@@ -202,3 +202,45 @@ def test_broken_osmesa_stops_before_any_job_and_keeps_what_was_computed(workflow
     assert table.read_bytes() == kept
     snakemake(workflow_dir, STUDY)  # with the library path mended, the rerun does only the new work
     assert len(pd.read_parquet(table)) == 3 * 21 * 3
+
+
+@pytest.mark.slow
+def test_a_second_run_stops_at_once_and_a_killed_run_leaves_no_lock(workflow_dir):
+    """Two runs in one directory: the second stops with one message naming the first and touches nothing;
+    the first goes on. SIGKILL the first: the kernel releases its lock, so nothing blocks the next run."""
+    import fcntl
+    import os
+    import signal
+    import time
+
+    cfg = {
+        "grid": {"truncation": [0.0, 0.2, 0.4, 0.6, 0.8, 1.0], "aspect": [0.5, 0.8, 1.0], "incidence": [30]},
+        "sweep": {"elevation_step": 2, "azimuth_step": 10},
+    }
+    write_config(workflow_dir, cfg)
+    first = subprocess.Popen([SNAKEMAKE, "--cores", "2", STUDY], cwd=workflow_dir, stdout=subprocess.DEVNULL,
+                             stderr=subprocess.DEVNULL, start_new_session=True)
+    sweeps = workflow_dir / "results" / "sweeps" / "i30"
+    try:
+        deadline = time.time() + 120
+        while time.time() < deadline and not list(sweeps.glob("t*.parquet")):
+            time.sleep(0.2)
+        # contents, not times: Snakemake touches a job's outputs once it has checked them
+        before = {p.name: p.read_bytes() for p in sweeps.glob("[tc]*.parquet")}  # not the temporary files
+        second = snakemake(workflow_dir, STUDY, check=False)
+        text = second.stdout + second.stderr
+        assert second.returncode != 0
+        assert "another run of this workflow is active" in text and f"pid {first.pid}" in text, text[-2000:]
+        assert "touching anything" in text
+        assert first.poll() is None, "the first run goes on"
+        after = {p.name: p.read_bytes() for p in sweeps.glob("[tc]*.parquet")}
+        changed = [name for name, content in before.items() if after.get(name) != content]
+        assert not changed, changed  # nothing of the first run's was touched
+    finally:
+        os.killpg(first.pid, signal.SIGKILL)
+        first.wait()
+    fd = os.open(workflow_dir / ".snakemake" / "roughlight.lock", os.O_RDWR)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # free again: the killed run holds nothing
+    finally:
+        os.close(fd)

@@ -202,3 +202,39 @@ def figure_outputs(rendered):
         )
         for figure in rl_registry.figures(rendered=rendered)
     }
+
+
+# One run at a time in a directory, and a killed run never blocks the next: the workflow holds an
+# OS-level lock (flock) on .snakemake/roughlight.lock from its start (onstart, so dry runs, --lint and
+# runs with nothing to do never take it) until its process ends; the kernel releases it when that process
+# dies, even by SIGKILL. Job processes and cluster jobs run without hooks and never take it.
+RUN_LOCK = ".snakemake/roughlight.lock"
+_run_lock = []
+
+
+def acquire_run_lock(path=RUN_LOCK):
+    """Take the directory's run lock or stop at once, naming the run that holds it; nothing is touched."""
+    import fcntl
+    import sys
+    import time
+
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        holder = (
+            os.pread(fd, 4096, 0).decode("utf-8", "replace").strip()
+            or "another snakemake process"
+        )
+        os.close(fd)
+        raise WorkflowError(
+            f"another run of this workflow is active in {os.getcwd()} ({holder}): wait for it to finish, or "
+            "stop it and rerun; this run stopped before touching anything"
+        )
+    os.ftruncate(fd, 0)
+    started = time.strftime("%Y-%m-%d %H:%M:%S")
+    os.pwrite(
+        fd, f"pid {os.getpid()}, started {started}: {' '.join(sys.argv)}".encode(), 0
+    )
+    _run_lock.append(fd)  # held until this process ends
