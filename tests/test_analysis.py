@@ -515,3 +515,11 @@ def test_the_report_flags_sigma_fits_on_a_bound():
     assert "ended on a bound" in text and "1 of 2 rough surfaces" in text
     fits["sigma_fitted_at_bound"] = False
     assert "ended on a bound" not in "".join(report._section_models({"model_fits": fits}, {}, {}))
+
+
+def test_the_thesis_rows_carry_only_what_the_thesis_printed():
+    lobes = arc_lobes(make_study([0.0, 0.5, 1.0], [1.0], elevations=np.arange(0.0, 181.0, 2.0)))
+    tables, _ = thesis_tables(lobes, [1.0], 30.0)
+    rows = tables[tables["source"] == "thesis 2001"]
+    assert len(rows) == 4
+    assert rows["n"].isna().all() and rows["converged"].isna().all() and (rows["truncations"] == "").all()

@@ -448,3 +448,23 @@ def test_pictures_are_rendered_from_the_view_they_name():
     swapped = render_picture(Surface(1.0, 1.0), 30.0, elevation=60.0, azimuth=20.0, size=(80, 60), periods=2)
     assert np.array_equal(picture, direct)
     assert not np.array_equal(direct, swapped)
+
+
+def test_figures_say_what_their_lines_are(built):
+    """Fig. 25 marks a sine refit whose omega exceeds pi/2 as outside the physical range; the Hapke panels
+    call the dashed line the background term of the Hapke fit (the title quotes a background-only fit)."""
+    import matplotlib.pyplot as plt
+
+    study, _, _ = built
+    lobes = arc_lobes(study)
+    sine = sine_refits(lobes, [1.0], 30.0)
+    sine.loc[(sine["lobe"] == "back") & (sine["parameter"] == "omega"), "estimate"] = 2.0
+    fig = F.fig25_back_models(lobes, sine, aspects=[1.0])
+    labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any("outside the physical range" in label for label in labels), labels
+    plt.close(fig)
+    fits = analytic_model_fits(study)
+    fig = F.fig_hapke(study, fits)
+    labels = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
+    assert "background term of the Hapke fit" in labels and "linear phase background" not in labels
+    plt.close(fig)

@@ -259,7 +259,8 @@ def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
         A = float(s.loc[s["parameter"] == "A", "estimate"].iloc[0])
         w = float(s.loc[s["parameter"] == "omega", "estimate"].iloc[0])
         y = A * (1 - np.sin(w * tt)) if lobe == "forward" else A * np.sin(w * tt)
-        ax.plot(tt, y, color="#2ca02c", ls="--", label=f"refit  A={A:.1f}, ω={w:.3f}")
+        outside = "; ω > π/2: turns down before t = 1, outside the physical range" if w > np.pi / 2 else ""
+        ax.plot(tt, y, color="#2ca02c", ls="--", label=f"refit  A={A:.1f}, ω={w:.3f}{outside}")
     ax.set_xlabel("truncation t")
     ax.set_ylabel(f"{lobe} lobe peak (0-255)")
     ax.set_title(f"aspect {aspect_label(aspect)}, incidence {inc:g}", loc="left")
@@ -700,14 +701,14 @@ def fig_hapke(study: pd.DataFrame, model_fits: pd.DataFrame, hapke_max_phase: fl
         g = np.linspace(0, max_phase, 200)
         if np.isfinite(r["hapke_c"]):
             bg = r["hapke_c"] + r["hapke_d"] * g
-            ax.plot(g, bg, color="#1f77b4", ls="--", lw=1, label="linear phase background")
+            ax.plot(g, bg, color="#1f77b4", ls="--", lw=1, label="background term of the Hapke fit")
             if np.isfinite(r["hapke_h"]):
                 y = bg + r["hapke_S"] / (1 + np.tan(np.radians(g) / 2) / r["hapke_h"])
                 ax.plot(g, y, color="#d62728", label=f"+ Hapke B(g): B0 {r['hapke_B0']:.3g}, h {r['hapke_h']:.3g}")
         ax.set_xlabel("phase angle g (deg)")
         ax.set_ylabel("total (0-255)")
-        ax.set_title(f"t {t:g}, aspect {aspect_label(a)}: RMSE {r['rmse_hapke']:.1f} "
-                     f"(background alone {r['rmse_constant_near_opposition']:.1f})", loc="left", fontsize=8)
+        ax.set_title(f"t {t:g}, aspect {aspect_label(a)}: RMSE {r['rmse_hapke']:.1f} (a background-only fit, "
+                     f"not drawn: {r['rmse_constant_near_opposition']:.1f})", loc="left", fontsize=8)
         ax.legend(fontsize=7)
     return fig
 

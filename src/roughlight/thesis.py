@@ -281,8 +281,9 @@ def thesis_tables(
                 rows.append({**common, "source": "exact geometry", **stats, "m": m, "k": k_used,
                              "truncations": truncations})
         thesis = dict(zip(TABLE_METRICS, THESIS_TABLES[table]["rows"][model]))
-        rows.append({**common, "source": "thesis 2001", **thesis, "n": 11, "SSE": np.nan, "converged": True,
-                     "note": f"Slattery (2001), Table {table}", "truncations": "0, 0.1, ..., 1"})
+        # only what the thesis printed: it gives neither its n, nor whether its fit converged, nor its truncations
+        rows.append({**common, "source": "thesis 2001", **thesis, "n": np.nan, "SSE": np.nan, "converged": None,
+                     "note": f"Slattery (2001), Table {table}", "truncations": ""})
     return pd.DataFrame(rows), messages
 
 
