@@ -523,3 +523,25 @@ def test_the_thesis_rows_carry_only_what_the_thesis_printed():
     rows = tables[tables["source"] == "thesis 2001"]
     assert len(rows) == 4
     assert rows["n"].isna().all() and rows["converged"].isna().all() and (rows["truncations"] == "").all()
+
+
+def test_the_sd_identity_tells_which_sd_a_table_gives():
+    """RSS of the least-squares line <= (n - 1) SD^2 for the SD of the raw errors, never for SD of |error|
+    necessarily; the thesis's Table 1 rows break the first at n = 11."""
+    from roughlight.thesis import THESIS_TABLES, sd_bound
+
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        predicted = rng.uniform(0, 127, 11)
+        observed = predicted + rng.normal(0, 3, 11)
+        stats = fit_statistics(observed, predicted)
+        assert stats["RSS"] <= sd_bound(stats["Standard Deviation"], 11) * (1 + 1e-9)
+    # errors of one size and both signs: SD of |error| is 0, yet the line leaves a residual
+    predicted = np.linspace(0, 100, 11)
+    observed = predicted + 2.0 * np.array([1, -1] * 5 + [1])
+    stats = fit_statistics(observed, predicted)
+    assert stats["SD of |error|"] == pytest.approx(0.0, abs=1e-12)
+    assert stats["RSS"] > sd_bound(stats["SD of |error|"], 11)
+    assert stats["RSS"] <= sd_bound(stats["Standard Deviation"], 11) * (1 + 1e-9)
+    t1 = {m: dict(zip(["MAE", "SD", "b0", "b1", "RSS"], v)) for m, v in THESIS_TABLES[1]["rows"].items()}
+    assert all(row["RSS"] > sd_bound(row["SD"], 11) for row in t1.values())  # 122.4 > 94.9, 51.9 > 35.3

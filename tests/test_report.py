@@ -208,7 +208,8 @@ def test_report_in_headless_chromium(built):
                                                                            ("2", "√3/2")}
     for t in printed:
         rows = [cells for table, cells in dom.rows if table.get("id") == t["id"]]
-        assert rows[0][:7] == ["Model", "Source", "Mean Abs Error", "Standard Deviation", "b0", "b1", "RSS"]
+        assert rows[0][:8] == ["Model", "Source", "Mean Abs Error", "Standard Deviation", "SD of |error|", "b0", "b1",
+                               "RSS"]
         models = {r[0] for r in rows[1:] if r[0] not in ("ours", "exact geometry", "thesis 2001")}
         expected = {"Square Area Function", "Regressed Model"} if t["data-table"] == "1" else \
             {"Triangle Area Function", "Regressed Model"}
@@ -224,7 +225,7 @@ def test_report_in_headless_chromium(built):
     assert row[2] == f"{ours['Mean Abs Error']:.2f}"
     thesis_row = next(cells for table, cells in dom.rows
                       if table.get("id") == t1["id"] and cells[0] == "thesis 2001")
-    assert thesis_row[1:] == ["4.10", "3.08", "-4.684", "1.012", "122.407"]
+    assert thesis_row[1:] == ["4.10", "3.08", "–", "-4.684", "1.012", "122.407"]  # it printed no SD of |error|
     # a screenshot for a human
     shot = workdir / "report.png"
     res = _chromium(["--virtual-time-budget=15000", "--window-size=1280,6000", f"--screenshot={shot}",
@@ -384,7 +385,7 @@ def test_every_thesis_table_shows_the_frame_it_came_from(built):
     frame = pd.read_csv(workdir / "thesis_tables.csv")
     printed = [t for t in _html_tables(html_path) if t["caption"].startswith("Table ")]
     assert len(printed) == 4
-    digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "b0": 3, "b1": 3, "RSS": 3}
+    digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "SD of |error|": 2, "b0": 3, "b1": 3, "RSS": 3}
     checked = 0
     for table in printed:
         number = int(table["caption"].split(":")[0].split()[1])
@@ -399,11 +400,16 @@ def test_every_thesis_table_shows_the_frame_it_came_from(built):
                          & (frame["source"] == source)]
             assert len(want) == 1, (number, label, model, source)
             for metric, text in zip(header[2:], values):
-                expected = f"{want.iloc[0][metric]:.{digits[metric]}f}"
+                value = want.iloc[0][metric]
+                if pd.isna(value):  # the thesis printed no SD of |error|
+                    assert text == "–", (number, label, model, source, metric)
+                    checked += 1
+                    continue
+                expected = f"{value:.{digits[metric]}f}"
                 expected = expected[1:] if expected.startswith("-") and float(expected) == 0 else expected  # no "-0.000"
                 assert text == expected, (number, label, model, source, metric)
                 checked += 1
-    assert checked == len(frame[frame["aspect_label"].isin(["1", "√3/2"])]) * 5
+    assert checked == len(frame[frame["aspect_label"].isin(["1", "√3/2"])]) * 6
 
 
 def test_lobe_table_shows_the_lobes_frame(built):

@@ -30,7 +30,7 @@ from . import registry
 from .atomic import write_text_atomic
 from .selection import ASPECT_TOL, SURFACE_KEYS, find_aspect
 from .surface import aspect_label
-from .thesis import TABLE_ASPECTS, TABLE_METRICS, THESIS_INCIDENCE, THESIS_TABLES
+from .thesis import TABLE_ASPECTS, TABLE_METRICS, THESIS_INCIDENCE, THESIS_TABLES, sd_bound
 
 __all__ = [
     "TABLE_CAPTIONS",
@@ -164,7 +164,8 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float, incidence
     sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= ASPECT_TOL)]
     label = aspect_label(aspect)
     tid = f"table{table}-aspect-{label.replace('√3/2', 'sqrt3-2')}"
-    head = "<th>Model</th><th>Source</th>" + "".join(f"<th>{_e(m)}</th>" for m in TABLE_METRICS)
+    metrics = TABLE_METRICS[:2] + ["SD of |error|"] + TABLE_METRICS[2:]  # both readings of the thesis's SD
+    head = "<th>Model</th><th>Source</th>" + "".join(f"<th>{_e(m)}</th>" for m in metrics)
     rows = []
     order = {"ours": 0, "exact geometry": 1, "thesis 2001": 2}
     for model in spec["rows"]:
@@ -172,8 +173,8 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float, incidence
         for k, (_, r) in enumerate(block.iterrows()):
             cls = {"ours": "ours", "exact geometry": "exact", "thesis 2001": "thesis"}[r["source"]]
             first = f'<td rowspan="{len(block)}"><b>{_e(model)}</b></td>' if k == 0 else ""
-            digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "b0": 3, "b1": 3, "RSS": 3}
-            cells = "".join(f"<td>{_e(_fmt(r[m], digits[m]))}</td>" for m in TABLE_METRICS)
+            digits = {"Mean Abs Error": 2, "Standard Deviation": 2, "SD of |error|": 2, "b0": 3, "b1": 3, "RSS": 3}
+            cells = "".join(f"<td>{_e(_fmt(r.get(m), digits[m]))}</td>" for m in metrics)
             rows.append(f'<tr class="{cls}">{first}<td class="src">{_e(r["source"])}</td>{cells}</tr>')
     cap = f"Table {table}: {spec['title']} (aspect {label}, incidence {incidence:g})"
     return (f'<table class="thesis-table" id="{tid}" data-table="{table}" data-aspect="{_e(label)}">'
@@ -250,6 +251,29 @@ def _stat(tables, table, aspect, model, source, metric):
     sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= ASPECT_TOL)
                  & (tables["model"] == model) & (tables["source"] == source)]
     return float(sel[metric].iloc[0]) if len(sel) else float("nan")
+
+
+def _sd_reading(n: int = 11) -> str:
+    """What the thesis's SD column can be: a least-squares line leaves RSS <= (n - 1) SD^2 when SD is of the
+    raw errors; the rows that break it at the thesis's 11 truncations cannot have that SD."""
+    broken = []
+    for table, spec in THESIS_TABLES.items():
+        for model, values in spec["rows"].items():
+            stats = dict(zip(TABLE_METRICS, values))
+            bound = sd_bound(stats["Standard Deviation"], n)
+            if stats["RSS"] > bound:
+                broken.append(f"Table {table} {model}: RSS {stats['RSS']:.1f} > {bound:.1f}")
+    text = ("<p><b>Which standard deviation?</b> For a least-squares line, RSS ≤ (n − 1)·SD² whenever SD is the "
+            "standard deviation of the raw errors (the line of slope 1 through the mean error already leaves "
+            f"that much). At the thesis's n = {n} truncations ")
+    if broken:
+        text += ("its rows " + _e("; ".join(broken)) + " break it: there the thesis's SD cannot be of the raw "
+                 "errors at n = 11. Either it is the SD of the absolute errors, or its n was larger (lobe points "
+                 "rather than peaks). The tables give both readings for our rows: <i>Standard Deviation</i> "
+                 "(raw errors) and <i>SD of |error|</i>.</p>")
+    else:
+        text += "every row of the thesis keeps it.</p>"
+    return text
 
 
 def _table_findings(tables: pd.DataFrame, exact: pd.DataFrame | None) -> str:
@@ -378,6 +402,7 @@ def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> 
             for table in (1, 2):
                 parts.append(thesis_table_html(thesis, table, aspect, table_incidence))
         parts.append(_table_findings(thesis, exact))
+        parts.append(_sd_reading())
         parts.append(WHY_DIFFERENT)
     else:
         parts.append(f'<p class="note">None of the table aspects at incidence {table_incidence:g} is in the study: '

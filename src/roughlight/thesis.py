@@ -128,7 +128,8 @@ def fit_statistics(observed, predicted) -> dict:
     """The thesis's model-comparison statistics of observed against predicted values.
 
     MAE and SD are of the raw errors ``observed - predicted`` (SD with
-    ddof = 1); ``b0``, ``b1`` and ``RSS`` (the deviance: residual sum of
+    ddof = 1); ``SD of |error|`` is the SD of their absolute values, the other
+    reading of the thesis's column (see :func:`sd_bound`); ``b0``, ``b1`` and ``RSS`` (the deviance: residual sum of
     squares of the regression line) come from a Gaussian GLM fitted by IRLS,
     ``observed ~ b0 + b1 predicted``, as the thesis's S-Plus run.
 
@@ -147,6 +148,7 @@ def fit_statistics(observed, predicted) -> dict:
     out = {
         "Mean Abs Error": float(np.mean(np.abs(err))) if len(err) else np.nan,
         "Standard Deviation": float(np.std(err, ddof=1)) if len(err) > 1 else np.nan,
+        "SD of |error|": float(np.std(np.abs(err), ddof=1)) if len(err) > 1 else np.nan,
         "b0": np.nan, "b1": np.nan, "RSS": np.nan,
         "n": int(len(err)), "SSE": float(np.sum(err**2)) if len(err) else np.nan,
         "converged": False, "note": "",
@@ -172,6 +174,16 @@ def fit_statistics(observed, predicted) -> dict:
     except Exception as exc:  # singular designs etc.: report, never crash
         out["note"] = f"GLM failed: {exc}"
     return out
+
+
+def sd_bound(sd: float, n: int) -> float:
+    """The largest RSS a least-squares line can leave when ``sd`` is the SD (ddof 1) of the raw errors.
+
+    The line of slope 1 through the mean error already leaves ``(n - 1) sd^2``, and least squares does no
+    worse: ``RSS <= (n - 1) sd^2``. A table whose RSS exceeds this cannot have ``sd`` of the raw errors at
+    that ``n`` (the thesis's Table 1 rows at n = 11: 122.4 > 94.9 and 51.9 > 35.3).
+    """
+    return (n - 1) * sd**2
 
 
 def table_data(lobes: pd.DataFrame, aspect: float, incidence: float, value: str = "peak"):
