@@ -474,3 +474,14 @@ def test_figures_say_what_their_lines_are(built):
     labels = [t.get_text() for ax in fig.axes if ax.get_legend() for t in ax.get_legend().get_texts()]
     assert "background term of the Hapke fit" in labels and "linear phase background" not in labels
     plt.close(fig)
+
+
+def test_intervals_are_labelled_as_sensitivity_not_sampling_uncertainty():
+    """The study's data are deterministic: no table may call its intervals confidence intervals of draws."""
+    for key in ("bootstrap_tables", "sine_refits", "glm_coefficients"):
+        caption = R.TABLE_CAPTIONS[key]
+        assert "confidence" not in caption and "other draws" not in caption, key
+        assert "sensitiv" in caption.lower() and "sampling uncertainty" in caption, key  # what they are not
+    for name in ("glm_coefficients", "sine_refits", "thesis_tables_bootstrap"):
+        text = (REPO / "workflow" / "report" / f"{name}.rst").read_text()
+        assert "confidence" not in text and "sensitiv" in text.lower(), name

@@ -47,11 +47,16 @@ __all__ = [
 TABLE_CAPTIONS = {
     "thesis_tables": "Tables 1 and 2 of the thesis recomputed from our lobe peaks (incidence 30), beside the "
                      "thesis's values and the same statistics on exact (polygon clipping) peaks.",
-    "bootstrap_tables": "95% percentile bootstrap intervals of our Tables 1–2 statistics: how much each "
-                        "number would move with other draws of the same truncations",
-    "sine_refits": "Nonlinear least-squares refits of the thesis's sine models with 95% confidence intervals.",
+    "bootstrap_tables": "Sensitivity of our Tables 1–2 statistics to which truncations enter them: 95% percentile "
+                        "ranges over resampled truncations. The renders are deterministic, so these are not "
+                        "sampling uncertainty",
+    "sine_refits": "Nonlinear least-squares refits of the thesis's sine models, with 95% intervals computed as if "
+                   "the residuals were noise: the data are deterministic, the residuals are lack of fit, so read "
+                   "them as the fit's sensitivity, not as sampling uncertainty.",
     "glm_summary": "Grid GLMs (Gaussian, IRLS): convergence, condition numbers and what was kept out.",
-    "glm_coefficients": "Grid GLM coefficients with 95% confidence intervals.",
+    "glm_coefficients": "Grid GLM coefficients, with standard errors, p-values and 95% intervals computed as if the "
+                        "residuals were noise: the data are deterministic, the residuals are lack of fit, so these "
+                        "measure sensitivity, not sampling uncertainty.",
     "model_fits_summary": "Analytic models: median RMSE and number of surfaces where each fits best, by band.",
 }
 
@@ -230,8 +235,9 @@ def regression_failures_html(tables: dict) -> str:
             parts.append("<p>Every Tables 1–2 regression line was fitted and converged.</p>")
     boot = tables.get("bootstrap_tables")
     if boot is not None and len(boot):
-        parts.append('<p>How far each Tables 1–2 statistic can be trusted: the bootstrap 95% intervals are in '
-                     '<a href="#bootstrap-tables">the table under Tables 1 and 2</a>.</p>')
+        parts.append('<p>How much each Tables 1–2 statistic depends on which truncations enter it (a sensitivity '
+                     'measure: the renders are deterministic) is in <a href="#bootstrap-tables">the table under '
+                     "Tables 1 and 2</a>.</p>")
     else:
         parts.append('<p class="note">No bootstrap intervals were available for Tables 1–2.</p>')
     return "".join(parts)
