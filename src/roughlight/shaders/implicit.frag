@@ -1,0 +1,301 @@
+#version 330 core
+// roughlight's implicit rough surface: one flat quad that reflects like a
+// periodic grid of truncated square pyramids (Slattery 2001's explicit
+// surface), with truncation t and aspect a as uniforms. No mesh, no table.
+//
+// Surface (units of the period, the pyramid's base width):
+//   h(x, y) = min(2a c(x, y), t a),  c = min(fx, 1 - fx, fy, 1 - fy),  fx = fract(x);
+// within one cell the solid under h is convex (five half-spaces: the top and
+// the four sides east +x, west -x, north +y, south -y).
+//
+// model 0, EXACT FORM: the pixel's view ray is cast through h cell by cell;
+//   the first facet met is seen; a second ray toward the light decides lit or
+//   shadowed. The pixel stores that facet's value of the lighting equation.
+// model 1, FIRST-ORDER CORRECTION: no ray casting. The share of the image each
+//   facet fills, lit and shadowed, is a closed form (README, "An implicit
+//   rough surface"); the pixel shows the facet whose cumulative share its
+//   dither threshold falls in, so the image mean is the facet sum.
+//
+// Lighting equation (as roughlight.shading and periodic.frag):
+//   I = J (m_a A + m_d max(N.L, 0) + m_s S), S = max(R.V, 0)^zeta (Phong) or
+//   max(N.H, 0)^zeta (Blinn), S = 0 where N.L <= 0; shadowed: ambient only.
+// Output: r = diffuse, g = specular, b = total, a = 1; 8-bit in the framebuffer.
+//
+// Sweep (field_size == 0): pixel p (linear index y * fb_width + x) is sample
+//   k = p mod M of view p / M, M = `samples`; sample k is the point
+//   ((k + 1/2) / M, ((k g mod M) + 1/2) / M) of one period (a Fibonacci
+//   lattice, g = `generator`); the view's unit vector V comes from `views`.
+// Scene (field_size > 0): the fragment is the base-plane point `field_pos` of
+//   an N x N field seen along `scene_view`; outside the field is discarded.
+
+in vec2 field_pos;
+
+uniform int model;                 // 0 exact form, 1 first-order correction
+uniform float truncation;          // t in [0, 1]
+uniform float aspect;              // a >= 0
+uniform vec3 light_dir;            // unit vector toward the light
+uniform float light;               // J / 255
+uniform float ambient_term;        // m_a * A
+uniform float diffuse_reflectance; // m_d
+uniform float specular_reflectance;// m_s
+uniform float shininess;           // zeta
+uniform int specular_model;        // 0 Phong, 1 Blinn-Phong
+uniform int shadows;               // 1: inner shadows cast
+
+uniform int samples;               // M: pixels a view (sweep) / dither period (scene)
+uniform int generator;             // g: the Fibonacci number before M
+uniform int fb_width;
+uniform int n_views;
+uniform int views_width;
+uniform sampler2D views;           // RGBA32F: xyz = V of view k at texel (k % views_width, k / views_width)
+uniform float field_size;          // N (scene), 0 (sweep)
+uniform vec3 scene_view;           // V (scene)
+
+out vec4 frag_color;
+
+const int MAX_CELLS = 1024;
+
+vec3 facet_normal(int k, float s)
+{
+    vec3 n = vec3(0.0, 0.0, 1.0);
+    if (k == 1) n = vec3(s, 0.0, 1.0);
+    if (k == 2) n = vec3(-s, 0.0, 1.0);
+    if (k == 3) n = vec3(0.0, s, 1.0);
+    if (k == 4) n = vec3(0.0, -s, 1.0);
+    return normalize(n);
+}
+
+// First cell-solid the ray p0 + tau d (0 <= tau <= tau_end) runs through for
+// more than min_length; returns its facet (0-4) or -1, with tau and the cell.
+int cast_ray(vec3 p0, vec3 d, float tau_end, ivec2 cell, float min_length,
+             out float tau_hit, out ivec2 cell_hit)
+{
+    float s = 2.0 * aspect;
+    float H = truncation * aspect;
+    vec3 g[5] = vec3[5](vec3(0.0, 0.0, 1.0), vec3(s, 0.0, 1.0), vec3(-s, 0.0, 1.0),
+                        vec3(0.0, s, 1.0), vec3(0.0, -s, 1.0));
+    float gp[5];
+    float gd[5];
+    for (int k = 0; k < 5; ++k) {
+        gp[k] = dot(g[k], p0);
+        gd[k] = dot(g[k], d);
+    }
+    ivec2 stp = ivec2(d.x > 0.0 ? 1 : -1, d.y > 0.0 ? 1 : -1);
+    vec2 dt = vec2(d.x != 0.0 ? abs(1.0 / d.x) : 1e30, d.y != 0.0 ? abs(1.0 / d.y) : 1e30);
+    vec2 wall = vec2(d.x > 0.0 ? float(cell.x + 1) : float(cell.x),
+                     d.y > 0.0 ? float(cell.y + 1) : float(cell.y)) - p0.xy;
+    vec2 t_wall = vec2(d.x != 0.0 ? wall.x / d.x : 1e30, d.y != 0.0 ? wall.y / d.y : 1e30);
+    float tau_in = 0.0;
+    tau_hit = 0.0;
+    cell_hit = cell;
+    for (int it = 0; it < MAX_CELLS; ++it) {
+        float cx = float(cell.x);
+        float cy = float(cell.y);
+        float off[5] = float[5](H, s * (cx + 1.0), -s * cx, s * (cy + 1.0), -s * cy);
+        float enter = -1e30;
+        int facet = 0;
+        float leave = min(min(t_wall.x, t_wall.y), tau_end);
+        bool never = false;
+        for (int k = 0; k < 5; ++k) {
+            float g0 = gp[k] - off[k];
+            if (gd[k] < 0.0) {
+                float c = -g0 / gd[k];
+                if (c > enter) { enter = c; facet = k; }
+            } else if (gd[k] > 0.0) {
+                leave = min(leave, -g0 / gd[k]);
+            } else if (g0 > 0.0) {
+                never = true;
+            }
+        }
+        float start = max(enter, tau_in);
+        if (!never && start <= leave - min_length && start <= tau_end && (min_length == 0.0 || leave > min_length)) {
+            tau_hit = start;
+            cell_hit = cell;
+            return facet;
+        }
+        if (t_wall.x <= t_wall.y) {
+            tau_in = t_wall.x;
+            cell.x += stp.x;
+            t_wall.x += dt.x;
+        } else {
+            tau_in = t_wall.y;
+            cell.y += stp.y;
+            t_wall.y += dt.y;
+        }
+        if (tau_in >= tau_end) {
+            return -1;
+        }
+    }
+    return -1;
+}
+
+vec3 shade(vec3 N, vec3 V, bool lit)
+{
+    vec3 L = light_dir;
+    float ndotl = dot(N, L);
+    float on = (lit && ndotl > 0.0) ? 1.0 : 0.0;
+    float spec = 0.0;
+    if (on > 0.0) {
+        float base;
+        if (specular_model == 0) {
+            base = max(dot(2.0 * ndotl * N - L, V), 0.0);
+        } else {
+            base = max(dot(N, normalize(L + V)), 0.0);
+        }
+        spec = (shininess == 0.0) ? 1.0 : pow(base, shininess);
+    }
+    float diffuse = light * (ambient_term + on * diffuse_reflectance * max(ndotl, 0.0));
+    float specular = light * on * specular_reflectance * spec;
+    return vec3(diffuse, specular, diffuse + specular);
+}
+
+// Exact form: facet seen at the base-plane point q (oblique coordinates) and whether it is lit.
+int exact_facet(vec2 q, vec3 V, out bool lit)
+{
+    float s = 2.0 * aspect;
+    float H = truncation * aspect;
+    vec3 L = light_dir;
+    lit = true;
+    if (H < 1e-9) {                       // the plate
+        lit = dot(vec3(0.0, 0.0, 1.0), L) > 0.0;
+        return 0;
+    }
+    vec3 p0 = vec3(q + H * V.xy / V.z, H);
+    ivec2 base = ivec2(floor(p0.xy));
+    p0.xy -= vec2(base);                  // periodic: start in cell (0, 0), small numbers
+    float tau;
+    ivec2 cell;
+    int facet = cast_ray(p0, -V, H / V.z * 1.000001 + 1e-6, ivec2(0), 0.0, tau, cell);
+    if (facet < 0) facet = 0;             // float noise at a ridge: the top is as good as any
+    lit = dot(facet_normal(facet, s), L) > 0.0;
+    if (lit && shadows == 1) {
+        if (L.z < 1e-9) {
+            lit = false;
+        } else {
+            // restart in cell (0, 0): plane offsets stay small, so the
+            // self-shadow slack can stay small too
+            vec3 p = p0 - tau * V;
+            p.xy -= vec2(cell);
+            // and put the point back on its facet's plane (float32 drift along a long view ray)
+            float heights[5] = float[5](H, s * (1.0 - p.x), s * p.x, s * (1.0 - p.y), s * p.y);
+            p.z = heights[facet];
+            float tau_l;
+            ivec2 cell_l;
+            int blocker = cast_ray(p, L, max(H - p.z, 0.0) / L.z, ivec2(0), 1e-5, tau_l, cell_l);
+            lit = blocker < 0;
+        }
+    }
+    return facet;
+}
+
+// Masking of a side facet by the opposite wall of its groove: the fraction of
+// the facet seen from a view whose shear is x = s (V.h)/V.z across the groove
+// and y = s |V.h'|/V.z along it (s = 2a, h the facet's horizontal outward direction).
+// Share of the V-groove masking undone by rays that leave over the lower corners
+float escape(float x, float y)
+{
+    return 0.0;
+}
+
+float correction_masking(float x, float y)
+{
+    if (x <= 1.0) return 1.0;
+    float g = 2.0 / (1.0 + x);                    // Torrance-Sparrow V-groove
+    return g + (1.0 - g) * escape(x, y);          // rays escaping over the lower corners
+}
+
+// First-order correction: the lit and shadowed share of each facet (README,
+// "An implicit rough surface"); facets in the order top, east, west, north, south.
+void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
+{
+    float s = 2.0 * aspect;
+    float t = truncation;
+    vec3 L = light_dir;
+    bool light_up = L.z > 1e-9;
+    if (s * t < 1e-9) {                             // the plate
+        lit_share[0] = L.z > 0.0 ? 1.0 : 0.0;
+        shadow_share[0] = 1.0 - lit_share[0];
+        for (int k = 1; k < 5; ++k) {
+            lit_share[k] = 0.0;
+            shadow_share[k] = 0.0;
+        }
+        return;
+    }
+    float top = (1.0 - t) * (1.0 - t);
+    float side = (1.0 - top) / 4.0;
+    lit_share[0] = (light_up || shadows == 0) ? top : 0.0;
+    shadow_share[0] = top - lit_share[0];
+    vec2 h[4] = vec2[4](vec2(1.0, 0.0), vec2(-1.0, 0.0), vec2(0.0, 1.0), vec2(0.0, -1.0));
+    for (int k = 0; k < 4; ++k) {
+        float x = s * dot(V.xy, h[k]) / V.z;
+        float y = s * abs(dot(V.xy, vec2(-h[k].y, h[k].x))) / V.z;
+        float xl = s * dot(L.xy, h[k]) / max(L.z, 1e-12);
+        float gv = correction_masking(x, y);
+        float gl = xl > 1.0 ? 2.0 / (1.0 + xl) : 1.0;
+        float vis = side * max(1.0 + x, 0.0) * gv;
+        float lit = 0.0;
+        if (1.0 + xl > 0.0 && (light_up || shadows == 0)) {
+            lit = shadows == 1 ? vis * min(1.0, gl / gv) : vis;
+        }
+        lit_share[k + 1] = lit;
+        shadow_share[k + 1] = vis - lit;
+    }
+}
+
+// The facet pixel k shows, and whether lit: the dither threshold
+// ((k g mod M) + 1/2) / M walks the facets' cumulative shares.
+int correction_facet(vec3 V, int k, out bool lit)
+{
+    float lit_share[5];
+    float shadow_share[5];
+    correction_shares(V, lit_share, shadow_share);
+    float u = (float((k * generator) % samples) + 0.5) / float(samples);
+    float total = 0.0;
+    for (int f = 0; f < 5; ++f) total += lit_share[f] + shadow_share[f];
+    u *= total;
+    float acc = 0.0;
+    for (int f = 0; f < 5; ++f) {
+        acc += lit_share[f];
+        if (u < acc) { lit = true; return f; }
+        acc += shadow_share[f];
+        if (u < acc) { lit = false; return f; }
+    }
+    lit = false;
+    return 0;
+}
+
+void main()
+{
+    vec2 q;
+    vec3 V;
+    int k;
+    if (field_size > 0.0) {
+        if (any(lessThan(field_pos, vec2(0.0))) || any(greaterThanEqual(field_pos, vec2(field_size)))) {
+            discard;
+        }
+        ivec2 px = ivec2(gl_FragCoord.xy);
+        k = (px.y * fb_width + px.x) % samples;
+        q = field_pos;
+        V = scene_view;
+    } else {
+        ivec2 px = ivec2(gl_FragCoord.xy);
+        int linear = px.y * fb_width + px.x;
+        int view = linear / samples;
+        if (view >= n_views) {
+            frag_color = vec4(0.0);
+            return;
+        }
+        k = linear - view * samples;
+        V = texelFetch(views, ivec2(view % views_width, view / views_width), 0).xyz;
+        q = vec2((float(k) + 0.5) / float(samples), (float((k * generator) % samples) + 0.5) / float(samples));
+    }
+    float s = 2.0 * aspect;
+    bool lit;
+    int facet;
+    if (model == 0) {
+        facet = exact_facet(q, V, lit);
+    } else {
+        facet = correction_facet(V, k, lit);
+    }
+    frag_color = vec4(shade(facet_normal(facet, s), V, lit), 1.0);
+}
