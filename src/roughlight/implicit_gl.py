@@ -24,7 +24,7 @@ import numpy as np
 
 from . import shading, sweeps
 from .gl import GLTF, Primitive, context, gl
-from .implicit import FIBONACCI, MODELS, check_uniforms, model_samples
+from .implicit import BLEND_SCALE, FIBONACCI, MODELS, check_uniforms, model_samples
 from .surface import Surface
 
 __all__ = ["implicit_sweep", "render_field", "FRAMEBUFFER_WIDTH"]
@@ -64,6 +64,7 @@ def _set_uniforms(program, model: str, surface: Surface, incidence, lighting, sa
     program.set_uniform("shininess", float(lighting.shininess))
     program.set_uniform("specular_model", int(shading.SPECULAR_MODELS.index(lighting.specular_model)))
     program.set_uniform("shadows", int(bool(lighting.shadows)))
+    program.set_uniform("blend_scale", float(BLEND_SCALE))
     program.set_uniform("samples", int(samples))
     program.set_uniform("generator", int(FIBONACCI[FIBONACCI.index(samples) - 1]))
 

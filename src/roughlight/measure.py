@@ -3,7 +3,9 @@
 ``render.method`` is one of :data:`METHODS`: ``fast`` (the periodic renderer,
 :mod:`roughlight.periodic`), ``naive`` (the thesis's procedure,
 :mod:`roughlight.naive`) or ``reference`` (exact polygon clipping,
-:mod:`roughlight.reference`). :func:`measure_sweep` imports a renderer, and so
+:mod:`roughlight.reference`), ``implicit_exact`` or ``implicit_correction``
+(one flat quad through the implicit rough-surface shader,
+:mod:`roughlight.implicit_gl`). :func:`measure_sweep` imports a renderer, and so
 OpenGL, only when the method needs it. :func:`recorded_settings` says how each
 method sampled the surface, as the study table and the benchmark record it.
 """
@@ -19,7 +21,7 @@ from .sampling import RenderSettings
 from .surface import Surface
 
 #: Renderers selectable with ``render.method``.
-METHODS = ("fast", "naive", "reference")
+METHODS = ("fast", "naive", "reference", "implicit_exact", "implicit_correction")
 
 
 def recorded_settings(method: str, settings=None) -> dict:
@@ -42,6 +44,12 @@ def recorded_settings(method: str, settings=None) -> dict:
                 "shadow_map_size": NAIVE_SHADOW_MAP}
     if method == "reference":
         return {"pixels_per_period": 0, "sampling": "exact", "shadow_map_size": 0}
+    if method.startswith("implicit_") and method in METHODS:
+        from .implicit import model_samples
+
+        # M pixels a view, all on one period: sqrt(M) a period along each direction
+        samples = model_samples(method.removeprefix("implicit_"))
+        return {"pixels_per_period": int(round(samples**0.5)), "sampling": "fibonacci", "shadow_map_size": 0}
     raise ValueError(f"render.method must be one of {METHODS}, got {method!r}")
 
 
@@ -70,7 +78,9 @@ def measure_sweep(method: str, surface: Surface, incidence, azimuth, elevation, 
         ``fast`` renders with :func:`roughlight.periodic.fast_sweep`, ``naive``
         with :func:`roughlight.naive.naive_sweep` (one render per view),
         ``reference`` computes the same quantity exactly
-        (:func:`roughlight.reference.reference_sweep`) without loading OpenGL.
+        (:func:`roughlight.reference.reference_sweep`) without loading OpenGL;
+        ``implicit_exact`` and ``implicit_correction`` render one quad through
+        :func:`roughlight.implicit_gl.implicit_sweep`.
     """
     if method == "fast":
         from .periodic import fast_sweep
@@ -88,4 +98,8 @@ def measure_sweep(method: str, surface: Surface, incidence, azimuth, elevation, 
         out = {key: np.asarray(value, float) for key, value in out.items()}
         out["seconds"] = time.perf_counter() - start
         return out
+    if method.startswith("implicit_") and method in METHODS:
+        from .implicit_gl import implicit_sweep
+
+        return implicit_sweep(method.removeprefix("implicit_"), surface, incidence, azimuth, elevation, lighting)
     raise ValueError(f"render.method must be one of {METHODS}, got {method!r}")

@@ -82,15 +82,17 @@ def patch_mesh(surface: Surface, periods: int, averaged_normals: bool = False):
     """
     import trimesh
 
-    tile = geometry.period_mesh(surface)
+    tris, normals, _ = geometry.period_triangles(surface)
     offsets = np.arange(periods) - periods / 2.0
-    copies = []
-    for dx in offsets:
-        for dy in offsets:
-            copy = tile.copy()
-            copy.apply_translation([dx, dy, 0.0])
-            copies.append(copy)
-    mesh = trimesh.util.concatenate(copies)
+    shifts = np.zeros((periods * periods, 3))
+    shifts[:, 0] = np.repeat(offsets, periods)
+    shifts[:, 1] = np.tile(offsets, periods)
+    # every copy keeps its own vertices (flat facets), as period_mesh's
+    vertices = (tris[None, :, :, :] + shifts[:, None, None, :]).reshape(-1, 3)
+    faces = np.arange(len(vertices)).reshape(-1, 3)
+    face_normals = np.tile(normals, (periods * periods, 1))
+    mesh = trimesh.Trimesh(vertices=vertices, faces=faces, face_normals=face_normals,
+                           vertex_normals=np.repeat(face_normals, 3, axis=0), process=False)
     if averaged_normals:
         mesh = trimesh.Trimesh(vertices=mesh.vertices, faces=mesh.faces, process=False)
         mesh.merge_vertices(digits_vertex=9)

@@ -42,6 +42,7 @@ __all__ = [
     "write_report",
     "study_summary",
     "stability_section",
+    "implicit_section",
 ]
 
 TABLE_CAPTIONS = {
@@ -620,6 +621,7 @@ def build_report(
     title: str = "roughlight: rough surface lighting behaviours, rebuilt",
     table_aspects=TABLE_ASPECTS,
     table_incidence: float = THESIS_INCIDENCE,
+    implicit_html: str | None = None,
 ) -> str:
     """The report as one self-contained HTML string.
 
@@ -640,6 +642,8 @@ def build_report(
         None: switched off (``report.stability: false``), only the regressions are shown.
     benchmarks : dict with optional ``png`` (path) and ``table`` (DataFrame)
         of the speed/accuracy benchmark; None: switched off (``report.speed_accuracy: false``).
+    implicit_html : the "An implicit rough surface" section (:func:`implicit_section`);
+        None: switched off (``report.implicit: false``).
     table_aspects, table_incidence : the aspects and incidence of Tables 1-2
         (``report.table_aspects``, ``report.table_incidence``): every table and text of the
         page that speaks of "the table aspects" shows these.
@@ -664,7 +668,8 @@ def build_report(
     nav = [("study", "The study"), ("tables", "Tables 1 and 2"), ("specular", "Specular: Figs. 17–26"),
            ("diffuse", "Diffuse: Figs. 27–29"), ("pictures", "Pictures: Figs. 9, 10, 13"),
            ("lobes", "Lobes"), ("glm", "Grid GLMs"), ("models", "Analytic models"),
-           ("stability", "Where methods fail"), ("provenance", "Settings and provenance")]
+           ("implicit", "An implicit rough surface"), ("stability", "Where methods fail"),
+           ("provenance", "Settings and provenance")]
     parts.append("<nav><ul>" + "".join(f'<li><a href="#{a}">{_e(b)}</a></li>' for a, b in nav) + "</ul></nav>")
 
     parts += _section_study(study, messages, table_aspects)
@@ -676,6 +681,11 @@ def build_report(
     parts += _section_lobes(tables, figures, table_aspects)
     parts += _section_glm(tables, figures)
     parts += _section_models(tables, figures, provenance)
+    if implicit_html:
+        parts.append(implicit_html)
+    else:
+        parts.append('<h2 id="implicit">An implicit rough surface</h2><p class="note">Switched off '
+                     "(<code>report.implicit: false</code>).</p>")
     parts += _section_stability(tables, stability_html)
     parts += _section_provenance(tables, figures, config, provenance, benchmarks)
     parts.append("</main></body></html>")
@@ -803,3 +813,57 @@ def stability_section(tables: dict, figure_png_path, plan: str = "full") -> str:
         "centres (on a clipped plateau the peak's position is arbitrary; the centre is the measure)."
         f"{clip_text}</p>{normals_html}</section>"
     )
+
+
+#: The first-order correction term, in one formula (the README gives the same).
+CORRECTION_FORMULA = (
+    "I = Σ<sub>f</sub> q<sub>f</sub>(lit) A<sub>f</sub><sup>lit</sup> + q<sub>f</sub>(shadow) "
+    "A<sub>f</sub><sup>shadow</sup>, over the top and the four sides f; top: A = (1 − t)², seen and lit whole; "
+    "side with outward direction h, s = 2a, P<sub>s</sub> = (1 − (1 − t)²)/4, view shear x = s (V·h)/V<sub>z</sub>, "
+    "light shear x<sub>L</sub> = s (L·h)/L<sub>z</sub>, G(x) = min(1, 2/(1 + x)): seen share "
+    "A = a + w (b − a) with a = P<sub>s</sub> (1 + x)<sup>+</sup> G(x), b = 4 P<sub>s</sub> (1 + x)<sup>+</sup> / "
+    "Σ(1 + x)<sup>+</sup>, w = clip((x<sub>2</sub> − 1)/c, 0, 1), x<sub>2</sub> the second-largest view shear, "
+    "c = 10 (fitted); lit share A<sup>lit</sup> = A · min(1, G(x<sub>L</sub>) / G<sub>eff</sub>), "
+    "G<sub>eff</sub> = A / (P<sub>s</sub> (1 + x)); q the facet's 8-bit value of the OpenGL lighting equation."
+)
+
+
+def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full") -> str:
+    """HTML fragment: "An implicit rough surface: the thesis's goal" (validation and frame times)."""
+    from .implicit_bench import summary
+
+    parts = ['<h2 id="implicit">An implicit rough surface: the thesis\'s goal</h2>',
+             "<p>The thesis set out to find a correction to the OpenGL lighting equation with which a surface of few "
+             "polygons reflects as if it were rough (Ch. I.A). Two implicit models draw the whole rough surface as "
+             "<b>one flat quad</b> (two triangles, <code>src/roughlight/shaders/implicit.frag</code>) with "
+             "truncation, aspect and the material as uniforms:</p><ul>"
+             "<li><b>Exact form</b> (<code>render.method: implicit_exact</code>): each pixel casts its view ray "
+             "through the analytic heightfield h = min(2a·c, t·a), c the distance to the nearest cell edge, takes "
+             "the first facet met and casts a ray toward the light for the shadow. No mesh and no table (0 bytes a "
+             "surface): it holds for every truncation and aspect. A sweep's view is 28,657 pixels on a Fibonacci "
+             "lattice over one period.</li>"
+             "<li><b>First-order correction</b> (<code>render.method: implicit_correction</code>): no ray casting; "
+             f"each facet's share of the image is a closed form: {CORRECTION_FORMULA} Each pixel shows one facet's "
+             "8-bit value, chosen by a dither threshold, so the image mean is the facet sum.</li></ul>"]
+    if plan != "full":
+        parts.append(f'<p class="note">Measured at the <code>{_e(plan)}</code> plan (a few surfaces, coarse views); '
+                     "<code>make bench</code> measures every view of 24 grid surfaces and 20 random ones.</p>")
+    n_surfaces = validation.groupby(["truncation", "aspect", "incidence"]).ngroups
+    parts.append(f"<p>Validation: {n_surfaces} surfaces, {int(validation['n_views'].iloc[0]):,} views each, against "
+                 "the exact reference (polygon clipping). Goals: exact form MAE ≤ 0.1 and worst view ≤ 1.0; "
+                 "correction median MAE ≤ 0.25 and worst surface's MAE ≤ 1.0.</p>")
+    parts.append(_table(summary(validation), "Error against the exact reference (0–255): per method, component and "
+                        "band, the median and largest surface MAE, the largest p99 and the worst view",
+                        table_id="implicit-validation"))
+    if figure_png_path and os.path.exists(figure_png_path):
+        parts.append(f'<figure id="fig-implicit"><img src="{png_data_uri(figure_png_path)}" alt="implicit surface">'
+                     f"<figcaption>{_e((registry.CAPTION_DIR / 'implicit.rst').read_text(encoding='utf-8').strip())}"
+                     "</figcaption></figure>")
+    f = frames.groupby(["field", "method"], as_index=False).agg(
+        triangles=("triangles", "first"), frame_ms=("frame_ms", "mean"), error=("error", "max"))
+    explicit = f[f["method"] == "explicit"].set_index("field")["frame_ms"]
+    f["speedup_vs_explicit"] = f["frame_ms"].rdiv(f["field"].map(explicit))
+    parts.append(_table(f, "Frame time of an N × N field, 512 × 512 pixels, OSMesa (llvmpipe): explicit mesh with "
+                        "pyrender's shadow pass against one implicit quad; error = largest |image mean − exact| "
+                        "over the views (0–255)", table_id="implicit-frames"))
+    return "\n".join(parts)

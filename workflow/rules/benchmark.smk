@@ -24,3 +24,30 @@ rule speed_accuracy:
         lighting=lighting_params,
     script:
         "../scripts/speed_accuracy.py"
+
+
+# The implicit rough surface (one flat quad through shaders/implicit.frag): its exact form and first-order
+# correction against the exact reference on every view of the validation surfaces, beside the fast renderer
+# and the V-cavity facet model; and frame times of an N x N field drawn explicitly against one implicit quad.
+rule implicit_surface:
+    output:
+        validation="results/benchmarks/{plan}/implicit_validation.parquet",
+        frames="results/benchmarks/{plan}/implicit_frames.parquet",
+        chart=report(
+            "results/benchmarks/{plan}/implicit.png",
+            caption="../report/implicit.rst",
+            category="Speed and accuracy",
+        ),
+    log:
+        "results/logs/benchmarks/{plan}/implicit.log",
+    benchmark:
+        "results/logs/benchmarks/{plan}/implicit.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=4096,
+    params:
+        lighting=lighting_params,
+    script:
+        "../scripts/implicit_surface.py"

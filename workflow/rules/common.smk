@@ -167,7 +167,7 @@ def measurement_plan(wildcards=None):
 
 
 def report_measurements(wildcards):
-    """The report's optional inputs, switched by report.speed_accuracy and report.stability (never by
+    """The report's optional inputs, switched by report.speed_accuracy, report.implicit and report.stability (never by
     which files exist): the measurements at measurements.plan."""
     plan = measurement_plan()
     inputs = {}
@@ -176,6 +176,12 @@ def report_measurements(wildcards):
             f"results/benchmarks/{plan}/speed_accuracy.parquet"
         )
         inputs["speed_accuracy_chart"] = f"results/benchmarks/{plan}/speed_accuracy.png"
+    if config["report"]["implicit"]:
+        inputs["implicit_validation"] = (
+            f"results/benchmarks/{plan}/implicit_validation.parquet"
+        )
+        inputs["implicit_frames"] = f"results/benchmarks/{plan}/implicit_frames.parquet"
+        inputs["implicit_chart"] = f"results/benchmarks/{plan}/implicit.png"
     if config["report"]["stability"]:
         inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
         inputs["stability_safe"] = f"results/stability/{plan}/safe_domain.csv"

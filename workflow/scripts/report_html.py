@@ -44,6 +44,10 @@ if "stability_chart" in inp.keys():  # report.stability
         {"safe_domain": pd.read_csv(inp.stability_safe), "stability": pd.read_parquet(inp.stability_table)},
         inp.stability_chart, plan=snakemake.params.plan,
     )
+implicit_html = None
+if "implicit_chart" in inp.keys():  # report.implicit
+    implicit_html = R.implicit_section(pd.read_parquet(inp.implicit_validation), pd.read_parquet(inp.implicit_frames),
+                                       inp.implicit_chart, plan=snakemake.params.plan)
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],
@@ -52,6 +56,7 @@ provenance = {
 settings = snakemake.params.settings
 html = R.build_report(tables, figures, config=dict(snakemake.params.config), provenance=provenance,
                       messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html,
-                      table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"])
+                      table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"],
+                      implicit_html=implicit_html)
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")

@@ -188,57 +188,65 @@ int exact_facet(vec2 q, vec3 V, out bool lit)
     return facet;
 }
 
-// Masking of a side facet by the opposite wall of its groove: the fraction of
-// the facet seen from a view whose shear is x = s (V.h)/V.z across the groove
-// and y = s |V.h'|/V.z along it (s = 2a, h the facet's horizontal outward direction).
-// Share of the V-groove masking undone by rays that leave over the lower corners
-float escape(float x, float y)
-{
-    return 0.0;
-}
+// First-order correction: the lit and shadowed share of each facet, facets in
+// the order top, east, west, north, south. With s = 2a, P_t = (1 - t)^2 and
+// P_s = (1 - P_t) / 4, a side facet with outward direction h has view shear
+// x = s (V.h) / V.z, unmasked share P_s max(1 + x, 0), V-groove masking
+// G(x) = min(1, 2 / (1 + x)); two masked facets split the image more like
+// their unmasked projections: share = a + w (b - a), a = P_s (1 + x) G(x),
+// b = 4 P_s (1 + x) / sum(1 + x), w = clamp((x_2 - 1) / c, 0, 1), x_2 the
+// second-largest view shear, c = blend_scale. Lit part: share * min(1, G(x_L) / G_eff).
+// (roughlight.implicit.correction_shares is the same in numpy.)
+uniform float blend_scale;
 
-float correction_masking(float x, float y)
-{
-    if (x <= 1.0) return 1.0;
-    float g = 2.0 / (1.0 + x);                    // Torrance-Sparrow V-groove
-    return g + (1.0 - g) * escape(x, y);          // rays escaping over the lower corners
-}
-
-// First-order correction: the lit and shadowed share of each facet (README,
-// "An implicit rough surface"); facets in the order top, east, west, north, south.
 void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
 {
     float s = 2.0 * aspect;
     float t = truncation;
     vec3 L = light_dir;
-    bool light_up = L.z > 1e-9;
+    bool light_up = L.z > 1e-9 || shadows == 0;
+    for (int k = 0; k < 5; ++k) {
+        lit_share[k] = 0.0;
+        shadow_share[k] = 0.0;
+    }
     if (s * t < 1e-9) {                             // the plate
         lit_share[0] = L.z > 0.0 ? 1.0 : 0.0;
         shadow_share[0] = 1.0 - lit_share[0];
-        for (int k = 1; k < 5; ++k) {
-            lit_share[k] = 0.0;
-            shadow_share[k] = 0.0;
-        }
         return;
     }
     float top = (1.0 - t) * (1.0 - t);
     float side = (1.0 - top) / 4.0;
-    lit_share[0] = (light_up || shadows == 0) ? top : 0.0;
+    lit_share[0] = light_up ? top : 0.0;
     shadow_share[0] = top - lit_share[0];
     vec2 h[4] = vec2[4](vec2(1.0, 0.0), vec2(-1.0, 0.0), vec2(0.0, 1.0), vec2(0.0, -1.0));
+    float x[4];
+    float unmasked[4];
+    float total = 0.0;
+    float first = -1e30;
+    float second = -1e30;
     for (int k = 0; k < 4; ++k) {
-        float x = s * dot(V.xy, h[k]) / V.z;
-        float y = s * abs(dot(V.xy, vec2(-h[k].y, h[k].x))) / V.z;
+        x[k] = s * dot(V.xy, h[k]) / V.z;
+        unmasked[k] = max(1.0 + x[k], 0.0);
+        total += unmasked[k];
+        if (x[k] > first) { second = first; first = x[k]; } else if (x[k] > second) { second = x[k]; }
+    }
+    float w = clamp((second - 1.0) / blend_scale, 0.0, 1.0);
+    for (int k = 0; k < 4; ++k) {
         float xl = s * dot(L.xy, h[k]) / max(L.z, 1e-12);
-        float gv = correction_masking(x, y);
+        float gv = x[k] > 1.0 ? 2.0 / (1.0 + x[k]) : 1.0;
         float gl = xl > 1.0 ? 2.0 / (1.0 + xl) : 1.0;
-        float vis = side * max(1.0 + x, 0.0) * gv;
+        float a = side * unmasked[k] * gv;
+        float b = 4.0 * side * unmasked[k] / total;
+        float seen = a + w * (b - a);
+        float g_eff = seen / max(side * unmasked[k], 1e-30);
+        bool faces_light = 1.0 + xl > 0.0 && light_up;
         float lit = 0.0;
-        if (1.0 + xl > 0.0 && (light_up || shadows == 0)) {
-            lit = shadows == 1 ? vis * min(1.0, gl / gv) : vis;
+        if (faces_light) {
+            lit = shadows == 1 ? seen * min(1.0, gl / max(g_eff, 1e-30)) : seen;
         }
+        lit = min(lit, seen);
         lit_share[k + 1] = lit;
-        shadow_share[k + 1] = vis - lit;
+        shadow_share[k + 1] = seen - lit;
     }
 }
 

@@ -1,0 +1,24 @@
+"""Snakemake adapter: the implicit rough surface's validation and frame times (at the plan its folder names)."""
+import os
+import sys
+
+os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+
+from roughlight import figures, implicit_bench, shading  # noqa: E402
+from roughlight.atomic import atomic_path, write_frame  # noqa: E402
+
+log = _log.setup(snakemake)
+lighting = shading.Lighting(**snakemake.params.lighting)
+plan = snakemake.wildcards.plan
+validation = implicit_bench.validation(plan, lighting=lighting, log=log)
+write_frame(validation, snakemake.output.validation)
+frames = implicit_bench.frame_times(plan, lighting=lighting, log=log)
+write_frame(frames, snakemake.output.frames)
+with atomic_path(snakemake.output.chart) as tmp:
+    figures.plot_implicit(validation, frames, tmp)
+log(implicit_bench.summary(validation).round(4).to_string())
+log(frames.round(3).to_string())
