@@ -285,7 +285,8 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     config = {
         "grid": {"truncation": [0.0, 0.5, 1.0], "aspect": [1.0, S32], "incidence": [30]},
         "sweep": {"elevation_step": 5, "azimuth_step": 90},
-        "report": {"speed_accuracy": False, "stability": False},  # the measurements have tests of their own
+        # the measurements have tests of their own
+        "report": {"speed_accuracy": False, "stability": False, "implicit": False},
     }
     (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
@@ -310,7 +311,8 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     # every setting reaches every consumer: other table aspects, incidence and figure lights/incidences
     sweeps = sorted((workflow_dir / "results" / "sweeps").rglob("*.parquet"))
     stamps = [p.stat().st_mtime_ns for p in sweeps]
-    follow = {"report": {"speed_accuracy": False, "stability": False, "table_aspects": [S32], "table_incidence": 30,
+    follow = {"report": {"speed_accuracy": False, "stability": False, "implicit": False, "table_aspects": [S32],
+                         "table_incidence": 30,
                          "figure_incidences": [30, 60], "figure_lights": [127]}}
     (workflow_dir / "follow.yaml").write_text(json.dumps(follow))
     configs = [str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "follow.yaml")]
@@ -335,7 +337,8 @@ def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
     (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
     snakemake = [sys.executable, "-m", "snakemake", "--cores", "2", "--directory", str(workflow_dir), "--snakefile",
                  str(workflow_dir / "Snakefile"), "-n", "--quiet", "rules"]
-    (workflow_dir / "off.yaml").write_text(json.dumps({"report": {"speed_accuracy": False, "stability": False}}))
+    off_keys = {"speed_accuracy": False, "stability": False, "implicit": False}
+    (workflow_dir / "off.yaml").write_text(json.dumps({"report": off_keys}))
 
     def jobs(*extra):
         res = subprocess.run(snakemake + list(extra), capture_output=True, text=True, timeout=300)
@@ -343,15 +346,16 @@ def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
         return res.stdout.split("Job stats:")[-1].split("Reasons:")[0]
 
     default = jobs()
-    assert "speed_accuracy" in default and "stability_measurement" in default  # on by default, quick plan
+    # on by default, quick plan
+    assert "speed_accuracy" in default and "stability_measurement" in default and "implicit_surface" in default
     off = jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml"))
-    assert "speed_accuracy" not in off and "stability" not in off
+    assert "speed_accuracy" not in off and "stability" not in off and "implicit_surface" not in off
     # a stray full-size chart changes nothing: the DAG comes from the config
     (workflow_dir / "results" / "benchmarks" / "full").mkdir(parents=True)
     (workflow_dir / "results" / "benchmarks" / "full" / "speed_accuracy.png").write_bytes(b"not a chart")
     assert jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml")) == off
     full = jobs("--config", "measurements={plan: full}")
-    assert "speed_accuracy" in full and "stability_measurement" in full
+    assert "speed_accuracy" in full and "stability_measurement" in full and "implicit_surface" in full
 
 
 def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():

@@ -25,8 +25,10 @@
 //   k = p mod M of view p / M, M = `samples`; sample k is the point
 //   ((k + 1/2) / M, ((k g mod M) + 1/2) / M) of one period (a Fibonacci
 //   lattice, g = `generator`); the view's unit vector V comes from `views`.
-// Scene (field_size > 0): the fragment is the base-plane point `field_pos` of
-//   an N x N field seen along `scene_view`; outside the field is discarded.
+// Scene (field_size > 0): the fragment is a point of the base plane of an
+//   N x N field seen along `scene_view`: `field_pos` moved within the pixel's
+//   footprint by the Fibonacci point of its index (stochastic anti-aliasing);
+//   outside the field is discarded.
 
 in vec2 field_pos;
 
@@ -283,7 +285,11 @@ void main()
         }
         ivec2 px = ivec2(gl_FragCoord.xy);
         k = (px.y * fb_width + px.x) % samples;
-        q = field_pos;
+        // a point of the pixel's footprint, not its centre: pixels a whole number of periods apart
+        // would otherwise sample the same point of the period (aliasing once a pixel spans half a period)
+        vec2 jitter = vec2((float(k) + 0.5) / float(samples),
+                           (float((k * generator) % samples) + 0.5) / float(samples)) - 0.5;
+        q = field_pos + jitter.x * dFdx(field_pos) + jitter.y * dFdy(field_pos);
         V = scene_view;
     } else {
         ivec2 px = ivec2(gl_FragCoord.xy);

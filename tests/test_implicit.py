@@ -1,0 +1,140 @@
+"""The implicit rough surface: exact form and first-order correction, shader against numpy against the reference."""
+
+import numpy as np
+import pytest
+
+from roughlight import implicit, implicit_bench, measure, reference, shading, sweeps
+from roughlight.surface import SQRT3_2, Surface
+
+# a coarse sweep: elevations 0..180 by 6, azimuths 0..150 by 30 (grazing views included)
+AZIMUTH, ELEVATION = sweeps.view_grid(6.0, 30.0)
+SEEN = ~sweeps.is_grazing(ELEVATION)
+
+#: thin facets, steep facets, the thesis's 30-degree facets, and a surface between grid values
+SURFACES = [(Surface(1.0, 1.0), 30.0), (Surface(0.1, 1.0), 10.0), (Surface(1.0, SQRT3_2), 30.0),
+            (Surface(0.37, 0.63), 47.0)]
+
+
+def _errors(out, exact):
+    return {c: np.abs(np.asarray(out[c]) - exact[c])[SEEN] for c in shading.COMPONENTS}
+
+
+@pytest.mark.parametrize("surface,incidence", SURFACES)
+def test_exact_form_shader_equals_the_reference_on_every_view(surface, incidence):
+    exact = reference.reference_sweep(surface, incidence, AZIMUTH, ELEVATION)
+    out = measure.measure_sweep("implicit_exact", surface, incidence, AZIMUTH, ELEVATION)
+    for component, err in _errors(out, exact).items():
+        assert err.mean() <= 0.1, (component, err.mean())
+        assert err.max() <= 1.0, (component, err.max())
+    assert np.all(out["coverage"][SEEN] == 1.0) and np.all(out["coverage"][~SEEN] == 0.0)
+
+
+def test_shader_and_numpy_agree_for_both_models():
+    surface, incidence = Surface(0.6, 0.8), 30.0
+    az, el = AZIMUTH[::3], ELEVATION[::3]
+    from roughlight.implicit_gl import implicit_sweep
+
+    samples = 4181
+    gl_exact = implicit_sweep("exact", surface, incidence, az, el, samples=samples)
+    np_exact = implicit.exact_sweep(surface, incidence, az, el, samples=samples)
+    gl_corr = implicit_sweep("correction", surface, incidence, az, el)
+    np_corr = implicit.correction_sweep(surface, incidence, az, el)
+    for c in shading.COMPONENTS:
+        # the same pixels: only float32 against float64 at facet edges and shadow boundaries differ
+        assert np.abs(gl_exact[c] - np_exact[c]).max() < 0.1, c
+        # the correction's pixels dither its shares: within 1/M of each facet value's weight
+        assert np.abs(gl_corr[c] - np_corr[c]).max() < 0.1, c
+
+
+@pytest.mark.parametrize("plate", [Surface(0.0, 0.7), Surface(0.8, 0.0)])
+@pytest.mark.parametrize("method", ["implicit_correction", "implicit_exact"])
+def test_both_models_reduce_to_the_plain_opengl_equation_on_the_plate(plate, method):
+    for incidence in (10.0, 50.0):
+        out = measure.measure_sweep(method, plate, incidence, AZIMUTH, ELEVATION)
+        L = shading.light_direction(incidence)
+        V = shading.view_direction(ELEVATION, AZIMUTH)
+        plain = shading.facet_components(np.array([0.0, 0.0, 1.0]), L, V, shading.Lighting())
+        for c, value in zip(shading.COMPONENTS, plain):
+            expected = np.broadcast_to(shading.quantize(value), ELEVATION.shape)[SEEN]
+            np.testing.assert_allclose(out[c][SEEN], expected, atol=1e-9, err_msg=c)
+    lit, shadow = implicit.correction_shares(plate, 30.0, AZIMUTH, ELEVATION)
+    assert np.all(lit[SEEN, 0] == 1.0) and not lit[:, 1:].any() and not shadow.any()
+
+
+def test_correction_shares_cover_the_image_and_are_exact_in_the_light_plane():
+    """Shares are >= 0 and sum to 1; in the light's plane (azimuth 0) the V-groove terms are exact."""
+    for surface, incidence in SURFACES:
+        lit, shadow = implicit.correction_shares(surface, incidence, AZIMUTH, ELEVATION)
+        assert (lit >= -1e-12).all() and (shadow >= -1e-12).all()
+        np.testing.assert_allclose((lit + shadow).sum(axis=1)[SEEN], 1.0, atol=1e-12)
+        in_plane = SEEN & (AZIMUTH == 0)
+        exact = reference.reference_sweep(surface, incidence, AZIMUTH[in_plane], ELEVATION[in_plane])
+        model = implicit.correction_sweep(surface, incidence, AZIMUTH[in_plane], ELEVATION[in_plane])
+        for c in shading.COMPONENTS:
+            np.testing.assert_allclose(model[c], exact[c], atol=1e-6, err_msg=f"{surface} {c}")
+
+
+def test_exact_form_rays_meet_the_facet_under_them():
+    """Straight down, every ray meets the facet whose plan footprint holds its start."""
+    surface = Surface(0.5, 1.0)
+    points = implicit.fibonacci_lattice(987)
+    origins = np.column_stack([points, np.full(len(points), surface.height)])
+    hit, tau, facet, _ = implicit.cast_rays(surface, origins, np.tile([0.0, 0.0, -1.0], (len(points), 1)),
+                                            np.full(len(points), surface.height + 1e-9))
+    assert hit.all()
+    x, y = points[:, 0], points[:, 1]
+    height = np.minimum(2 * surface.aspect * np.minimum.reduce([x, 1 - x, y, 1 - y]), surface.height)
+    np.testing.assert_allclose(surface.height - tau, height, atol=1e-12)
+    on_top = (np.abs(x - 0.5) < 0.25 - 1e-9) & (np.abs(y - 0.5) < 0.25 - 1e-9)
+    assert (facet[on_top] == 0).all() and (facet[~on_top] != 0).all()
+
+
+@pytest.mark.parametrize("truncation,aspect,message", [(1.5, 1.0, "truncation must be within"),
+                                                        (-0.1, 1.0, "truncation must be within"),
+                                                        (0.5, -1.0, "aspect must be"),
+                                                        (0.5, float("nan"), "aspect must be")])
+def test_bad_uniforms_are_refused_with_a_clear_error(truncation, aspect, message):
+    with pytest.raises(ValueError, match=f"implicit shader: {message}"):
+        implicit.check_uniforms(truncation, aspect)
+
+
+def test_unknown_model_and_bad_samples_are_refused():
+    with pytest.raises(ValueError, match="implicit model must be one of"):
+        implicit.model_samples("smooth")
+    with pytest.raises(ValueError, match="Fibonacci"):
+        implicit.fibonacci_lattice(1000)
+    with pytest.raises(ValueError, match="render.method must be one of"):
+        measure.measure_sweep("implicit_smooth", Surface(1.0, 1.0), 30.0, [0.0], [45.0])
+
+
+def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
+    """The validation and frame-time tables on a tiny plan, their chart and the report's section."""
+    from roughlight import figures, report
+
+    tiny = {"grid": ((1.0, 1.0),), "incidences": (30.0,), "random": 1, "steps": (15.0, 60.0), "fields": (4,),
+            "frame_views": ((60.0, 20.0),), "repeats": 1}
+    monkeypatch.setitem(implicit_bench.PLANS, "tiny", tiny)
+    table = implicit_bench.validation("tiny")
+    assert set(table["method"]) == set(implicit_bench.VALIDATED) and set(table["kind"]) == {"grid", "random"}
+    exact = table[(table.method == "implicit_exact") & (table.component == "diffuse")]
+    fast = table[(table.method == "fast") & (table.component == "diffuse")]
+    assert exact["mae"].max() < fast["mae"].max()
+    frames = implicit_bench.frame_times("tiny", size=64)
+    assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction"}
+    assert (frames.loc[frames.method != "explicit", "triangles"] == 2).all()
+    assert frames.loc[frames.method == "implicit_exact", "error"].max() < 1.0
+    figures.plot_implicit(table, frames, tmp_path / "implicit.png")
+    html = report.implicit_section(table, frames, str(tmp_path / "implicit.png"), plan="tiny")
+    assert 'id="implicit-validation"' in html and 'id="implicit-frames"' in html and "data:image/png" in html
+
+
+def test_random_validation_triples_are_seeded_and_off_the_grid():
+    first = implicit_bench.validation_surfaces("full")
+    assert first == implicit_bench.validation_surfaces("full")
+    grid = [s for s in first if s[2] == "grid"]
+    random = [s for s in first if s[2] == "random"]
+    assert len(grid) == 24 and len(random) == 20
+    for surface, incidence, _ in random:
+        assert min(abs(surface.truncation * 10 - round(surface.truncation * 10)),
+                   abs(surface.aspect * 10 - round(surface.aspect * 10))) >= 0.05
+        assert 5 <= incidence <= 85
