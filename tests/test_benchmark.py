@@ -40,4 +40,5 @@ def test_plans_name_their_sizes():
     assert [c.label for c in full["configs"]()] == [c.label for c in benchmark.default_configs()]
     assert full["surfaces"] == benchmark.BENCH_SURFACES
     assert len(quick["configs"]()) < len(full["configs"]()) and len(quick["surfaces"]) < len(full["surfaces"])
-    assert {c.method for c in quick["configs"]()} == {"naive", "reference", "fast"}
+    assert {c.method for c in quick["configs"]()} == {"naive", "reference", "fast", "implicit_exact",
+                                                     "implicit_correction"}

@@ -119,11 +119,13 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     exact = table[(table.method == "implicit_exact") & (table.component == "diffuse")]
     fast = table[(table.method == "fast") & (table.component == "diffuse")]
     assert exact["mae"].max() < fast["mae"].max()
-    frames = implicit_bench.frame_times("tiny", size=64)
+    pictures = {}
+    frames = implicit_bench.frame_times("tiny", size=64, pictures=pictures)
+    assert set(pictures) == set(frames["method"]) and all(p.shape == (64, 64) for p in pictures.values())
     assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction"}
     assert (frames.loc[frames.method != "explicit", "triangles"] == 2).all()
     assert frames.loc[frames.method == "implicit_exact", "error"].max() < 1.0
-    figures.plot_implicit(table, frames, tmp_path / "implicit.png")
+    figures.plot_implicit(table, frames, tmp_path / "implicit.png", pictures=pictures)
     html = report.implicit_section(table, frames, str(tmp_path / "implicit.png"), plan="tiny")
     assert 'id="implicit-validation"' in html and 'id="implicit-frames"' in html and "data:image/png" in html
 

@@ -864,10 +864,22 @@ def plot_stability(frames, path, pictures=None) -> None:
     plt.close(fig)
 
 
-def plot_implicit(validation, frames, path) -> None:
-    """The implicit rough surface: per-surface MAE by method (left) and frame time against field size (right)."""
+def plot_implicit(validation, frames, path, pictures=None) -> None:
+    """The implicit rough surface: per-surface MAE by method (left) and frame time against field size (right);
+    below, when given, ``pictures`` (method -> 2-D uint8 image) side by side."""
     sns.set_theme(style="whitegrid")
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    pictures = pictures or {}
+    if pictures:
+        fig = plt.figure(figsize=(11, 8.4))
+        top = fig.add_gridspec(2, 1, height_ratios=[1, 1.05])
+        axes = top[0].subgridspec(1, 2).subplots()
+        for ax, (name, image) in zip(top[1].subgridspec(1, len(pictures)).subplots(squeeze=False)[0],
+                                     pictures.items()):
+            ax.imshow(image, cmap="gray", vmin=0, vmax=255)
+            ax.set_title(name.replace("_", " "), fontsize=9)
+            ax.axis("off")
+    else:
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
     d = validation[validation["component"] == "diffuse"].copy()
     d["mae (0-255)"] = d["mae"].clip(lower=1e-3)
     sns.stripplot(data=d, x="method", y="mae (0-255)", hue="kind", dodge=True, ax=axes[0], size=4)

@@ -204,7 +204,7 @@ FIELD_SURFACE = Surface(1.0, 1.0)
 
 
 def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence: float = 30.0,
-                size: int = 512, lighting=None, log=None):
+                size: int = 512, lighting=None, log=None, pictures: dict | None = None):
     """Frame time of an N x N field drawn explicitly against one implicit quad, same views and image size.
 
     The picture shows the field's central ``N / 2`` periods (the field fills
@@ -218,6 +218,9 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     (N), ``method`` (``explicit``, ``implicit_exact``, ``implicit_correction``),
     ``triangles``, ``elevation``, ``azimuth``, ``frame_ms`` (fastest of the
     plan's repeats), ``fps``, ``mean_total``, ``exact_total``, ``error``.
+    ``pictures``, when a dict is given, receives the pictures (total, 8-bit,
+    (size, size)) of the smallest field at the first view, by method: the
+    thesis's own test, "if it looks good, it is good".
     """
     import pandas as pd
 
@@ -233,6 +236,7 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     az = np.array([v[1] for v in views])
     exact = reference_sweep(surface, incidence, az, el, lighting)["total"]
     rows = []
+    pictures = {} if pictures is None else pictures
     for n in size_plan["fields"]:
         span = n / 2.0
         field = _Field(surface, incidence, lighting, n, size, span)
@@ -244,6 +248,8 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
                 color, seconds = field.render(view)
                 times.append(seconds)
             rows.append(_frame_row(n, "explicit", field.triangles, e, phi, min(times), color[..., 2], exact[k]))
+            if n == size_plan["fields"][0] and k == 0:
+                pictures["explicit"] = color[..., 2].copy()
         field.delete()
         release_contexts()
         for model in ("exact", "correction"):
@@ -254,6 +260,8 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
                     image, seconds = render_field(model, surface, incidence, e, phi, n, size, span, lighting)
                     times.append(seconds)
                 rows.append(_frame_row(n, f"implicit_{model}", 2, e, phi, min(times), image[..., 2], exact[k]))
+                if n == size_plan["fields"][0] and k == 0:
+                    pictures[f"implicit_{model}"] = image[..., 2].copy()
         last = [r for r in rows if r["field"] == n]
         log(f"N={n}: explicit {np.mean([r['frame_ms'] for r in last if r['method'] == 'explicit']):.1f} ms, "
             f"implicit exact {np.mean([r['frame_ms'] for r in last if r['method'] == 'implicit_exact']):.1f} ms")

@@ -16,9 +16,10 @@ lighting = shading.Lighting(**snakemake.params.lighting)
 plan = snakemake.wildcards.plan
 validation = implicit_bench.validation(plan, lighting=lighting, log=log)
 write_frame(validation, snakemake.output.validation)
-frames = implicit_bench.frame_times(plan, lighting=lighting, log=log)
+pictures = {}
+frames = implicit_bench.frame_times(plan, lighting=lighting, log=log, pictures=pictures)
 write_frame(frames, snakemake.output.frames)
 with atomic_path(snakemake.output.chart) as tmp:
-    figures.plot_implicit(validation, frames, tmp)
+    figures.plot_implicit(validation, frames, tmp, pictures=pictures)
 log(implicit_bench.summary(validation).round(4).to_string())
 log(frames.round(3).to_string())
