@@ -126,8 +126,14 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     assert (frames.loc[frames.method != "explicit", "triangles"] == 2).all()
     assert frames.loc[frames.method == "implicit_exact", "error"].max() < 1.0
     figures.plot_implicit(table, frames, tmp_path / "implicit.png", pictures=pictures)
-    html = report.implicit_section(table, frames, str(tmp_path / "implicit.png"), plan="tiny")
-    assert 'id="implicit-validation"' in html and 'id="implicit-frames"' in html and "data:image/png" in html
+    monkeypatch.setattr(implicit_bench, "MAP_SURFACES", implicit_bench.MAP_SURFACES[:1])
+    maps = implicit_bench.hemisphere_maps("tiny")
+    assert set(maps["method"]) == {"reference", "implicit_exact", "implicit_correction"}
+    figures.plot_implicit_maps(maps, tmp_path / "maps.png")
+    html = report.implicit_section(table, frames, str(tmp_path / "implicit.png"), plan="tiny",
+                                   maps_png_path=str(tmp_path / "maps.png"))
+    assert 'id="fig-implicit-maps"' in html and 'id="implicit-validation"' in html
+    assert 'id="implicit-frames"' in html and "data:image/png" in html
 
 
 def test_random_validation_triples_are_seeded_and_off_the_grid():

@@ -893,3 +893,37 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=120, bbox_inches="tight")
     plt.close(fig)
+
+
+def plot_implicit_maps(maps, path, component: str = "total") -> None:
+    """Hemisphere maps (top-down, light on the right) of the exact reference and of each implicit model's
+    difference from it, one row per surface (:func:`roughlight.implicit_bench.hemisphere_maps`)."""
+    _theme()
+    surfaces = maps[["truncation", "aspect", "incidence"]].drop_duplicates().to_numpy()
+    columns = ("reference", "implicit_exact", "implicit_correction")
+    fig, axes = plt.subplots(len(surfaces), 3, figsize=(11, 3.6 * len(surfaces)), squeeze=False)
+    for row, (t, a, i) in zip(axes, surfaces):
+        sel = maps[(maps.truncation == t) & (maps.aspect == a) & (maps.incidence == i)]
+        ref = sel[sel.method == "reference"].sort_values(["azimuth", "elevation"])
+        for ax, method in zip(row, columns):
+            cur = sel[sel.method == method].sort_values(["azimuth", "elevation"])
+            value = cur[component].to_numpy() - (0 if method == "reference" else ref[component].to_numpy())
+            e, phi = np.radians(cur["elevation"].to_numpy()), np.radians(cur["azimuth"].to_numpy())
+            x, y = np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi)
+            X, Y, Z = np.concatenate([x, x]), np.concatenate([y, -y]), np.concatenate([value, value])
+            if method == "reference":
+                levels, cmap = np.linspace(0, max(float(Z.max()), 1.0), 16), "magma"
+                title = f"t {t:g}, aspect {aspect_label(a)}, i {i:g}: exact {component}"
+            else:
+                span = max(float(np.abs(Z).max()), 0.05)
+                levels, cmap = np.linspace(-span, span, 17), "RdBu_r"
+                title = f"{method.replace('_', ' ')} − exact (max |Δ| {span:.2f})"
+            mappable = ax.tricontourf(X, Y, Z, levels=levels, cmap=cmap)
+            fig.colorbar(mappable, ax=ax, shrink=0.8)
+            ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.5", lw=0.6))
+            ax.plot([math.cos(math.radians(i))], [0], marker="*", color="gold", ms=11, mec="k", mew=0.5)
+            ax.set(aspect="equal", xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xticks=[], yticks=[])
+            ax.set_title(title, loc="left", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)

@@ -27,7 +27,7 @@ import numpy as np
 from . import shading, sweeps
 from .surface import SQRT3_2, Surface
 
-__all__ = ["PLANS", "validation_surfaces", "validation", "frame_times", "summary"]
+__all__ = ["PLANS", "validation_surfaces", "validation", "frame_times", "summary", "hemisphere_maps"]
 
 #: Validation incidences, degrees.
 INCIDENCES = (10.0, 30.0, 50.0, 70.0)
@@ -273,3 +273,34 @@ def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact
     return {"field": int(n), "method": method, "triangles": int(triangles), "elevation": float(elevation),
             "azimuth": float(azimuth), "frame_ms": 1000.0 * seconds, "fps": 1.0 / seconds if seconds > 0 else math.inf,
             "mean_total": mean, "exact_total": float(exact), "error": abs(mean - float(exact))}
+
+
+#: Telling surfaces of the hemisphere maps: the thesis's full pyramid and its 30-degree facets, at incidence 30.
+MAP_SURFACES = ((Surface(1.0, 1.0), 30.0), (Surface(1.0, SQRT3_2), 30.0))
+
+
+def hemisphere_maps(plan: str = "full", lighting=None):
+    """Every view of the telling surfaces by the exact reference and both implicit models (through the shader).
+
+    Returns
+    -------
+    pandas.DataFrame: ``truncation``, ``aspect``, ``incidence``, ``azimuth``,
+    ``elevation``, ``method`` (``reference``, ``implicit_exact``,
+    ``implicit_correction``) and the three components (0-255), on the plan's
+    view grid.
+    """
+    import pandas as pd
+
+    from .measure import measure_sweep
+
+    size = _plan(plan)
+    lighting = lighting or shading.Lighting()
+    azimuth, elevation = sweeps.view_grid(*size["steps"])
+    parts = []
+    for surface, incidence in MAP_SURFACES:
+        for method in ("reference", "implicit_exact", "implicit_correction"):
+            out = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
+            parts.append(pd.DataFrame({"truncation": surface.truncation, "aspect": surface.aspect,
+                                       "incidence": incidence, "azimuth": azimuth, "elevation": elevation,
+                                       "method": method, **{c: out[c] for c in shading.COMPONENTS}}))
+    return pd.concat(parts, ignore_index=True)

@@ -828,7 +828,8 @@ CORRECTION_FORMULA = (
 )
 
 
-def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full") -> str:
+def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full",
+                     maps_png_path=None) -> str:
     """HTML fragment: "An implicit rough surface: the thesis's goal" (validation and frame times)."""
     from .implicit_bench import summary
 
@@ -858,6 +859,10 @@ def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_
     if figure_png_path and os.path.exists(figure_png_path):
         parts.append(f'<figure id="fig-implicit"><img src="{png_data_uri(figure_png_path)}" alt="implicit surface">'
                      f"<figcaption>{_e((registry.CAPTION_DIR / 'implicit.rst').read_text(encoding='utf-8').strip())}"
+                     "</figcaption></figure>")
+    if maps_png_path and os.path.exists(maps_png_path):
+        parts.append(f'<figure id="fig-implicit-maps"><img src="{png_data_uri(maps_png_path)}" alt="hemisphere maps">'
+                     f"<figcaption>{_e((registry.CAPTION_DIR / 'implicit_maps.rst').read_text(encoding='utf-8').strip())}"
                      "</figcaption></figure>")
     f = frames.groupby(["field", "method"], as_index=False).agg(
         triangles=("triangles", "first"), frame_ms=("frame_ms", "mean"), error=("error", "max"))

@@ -33,9 +33,15 @@ rule implicit_surface:
     output:
         validation="results/benchmarks/{plan}/implicit_validation.parquet",
         frames="results/benchmarks/{plan}/implicit_frames.parquet",
+        maps="results/benchmarks/{plan}/implicit_maps.parquet",
         chart=report(
             "results/benchmarks/{plan}/implicit.png",
             caption="../report/implicit.rst",
+            category="Speed and accuracy",
+        ),
+        maps_chart=report(
+            "results/benchmarks/{plan}/implicit_maps.png",
+            caption="../report/implicit_maps.rst",
             category="Speed and accuracy",
         ),
     log:

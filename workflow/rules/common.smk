@@ -182,6 +182,7 @@ def report_measurements(wildcards):
         )
         inputs["implicit_frames"] = f"results/benchmarks/{plan}/implicit_frames.parquet"
         inputs["implicit_chart"] = f"results/benchmarks/{plan}/implicit.png"
+        inputs["implicit_maps_chart"] = f"results/benchmarks/{plan}/implicit_maps.png"
     if config["report"]["stability"]:
         inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
         inputs["stability_safe"] = f"results/stability/{plan}/safe_domain.csv"

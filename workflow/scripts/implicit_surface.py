@@ -21,5 +21,9 @@ frames = implicit_bench.frame_times(plan, lighting=lighting, log=log, pictures=p
 write_frame(frames, snakemake.output.frames)
 with atomic_path(snakemake.output.chart) as tmp:
     figures.plot_implicit(validation, frames, tmp, pictures=pictures)
+maps = implicit_bench.hemisphere_maps(plan, lighting=lighting)
+write_frame(maps, snakemake.output.maps)
+with atomic_path(snakemake.output.maps_chart) as tmp:
+    figures.plot_implicit_maps(maps, tmp)
 log(implicit_bench.summary(validation).round(4).to_string())
 log(frames.round(3).to_string())

@@ -47,7 +47,8 @@ if "stability_chart" in inp.keys():  # report.stability
 implicit_html = None
 if "implicit_chart" in inp.keys():  # report.implicit
     implicit_html = R.implicit_section(pd.read_parquet(inp.implicit_validation), pd.read_parquet(inp.implicit_frames),
-                                       inp.implicit_chart, plan=snakemake.params.plan)
+                                       inp.implicit_chart, plan=snakemake.params.plan,
+                                       maps_png_path=inp.implicit_maps_chart)
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],
