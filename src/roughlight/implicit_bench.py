@@ -94,41 +94,48 @@ def validation(plan: str = "full", lighting=None, log=None):
     """
     import pandas as pd
 
-    from .measure import measure_sweep
-    from .reference import reference_sweep
-    from .surface_models import facet_model
-
     size = _plan(plan)
-    lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
     azimuth, elevation = sweeps.view_grid(*size["steps"])
-    seen = ~np.asarray(sweeps.is_grazing(elevation))
     rows = []
     surfaces = validation_surfaces(plan)
     for n, (surface, incidence, kind) in enumerate(surfaces, 1):
-        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
-        results = {}
-        for method in VALIDATED[:3]:
-            results[method] = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
-        start = time.perf_counter()
-        model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
-                            lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
-                            lighting.ambient, lighting.ambient_reflectance)
-        model["total"] = model["diffuse"] + model["specular"]
-        model["seconds"] = time.perf_counter() - start
-        results["v_cavity"] = model
-        for method, out in results.items():
-            for component in shading.COMPONENTS:
-                err = np.abs(np.asarray(out[component]) - exact[component])[seen]
-                rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
-                             "kind": kind, "band": _band(surface), "method": method, "component": component,
-                             "n_views": int(seen.sum()), "mae": float(err.mean()),
-                             "p99": float(np.percentile(err, 99)), "worst": float(err.max()),
-                             "seconds": float(out["seconds"])})
+        rows += validate_surface(surface, incidence, kind, azimuth, elevation, lighting)
         worst = {m: max(r["worst"] for r in rows[-12:] if r["method"] == m) for m in ("implicit_exact", "fast")}
         log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
             f"worst view exact form {worst['implicit_exact']:.2f}, fast {worst['fast']:.2f}")
     return pd.DataFrame(rows)
+
+
+def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
+    """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
+    from .measure import measure_sweep
+    from .reference import reference_sweep
+    from .surface_models import facet_model
+
+    lighting = lighting or shading.Lighting()
+    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
+    results = {}
+    for method in VALIDATED[:3]:
+        results[method] = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
+    start = time.perf_counter()
+    model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
+                        lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
+                        lighting.ambient, lighting.ambient_reflectance)
+    model["total"] = model["diffuse"] + model["specular"]
+    model["seconds"] = time.perf_counter() - start
+    results["v_cavity"] = model
+    rows = []
+    for method, out in results.items():
+        for component in shading.COMPONENTS:
+            err = np.abs(np.asarray(out[component]) - exact[component])[seen]
+            rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
+                         "kind": kind, "band": _band(surface), "method": method, "component": component,
+                         "n_views": int(seen.sum()), "mae": float(err.mean()),
+                         "p99": float(np.percentile(err, 99)), "worst": float(err.max()),
+                         "seconds": float(out["seconds"])})
+    return rows
 
 
 def summary(table):
