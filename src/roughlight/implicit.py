@@ -317,11 +317,11 @@ def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, ligh
 #: Horizontal outward directions of the side facets east, west, north, south.
 _SIDE_DIRECTIONS = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]])
 
-#: The correction's one fitted constant: how fast the shares of two masked
+#: The correction's fitted constant: how fast the shares of two masked
 #: facets move from the V-groove split to the split of their unmasked
 #: projections, against the second-largest view shear (fitted on the exact
 #: reference, 10 surfaces x 1,080 views; README "An implicit rough surface").
-BLEND_SCALE = 10.0
+BLEND_SCALE = 3.0
 
 
 def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: bool = True):
@@ -335,8 +335,9 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
     (Torrance-Sparrow) masking ``G(x) = min(1, 2 / (1 + x))`` gives share
     ``a = P_s (1 + x) G(x)``; when two facets face the view and are both
     masked, the image splits between them more like their unmasked
-    projections, ``b = 4 P_s (1 + x) / sum(1 + x)``: the share is
-    ``a + w (b - a)``, ``w = clip((x_2 - 1) / c, 0, 1)`` with ``x_2`` the
+    projections, ``b = 4 P_s (1 + x) / sum(1 + x)``, the more so the deeper
+    the pits between four pyramids (truncation ``t``): the share is
+    ``a + w (b - a)``, ``w = t clip((x_2 - 1) / c, 0, 1)`` with ``x_2`` the
     second-largest view shear of the four sides and ``c`` =
     :data:`BLEND_SCALE`. The lit part is ``share * min(1, G(x_L) / G_eff)``
     (V-groove shadowing, correlated with masking: the lit and the seen
@@ -372,7 +373,7 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
     g_light = np.where(x_light > 1.0, 2.0 / (1.0 + x_light), 1.0)
     v_groove = side * unmasked * g_view
     projected = 4.0 * side * unmasked / unmasked.sum(axis=1, keepdims=True)
-    w = np.clip((np.sort(x, axis=1)[:, -2] - 1.0) / BLEND_SCALE, 0.0, 1.0)[:, None]
+    w = surface.truncation * np.clip((np.sort(x, axis=1)[:, -2] - 1.0) / BLEND_SCALE, 0.0, 1.0)[:, None]
     seen_share = v_groove + w * (projected - v_groove)
     g_eff = seen_share / np.maximum(side * unmasked, 1e-300)
     faces_light = (1.0 + x_light > 0.0) & light_up

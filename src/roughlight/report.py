@@ -822,8 +822,8 @@ CORRECTION_FORMULA = (
     "side with outward direction h, s = 2a, P<sub>s</sub> = (1 − (1 − t)²)/4, view shear x = s (V·h)/V<sub>z</sub>, "
     "light shear x<sub>L</sub> = s (L·h)/L<sub>z</sub>, G(x) = min(1, 2/(1 + x)): seen share "
     "A = a + w (b − a) with a = P<sub>s</sub> (1 + x)<sup>+</sup> G(x), b = 4 P<sub>s</sub> (1 + x)<sup>+</sup> / "
-    "Σ(1 + x)<sup>+</sup>, w = clip((x<sub>2</sub> − 1)/c, 0, 1), x<sub>2</sub> the second-largest view shear, "
-    "c = 10 (fitted); lit share A<sup>lit</sup> = A · min(1, G(x<sub>L</sub>) / G<sub>eff</sub>), "
+    "Σ(1 + x)<sup>+</sup>, w = t · clip((x<sub>2</sub> − 1)/c, 0, 1), x<sub>2</sub> the second-largest view "
+    "shear, c = 3 (fitted); lit share A<sup>lit</sup> = A · min(1, G(x<sub>L</sub>) / G<sub>eff</sub>), "
     "G<sub>eff</sub> = A / (P<sub>s</sub> (1 + x)); q the facet's 8-bit value of the OpenGL lighting equation."
 )
 

@@ -196,7 +196,7 @@ int exact_facet(vec2 q, vec3 V, out bool lit)
 // x = s (V.h) / V.z, unmasked share P_s max(1 + x, 0), V-groove masking
 // G(x) = min(1, 2 / (1 + x)); two masked facets split the image more like
 // their unmasked projections: share = a + w (b - a), a = P_s (1 + x) G(x),
-// b = 4 P_s (1 + x) / sum(1 + x), w = clamp((x_2 - 1) / c, 0, 1), x_2 the
+// b = 4 P_s (1 + x) / sum(1 + x), w = t clamp((x_2 - 1) / c, 0, 1), x_2 the
 // second-largest view shear, c = blend_scale. Lit part: share * min(1, G(x_L) / G_eff).
 // (roughlight.implicit.correction_shares is the same in numpy.)
 uniform float blend_scale;
@@ -232,7 +232,7 @@ void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5]
         total += unmasked[k];
         if (x[k] > first) { second = first; first = x[k]; } else if (x[k] > second) { second = x[k]; }
     }
-    float w = clamp((second - 1.0) / blend_scale, 0.0, 1.0);
+    float w = t * clamp((second - 1.0) / blend_scale, 0.0, 1.0);
     for (int k = 0; k < 4; ++k) {
         float xl = s * dot(L.xy, h[k]) / max(L.z, 1e-12);
         float gv = x[k] > 1.0 ? 2.0 / (1.0 + x[k]) : 1.0;
