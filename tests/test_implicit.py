@@ -146,3 +146,23 @@ def test_random_validation_triples_are_seeded_and_off_the_grid():
         assert min(abs(surface.truncation * 10 - round(surface.truncation * 10)),
                    abs(surface.aspect * 10 - round(surface.aspect * 10))) >= 0.05
         assert 5 <= incidence <= 85
+
+
+def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
+    """A view whose exact clipping fails its own check is not compared, and the table says how many."""
+    from roughlight import reference as ref_module
+
+    real = ref_module.reference_sweep
+
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, quantized=True):
+        if np.any(np.asarray(elevation) > 170):
+            raise RuntimeError("reference clipping failed")
+        return real(surface, incidence, azimuth, elevation, lighting, quantized)
+
+    monkeypatch.setattr(ref_module, "reference_sweep", refusing)
+    az, el = sweeps.view_grid(30.0, 90.0)
+    rows = implicit_bench.validate_surface(Surface(1.0, 1.0), 30.0, "grid", az, el)
+    refused = int((el > 170).sum())
+    assert refused and all(r["reference_failures"] == refused for r in rows)
+    assert all(r["n_views"] == int((~sweeps.is_grazing(el) & (el <= 170)).sum()) for r in rows)
+    assert all(np.isfinite(r["mae"]) for r in rows)
