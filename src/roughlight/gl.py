@@ -24,6 +24,8 @@ import importlib.util  # noqa: E402
 import sys  # noqa: E402
 import types  # noqa: E402
 
+import numpy as np  # noqa: E402
+
 from .osmesa import HELP as _OSMESA_HELP  # noqa: E402
 from .osmesa import OSMesaUnavailable, check_osmesa  # noqa: E402
 
@@ -86,6 +88,7 @@ __all__ = [
     "SHADER_DIR",
     "OSMESA_HELP",
     "ShaderCache",
+    "set_material_uniforms",
     "Context",
     "context",
     "release_contexts",
@@ -126,6 +129,23 @@ class ShaderCache:
         for program in self._programs.values():
             program.delete()
         self._programs = {}
+
+
+def set_material_uniforms(program, lighting, light_dir) -> None:
+    """The lighting equation's uniforms, as ``periodic.frag`` and ``implicit.frag`` both name them.
+
+    ``light_dir`` is the unit vector toward the light; ``lighting`` a
+    :class:`roughlight.shading.Lighting` (``light`` goes in as ``J / 255``).
+    """
+    from .shading import SPECULAR_MODELS
+
+    program.set_uniform("light_dir", np.asarray(light_dir, np.float32))
+    program.set_uniform("light", float(lighting.light) / 255.0)
+    program.set_uniform("ambient_term", float(lighting.ambient_reflectance * lighting.ambient))
+    program.set_uniform("diffuse_reflectance", float(lighting.diffuse_reflectance))
+    program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
+    program.set_uniform("shininess", float(lighting.shininess))
+    program.set_uniform("specular_model", int(SPECULAR_MODELS.index(lighting.specular_model)))
 
 
 class Context:

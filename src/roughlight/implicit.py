@@ -117,9 +117,8 @@ def facet_normals(surface: Surface) -> np.ndarray:
     (5, 3) float array: top ``(0, 0, 1)``; east, west ``(+-2a, 0, 1)`` and
     north, south ``(0, +-2a, 1)``, normalised (``a`` the aspect).
     """
-    s = 2.0 * surface.aspect
-    n = np.array([[0, 0, 1], [s, 0, 1], [-s, 0, 1], [0, s, 1], [0, -s, 1]], float)
-    return n / np.linalg.norm(n, axis=1, keepdims=True)
+    grad = _half_spaces(surface)[0]
+    return grad / np.linalg.norm(grad, axis=1, keepdims=True)
 
 
 def _half_spaces(surface: Surface):
@@ -299,14 +298,8 @@ def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, ligh
     ``lit`` and ``shadow`` are (n_views, 5) shares; returns ``diffuse``,
     ``specular``, ``total`` and ``coverage`` as (n_views,) arrays.
     """
-    L = shading.light_direction(shading.check_incidence(incidence))
-    V = shading.view_direction(elevation, azimuth)[:, None, :]
-    normals = facet_normals(surface)[None]
-    on = shading.facet_components(normals, L, V, lighting, lit=1.0)
-    off = shading.facet_components(normals, L, V, lighting, lit=0.0)
-    out = {}
-    for name, v_on, v_off in zip(shading.COMPONENTS, on, off):
-        out[name] = (shading.quantize(v_on) * lit).sum(axis=1) + (shading.quantize(v_off) * shadow).sum(axis=1)
+    out = shading.facet_sum(facet_normals(surface), shading.light_direction(shading.check_incidence(incidence)),
+                            shading.view_direction(elevation, azimuth), lit, shadow, lighting)
     out["coverage"] = (lit + shadow).sum(axis=1)
     return out
 

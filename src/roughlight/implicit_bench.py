@@ -25,6 +25,7 @@ import time
 import numpy as np
 
 from . import shading, sweeps
+from .geometry import period_triangles
 from .surface import SQRT3_2, Surface
 
 __all__ = ["PLANS", "validation_surfaces", "validation", "frame_times", "summary", "hemisphere_maps"]
@@ -102,8 +103,9 @@ def validation(plan: str = "full", lighting=None, log=None):
     rows = []
     surfaces = validation_surfaces(plan)
     for n, (surface, incidence, kind) in enumerate(surfaces, 1):
-        rows += validate_surface(surface, incidence, kind, azimuth, elevation, lighting)
-        worst = {m: max(r["worst"] for r in rows[-12:] if r["method"] == m) for m in ("implicit_exact", "fast")}
+        new = validate_surface(surface, incidence, kind, azimuth, elevation, lighting)
+        rows += new
+        worst = {m: max(r["worst"] for r in new if r["method"] == m) for m in ("implicit_exact", "fast")}
         log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
             f"worst view exact form {worst['implicit_exact']:.2f}, fast {worst['fast']:.2f}")
     return pd.DataFrame(rows)
@@ -186,19 +188,7 @@ class _Field:
     map (redrawn every frame, as pyrender does), an orthographic camera; programs compiled once."""
 
     def __init__(self, surface: Surface, incidence: float, lighting, field_size: int, size: int, span: float):
-        from .naive import _look_pose, _NaiveScene, _PyrenderShaders
-
-        class _Compiled(_PyrenderShaders):
-            # pyrender keys programs on OSMesa's ever-new context object; key on the files only
-            def get_program(self, vertex_shader, fragment_shader, geometry_shader=None, defines=None):
-                key = (vertex_shader, fragment_shader, geometry_shader, tuple(sorted((defines or {}).items())))
-                programs = self.__dict__.setdefault("_compiled", {})
-                if key not in programs:
-                    programs[key] = super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
-                return programs[key]
-
-            def clear(self):
-                pass
+        from .naive import CompiledShaders, _look_pose, _NaiveScene
 
         self._look_pose = _look_pose
         self.scene = _NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
@@ -208,8 +198,8 @@ class _Field:
 
         release_contexts()
         self.renderer = import_pyrender().OffscreenRenderer(size, size)
-        self.renderer._renderer._program_cache = _Compiled()
-        self.triangles = int(field_size * field_size * len(_period_triangles(surface)))
+        self.renderer._renderer._program_cache = CompiledShaders()
+        self.triangles = int(field_size * field_size * len(period_triangles(surface)[0]))
 
     def render(self, view):
         pyrender = self.scene.pyrender
@@ -224,12 +214,6 @@ class _Field:
 
     def delete(self):
         self.renderer.delete()
-
-
-def _period_triangles(surface):
-    from .geometry import period_triangles
-
-    return period_triangles(surface)[0]
 
 
 #: The surface of the frame-time fields: the full pyramid of aspect 1 (the thesis's runs).

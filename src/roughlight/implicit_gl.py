@@ -23,7 +23,7 @@ import time
 import numpy as np
 
 from . import shading, sweeps
-from .gl import GLTF, Primitive, context, gl
+from .gl import GLTF, Primitive, context, gl, set_material_uniforms
 from .implicit import BLEND_SCALE, FIBONACCI, MODELS, check_uniforms, model_samples
 from .surface import Surface
 
@@ -56,13 +56,7 @@ def _set_uniforms(program, model: str, surface: Surface, incidence, lighting, sa
     program.set_uniform("model", MODELS.index(model))
     program.set_uniform("truncation", float(surface.truncation))
     program.set_uniform("aspect", float(surface.aspect))
-    program.set_uniform("light_dir", np.asarray(light_dir, np.float32))
-    program.set_uniform("light", float(lighting.light) / 255.0)
-    program.set_uniform("ambient_term", float(lighting.ambient_reflectance * lighting.ambient))
-    program.set_uniform("diffuse_reflectance", float(lighting.diffuse_reflectance))
-    program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
-    program.set_uniform("shininess", float(lighting.shininess))
-    program.set_uniform("specular_model", int(shading.SPECULAR_MODELS.index(lighting.specular_model)))
+    set_material_uniforms(program, lighting, light_dir)
     program.set_uniform("shadows", int(bool(lighting.shadows)))
     program.set_uniform("blend_scale", float(BLEND_SCALE))
     program.set_uniform("samples", int(samples))

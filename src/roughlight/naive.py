@@ -38,6 +38,21 @@ class _PyrenderShaders(PyrenderShaderCache):
         return super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
 
 
+class CompiledShaders(_PyrenderShaders):
+    """:class:`_PyrenderShaders` keyed on the shader files only, so each program compiles once: what a
+    real-time program does (the implicit surface's frame-time benchmark draws its explicit field with it)."""
+
+    def get_program(self, vertex_shader, fragment_shader, geometry_shader=None, defines=None):
+        key = (vertex_shader, fragment_shader, geometry_shader, tuple(sorted((defines or {}).items())))
+        programs = self.__dict__.setdefault("_compiled", {})
+        if key not in programs:
+            programs[key] = super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
+        return programs[key]
+
+    def clear(self):
+        pass
+
+
 def _up_vector(view: np.ndarray) -> np.ndarray:
     """Image 'up': the direction of increasing elevation (keeps the horizon level)."""
     e = math.asin(max(-1.0, min(1.0, view[2])))

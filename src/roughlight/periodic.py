@@ -38,7 +38,7 @@ import time
 import numpy as np
 
 from . import geometry, shading, sweeps
-from .gl import GLTF, Context, Primitive, context, gl
+from .gl import GLTF, Context, Primitive, context, gl, set_material_uniforms
 from .sampling import RenderSettings, lattice_copies, tile_layout
 from .surface import Surface
 
@@ -231,13 +231,7 @@ def fast_sweep(
 
 
 def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):
-    program.set_uniform("light_dir", np.asarray(light_dir, np.float32))
-    program.set_uniform("light", float(lighting.light) / 255.0)
-    program.set_uniform("ambient_term", float(lighting.ambient_reflectance * lighting.ambient))
-    program.set_uniform("diffuse_reflectance", float(lighting.diffuse_reflectance))
-    program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
-    program.set_uniform("shininess", float(lighting.shininess))
-    program.set_uniform("specular_model", int(shading.SPECULAR_MODELS.index(lighting.specular_model)))
+    set_material_uniforms(program, lighting, light_dir)
     program.set_uniform("shadow_mode", int(shadow_mode))
     program.set_uniform("shadow_size", int(ctx.shadow_size))
     lz = max(float(light_dir[2]), 1e-12)

@@ -82,7 +82,7 @@ from shapely import affinity
 
 from . import sweeps
 from .geometry import facet_polygons, period_triangles
-from .shading import Lighting, check_incidence, facet_components, light_direction, quantize, view_direction
+from .shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
 from .surface import Surface
 
 __all__ = [
@@ -480,18 +480,8 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     grazing = is_grazing_view(el)
     coverage = np.where(grazing, 0.0, (lit + shadow).sum(axis=1))
 
-    L = light_direction(scene.incidence)
-    V = view_direction(el, az)[:, None, :]  # (n_views, 1, 3)
-    normals = scene.surf.normals[None, :, :]  # (1, F, 3)
-    on = facet_components(normals, L, V, lighting, lit=1.0)
-    off = facet_components(normals, L, V, lighting, lit=0.0)
-    out = {}
-    for name, v_on, v_off in zip(("diffuse", "specular", "total"), on, off):
-        if quantized:
-            v_on, v_off = quantize(v_on), quantize(v_off)
-        v_on = np.broadcast_to(v_on, lit.shape)
-        v_off = np.broadcast_to(v_off, lit.shape)
-        value = (v_on * lit).sum(axis=1) + (v_off * shadow).sum(axis=1)
-        out[name] = np.where(grazing, 0.0, value).astype(np.float64)
+    values = facet_sum(scene.surf.normals, light_direction(scene.incidence), view_direction(el, az), lit, shadow,
+                       lighting, quantized)
+    out = {name: np.where(grazing, 0.0, value).astype(np.float64) for name, value in values.items()}
     out["coverage"] = coverage.astype(np.float64)
     return out

@@ -828,6 +828,11 @@ CORRECTION_FORMULA = (
 )
 
 
+def _caption_text(name: str) -> str:
+    """A caption's whole text from ``workflow/report/{name}.rst`` (for parts the registry does not list)."""
+    return (registry.CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8").strip()
+
+
 def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full",
                      maps_png_path=None) -> str:
     """HTML fragment: "An implicit rough surface: the thesis's goal" (validation and frame times)."""
@@ -858,11 +863,11 @@ def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_
                         table_id="implicit-validation"))
     if figure_png_path and os.path.exists(figure_png_path):
         parts.append(f'<figure id="fig-implicit"><img src="{png_data_uri(figure_png_path)}" alt="implicit surface">'
-                     f"<figcaption>{_e((registry.CAPTION_DIR / 'implicit.rst').read_text(encoding='utf-8').strip())}"
+                     f"<figcaption>{_e(_caption_text('implicit'))}"
                      "</figcaption></figure>")
     if maps_png_path and os.path.exists(maps_png_path):
         parts.append(f'<figure id="fig-implicit-maps"><img src="{png_data_uri(maps_png_path)}" alt="hemisphere maps">'
-                     f"<figcaption>{_e((registry.CAPTION_DIR / 'implicit_maps.rst').read_text(encoding='utf-8').strip())}"
+                     f"<figcaption>{_e(_caption_text('implicit_maps'))}"
                      "</figcaption></figure>")
     f = frames.groupby(["field", "method"], as_index=False).agg(
         triangles=("triangles", "first"), frame_ms=("frame_ms", "mean"), error=("error", "max"))

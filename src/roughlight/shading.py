@@ -44,6 +44,7 @@ __all__ = [
     "view_direction",
     "phase_angle",
     "facet_components",
+    "facet_sum",
     "quantize",
 ]
 
@@ -185,6 +186,42 @@ def facet_components(normals, light_dir, view_dirs, lighting: Lighting, lit=1.0)
     )
     specular = j * lit * lighting.specular_reflectance * spec_factor
     return diffuse, specular, diffuse + specular
+
+
+def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, quantized: bool = True) -> dict:
+    """Image mean of each component: every facet's value weighted by its lit and its shadowed share.
+
+    Parameters
+    ----------
+    normals : (F, 3) array
+        Unit facet normals.
+    light_dir : (3,) array
+        Unit vector toward the light.
+    view_dirs : (n_views, 3) array
+        Unit vectors toward the detector.
+    lit, shadow : (n_views, F) arrays
+        Share of the image each facet fills, lit and in shadow.
+    lighting : Lighting
+    quantized : bool
+        True: each facet's value is its 8-bit framebuffer value
+        (:func:`quantize`); False: the raw float.
+
+    Returns
+    -------
+    dict: ``diffuse``, ``specular``, ``total`` as (n_views,) arrays (0-255).
+    """
+    normals = np.asarray(normals, float)[None, :, :]
+    views = np.asarray(view_dirs, float)[:, None, :]
+    on = facet_components(normals, light_dir, views, lighting, lit=1.0)
+    off = facet_components(normals, light_dir, views, lighting, lit=0.0)
+    out = {}
+    for name, v_on, v_off in zip(COMPONENTS, on, off):
+        if quantized:
+            v_on, v_off = quantize(v_on), quantize(v_off)
+        v_on = np.broadcast_to(v_on, lit.shape)
+        v_off = np.broadcast_to(v_off, lit.shape)
+        out[name] = (v_on * lit).sum(axis=1) + (v_off * shadow).sum(axis=1)
+    return out
 
 
 #: Values within this of a half step round up, as the framebuffer's float to
