@@ -37,4 +37,5 @@ rule all:
     input:
         "results/study.parquet",
         mesh_files(),
+        random_mesh_files(),
         "reports/roughlight_report.html",

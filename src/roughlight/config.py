@@ -24,6 +24,10 @@ __all__ = [
     "render_settings_from_config",
     "label",
     "surfaces",
+    "kinds",
+    "seeds",
+    "random_surfaces",
+    "random_surface_settings",
 ]
 
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
@@ -73,6 +77,8 @@ def _describe(error, schema: dict) -> str:
     bound = error.validator_value
     if error.validator == "enum":
         what = f"must be one of {', '.join(map(str, bound))}"
+    elif error.validator == "oneOf":
+        what = "is not allowed"
     elif error.validator == "minItems":
         what = "must list at least one value"
     else:
@@ -144,7 +150,54 @@ def _semantic_problems(config: dict) -> list[str]:
         dupes = sorted({lab for lab in labels if labels.count(lab) > 1})
         if dupes:
             problems.append(f"config: grid.{key} lists the same value twice: {', '.join(dupes)}")
+    return problems + _surface_problems(config)
+
+
+def _surface_problems(config: dict) -> list[str]:
+    surface = config.get("surface", {})
+    problems = []
+    if "pyramids" not in kinds(config):
+        problems.append(f"config: surface.kind = {surface.get('kind')!r} must include pyramids (the regular grid is "
+                        "the study's baseline: Tables 1-2 and every random ensemble's comparison)")
+    if isinstance(surface.get("seeds"), list) and len(set(surface["seeds"])) != len(surface["seeds"]):
+        problems.append(f"config: surface.seeds lists the same seed twice: {surface['seeds']!r}")
+    for key in ("truncation", "aspect"):
+        grid_labels = {label(v) for v in config["grid"][key]}
+        missing = [v for v in surface.get("random_grid", {}).get(key, []) if label(v) not in grid_labels]
+        if missing and len(kinds(config)) > 1:
+            problems.append(f"config: surface.random_grid.{key} = {missing!r} must be values of grid.{key} (each random "
+                            "ensemble is compared with the regular surface at the same grid point)")
     return problems
+
+
+def kinds(config: dict) -> list[str]:
+    """The surface kinds measured (``surface.kind``, a name or a list), regular pyramids first."""
+    kind = config.get("surface", {}).get("kind", ["pyramids"])
+    listed = [kind] if isinstance(kind, str) else list(kind)
+    return sorted(set(listed), key=["pyramids", "random_pyramids", "random_heightfield"].index)
+
+
+def seeds(config: dict) -> list[int]:
+    """The seeds of every random ensemble (``surface.seeds``: a count n gives 1..n)."""
+    value = config.get("surface", {}).get("seeds", 1)
+    return list(range(1, int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
+
+
+def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
+    """Every random surface of the study: (kind, truncation, aspect, seed), grid values exactly as in grid:."""
+    random_kinds = [k for k in kinds(config) if k != "pyramids"]
+    if not random_kinds:
+        return []
+    wanted = config["surface"]["random_grid"]
+    points = [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
+              if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
+    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config)]
+
+
+def random_surface_settings(config: dict) -> dict:
+    """How random tiles are built (``surface.cells`` and ``surface.spread``), as plain types for params."""
+    surface = config["surface"]
+    return {"cells": int(surface["cells"]), "spread": {k: float(v) for k, v in surface["spread"].items()}}
 
 
 def label(value) -> str:

@@ -77,8 +77,12 @@ def facet_polygons(surface: Surface) -> list[tuple[str, np.ndarray]]:
         ``vertices`` is an ``(n, 3)`` float array, counter-clockwise seen from
         above (from outside the solid), ``n`` = 3 or 4. Facets of zero area are
         left out: the plate is a single ``top`` square at ``z = 0``; the full
-        pyramid (``t = 1``) has no top and four triangular sides.
+        pyramid (``t = 1``) has no top and four triangular sides. A random tile
+        (:class:`roughlight.roughness.RandomSurface`) returns its own facets,
+        each named after its cell and side (or its heightfield triangle).
     """
+    if not isinstance(surface, Surface):
+        return [(name, np.array(verts, float)) for name, verts in surface.polygons]
     if surface.is_plate:
         return [("top", np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float))]
     t = surface.truncation

@@ -142,8 +142,9 @@ def fast_sweep(
 
     Parameters
     ----------
-    surface : Surface
-        The surface (see :mod:`roughlight.surface`).
+    surface : Surface or RandomSurface
+        The surface (see :mod:`roughlight.surface`), or a random tile
+        (:mod:`roughlight.roughness`) drawn as one period.
     incidence : float
         Light elevation above the surface plane, degrees in [0, 90]; the light
         comes from azimuth 0.
@@ -151,6 +152,8 @@ def fast_sweep(
         Views, degrees: azimuth in [0, 180), elevation in [0, 180].
     lighting : Lighting
     settings : RenderSettings
+        Densities per cell: a random tile of ``cells`` a side is sampled at
+        ``cells`` times them (:meth:`RenderSettings.for_tile`).
 
     Returns
     -------
@@ -162,7 +165,7 @@ def fast_sweep(
     """
     start = time.perf_counter()
     lighting = lighting or shading.Lighting()
-    settings = settings or RenderSettings()
+    settings = (settings or RenderSettings()).for_tile(getattr(surface, "cells", 1))
     incidence = shading.check_incidence(incidence)
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))

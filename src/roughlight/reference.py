@@ -78,6 +78,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
+import shapely.errors
 from shapely import affinity
 
 from . import sweeps
@@ -102,6 +103,15 @@ REFERENCE_ERROR = 1e-6
 
 #: The visible areas of a view must sum to 1 within this (else RuntimeError).
 AREA_TOLERANCE = 1e-9
+
+#: Snap-rounding grid (periods) of the robust fallback: when an overlay in double precision
+#: fails (GEOS's topology errors, or areas not summing to 1, seen on random tiles whose thin
+#: facets project to near-collinear slivers), the view is recomputed with every overlay
+#: snap-rounded to this grid (GEOS OverlayNG, robust by construction). Moving vertices by at
+#: most this changes an area by about its perimeter times it.
+SNAP_GRID = 1e-10
+#: The visible areas of a snap-rounded view must sum to 1 within this.
+SNAPPED_AREA_TOLERANCE = 1e-7
 
 #: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
 _MIN_OVERLAP = 1e-13
@@ -197,7 +207,27 @@ def _lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
     return off[order]
 
 
-def _visible_regions(surf: _Facets, d) -> tuple[list, np.ndarray]:
+def _polygonal(geometry, grid_size):
+    """The polygonal part of a geometry (or of each in an array), snapped to ``grid_size``: a
+    snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
+    if isinstance(geometry, np.ndarray):
+        return np.array([_polygonal(g, grid_size) for g in geometry], dtype=object)
+    geometry = shapely.set_precision(shapely.make_valid(geometry), grid_size)
+    if geometry.geom_type in ("Polygon", "MultiPolygon"):
+        return geometry
+    parts = [p for p in shapely.get_parts(geometry) if p.geom_type in ("Polygon", "MultiPolygon")]
+    return shapely.union_all(parts, grid_size=grid_size) if parts else shapely.Polygon()
+
+
+def _overlay(operation, *geometries, grid_size=None):
+    """A GEOS overlay: in double precision, or snap-rounded to ``grid_size`` (robust; see :data:`SNAP_GRID`)."""
+    if grid_size is None:
+        return operation(*geometries)
+    snapped = [_polygonal(g, grid_size) for g in geometries]
+    return _polygonal(operation(*snapped, grid_size=grid_size), grid_size)
+
+
+def _visible_regions(surf: _Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
     """Visible region of each facet of period 0 along the direction with plan shift ``d``.
 
     ``d = (Dx/Dz, Dy/Dz)`` for a direction ``D`` (toward the viewer or the
@@ -253,7 +283,7 @@ def _visible_regions(surf: _Facets, d) -> tuple[list, np.ndarray]:
         if len(idx) == 0:
             out[f] = pf
             continue
-        inter = shapely.intersection(pf, geoms[idx])
+        inter = _overlay(shapely.intersection, pf, geoms[idx], grid_size=grid_size)
         area = shapely.area(inter)
         ok = area > _MIN_OVERLAP
         idx, inter = idx[ok], inter[ok]
@@ -269,7 +299,8 @@ def _visible_regions(surf: _Facets, d) -> tuple[list, np.ndarray]:
         if len(occ) == 0:
             out[f] = pf
         else:
-            out[f] = shapely.difference(pf, shapely.union_all(occ))
+            out[f] = _overlay(shapely.difference, pf, _overlay(shapely.union_all, occ, grid_size=grid_size),
+                              grid_size=grid_size)
     return out, det
 
 
@@ -289,15 +320,29 @@ def _from_oblique(surf: _Facets, f: int, d) -> list:
     return [ia, ib, ic, ie, -(ia * xo + ib * yo), -(ic * xo + ie * yo)]
 
 
-def _check_sum(total: float, what: str) -> None:
-    if not abs(total - 1.0) <= AREA_TOLERANCE:
+def _check_sum(total: float, what: str, grid_size=None) -> None:
+    tolerance = AREA_TOLERANCE if grid_size is None else SNAPPED_AREA_TOLERANCE
+    if not abs(total - 1.0) <= tolerance:
         raise RuntimeError(
             f"reference clipping failed: the visible areas of the {what} sum to {total!r}, not 1"
         )
 
 
+def _with_fallback(compute, *args):
+    """``compute(*args, grid_size=None)`` in double precision; if GEOS fails or the areas do not
+    sum to 1, once more snap-rounded to :data:`SNAP_GRID` (OverlayNG's robust mode)."""
+    try:
+        return compute(*args, grid_size=None)
+    except (shapely.errors.GEOSException, RuntimeError):
+        return compute(*args, grid_size=SNAP_GRID)
+
+
 def _lit_regions(surf: _Facets, incidence: float, shadows: bool) -> list:
     """Lit part of each facet's plan footprint (shapely geometries)."""
+    return _with_fallback(_lit_regions_at, surf, incidence, shadows)
+
+
+def _lit_regions_at(surf: _Facets, incidence: float, shadows: bool, grid_size=None) -> list:
     L = light_direction(incidence)
     ndotl = surf.normals @ L
     if not shadows or surf.plate:
@@ -307,8 +352,8 @@ def _lit_regions(surf: _Facets, incidence: float, shadows: bool) -> list:
     if L[2] < _GRAZING_LIGHT:
         return [shapely.Polygon() for _ in surf.footprints]
     d = np.array([L[0] / L[2], L[1] / L[2]])
-    regions, det = _visible_regions(surf, d)
-    _check_sum(float(sum(shapely.area(r) for r in regions)), f"light view (incidence {incidence})")
+    regions, det = _visible_regions(surf, d, grid_size)
+    _check_sum(float(sum(shapely.area(r) for r in regions)), f"light view (incidence {incidence})", grid_size)
     out = []
     for f, region in enumerate(regions):
         if det[f] <= _EDGE_ON or ndotl[f] <= 0 or region.is_empty:
@@ -316,7 +361,7 @@ def _lit_regions(surf: _Facets, incidence: float, shadows: bool) -> list:
             continue
         plan = affinity.affine_transform(region, _from_oblique(surf, f, d))
         # the lit part lies on the facet: trim floating-point overhang
-        out.append(shapely.intersection(plan, surf.footprints[f]))
+        out.append(_overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size))
     return out
 
 
@@ -337,11 +382,15 @@ class _Scene:
         n = len(self.surf.names)
         if is_grazing_view(elevation):
             return np.zeros(n), np.zeros(n)
+        return _with_fallback(self._areas_at, elevation, azimuth)
+
+    def _areas_at(self, elevation: float, azimuth: float, grid_size=None) -> tuple[np.ndarray, np.ndarray]:
+        n = len(self.surf.names)
         V = view_direction(elevation, azimuth)
         d = np.array([V[0] / V[2], V[1] / V[2]])
-        regions, _ = _visible_regions(self.surf, d)
+        regions, _ = _visible_regions(self.surf, d, grid_size)
         vis = np.array([r.area for r in regions])
-        _check_sum(float(vis.sum()), f"view (e={elevation}, phi={azimuth})")
+        _check_sum(float(vis.sum()), f"view (e={elevation}, phi={azimuth})", grid_size)
         lit = np.zeros(n)
         for f, region in enumerate(regions):
             if vis[f] <= 0.0 or self.none_lit[f]:
@@ -350,7 +399,7 @@ class _Scene:
                 lit[f] = vis[f]
                 continue
             lit_view = affinity.affine_transform(self.lit[f], _to_oblique(self.surf, f, d))
-            lit[f] = min(shapely.intersection(region, lit_view).area, vis[f])
+            lit[f] = min(_overlay(shapely.intersection, region, lit_view, grid_size=grid_size).area, vis[f])
         return lit, vis - lit
 
 

@@ -11,7 +11,7 @@ settings can be built and recorded by code that never renders.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -67,6 +67,18 @@ class RenderSettings:
             raise ValueError("render.pixels_per_period exceeds the largest framebuffer")
         if self.sampling not in SAMPLINGS:
             raise ValueError(f"render.sampling must be one of {SAMPLINGS}, got {self.sampling!r}")
+
+    def for_tile(self, cells: int) -> RenderSettings:
+        """The settings for a random tile of ``cells x cells`` cells drawn as one period.
+
+        The configured densities are per cell (per pyramid, as on the regular
+        surface), so the tile gets ``cells`` times the pixels and shadow texels
+        a side: the same sampling of every facet, at ``cells^2`` times the pixels.
+        """
+        if int(cells) == 1:
+            return self
+        return replace(self, pixels_per_period=int(self.pixels_per_period) * int(cells),
+                       shadow_map_size=int(self.shadow_map_size) * int(cells))
 
     def sampling_matrix(self) -> np.ndarray:
         """Integer 2x2 matrix from cell coordinates to window pixels (see ``periodic.vert``)."""

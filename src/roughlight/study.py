@@ -5,7 +5,9 @@ Schema of ``results/study.parquet`` (one row per surface x view x component)
 ============== ======= =====================================================
 column         type    meaning
 ============== ======= =====================================================
-truncation     float64 fraction of the pyramid's height kept, [0, 1]
+kind           string  'pyramids' (the regular grid), 'random_pyramids' or 'random_heightfield'
+seed           int64   the random tile's seed (>= 1); 0 for the regular surface
+truncation     float64 fraction of the pyramid's height kept, [0, 1] (a random tile's grid point)
 aspect         float64 pyramid height / base width, >= 0
 incidence      float64 light elevation above the plane, degrees [0, 90]
 azimuth        float64 view azimuth, degrees [0, 180)
@@ -45,9 +47,10 @@ __all__ = [
     "sweep_table",
     "read_sweep",
     "aggregate",
+    "regular",
 ]
 
-KEY_COLUMNS = ["truncation", "aspect", "incidence", "azimuth", "elevation", "phase", "component"]
+KEY_COLUMNS = ["kind", "seed", "truncation", "aspect", "incidence", "azimuth", "elevation", "phase", "component"]
 SETTING_COLUMNS = [
     "light",
     "ambient",
@@ -70,7 +73,7 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
     ----------
     result : dict
         Output of :func:`roughlight.measure.measure_sweep`.
-    surface : Surface
+    surface : Surface or RandomSurface
     incidence : float
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : roughlight.shading.Lighting
@@ -85,7 +88,12 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
     elevation = np.asarray(elevation, float)
     n = azimuth.size
     k = len(COMPONENTS)
+    from .roughness import kind_and_seed
+
+    kind, seed = kind_and_seed(surface)
     columns = {
+        "kind": pa.array([kind] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "seed": np.full(n * k, seed, np.int64),
         "truncation": np.full(n * k, surface.truncation),
         "aspect": np.full(n * k, surface.aspect),
         "incidence": np.full(n * k, float(incidence)),
@@ -121,6 +129,9 @@ def read_sweep(path):
         raise ValueError(
             f"{path} is not a readable Parquet sweep ({exc}); delete it and rerun snakemake to rebuild it"
         ) from exc
+    if "kind" not in frame.columns:  # written before random surfaces existed: the regular surface
+        frame.insert(0, "kind", "pyramids")
+        frame.insert(1, "seed", 0)
     missing = [c for c in SWEEP_COLUMNS if c not in frame.columns]
     if missing:
         raise ValueError(f"{path} lacks columns {missing}; delete it and rerun snakemake to rebuild it")
@@ -132,7 +143,7 @@ def aggregate(rough_paths, control_paths):
 
     Parameters
     ----------
-    rough_paths : list of paths to rough-surface sweep files
+    rough_paths : list of paths to rough-surface sweep files (regular and random)
     control_paths : list of paths to control sweep files (one per incidence)
 
     Returns
@@ -148,15 +159,26 @@ def aggregate(rough_paths, control_paths):
     control = control[join + ["value"]].rename(columns={"value": "control"})
     for frame in (rough, control):
         frame["component"] = frame["component"].astype(str)
+    rough["kind"] = rough["kind"].astype(str)
     study = rough.rename(columns={"value": "rough"}).merge(control, on=join, how="left", validate="many_to_one")
     if study["control"].isna().any():
         missing = study.loc[study["control"].isna(), ["incidence", "azimuth", "elevation"]].drop_duplicates()
         raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
     study["component"] = pd.Categorical(study["component"], categories=list(COMPONENTS))
-    study = study.sort_values(["truncation", "aspect", "incidence", "azimuth", "elevation", "component"])
+    kind_order = pd.Categorical(study["kind"], categories=["pyramids", "random_pyramids", "random_heightfield"])
+    study = study.assign(_kind=kind_order).sort_values(
+        ["_kind", "seed", "truncation", "aspect", "incidence", "azimuth", "elevation", "component"])
     study = study[STUDY_COLUMNS].reset_index(drop=True)
     study["component"] = study["component"].astype(str)
     return study
+
+
+def regular(study):
+    """The regular surface's rows (kind ``pyramids``): what the thesis's analyses (Tables 1-2, lobes,
+    diffuse fits, GLMs, figures) are about. A table without a ``kind`` column is all regular."""
+    if "kind" not in study.columns:
+        return study
+    return study.loc[study["kind"].astype(str) == "pyramids"].reset_index(drop=True)
 
 
 def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render, log=None):
@@ -184,7 +206,7 @@ def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render
     settings = RenderSettings(**render)
     azimuth, elevation = sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"])
     log(
-        f"sweep truncation={surface.truncation} aspect={surface.aspect} incidence={incidence}: "
+        f"sweep {surface} incidence={incidence}: "
         f"{azimuth.size} views, method={method}, {lighting}, {settings}"
     )
     result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)

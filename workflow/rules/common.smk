@@ -19,6 +19,8 @@ wildcard_constraints:
     incidence=r"[0-9][0-9.e+-]*",
     truncation=r"[0-9][0-9.e+-]*",
     aspect=r"[0-9][0-9.e+-]*",
+    kind="random_pyramids|random_heightfield",
+    seed=r"[1-9][0-9]*",
 
 
 def check_config(config, schema):
@@ -91,6 +93,34 @@ def rough_sweep_files():
     ]
 
 
+def random_sweep_files():
+    """One sweep per random surface (surface.kind x surface.random_grid x surface.seeds) and incidence."""
+    return [
+        f"results/sweeps/i{rl_config.label(i)}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet"
+        for i in _grid("incidence")
+        for kind, t, a, seed in rl_config.random_surfaces(config)
+    ]
+
+
+def random_mesh_files():
+    """One PLY per random tile, its kind and seed in the name."""
+    return [
+        f"results/meshes/{kind}_t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.ply"
+        for kind, t, a, seed in rl_config.random_surfaces(config)
+    ]
+
+
+def random_surface_params(wildcards):
+    """A random tile's kind, grid point, seed, and how tiles are built (surface.cells, surface.spread)."""
+    return {
+        "kind": wildcards.kind,
+        "truncation": _value("truncation", wildcards.truncation),
+        "aspect": _value("aspect", wildcards.aspect),
+        "seed": int(wildcards.seed),
+        **rl_config.random_surface_settings(config),
+    }
+
+
 def control_sweep_files():
     return [
         f"results/sweeps/i{rl_config.label(i)}/control.parquet"
@@ -109,6 +139,7 @@ def mesh_files():
 
 def surface_params(wildcards):
     return {
+        "kind": "pyramids",
         "truncation": _value("truncation", wildcards.truncation),
         "aspect": _value("aspect", wildcards.aspect),
     }

@@ -47,6 +47,45 @@ rule rough_sweep:
         "../scripts/sweep.py"
 
 
+rule random_sweep:
+    output:
+        "results/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.parquet",
+    log:
+        "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.log",
+    benchmark:
+        "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        surface=random_surface_params,
+        incidence=incidence_param,
+        sweep=sweep_params,
+        lighting=lighting_params,
+        method=method_param,
+        render=render_params,
+    script:
+        "../scripts/sweep.py"
+
+
+rule random_mesh:
+    output:
+        "results/meshes/{kind}_t{truncation}_a{aspect}_s{seed}.ply",
+    log:
+        "results/logs/meshes/{kind}_t{truncation}_a{aspect}_s{seed}.log",
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=512,
+    params:
+        surface=random_surface_params,
+    script:
+        "../scripts/random_mesh.py"
+
+
 rule surface_meshes:
     output:
         mesh_files(),

@@ -4,6 +4,7 @@
 rule study_table:
     input:
         rough=rough_sweep_files(),
+        random=random_sweep_files(),
         control=control_sweep_files(),
     output:
         "results/study.parquet",

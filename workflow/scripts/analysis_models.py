@@ -11,7 +11,9 @@ from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.surface_models import analytic_model_fits, model_fit_summary  # noqa: E402
 
 log = _log.setup(snakemake)
-study = pd.read_parquet(snakemake.input.study)
+from roughlight.study import regular  # noqa: E402
+
+study = regular(pd.read_parquet(snakemake.input.study))  # the random ensembles: analysis_random.py
 fits = analytic_model_fits(
     study, lighting=snakemake.params.lighting, hapke_max_phase=float(snakemake.params.settings["hapke_max_phase"])
 )

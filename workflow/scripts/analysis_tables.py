@@ -15,6 +15,7 @@ from roughlight.lobes import arc_lobes, hemisphere_lobes  # noqa: E402
 from roughlight.report import study_summary  # noqa: E402
 from roughlight.selection import SURFACE_KEYS, find_aspect  # noqa: E402
 from roughlight.shading import Lighting  # noqa: E402
+from roughlight.study import regular  # noqa: E402
 from roughlight.thesis import bootstrap_tables, exact_lobe_peaks, sine_refits, thesis_tables  # noqa: E402
 from roughlight.timings import render_timings  # noqa: E402
 
@@ -26,7 +27,7 @@ aspects = settings["table_aspects"]
 incidence = float(settings["table_incidence"])
 m = lighting.light * lighting.specular_reflectance
 
-study = pd.read_parquet(snakemake.input.study)
+study = regular(pd.read_parquet(snakemake.input.study))  # the random ensembles: analysis_random.py
 log(f"study: {len(study)} rows from {snakemake.input.study}")
 messages = []
 

@@ -16,6 +16,7 @@ import pandas as pd  # noqa: E402
 from roughlight import figures as F  # noqa: E402
 from roughlight import registry  # noqa: E402
 from roughlight.atomic import read_frame  # noqa: E402
+from roughlight.study import regular  # noqa: E402
 
 log = _log.setup(snakemake)
 inp, out, settings = snakemake.input, snakemake.output, snakemake.params.settings
@@ -27,6 +28,8 @@ def table(name):
     if name not in tables:
         path = inp[name]
         tables[name] = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
+        if name == "study":  # the thesis's figures are of the regular surface; the random ones: analysis_random.py
+            tables[name] = regular(tables[name])
     return tables[name]
 
 

@@ -10,7 +10,8 @@ from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.study import aggregate  # noqa: E402
 
 log = _log.setup(snakemake)
-study = aggregate(snakemake.input.rough, snakemake.input.control)
+study = aggregate(list(snakemake.input.rough) + list(snakemake.input.random), snakemake.input.control)
 write_frame(study, snakemake.output[0])
-views = study.groupby(["truncation", "aspect", "incidence"]).size().sum() // 3
-log(f"study table: {len(study)} rows ({views} views of {len(snakemake.input.rough)} sweeps) -> {snakemake.output[0]}")
+sweeps = len(snakemake.input.rough) + len(snakemake.input.random)
+log(f"study table: {len(study)} rows ({len(study) // 3} views of {sweeps} sweeps, {len(snakemake.input.random)} of "
+    f"them random tiles) -> {snakemake.output[0]}")

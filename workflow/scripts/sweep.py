@@ -9,13 +9,13 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
+from roughlight.roughness import make_surface  # noqa: E402
 from roughlight.study import run_sweep  # noqa: E402
-from roughlight.surface import Surface  # noqa: E402
 
 log = _log.setup(snakemake)
 run_sweep(
     snakemake.output[0],
-    surface=Surface(**snakemake.params.surface),
+    surface=make_surface(**snakemake.params.surface),
     incidence=snakemake.params.incidence,
     sweep=snakemake.params.sweep,
     lighting=snakemake.params.lighting,
