@@ -927,3 +927,92 @@ def plot_implicit_maps(maps, path, component: str = "total") -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
+
+
+#: The statistics the random-roughness chart shows, in reading order (see :data:`roughlight.ensembles.STATISTICS`).
+RANDOM_CHART_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "back_phase_shift",
+                           "forward_peak", "diffuse_level", "diffuse_level1", "diffuse_level3")
+#: Marker colour of each surface kind.
+KIND_COLOURS = {"pyramids": "k", "random_pyramids": "tab:orange", "random_heightfield": "tab:blue"}
+
+
+def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
+    """One panel per statistic: the regular surface (black cross) and each random kind's ensemble mean with
+    its 95% interval over seeds, at every random grid point (:func:`roughlight.ensembles.ensemble_summary`)."""
+    from .ensembles import ELLIPSE_FILL
+
+    _theme()
+    names = [s for s in RANDOM_CHART_STATISTICS if s in set(summary["statistic"])]
+    ncol = 4
+    nrow = max(1, math.ceil(len(names) / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.4 * ncol, 3.0 * nrow), squeeze=False)
+    points = summary[["truncation", "aspect", "incidence"]].drop_duplicates().sort_values(
+        ["incidence", "aspect", "truncation"]).to_numpy()
+    labels = [f"t {t:g}\na {aspect_label(a)}\ni {i:g}" for t, a, i in points]
+    kinds = [k for k in KIND_COLOURS if k in set(summary["kind"])]
+    for ax, name in zip(axes.ravel(), names):
+        sel = summary[summary["statistic"] == name]
+        for p, (t, a, i) in enumerate(points):
+            at = sel[(sel.truncation == t) & (sel.aspect == a) & (sel.incidence == i)]
+            if at.empty:
+                continue
+            ax.plot(p, at["regular"].iloc[0], marker="x", color="k", ms=8, ls="none",
+                    label="regular pyramids" if p == 0 else None)
+            for k, kind in enumerate(kinds):
+                row = at[at["kind"] == kind]
+                if row.empty:
+                    continue
+                r = row.iloc[0]
+                x = p + 0.18 * (k + 1)
+                ax.errorbar(x, r["mean"], yerr=[[r["mean"] - r["ci_low"]], [r["ci_high"] - r["mean"]]],
+                            fmt="o", color=KIND_COLOURS[kind], ms=5, capsize=3,
+                            label=f"{kind.replace('_', ' ')} (mean, 95% CI)" if p == 0 else None)
+        if name == "back_rectangularity":
+            ax.axhline(ELLIPSE_FILL, color="0.5", ls=":", lw=1)
+            ax.axhline(1.0, color="0.5", ls="--", lw=1)
+        unit = sel["unit"].iloc[0] if len(sel) else ""
+        ax.set_title(f"{name.replace('_', ' ')} ({unit})", fontsize=9)
+        ax.set_xticks(range(len(points)))
+        ax.set_xticklabels(labels, fontsize=7)
+    for ax in axes.ravel()[len(names):]:
+        ax.axis("off")
+    handles, texts = axes.ravel()[0].get_legend_handles_labels()
+    fig.legend(handles, texts, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    save_figure(fig, path)
+
+
+def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", seed: int = 1) -> None:
+    """Top-down hemisphere maps (light on the right, star) of the regular surface and of one seed of each random
+    kind, one row per random grid point: the thesis's Fig. 19 view of the lobes' shapes."""
+    from .ensembles import random_points
+
+    _theme()
+    data = random_points(study)
+    data = data[data["component"].astype(str) == component]
+    kinds = [k for k in KIND_COLOURS if k in set(data["kind"].astype(str))]
+    points = data[["truncation", "aspect", "incidence"]].drop_duplicates().sort_values(
+        ["incidence", "aspect", "truncation"]).to_numpy()
+    fig, axes = plt.subplots(max(1, len(points)), len(kinds), figsize=(3.6 * len(kinds), 3.4 * max(1, len(points))),
+                             squeeze=False)
+    for row, (t, a, i) in zip(axes, points):
+        at = data[(data.truncation == t) & (data.aspect == a) & (data.incidence == i)]
+        for ax, kind in zip(row, kinds):
+            sel = at[at["kind"].astype(str) == kind]
+            sel = sel[sel["seed"] == (0 if kind == "pyramids" else sel["seed"].min())]
+            e, phi = np.radians(sel["elevation"].to_numpy(float)), np.radians(sel["azimuth"].to_numpy(float))
+            x, y = np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi)
+            X, Y = np.concatenate([x, x]), np.concatenate([y, -y])
+            Z = np.concatenate([sel["rough"].to_numpy(float)] * 2)
+            top = max(float(Z.max()), 1.0)  # each map on its own scale: the shapes are compared, not the levels
+            mappable = ax.tricontourf(X, Y, Z, levels=np.linspace(0, top, 16), cmap="magma")
+            fig.colorbar(mappable, ax=ax, shrink=0.7)
+            ax.add_patch(plt.Circle((0, 0), 1, fill=False, color="0.5", lw=0.6))
+            ax.plot([math.cos(math.radians(i))], [0], marker="*", color="gold", ms=11, mec="k", mew=0.5)
+            ax.set(aspect="equal", xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xticks=[], yticks=[])
+            seed_text = "" if kind == "pyramids" else f", seed {int(sel['seed'].iloc[0])}"
+            ax.set_title(f"{kind.replace('_', ' ')}{seed_text}\nt {t:g}, a {aspect_label(a)}, i {i:g}", fontsize=8,
+                         loc="left")
+    fig.suptitle(f"{component} (0-255), each map on its own scale", fontsize=9)
+    fig.tight_layout()
+    save_figure(fig, path)

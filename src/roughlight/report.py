@@ -622,6 +622,7 @@ def build_report(
     table_aspects=TABLE_ASPECTS,
     table_incidence: float = THESIS_INCIDENCE,
     implicit_html: str | None = None,
+    random_html: str | None = None,
 ) -> str:
     """The report as one self-contained HTML string.
 
@@ -644,6 +645,7 @@ def build_report(
         of the speed/accuracy benchmark; None: switched off (``report.speed_accuracy: false``).
     implicit_html : the "An implicit rough surface" section (:func:`implicit_section`);
         None: switched off (``report.implicit: false``).
+    random_html : the "Random roughness" section (:func:`random_section`); None: no random kind measured.
     table_aspects, table_incidence : the aspects and incidence of Tables 1-2
         (``report.table_aspects``, ``report.table_incidence``): every table and text of the
         page that speaks of "the table aspects" shows these.
@@ -668,7 +670,8 @@ def build_report(
     nav = [("study", "The study"), ("tables", "Tables 1 and 2"), ("specular", "Specular: Figs. 17–26"),
            ("diffuse", "Diffuse: Figs. 27–29"), ("pictures", "Pictures: Figs. 9, 10, 13"),
            ("lobes", "Lobes"), ("glm", "Grid GLMs"), ("models", "Analytic models"),
-           ("implicit", "An implicit rough surface"), ("stability", "Where methods fail"),
+           ("implicit", "An implicit rough surface"), ("random", "Random roughness"),
+           ("stability", "Where methods fail"),
            ("provenance", "Settings and provenance")]
     parts.append("<nav><ul>" + "".join(f'<li><a href="#{a}">{_e(b)}</a></li>' for a, b in nav) + "</ul></nav>")
 
@@ -686,6 +689,11 @@ def build_report(
     else:
         parts.append('<h2 id="implicit">An implicit rough surface</h2><p class="note">Switched off '
                      "(<code>report.implicit: false</code>).</p>")
+    if random_html:
+        parts.append(random_html)
+    else:
+        parts.append('<h2 id="random">Random roughness</h2><p class="note">Not measured: <code>surface.kind</code> '
+                     "lists no random kind (config/README.md).</p>")
     parts += _section_stability(tables, stability_html)
     parts += _section_provenance(tables, figures, config, provenance, benchmarks)
     parts.append("</main></body></html>")
@@ -876,4 +884,91 @@ def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_
     parts.append(_table(f, "Frame time of an N × N field, 512 × 512 pixels, OSMesa (llvmpipe): explicit mesh with "
                         "pyrender's shadow pass against one implicit quad; error = largest |image mean − exact| "
                         "over the views (0–255)", table_id="implicit-frames"))
+    return "\n".join(parts)
+
+
+def _interval(row) -> str:
+    if not np.isfinite(row["mean"]):
+        return "– (no lobe)"
+    if not np.isfinite(row["ci_low"]):
+        return f"{row['mean']:.3g} (one seed: no interval)"
+    return f"{row['mean']:.3g} [{row['ci_low']:.3g}, {row['ci_high']:.3g}]"
+
+
+def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
+    """The thesis's rectangular-lobe claim in numbers: back-lobe rectangularity and phase shift, regular against
+    each random kind's ensemble (mean and 95% interval over seeds, one-sample t-test against the regular value)."""
+    claim = ensembles[ensembles["statistic"].isin(["back_rectangularity", "back_phase_shift"])]
+    rows = []
+    for _, r in claim.iterrows():
+        rows.append({"kind": r["kind"], "truncation": r["truncation"], "aspect": r["aspect"],
+                     "incidence": r["incidence"], "statistic": r["statistic"], "regular": r["regular"],
+                     "random mean [95% CI]": _interval(r), "seeds": int(r["seeds"]), "t": r["t"],
+                     "p_value": r["p_value"]})
+    return pd.DataFrame(rows)
+
+
+def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fits: pd.DataFrame,
+                   ensembles_png=None, maps_png=None, surface_settings: dict | None = None) -> str:
+    """HTML fragment: "Random roughness" (ensembles against the regular surface, the rectangular-lobe claim,
+    the analytic models refitted, seeds needed)."""
+    from .ensembles import ELLIPSE_FILL
+
+    settings = surface_settings or {}
+    spread = settings.get("spread", {})
+    parts = ['<h2 id="random">Random roughness</h2>',
+             "<p>The thesis concludes that its regular pyramids, with one normal per facet orientation, give "
+             "“rectangular reflection patterns” and a phase shift off the light's plane (Fig. 19) where natural rough "
+             "surfaces give circular lobes, and that “any attempt to simulate rough surfaces must incorporate this random "
+             "nature” (Ch. IV.C, VI). Two random kinds are measured beside the regular surface at the same grid points, "
+             "each as an ensemble of seeded tiles that repeat periodically:</p><ul>"
+             f"<li><b>random pyramids</b>: a tile of {settings.get('cells', '?')} × {settings.get('cells', '?')} cells, "
+             f"each a truncated pyramid with truncation t ± {spread.get('truncation', '?')}, aspect a·(1 ± "
+             f"{spread.get('aspect', '?')}) and its apex moved up to {spread.get('apex', '?')} of the half cell;</li>"
+             "<li><b>random heightfield</b>: a periodic Gaussian random field (Gaussian autocorrelation, half a cell "
+             "long) of flat triangles, scaled to the regular surface's RMS slope 2a·√(1 − (1 − t)²).</li></ul>"
+             "<p>Two numbers put the claim to the test, both of the back lobe (the light-facing facets' mirror "
+             "direction): <b>rectangularity</b>, the area of the lobe's half-maximum region over the area of its "
+             f"bounding rectangle along its principal axes (1 for a rectangle, π/4 = {ELLIPSE_FILL:.3f} for any "
+             "ellipse, circles included), and the <b>phase shift</b>, the mean distance (degrees) of each off-plane "
+             "arc's peak from where a circular lobe around the same peak would put it (arcs 5°–60° where the lobe "
+             "stands above half its maximum). Intervals are Student-t 95% over seeds; the test is a two-sided "
+             "one-sample t-test of the seeds against the regular surface's value.</p>"]
+    claim = random_claim_rows(ensembles)
+    verdicts = []
+    for (kind, t, a, i), g in ensembles.groupby(["kind", "truncation", "aspect", "incidence"], sort=True):
+        rect = g[g["statistic"] == "back_rectangularity"]
+        shift = g[g["statistic"] == "back_phase_shift"]
+        if rect.empty or not np.isfinite(rect["regular"].iloc[0]):
+            continue
+        r, sh = rect.iloc[0], shift.iloc[0]
+        verdicts.append(f"<li>t {t:g}, a {aspect_label(a)}, i {i:g}, {_e(kind.replace('_', ' '))}: rectangularity "
+                        f"{r['regular']:.3f} regular against {_interval(r)} random (p = {r['p_value']:.2g}); phase "
+                        f"shift {sh['regular']:.2f}° regular against {_interval(sh)}° random "
+                        f"(p = {sh['p_value']:.2g}).</li>")
+    if verdicts:
+        parts.append("<p>As measured:</p><ul>" + "".join(verdicts) + "</ul>")
+    parts.append(_table(claim, "The rectangular-lobe claim: back-lobe rectangularity (ratio) and phase shift (deg), "
+                        "regular against each random kind", table_id="random-claim"))
+    for png, stem, alt in ((ensembles_png, "random_ensembles", "ensembles"), (maps_png, "random_maps", "maps")):
+        if png and os.path.exists(png):
+            parts.append(f'<figure id="fig-{stem.replace("_", "-")}"><img src="{png_data_uri(png)}" alt="{alt}">'
+                         f"<figcaption>{_e(_caption_text(stem))}</figcaption></figure>")
+    shown = ensembles[["kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean", "ci_low",
+                       "ci_high", "regular", "difference", "p_value"]]
+    parts.append(_table(shown, "Every statistic: random ensemble mean with its 95% interval over seeds, beside the "
+                        "regular surface (lobes from the light's plane, diffuse level over the hemisphere, the "
+                        "three-part diffuse model's levels and continuous decay rate)", table_id="random-ensembles"))
+    rmse = [c for c in model_fits.columns if c.startswith("rmse_")]
+    fits = model_fits.groupby(["kind", "truncation", "aspect", "incidence"], as_index=False)[rmse].mean()
+    parts.append("<p>The analytic models refitted on every tile (RMSE over all views, 0–255, mean over seeds). "
+                 "<code>rmse_regular_*</code> predicts a tile by the regular surface at its grid point: what the "
+                 "implicit shader's exact form, which reproduces the regular surface, would predict.</p>")
+    parts.append(_table(fits, "Analytic models on random tiles against the regular surface (mean RMSE over seeds)",
+                        table_id="random-models"))
+    needed_cols = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
+    parts.append(_table(seeds_needed[["kind", "truncation", "aspect", "incidence", "statistic", "mean", "sd"]
+                                     + needed_cols],
+                        "Seeds needed for a 95% interval whose half-width is 10%, 5% or 2% of the mean (from each "
+                        "ensemble's seed-to-seed SD)", table_id="random-seeds"))
     return "\n".join(parts)

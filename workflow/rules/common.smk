@@ -121,6 +121,11 @@ def random_surface_params(wildcards):
     }
 
 
+def random_surface_settings(wildcards):
+    """surface.cells and surface.spread (how random tiles are built), for the report's text."""
+    return rl_config.random_surface_settings(config)
+
+
 def control_sweep_files():
     return [
         f"results/sweeps/i{rl_config.label(i)}/control.parquet"
@@ -198,8 +203,8 @@ def measurement_plan(wildcards=None):
 
 
 def report_measurements(wildcards):
-    """The report's optional inputs, switched by report.speed_accuracy, report.implicit and report.stability (never by
-    which files exist): the measurements at measurements.plan."""
+    """The report's optional inputs, switched by report.speed_accuracy, report.implicit, report.stability and
+    surface.kind (never by which files exist): the measurements at measurements.plan, the random ensembles."""
     plan = measurement_plan()
     inputs = {}
     if config["report"]["speed_accuracy"]:
@@ -214,6 +219,12 @@ def report_measurements(wildcards):
         inputs["implicit_frames"] = f"results/benchmarks/{plan}/implicit_frames.parquet"
         inputs["implicit_chart"] = f"results/benchmarks/{plan}/implicit.png"
         inputs["implicit_maps_chart"] = f"results/benchmarks/{plan}/implicit_maps.png"
+    if rl_config.random_surfaces(config):  # surface.kind lists a random kind
+        inputs["random_ensembles"] = "results/analysis/random_ensembles.csv"
+        inputs["random_seeds_needed"] = "results/analysis/random_seeds_needed.csv"
+        inputs["random_model_fits"] = "results/analysis/random_model_fits.parquet"
+        inputs["random_ensembles_chart"] = "results/figures/random_ensembles.png"
+        inputs["random_maps_chart"] = "results/figures/random_maps.png"
     if config["report"]["stability"]:
         inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
         inputs["stability_safe"] = f"results/stability/{plan}/safe_domain.csv"

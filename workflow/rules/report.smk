@@ -172,6 +172,47 @@ rule render_figures:
         "../scripts/render_figures.py"
 
 
+rule analysis_random:
+    input:
+        study="results/study.parquet",
+    output:
+        statistics="results/analysis/random_statistics.parquet",
+        ensembles=report(
+            "results/analysis/random_ensembles.csv",
+            caption="../report/random_statistics.rst",
+            category="Tables",
+            subcategory="Random roughness",
+        ),
+        seeds_needed="results/analysis/random_seeds_needed.csv",
+        model_fits="results/analysis/random_model_fits.parquet",
+        ensembles_chart=report(
+            "results/figures/random_ensembles.png",
+            caption="../report/random_ensembles.rst",
+            category="Figures",
+            subcategory="Random roughness",
+        ),
+        maps_chart=report(
+            "results/figures/random_maps.png",
+            caption="../report/random_maps.rst",
+            category="Figures",
+            subcategory="Random roughness",
+        ),
+    log:
+        "results/logs/report/random.log",
+    benchmark:
+        "results/logs/report/random.benchmark.tsv"
+    conda:
+        "../../envs/study.yaml"
+    threads: 1
+    resources:
+        mem_mb=4096,
+    params:
+        settings=report_settings,
+        lighting=lighting_params,
+    script:
+        "../scripts/analysis_random.py"
+
+
 rule report_html:
     input:
         unpack(report_measurements),
@@ -210,5 +251,6 @@ rule report_html:
         config=config,
         settings=report_settings,
         plan=measurement_plan,
+        surface=random_surface_settings,
     script:
         "../scripts/report_html.py"

@@ -49,6 +49,11 @@ if "implicit_chart" in inp.keys():  # report.implicit
     implicit_html = R.implicit_section(pd.read_parquet(inp.implicit_validation), pd.read_parquet(inp.implicit_frames),
                                        inp.implicit_chart, plan=snakemake.params.plan,
                                        maps_png_path=inp.implicit_maps_chart)
+random_html = None
+if "random_ensembles" in inp.keys():  # surface.kind lists a random kind
+    random_html = R.random_section(read_frame(inp.random_ensembles), read_frame(inp.random_seeds_needed),
+                                   pd.read_parquet(inp.random_model_fits), inp.random_ensembles_chart,
+                                   inp.random_maps_chart, surface_settings=snakemake.params.surface)
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],
@@ -58,6 +63,6 @@ settings = snakemake.params.settings
 html = R.build_report(tables, figures, config=dict(snakemake.params.config), provenance=provenance,
                       messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html,
                       table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"],
-                      implicit_html=implicit_html)
+                      implicit_html=implicit_html, random_html=random_html)
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")
