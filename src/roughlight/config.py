@@ -159,6 +159,11 @@ def _surface_problems(config: dict) -> list[str]:
     if "pyramids" not in kinds(config):
         problems.append(f"config: surface.kind = {surface.get('kind')!r} must include pyramids (the regular grid is "
                         "the study's baseline: Tables 1-2 and every random ensemble's comparison)")
+    spread = surface.get("spread", {})
+    if spread.get("apex", 0.5) + spread.get("corner", 0.3) >= 1:
+        problems.append(f"config: surface.spread.apex + surface.spread.corner = {spread.get('apex', 0.5)} + "
+                        f"{spread.get('corner', 0.3)} must be < 1 (else an apex can leave its cell's base: an "
+                        "overhanging or vertical side)")
     if isinstance(surface.get("seeds"), list) and len(set(surface["seeds"])) != len(surface["seeds"]):
         problems.append(f"config: surface.seeds lists the same seed twice: {surface['seeds']!r}")
     for key in ("truncation", "aspect"):

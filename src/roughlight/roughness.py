@@ -81,13 +81,22 @@ class Spread:
         Half-width of the relative spread of each cell's aspect,
         ``a (1 + aspect U)``; in [0, 1) (1 would allow a flat side).
     apex : float
-        How far the apex may move from the cell centre, as a fraction of the
-        half cell; in [0, 1) (1 puts it on the cell's edge: a vertical side).
+        How far the apex may move from the cell centre along x and y, as a
+        fraction of the half cell; in [0, 1).
+    corner : float
+        How far each cell corner (shared by the four cells meeting there) may
+        move along x and y, as a fraction of the half cell; in [0, 0.5]. It
+        turns the cells' bases into varied convex quadrilaterals, so the side
+        normals point in varied azimuths (with square bases, a side through an
+        x-aligned base edge always faces along y, wherever the apex is).
+        ``apex + corner < 1`` keeps every apex inside its base (no vertical or
+        overhanging side).
     """
 
     truncation: float = 0.2
     aspect: float = 0.3
     apex: float = 0.5
+    corner: float = 0.3
 
     def __post_init__(self):
         checks = {
@@ -95,6 +104,7 @@ class Spread:
             "aspect": (lambda v: 0.0 <= v < 1.0, "within [0, 1) (1 or more would make a flat or inverted side)"),
             "apex": (lambda v: 0.0 <= v < 1.0, "within [0, 1) (1 or more puts the apex outside its cell: an "
                                                 "overhanging or vertical side)"),
+            "corner": (lambda v: 0.0 <= v <= 0.5, "within [0, 0.5] (more could fold a cell's base)"),
         }
         for key, (ok, allowed) in checks.items():
             value = getattr(self, key)
@@ -105,6 +115,9 @@ class Spread:
             if not (math.isfinite(value) and ok(value)):
                 raise ValueError(f"surface.spread.{key} must be {allowed}, got {value!r}")
             object.__setattr__(self, key, value)
+        if self.apex + self.corner >= 1.0:
+            raise ValueError(f"surface.spread.apex + surface.spread.corner must be < 1 (else an apex can leave its "
+                             f"cell's base: an overhanging or vertical side), got {self.apex} + {self.corner}")
 
 
 def pyramid_rms_slope(truncation: float, aspect: float) -> float:
@@ -152,12 +165,19 @@ def _random_pyramid_polygons(t, a, cells, spread: Spread, rng) -> list:
     t_cell = np.clip(t + spread.truncation * rng.uniform(-1, 1, n), 0.0, 1.0)
     a_cell = a * (1.0 + spread.aspect * rng.uniform(-1, 1, n))
     shift = spread.apex * 0.5 * w * rng.uniform(-1, 1, (n, 2))
+    # the cells' corners, shared by the four cells that meet there (periodic), moved up to corner * w / 2
+    corner_shift = spread.corner * 0.5 * w * rng.uniform(-1, 1, (cells, cells, 2))
+
+    def corner(i, j):
+        return np.array([i * w, j * w]) + corner_shift[i % cells, j % cells]
+
     polygons = []
     for k in range(n):
         i, j = divmod(k, cells)
-        x0, y0 = i * w, j * w
-        apex = np.array([x0 + 0.5 * w + shift[k, 0], y0 + 0.5 * w + shift[k, 1], a_cell[k] * w])
-        base = np.array([[x0, y0, 0.0], [x0 + w, y0, 0.0], [x0 + w, y0 + w, 0.0], [x0, y0 + w, 0.0]])
+        quad = np.array([corner(i, j), corner(i + 1, j), corner(i + 1, j + 1), corner(i, j + 1)])
+        base = np.column_stack([quad, np.zeros(4)])
+        apex_xy = np.array([(i + 0.5) * w, (j + 0.5) * w]) + shift[k]
+        apex = np.array([apex_xy[0], apex_xy[1], a_cell[k] * w])
         tk = t_cell[k]
         if tk * a_cell[k] * w < LENGTH_EPS:
             polygons.append((f"c{i}_{j}_top", base))
@@ -173,7 +193,36 @@ def _random_pyramid_polygons(t, a, cells, spread: Spread, rng) -> list:
             polygons.append((name + side, verts))
         if 1.0 - tk >= LENGTH_EPS:
             polygons.append((name + "top", top))
-    return polygons
+    return _wrap_into_period(polygons)
+
+
+def _wrap_into_period(polygons) -> list:
+    """Cut facets that cross the unit period's edges and move the pieces back inside, so the tile's plan is
+    exactly ``[0, 1]^2`` (as one period of the regular surface). Each piece keeps its facet's plane; a cut
+    facet's pieces are named ``{name}_w{k}{l}`` after the period copy ``(k, l)`` they came from."""
+    import shapely
+    from shapely.geometry import box
+    from shapely.geometry.polygon import orient
+
+    out = []
+    for name, verts in polygons:
+        plan = shapely.Polygon(verts[:, :2])
+        lo, hi = verts[:, :2].min(axis=0), verts[:, :2].max(axis=0)
+        if lo.min() >= 0.0 and hi.max() <= 1.0:
+            out.append((name, verts))
+            continue
+        normal = np.cross(verts[1] - verts[0], verts[2] - verts[0])
+        alpha, beta = -normal[0] / normal[2], -normal[1] / normal[2]
+        gamma = verts[0, 2] - alpha * verts[0, 0] - beta * verts[0, 1]
+        for k in range(int(np.floor(lo[0])), int(np.floor(hi[0])) + 1):
+            for m in range(int(np.floor(lo[1])), int(np.floor(hi[1])) + 1):
+                piece = plan.intersection(box(k, m, k + 1, m + 1))
+                if piece.geom_type != "Polygon" or piece.area < 1e-15:
+                    continue
+                xy = np.asarray(orient(piece, 1.0).exterior.coords)[:-1]
+                z = alpha * xy[:, 0] + beta * xy[:, 1] + gamma
+                out.append((f"{name}_w{k}{m}", np.column_stack([xy[:, 0] - k, xy[:, 1] - m, z])))
+    return out
 
 
 def _gaussian_field(size: int, correlation: float, rng) -> np.ndarray:

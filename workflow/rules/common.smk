@@ -204,7 +204,8 @@ def measurement_plan(wildcards=None):
 
 def report_measurements(wildcards):
     """The report's optional inputs, switched by report.speed_accuracy, report.implicit, report.stability and
-    surface.kind (never by which files exist): the measurements at measurements.plan, the random ensembles."""
+    surface.kind (never by which files exist): the measurements at measurements.plan, the random ensembles.
+    """
     plan = measurement_plan()
     inputs = {}
     if config["report"]["speed_accuracy"]:

@@ -1,0 +1,249 @@
+"""Random roughness: the tiles' geometry, their rendering against the exact reference, the ensemble statistics,
+bad input, and a tiny end-to-end run where adding a seed renders only it."""
+import math
+
+import numpy as np
+import pandas as pd
+import pytest
+import shapely
+
+from roughlight import config as rl_config
+from roughlight import ensembles as E
+from roughlight import geometry, sweeps
+from roughlight.reference import reference_sweep
+from roughlight.roughness import (
+    RandomSurface,
+    Spread,
+    make_surface,
+    pyramid_rms_slope,
+    rms_slope,
+)
+from roughlight.shading import view_direction
+
+from .test_workflow import planned_jobs, snakemake, write_config
+
+KINDS = ("random_pyramids", "random_heightfield")
+
+
+def plan_polygons(surface):
+    return [shapely.Polygon(v[:, :2]) for _, v in geometry.facet_polygons(surface)]
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_tile_covers_its_period_once_and_closes_periodically(kind):
+    surface = RandomSurface(kind, 0.6, 0.8, seed=3, cells=3)
+    plans = plan_polygons(surface)
+    # every facet faces up, and the plan footprints tile the unit period exactly once
+    assert all(p.area > 0 for p in plans)
+    assert sum(p.area for p in plans) == pytest.approx(1.0, abs=1e-12)
+    assert shapely.union_all(plans).area == pytest.approx(1.0, abs=1e-12)
+    assert shapely.union_all(plans).bounds == pytest.approx((0, 0, 1, 1))
+    _, normals, _ = geometry.period_triangles(surface)
+    assert (normals[:, 2] > 0).all()
+    # watertight as a periodic surface: with points identified modulo the period, every edge has two triangles
+    mesh = geometry.period_mesh(surface)
+    wrapped = np.round(np.mod(mesh.vertices[:, :2] + 1e-12, 1.0), 9)
+    keys = {tuple(k): n for n, k in enumerate(map(tuple, np.column_stack([wrapped, np.round(mesh.vertices[:, 2], 9)])))}
+    ids = np.array([keys[tuple(k)] for k in np.column_stack([wrapped, np.round(mesh.vertices[:, 2], 9)])])
+    edges = np.sort(ids[mesh.faces][:, [[0, 1], [1, 2], [2, 0]]].reshape(-1, 2), axis=1)
+    _, counts = np.unique(edges, axis=0, return_counts=True)
+    assert (counts == 2).all()
+    assert 0 < surface.height < 1
+
+
+def test_random_pyramids_spread_is_as_configured():
+    t, a, spread = 1.0, 0.5, 0.3
+    tile = RandomSurface("random_pyramids", t, a, seed=1, cells=6, spread=Spread(truncation=0, aspect=spread, apex=0, corner=0))
+    _, normals, _ = geometry.period_triangles(tile)
+    slopes = np.hypot(normals[:, 0], normals[:, 1]) / normals[:, 2]
+    # apex centred: every side's slope is 2 a_cell, a_cell within a (1 +- spread); the cells differ
+    assert slopes.min() >= 2 * a * (1 - spread) - 1e-9 and slopes.max() <= 2 * a * (1 + spread) + 1e-9
+    assert slopes.std() > 0.05
+    # no spread at all is the regular surface, cell by cell
+    plain = RandomSurface("random_pyramids", 0.5, a, seed=1, cells=2, spread=Spread(0, 0, 0, 0))
+    assert geometry.facet_areas(plain) and sum(geometry.facet_areas(plain).values()) == pytest.approx(
+        sum(geometry.facet_areas(make_surface("pyramids", 0.5, a)).values()) / 1.0, rel=1e-12)
+    # with square bases the sides face four azimuths wherever the apex is; moved corners vary them
+    square = RandomSurface("random_pyramids", 1.0, a, seed=1, cells=4, spread=Spread(0, 0, 0.8, 0))
+    _, normals, _ = geometry.period_triangles(square)
+    assert len(set(np.round(np.degrees(np.arctan2(normals[:, 1], normals[:, 0])), 3))) == 4
+    moved = RandomSurface("random_pyramids", 1.0, a, seed=1, cells=4, spread=Spread(0, 0, 0.5, 0.3))
+    _, normals, _ = geometry.period_triangles(moved)
+    azimuths = np.round(np.degrees(np.arctan2(normals[:, 1], normals[:, 0])), 3)
+    assert len(set(azimuths)) > 8
+
+
+def test_random_heightfield_matches_the_regular_rms_slope():
+    for t, a in ((1.0, 1.0), (0.5, 0.5), (0.2, 0.3)):
+        tile = RandomSurface("random_heightfield", t, a, seed=2, cells=2)
+        assert rms_slope(tile.polygons) == pytest.approx(pyramid_rms_slope(t, a), rel=1e-9)
+    assert pyramid_rms_slope(1.0, 1.0) == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_seed_fixes_the_tile(kind):
+    one = RandomSurface(kind, 0.5, 1.0, seed=4, cells=2)
+    again = RandomSurface(kind, 0.5, 1.0, seed=4, cells=2)
+    other = RandomSurface(kind, 0.5, 1.0, seed=5, cells=2)
+    for (n1, v1), (n2, v2) in zip(one.polygons, again.polygons):
+        assert n1 == n2 and np.array_equal(v1, v2)
+    assert any(not np.array_equal(v1, v2) for (_, v1), (_, v2) in zip(one.polygons, other.polygons))
+
+
+@pytest.mark.parametrize(
+    "build, key",
+    [
+        (lambda: Spread(apex=1.0), "surface.spread.apex"),
+        (lambda: Spread(aspect=1.2), "surface.spread.aspect"),
+        (lambda: Spread(corner=0.6), "surface.spread.corner"),
+        (lambda: Spread(apex=0.8, corner=0.3), "surface.spread.apex \\+ surface.spread.corner"),
+        (lambda: RandomSurface("random_pyramids", 0.5, 1.0, seed=0), "surface.seeds"),
+        (lambda: RandomSurface("random_pyramids", 0.5, 1.0, seed=-2), "surface.seeds"),
+        (lambda: RandomSurface("fractal", 0.5, 1.0, seed=1), "surface.kind"),
+        (lambda: make_surface("pyramids", 0.5, 1.0, seed=3), "seed 0"),
+    ],
+)
+def test_bad_random_surfaces_name_the_key(build, key):
+    with pytest.raises(ValueError, match=key.replace(".", r"\.")):
+        build()
+
+
+@pytest.mark.parametrize(
+    "surface, problem",
+    [
+        ({"kind": "random_pyramids"}, "surface.kind"),
+        ({"kind": ["pyramids", "fractal"]}, "surface.kind"),
+        ({"seeds": 0}, "surface.seeds"),
+        ({"seeds": [2, 2]}, "surface.seeds"),
+        ({"spread": {"apex": 1.0}}, "surface.spread.apex"),
+        ({"spread": {"aspect": 1.0}}, "surface.spread.aspect"),
+        ({"spread": {"apex": 0.8, "corner": 0.4}}, "surface.spread.apex \\+ surface.spread.corner"),
+        ({"kind": ["pyramids", "random_heightfield"], "random_grid": {"truncation": [0.55]}},
+         "surface.random_grid.truncation"),
+    ],
+)
+def test_bad_surface_config_stops_before_rendering(surface, problem):
+    cfg = {"grid": {"truncation": [0.5, 1.0], "aspect": [1.0]}, "surface": surface}
+    with pytest.raises(rl_config.ConfigError, match=problem.replace(".", r"\.")):
+        rl_config.validate_config(cfg)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_fast_renderer_matches_the_reference_on_a_small_random_tile(kind):
+    from roughlight.periodic import fast_sweep
+
+    tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
+    azimuth, elevation = sweeps.view_grid(15, 30)
+    exact = reference_sweep(tile, 30, azimuth, elevation)
+    fast = fast_sweep(tile, 30, azimuth, elevation)
+    for component in ("diffuse", "specular", "total"):
+        error = np.abs(fast[component] - exact[component])
+        assert error.mean() <= 0.5, (component, error.mean())
+    assert np.array_equal(fast["coverage"] > 0, exact["coverage"] > 0)
+
+
+def _gaussian_lobe(width_x, width_y, centre=120.0, soft=None, az_step=5.0):
+    azimuth, elevation = np.arange(0, 180, az_step), np.arange(0, 181, 1.0)
+    A, El = np.meshgrid(azimuth, elevation, indexing="ij")
+    V = view_direction(El, A)
+    D = view_direction(centre, 0.0)
+    u1 = np.array([0, 0, 1.0]) - D[2] * D
+    u1 /= np.linalg.norm(u1)
+    u2 = np.cross(D, u1)
+    x = np.degrees((V @ u1) / (V @ D))
+    y = np.degrees((V @ u2) / (V @ D))
+    if soft is None:
+        values = 100 * np.exp(-((x / width_x) ** 2 + (y / width_y) ** 2))
+    else:
+        values = 100 / (1 + np.exp(np.clip(np.maximum(np.abs(x) - width_x, np.abs(y) - width_y) / soft, -50, 50)))
+    return azimuth, elevation, np.where(V @ D > 0, values, 0.0)
+
+
+def test_lobe_shape_tells_rectangles_from_ellipses():
+    circle = E.lobe_shape(*_gaussian_lobe(10, 10), 120.0)
+    ellipse = E.lobe_shape(*_gaussian_lobe(12, 5), 120.0)
+    rectangle = E.lobe_shape(*_gaussian_lobe(12, 6, soft=0.5), 120.0)
+    assert circle["rectangularity"] == pytest.approx(math.pi / 4, abs=0.02)
+    assert circle["elongation"] == pytest.approx(1.0, abs=0.05)
+    assert ellipse["rectangularity"] == pytest.approx(math.pi / 4, abs=0.03) and ellipse["elongation"] > 2
+    assert rectangle["rectangularity"] > 0.88
+    # a circular lobe peaks where a circular lobe should on every arc; a flat-topped wide one does not
+    assert E.phase_shift(*_gaussian_lobe(10, 10), 120.0) < 1.0
+    assert E.phase_shift(*_gaussian_lobe(12, 30, soft=0.5), 120.0) > 3.0
+
+
+def _tiny_ensemble_study():
+    from roughlight.periodic import fast_sweep
+    from roughlight.shading import Lighting
+    from roughlight.study import sweep_table
+
+    azimuth, elevation = sweeps.view_grid(2, 15)
+    tables = []
+    for kind, seed in (("pyramids", 0), ("random_pyramids", 1), ("random_pyramids", 2), ("random_pyramids", 3)):
+        surface = make_surface(kind, 1.0, 1.0, seed, cells=2)
+        result = fast_sweep(surface, 30, azimuth, elevation)
+        tables.append(sweep_table(result, surface, 30, azimuth, elevation, Lighting(), "fast",
+                                  {"pixels_per_period": 24, "sampling": "lattice", "shadow_map_size": 512}))
+    plate = make_surface("pyramids", 0.0, 0.0)
+    control = sweep_table(fast_sweep(plate, 30, azimuth, elevation, Lighting(shadows=False)), plate, 30, azimuth,
+                          elevation, Lighting(shadows=False), "fast",
+                          {"pixels_per_period": 24, "sampling": "lattice", "shadow_map_size": 512})
+    return tables, control
+
+
+def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
+    import pyarrow.parquet as pq
+
+    from roughlight.study import aggregate
+
+    tables, control = _tiny_ensemble_study()
+    paths = []
+    for n, table in enumerate(tables + [control]):
+        paths.append(tmp_path / f"{n}.parquet")
+        pq.write_table(table, paths[-1])
+    study = aggregate(paths[:-1], paths[-1:])
+    assert set(zip(study["kind"], study["seed"])) == {("pyramids", 0), ("random_pyramids", 1),
+                                                      ("random_pyramids", 2), ("random_pyramids", 3)}
+    stats = E.seed_statistics(study)
+    summary = E.ensemble_summary(stats)
+    level = summary[summary["statistic"] == "diffuse_level"].iloc[0]
+    per_seed = stats[(stats.kind == "random_pyramids") & (stats.statistic == "diffuse_level")]["value"]
+    assert level["seeds"] == 3
+    assert level["mean"] == pytest.approx(per_seed.mean())
+    assert level["sd"] == pytest.approx(per_seed.std(ddof=1))
+    assert level["ci_low"] < level["mean"] < level["ci_high"]
+    regular = stats[(stats.kind == "pyramids") & (stats.statistic == "diffuse_level")]["value"].iloc[0]
+    assert level["regular"] == pytest.approx(regular)
+    assert 0 <= level["p_value"] <= 1
+    needed = E.seeds_needed(summary)
+    row = needed[needed["statistic"] == "diffuse_level"].iloc[0]
+    assert row["seeds_for_0.1"] <= row["seeds_for_0.05"] <= row["seeds_for_0.02"]
+    fits = E.ensemble_model_fits(study)
+    regular_fit = fits[fits["kind"] == "pyramids"].iloc[0]
+    assert regular_fit["rmse_regular_diffuse"] == 0.0
+    assert (fits.loc[fits["kind"] == "random_pyramids", "rmse_regular_diffuse"] > 0).all()
+
+
+@pytest.mark.slow
+def test_adding_a_seed_renders_only_it(workflow_dir):
+    cfg = {
+        "grid": {"truncation": [0.0, 1.0], "aspect": [1.0], "incidence": [30]},
+        "sweep": {"elevation_step": 30, "azimuth_step": 60},
+        "surface": {"kind": ["pyramids", "random_pyramids", "random_heightfield"], "seeds": 2, "cells": 2,
+                    "random_grid": {"truncation": [1.0], "aspect": [1.0]}},
+    }
+    write_config(workflow_dir, cfg)
+    meshes = [f"results/meshes/{k}_t1_a1_s{s}.ply" for k in KINDS for s in (1, 2)]
+    snakemake(workflow_dir, "results/study.parquet", *meshes)
+    study = pd.read_parquet(workflow_dir / "results" / "study.parquet")
+    assert set(zip(study["kind"], study["seed"])) == {("pyramids", 0)} | {(k, s) for k in KINDS for s in (1, 2)}
+    # the random rows keep the columns' meaning: the same grid point, views and control as the regular surface
+    regular = study[study.kind == "pyramids"].set_index(["truncation", "aspect", "azimuth", "elevation", "component"])
+    tile = study[(study.kind == "random_pyramids") & (study.seed == 1)].set_index(regular.index.names)
+    np.testing.assert_array_equal(tile["control"], regular.loc[tile.index, "control"])
+    for path in meshes:
+        assert (workflow_dir / path).stat().st_size > 0
+
+    cfg["surface"]["seeds"] = [1, 2, 3]
+    write_config(workflow_dir, cfg)
+    assert planned_jobs(workflow_dir) == {"random_sweep": 2, "study_table": 1}
