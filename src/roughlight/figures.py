@@ -1016,3 +1016,43 @@ def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", see
     fig.suptitle(f"{component} (0-255), each map on its own scale", fontsize=9)
     fig.tight_layout()
     save_figure(fig, path)
+
+
+def plot_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures, path) -> None:
+    """The random tiles' benchmark on one page: each followed statistic against tile size (ensemble mean and
+    95% interval over seeds, the regular surface dashed), the fast renderer's views per second against tile size,
+    and pictures of each kind as rendered at the thesis's telling views (kinds by rows)."""
+    _theme()
+    names = list(dict.fromkeys(summary["statistic"]))
+    ncol = 3
+    n_pictures = len(pictures)
+    picture_rows = math.ceil(n_pictures / ncol) if n_pictures else 0
+    chart_rows = math.ceil((len(names) + 1) / ncol)
+    fig = plt.figure(figsize=(4.0 * ncol, 3.0 * (chart_rows + picture_rows)))
+    grid = fig.add_gridspec(chart_rows + picture_rows, ncol)
+    for k, name in enumerate(names + ["views_per_second"]):
+        ax = fig.add_subplot(grid[k // ncol, k % ncol])
+        for kind, g in summary.groupby("kind"):
+            g = g[g["statistic"] == (name if name != "views_per_second" else names[0])].sort_values("cells")
+            y = g["views_per_second"] if name == "views_per_second" else g["mean"]
+            err = None if name == "views_per_second" else g["ci_half_width"]
+            ax.errorbar(g["cells"], y, yerr=err, marker="o", capsize=3, color=KIND_COLOURS.get(kind),
+                        label=kind.replace("_", " "))
+            if name != "views_per_second" and np.isfinite(g["regular"].iloc[0]):
+                ax.axhline(g["regular"].iloc[0], color="k", ls="--", lw=1)
+        if name == "views_per_second":
+            regular = summary["regular_views_per_second"].dropna()
+            if len(regular):
+                ax.axhline(float(regular.iloc[0]), color="k", ls="--", lw=1, label="regular surface")
+            ax.set_yscale("log")
+        ax.set_title(name.replace("_", " ") + (" (fast renderer)" if name == "views_per_second" else ""), fontsize=9)
+        ax.set_xlabel("tile size (cells a side)", fontsize=8)
+        if k == 0:
+            ax.legend(fontsize=7)
+    for k, (label, image) in enumerate(pictures):
+        ax = fig.add_subplot(grid[chart_rows + k // ncol, k % ncol])
+        ax.imshow(image)
+        ax.set_title(label, fontsize=8)
+        ax.axis("off")
+    fig.tight_layout()
+    save_figure(fig, path)

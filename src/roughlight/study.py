@@ -47,6 +47,7 @@ __all__ = [
     "sweep_table",
     "read_sweep",
     "aggregate",
+    "join_controls",
     "regular",
 ]
 
@@ -155,6 +156,15 @@ def aggregate(rough_paths, control_paths):
 
     rough = pd.concat([read_sweep(p) for p in rough_paths], ignore_index=True)
     control = pd.concat([read_sweep(p) for p in control_paths], ignore_index=True)
+    return join_controls(rough, control)
+
+
+def join_controls(rough, control):
+    """The study table from sweep frames (:func:`sweep_table`'s columns): each rough view joined to the
+    control's same view (see :func:`aggregate`)."""
+    import pandas as pd
+
+    rough, control = rough.copy(), control.copy()
     join = ["incidence", "azimuth", "elevation", "component"]
     control = control[join + ["value"]].rename(columns={"value": "control"})
     for frame in (rough, control):

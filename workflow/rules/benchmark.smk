@@ -57,3 +57,31 @@ rule implicit_surface:
         lighting=lighting_params,
     script:
         "../scripts/implicit_surface.py"
+
+
+# Random tiles (surface.kind): lobe and diffuse statistics against tile size (the tile-size choice), the fast
+# renderer against the exact reference on random tiles and its views per second beside the regular surface's,
+# and pictures of each kind.
+rule random_tiles:
+    output:
+        convergence="results/benchmarks/{plan}/tile_convergence.parquet",
+        accuracy="results/benchmarks/{plan}/random_accuracy.parquet",
+        chart=report(
+            "results/benchmarks/{plan}/random_tiles.png",
+            caption="../report/random_tiles.rst",
+            category="Speed and accuracy",
+        ),
+    log:
+        "results/logs/benchmarks/{plan}/random_tiles.log",
+    benchmark:
+        "results/logs/benchmarks/{plan}/random_tiles.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=4096,
+    params:
+        lighting=lighting_params,
+        render=fast_render_params,
+    script:
+        "../scripts/random_tiles.py"

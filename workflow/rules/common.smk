@@ -182,6 +182,11 @@ def render_params(wildcards):
     return rl_config.render_settings_from_config(config)
 
 
+def fast_render_params(wildcards):
+    """The fast renderer's knobs as configured (whatever render.method the study uses)."""
+    return rl_config.render_settings_from_config(config)
+
+
 def grid_params(wildcards):
     return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}
 
@@ -226,6 +231,9 @@ def report_measurements(wildcards):
         inputs["random_model_fits"] = "results/analysis/random_model_fits.parquet"
         inputs["random_ensembles_chart"] = "results/figures/random_ensembles.png"
         inputs["random_maps_chart"] = "results/figures/random_maps.png"
+        inputs["random_accuracy"] = f"results/benchmarks/{plan}/random_accuracy.parquet"
+        inputs["tile_convergence"] = f"results/benchmarks/{plan}/tile_convergence.parquet"
+        inputs["random_tiles_chart"] = f"results/benchmarks/{plan}/random_tiles.png"
     if config["report"]["stability"]:
         inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
         inputs["stability_safe"] = f"results/stability/{plan}/safe_domain.csv"

@@ -53,7 +53,10 @@ random_html = None
 if "random_ensembles" in inp.keys():  # surface.kind lists a random kind
     random_html = R.random_section(read_frame(inp.random_ensembles), read_frame(inp.random_seeds_needed),
                                    pd.read_parquet(inp.random_model_fits), inp.random_ensembles_chart,
-                                   inp.random_maps_chart, surface_settings=snakemake.params.surface)
+                                   inp.random_maps_chart, surface_settings=snakemake.params.surface,
+                                   accuracy=pd.read_parquet(inp.random_accuracy),
+                                   convergence=pd.read_parquet(inp.tile_convergence),
+                                   tiles_png=inp.random_tiles_chart, plan=snakemake.params.plan)
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],

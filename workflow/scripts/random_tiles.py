@@ -1,0 +1,28 @@
+"""Snakemake adapter: the random tiles' benchmark (tile-size convergence, accuracy against the exact reference,
+views per second, pictures) at the plan its folder names."""
+import os
+import sys
+
+os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+
+from roughlight import figures, roughness_bench, shading  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
+from roughlight.sampling import RenderSettings  # noqa: E402
+
+log = _log.setup(snakemake)
+lighting = shading.Lighting(**snakemake.params.lighting)
+settings = RenderSettings(**snakemake.params.render)
+plan = snakemake.wildcards.plan
+convergence = roughness_bench.tile_convergence(plan, lighting=lighting, settings=settings, log=log)
+write_frame(convergence, snakemake.output.convergence)
+summary = roughness_bench.convergence_summary(convergence)
+accuracy = roughness_bench.random_accuracy(plan, lighting=lighting, settings=settings, log=log)
+write_frame(accuracy, snakemake.output.accuracy)
+pictures = roughness_bench.random_pictures(plan, lighting=lighting)
+figures.plot_random_tiles(summary, accuracy, pictures, snakemake.output.chart)
+log(summary.round(4).to_string())
+log(accuracy.round(4).to_string())
