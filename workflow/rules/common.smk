@@ -232,7 +232,9 @@ def report_measurements(wildcards):
         inputs["random_ensembles_chart"] = "results/figures/random_ensembles.png"
         inputs["random_maps_chart"] = "results/figures/random_maps.png"
         inputs["random_accuracy"] = f"results/benchmarks/{plan}/random_accuracy.parquet"
-        inputs["tile_convergence"] = f"results/benchmarks/{plan}/tile_convergence.parquet"
+        inputs["tile_convergence"] = (
+            f"results/benchmarks/{plan}/tile_convergence.parquet"
+        )
         inputs["random_tiles_chart"] = f"results/benchmarks/{plan}/random_tiles.png"
     if config["report"]["stability"]:
         inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
