@@ -223,6 +223,15 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     assert regular_fit["rmse_regular_diffuse"] == 0.0
     assert (fits.loc[fits["kind"] == "random_pyramids", "rmse_regular_diffuse"] > 0).all()
 
+    # the report's section says what was measured, with the numbers of these tables
+    from roughlight.report import random_section
+
+    html = random_section(summary, needed, fits, surface_settings={"cells": 2, "spread": {"truncation": 0.2}})
+    assert '<h2 id="random">Random roughness</h2>' in html
+    assert 'id="random-claim"' in html and 'id="random-seeds"' in html and "best <b>" in html
+    rect = summary[(summary.statistic == "back_rectangularity")].iloc[0]
+    assert f"{rect['regular']:.3f} regular against" in html
+
 
 @pytest.mark.slow
 def test_adding_a_seed_renders_only_it(workflow_dir):

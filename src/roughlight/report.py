@@ -963,6 +963,7 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
                         "three-part diffuse model's levels and continuous decay rate)", table_id="random-ensembles"))
     rmse = [c for c in model_fits.columns if c.startswith("rmse_")]
     fits = model_fits.groupby(["kind", "truncation", "aspect", "incidence"], as_index=False)[rmse].mean()
+    parts.append(_best_models(fits))
     parts.append("<p>The analytic models refitted on every tile (RMSE over all views, 0–255, mean over seeds). "
                  "<code>rmse_regular_*</code> predicts a tile by the regular surface at its grid point: what the "
                  "implicit shader's exact form, which reproduces the regular surface, would predict.</p>")
@@ -975,6 +976,33 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
                         "ensemble's seed-to-seed SD)", table_id="random-seeds"))
     parts += _random_tiles_parts(accuracy, convergence, tiles_png, plan)
     return "\n".join(parts)
+
+
+#: The analytic models compared on random tiles, by component: (column, name in the text).
+RANDOM_MODELS = {
+    "diffuse": (("rmse_lambert", "Lambert (the plate)"), ("rmse_oren_nayar", "Oren–Nayar, geometric σ"),
+                ("rmse_oren_nayar_fitted", "Oren–Nayar, fitted σ"), ("rmse_facet_vcavity_diffuse", "V-cavity facets"),
+                ("rmse_regular_diffuse", "the regular surface (implicit exact form)")),
+    "specular": (("rmse_phong_plate", "Phong on the plate"), ("rmse_facet_nomask_specular", "facets, no masking"),
+                 ("rmse_facet_vcavity_specular", "V-cavity facets"),
+                 ("rmse_regular_specular", "the regular surface (implicit exact form)")),
+}
+
+
+def _best_models(fits: pd.DataFrame) -> str:
+    """One line per kind and component: which analytic model has the lowest mean RMSE over its grid points."""
+    items = []
+    for kind, g in fits.groupby("kind", sort=False):
+        for component, models in RANDOM_MODELS.items():
+            present = [(c, name) for c, name in models if c in g and not (kind == "pyramids" and "regular" in c)]
+            if not present:
+                continue
+            means = {name: float(g[c].mean()) for c, name in present}
+            best = min(means, key=means.get)
+            others = "; ".join(f"{name} {value:.2f}" for name, value in sorted(means.items(), key=lambda kv: kv[1]))
+            items.append(f"<li>{_e(kind.replace('_', ' '))}, {component}: best <b>{_e(best)}</b> (mean RMSE over its "
+                         f"grid points: {_e(others)})</li>")
+    return "<p>Which model fits best, by kind:</p><ul>" + "".join(items) + "</ul>" if items else ""
 
 
 def _random_tiles_parts(accuracy, convergence, tiles_png, plan) -> list:
