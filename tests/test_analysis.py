@@ -308,6 +308,18 @@ def test_grid_glm_recovers_an_interaction_model():
     assert res.summary["condition_scaled"] < 30
 
 
+def test_scaled_condition_is_belsleys_uncentred_unit_length_scaling():
+    from roughlight.glm import _scaled_condition
+
+    # a column nearly constant is collinear with the intercept: centring would hide it, Belsley's scaling shows it
+    x = 10 + 1e-3 * np.arange(20)
+    X = np.column_stack([np.ones(20), x])
+    assert _scaled_condition(X) > 1e3
+    # orthogonal columns of any lengths: 1
+    Q = np.column_stack([np.r_[1, 1, 1, 1], 5 * np.r_[1, -1, 1, -1], 0.1 * np.r_[1, 1, -1, -1]]).astype(float)
+    assert _scaled_condition(Q) == pytest.approx(1.0)
+
+
 def test_grid_glm_degenerate_grids_never_crash():
     # only plates: nothing left to fit
     res = grid_glm(_grid([0.0], [0.0, 0.5, 1.0], lambda t, a: 5.0), "y")

@@ -31,17 +31,14 @@ class GLMResult:
 
 
 def _scaled_condition(X: np.ndarray) -> float:
-    """Condition number of the design with every non-constant column centred and scaled to unit norm."""
-    Z = []
-    for col in X.T:
-        c = col - col.mean()
-        nrm = np.linalg.norm(c)
-        if nrm > 0:
-            Z.append(c / nrm)
-    if not Z:
+    """Belsley's scaled condition number: the design, intercept column included, with every column scaled to
+    unit length and *not* centred (Belsley, Kuh and Welsch 1980, ch. 3: centring hides the collinearity with
+    the intercept). Its thresholds, 30 ("moderate") and 100 ("strong"), assume this scaling."""
+    norms = np.linalg.norm(X, axis=0)
+    keep = norms > 0
+    if not keep.any():
         return np.nan
-    Z = np.column_stack(Z)
-    return float(np.linalg.cond(Z))
+    return float(np.linalg.cond(X[:, keep] / norms[keep]))
 
 
 def fitted_surfaces(data: pd.DataFrame, response: str, messages: list) -> pd.DataFrame:
@@ -93,7 +90,7 @@ def design(d: pd.DataFrame, terms: list[str]) -> np.ndarray:
 
 def collinearity(d: pd.DataFrame, terms: list[str], response: str, limit: float, messages: list) -> list[str]:
     """Drop terms (interaction first, then incidence, then the last) until the design is full rank and its
-    centred-and-scaled condition number is at most ``limit``. Removes them from ``terms``; returns the dropped."""
+    Belsley-scaled condition number (:func:`_scaled_condition`) is at most ``limit``. Removes them from ``terms``; returns the dropped."""
     dropped = []
     while terms:
         X = design(d, terms)

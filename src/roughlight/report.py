@@ -509,8 +509,9 @@ def _section_glm(tables: dict, figures: dict) -> list[str]:
     parts.append("<p>Gaussian GLMs (IRLS) of the forward lobe peak, the back lobe peak and the diffuse level "
                  "(solid-angle weighted hemisphere mean) on truncation, aspect and their interaction (and incidence "
                  "when the grid has more than one). The plate surfaces (truncation 0 or aspect 0) are one surface "
-                 "whatever the other parameter is and are kept out; terms are dropped when the centred and scaled "
-                 "design is near-collinear.</p>")
+                 "whatever the other parameter is and are kept out; terms are dropped when the design is "
+                 "near-collinear: Belsley's scaled condition number (every column, the intercept's included, scaled "
+                 "to unit length and not centred, the scaling his thresholds 30 and 100 assume) above 30.</p>")
     parts.append(_notes(tables.get("glm_messages", [])))
     parts.append(_table(tables.get("glm_summary"), TABLE_CAPTIONS["glm_summary"], table_id="glm-summary"))
     parts.append(_table(tables.get("glm_coefficients"), TABLE_CAPTIONS["glm_coefficients"],
