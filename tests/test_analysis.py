@@ -557,3 +557,20 @@ def test_the_sd_identity_tells_which_sd_a_table_gives():
     assert stats["RSS"] <= sd_bound(stats["Standard Deviation"], 11) * (1 + 1e-9)
     t1 = {m: dict(zip(["MAE", "SD", "b0", "b1", "RSS"], v)) for m, v in THESIS_TABLES[1]["rows"].items()}
     assert all(row["RSS"] > sd_bound(row["SD"], 11) for row in t1.values())  # 122.4 > 94.9, 51.9 > 35.3
+
+
+def test_hapke_is_charged_for_its_parameters_and_scored_on_held_out_bins():
+    from roughlight.surface_models import fit_hapke
+
+    g = np.linspace(0, 60, 121)
+    # no surge, a little scatter: the nested four-parameter fit always wins in-sample, and loses where it counts
+    flat = 40 + 0.1 * g + np.random.default_rng(1).normal(0, 0.5, g.size)
+    fit = fit_hapke(g, flat)
+    assert fit["rmse"] <= fit["rmse_constant"]
+    assert fit["rmse_heldout"] > fit["rmse_constant_heldout"]
+    assert fit["aic"] > fit["aic_constant"]
+    # a real surge wins on every score
+    surge = 40 + 0.1 * g + 20 / (1 + np.tan(np.radians(g) / 2) / 0.05)
+    fit = fit_hapke(g, surge)
+    assert fit["rmse_heldout"] < fit["rmse_constant_heldout"] / 10
+    assert fit["aic"] < fit["aic_constant"]

@@ -90,7 +90,8 @@ def design(d: pd.DataFrame, terms: list[str]) -> np.ndarray:
 
 def collinearity(d: pd.DataFrame, terms: list[str], response: str, limit: float, messages: list) -> list[str]:
     """Drop terms (interaction first, then incidence, then the last) until the design is full rank and its
-    Belsley-scaled condition number (:func:`_scaled_condition`) is at most ``limit``. Removes them from ``terms``; returns the dropped."""
+    Belsley-scaled condition number (:func:`_scaled_condition`) is at most ``limit``. Removes them from
+    ``terms``; returns the dropped."""
     dropped = []
     while terms:
         X = design(d, terms)

@@ -154,11 +154,13 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     -------
     dict: ``c`` (0-255), ``d`` (0-255 per degree), ``S`` (surge amplitude,
     0-255), ``B0`` (S / c; NaN when c <= 0), ``h``, ``rmse`` (on the phase
-    curve, 0-255), ``rmse_constant`` (the background ``c + d g`` alone),
-    ``n`` (phase bins), ``note``.
+    curve, in-sample, 0-255), ``rmse_constant`` (the background ``c + d g``
+    alone, in-sample: never below ``rmse``, the surge nests it),
+    ``rmse_heldout`` and ``rmse_constant_heldout`` (two-fold held-out phase
+    bins, :func:`_held_out`), ``aic`` and ``aic_constant`` (Gaussian AIC
+    with 4 and 2 parameters: lower is better, and it charges the surge for its
+    two extra parameters), ``n`` (phase bins), ``note``.
     """
-    from scipy.optimize import minimize_scalar
-
     g = np.asarray(phase, float)
     v = np.asarray(values, float)
     ok = (g <= max_phase) & np.isfinite(v) & np.isfinite(g)
@@ -169,7 +171,8 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
         v = np.bincount(inv, weights=v) / np.bincount(inv)
         g = np.bincount(inv, weights=g) / np.bincount(inv)
     out = {"c": np.nan, "d": np.nan, "S": np.nan, "B0": np.nan, "h": np.nan, "rmse": np.nan,
-           "rmse_constant": np.nan, "n": int(len(v)), "note": ""}
+           "rmse_constant": np.nan, "rmse_heldout": np.nan, "rmse_constant_heldout": np.nan, "aic": np.nan,
+           "aic_constant": np.nan, "n": int(len(v)), "note": ""}
     if len(v) < 5:
         out["note"] = f"only {len(v)} phase bins within {max_phase:g} deg of opposition"
         return out
@@ -179,6 +182,36 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     if np.ptp(v) < 1e-9:
         out.update(c=float(v[0]), d=0.0, S=0.0, B0=0.0, rmse=0.0, note="constant: no opposition surge")
         return out
+    (c, d, S), log_h = _fit_surge(g, v, h_range)
+    r = float(np.sum((v - _surge_curve(g, c, d, S, log_h)) ** 2))
+    out.update(c=float(c), d=float(d), S=float(S), B0=float(S / c) if c > 0 else np.nan, h=math.exp(log_h),
+               rmse=float(math.sqrt(r / len(v))))
+    out.update(_held_out(g, v, h_range))
+    n = len(v)
+    rss0 = float(np.sum((v - base @ coef0) ** 2))
+    # Gaussian AIC, n ln(RSS/n) + 2k: the background has 2 parameters, the surge 4 (c, d, S, h)
+    out["aic"] = n * math.log(max(r, 1e-300) / n) + 2 * 4
+    out["aic_constant"] = n * math.log(max(rss0, 1e-300) / n) + 2 * 2
+    if S <= 0:
+        out.update(h=np.nan, note="no surge: the background alone fits best")
+    elif abs(log_h - math.log(h_range[0])) < 1e-3 or abs(log_h - math.log(h_range[1])) < 1e-3:
+        out["note"] = f"h at the edge of its range ({h_range[0]:g}..{h_range[1]:g}): no distinct surge width"
+    if S > 0 and not c > 0:
+        out["note"] = (out["note"] + "; " if out["note"] else "") + "background intercept <= 0: B0 undefined"
+    return out
+
+
+def _surge_curve(g, c, d, S, log_h):
+    return c + d * g + S / (1.0 + np.tan(np.radians(g) / 2.0) / math.exp(log_h))
+
+
+def _fit_surge(g, v, h_range):
+    """Least squares ``(c, d, S)`` (``S >= 0``) and ``log h`` of the surge on a linear background (see
+    :func:`fit_hapke`); a surge that does not add light falls back to the background alone (``S = 0``)."""
+    from scipy.optimize import minimize_scalar
+
+    base = np.column_stack([np.ones_like(g), g])
+    coef0, *_ = np.linalg.lstsq(base, v, rcond=None)
     tg = np.tan(np.radians(g) / 2.0)
 
     def solve(log_h):
@@ -197,18 +230,28 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     a_, b_ = grid[max(j - 1, 0)], grid[min(j + 1, len(grid) - 1)]
     best = minimize_scalar(lambda x: solve(x)[1], bounds=(a_, b_), method="bounded", options={"xatol": 1e-4})
     log_h = float(best.x) if best.fun <= rss[j] else float(grid[j])
-    (c, d, S), r = solve(log_h)
+    (c, d, S), _ = solve(log_h)
     if S <= 1e-9 * max(1.0, float(np.abs(v).max())):  # rounding, not a surge
-        (c, d), S, r = coef0, 0.0, float(np.sum((v - base @ coef0) ** 2))
-    out.update(c=float(c), d=float(d), S=float(S), B0=float(S / c) if c > 0 else np.nan, h=math.exp(log_h),
-               rmse=float(math.sqrt(r / len(v))))
-    if S <= 0:
-        out.update(h=np.nan, note="no surge: the background alone fits best")
-    elif abs(log_h - lo) < 1e-3 or abs(log_h - hi) < 1e-3:
-        out["note"] = f"h at the edge of its range ({h_range[0]:g}..{h_range[1]:g}): no distinct surge width"
-    if S > 0 and not c > 0:
-        out["note"] = (out["note"] + "; " if out["note"] else "") + "background intercept <= 0: B0 undefined"
-    return out
+        (c, d), S = coef0, 0.0
+    return (float(c), float(d), float(S)), log_h
+
+
+def _held_out(g, v, h_range) -> dict:
+    """Two-fold held-out error of the surge model and of the background alone: fitted on the even phase bins,
+    scored on the odd ones, and the other way round (RMSE over all bins, 0-255). Unlike the in-sample RMSEs,
+    the four-parameter surge can lose to its two-parameter background here."""
+    folds = np.arange(len(g)) % 2
+    err, err0 = np.zeros(len(g)), np.zeros(len(g))
+    for k in (0, 1):
+        train, test = folds != k, folds == k
+        if train.sum() < 5:
+            return {"rmse_heldout": np.nan, "rmse_constant_heldout": np.nan}
+        (c, d, S), log_h = _fit_surge(g[train], v[train], h_range)
+        err[test] = v[test] - _surge_curve(g[test], c, d, S, log_h)
+        base = np.column_stack([np.ones(train.sum()), g[train]])
+        coef0, *_ = np.linalg.lstsq(base, v[train], rcond=None)
+        err0[test] = v[test] - (coef0[0] + coef0[1] * g[test])
+    return {"rmse_heldout": float(np.sqrt(np.mean(err**2))), "rmse_constant_heldout": float(np.sqrt(np.mean(err0**2)))}
 
 
 #: RMSEs closer than this (0-255 scale) are a tie; the simpler model (listed first) wins it.
@@ -322,6 +365,8 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
         mt = gt["coverage"].to_numpy(float) > 0
         hp = fit_hapke(gt["phase"].to_numpy(float)[mt], gt["rough"].to_numpy(float)[mt], hapke_max_phase)
         row.update(rmse_hapke=hp["rmse"], rmse_constant_near_opposition=hp["rmse_constant"],
+                   rmse_hapke_heldout=hp["rmse_heldout"], rmse_constant_heldout=hp["rmse_constant_heldout"],
+                   hapke_aic=hp["aic"], hapke_aic_constant=hp["aic_constant"],
                    hapke_c=hp["c"], hapke_d=hp["d"], hapke_S=hp["S"], hapke_B0=hp["B0"], hapke_h=hp["h"],
                    hapke_note=hp["note"])
         hd = fit_hapke(gd["phase"].to_numpy(float)[m], yd[m], hapke_max_phase)
@@ -353,12 +398,14 @@ MODEL_COLUMNS = {
         "rmse_facet_vcavity_specular": "Torrance-Sparrow V-cavity facets",
     },
     "near opposition (total)": {
-        "rmse_constant_near_opposition": "linear phase background",
-        "rmse_hapke": "background + Hapke B(g)",
+        "rmse_constant_near_opposition": "linear phase background (in-sample)",
+        "rmse_hapke": "background + Hapke B(g) (in-sample)",
+        "rmse_constant_heldout": "linear phase background (held-out phase bins)",
+        "rmse_hapke_heldout": "background + Hapke B(g) (held-out phase bins)",
     },
     "near opposition (diffuse)": {
-        "rmse_constant_diffuse_near_opposition": "linear phase background",
-        "rmse_hapke_diffuse": "background + Hapke B(g)",
+        "rmse_constant_diffuse_near_opposition": "linear phase background (in-sample)",
+        "rmse_hapke_diffuse": "background + Hapke B(g) (in-sample)",
     },
 }
 
