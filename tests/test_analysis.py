@@ -574,3 +574,27 @@ def test_hapke_is_charged_for_its_parameters_and_scored_on_held_out_bins():
     fit = fit_hapke(g, surge)
     assert fit["rmse_heldout"] < fit["rmse_constant_heldout"] / 10
     assert fit["aic"] < fit["aic_constant"]
+
+
+def test_share_laws_fit_what_they_should_and_are_scored_held_out():
+    from roughlight.share_laws import MODELS, share_law_fits
+
+    m = 127.0
+    rows = []
+    ts = np.round(np.arange(0.1, 1.01, 0.1), 10)
+    for a, k in ((0.5, 0.3), (1.0, 0.5)):
+        for t in ts:
+            rows.append({"truncation": t, "aspect": a, "incidence": 30.0, "lobe": "forward",
+                         "peak": m * (1 - t) ** 2 if t < 1 else np.nan, "note": "" if t < 1 else "no lobe"})
+            rows.append({"truncation": t, "aspect": a, "incidence": 30.0, "lobe": "back",
+                         "peak": m * k * (1 - (1 - t) ** 2), "note": ""})
+    fits = share_law_fits(pd.DataFrame(rows), m=m).set_index(["lobe", "model"])
+    forward = fits.loc[("forward", "share law (no free parameter)")]
+    assert forward["rmse"] < 1e-9 and forward["rmse_held_out"] < 1e-9 and forward["parameters"] == 0
+    fitted = fits.loc[("back", MODELS[1])]
+    assert fitted["rmse"] < 1e-9 and fitted["rmse_held_out"] < 1e-9 and fitted["parameters"] == 2
+    # the linear GLM cannot follow the curvature: it is worse held out than in-sample, and worse than the share law
+    linear = fits.loc[("back", MODELS[3])]
+    assert linear["rmse_held_out"] > linear["rmse"] > 0.5
+    quasi = fits.loc[("back", MODELS[2])]
+    assert np.isfinite(quasi["rmse_held_out"]) and quasi["rmse_held_out"] >= quasi["rmse"]

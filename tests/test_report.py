@@ -37,6 +37,8 @@ from roughlight.surface_models import analytic_model_fits, model_fit_summary
 from roughlight.thesis import exact_lobe_peaks, sine_refits, thesis_tables
 from roughlight.timings import render_timings
 
+from roughlight.share_laws import share_law_fits
+
 from .conftest import REPO
 from .test_analysis import make_study
 
@@ -57,6 +59,7 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     tables, messages = thesis_tables(lobes, SETTINGS["table_aspects"], 30.0, m=127.0, exact=exact)
     sine = sine_refits(lobes, SETTINGS["table_aspects"], 30.0)
     glm_summary, glm_coefs, glm_diag, glm_messages = grid_glms(lobes, levels)
+    laws = share_law_fits(lobes)
     fits = analytic_model_fits(study)
     per_sweep, timing_summary = render_timings(study)
     areas = pd.concat([reflecting_areas(a, 30.0, np.linspace(0, 1, 5)).assign(aspect=a)
@@ -92,7 +95,7 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
         {"study_summary": summary, "timings_summary": timing_summary, "lobes": lobes,
          "lobes_hemisphere": hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
          "thesis_tables": tables, "sine_refits": sine, "timings": per_sweep, "glm_summary": glm_summary,
-         "glm_coefficients": glm_coefs, "glm_messages": glm_messages, "model_fits": fits,
+         "glm_coefficients": glm_coefs, "glm_messages": glm_messages, "share_laws": laws, "model_fits": fits,
          "model_fits_summary": model_fit_summary(fits)},
         paths, config={"grid": {"aspect": summary["aspects"]}}, messages=messages,
         provenance={"settings": SETTINGS}, benchmarks=None,
@@ -194,6 +197,7 @@ def test_report_is_self_contained(built):
     assert len(imgs) == len(registry.FIGURES)  # every figure of the report, one <img> each
     assert all(i["src"].startswith("data:image/png;base64,") for i in imgs)
     assert 'id="stability-regressions"' in text and 'id="regression-status"' in text
+    assert 'id="share-laws"' in text and "best held out" in text
 
 
 def test_report_in_headless_chromium(built):

@@ -75,6 +75,12 @@ rule analysis_glm:
         ),
         diagnostics="results/analysis/glm_diagnostics.csv",
         messages="results/analysis/glm_messages.json",
+        share_laws=report(
+            "results/analysis/share_laws.csv",
+            caption="../report/share_laws.rst",
+            category="Tables",
+            subcategory="Beyond the thesis",
+        ),
     log:
         "results/logs/report/glm.log",
     benchmark:
@@ -86,6 +92,7 @@ rule analysis_glm:
         mem_mb=1024,
     params:
         settings=report_settings,
+        lighting=lighting_params,
     script:
         "../scripts/analysis_glm.py"
 
@@ -229,6 +236,7 @@ rule report_html:
         glm_summary="results/analysis/glm_summary.csv",
         glm_coefficients="results/analysis/glm_coefficients.csv",
         glm_messages="results/analysis/glm_messages.json",
+        share_laws="results/analysis/share_laws.csv",
         fits="results/analysis/model_fits.parquet",
         fits_summary="results/analysis/model_fits_summary.csv",
         figures=[figure.path for figure in rl_registry.FIGURES],

@@ -10,6 +10,8 @@ import pandas as pd  # noqa: E402
 
 from roughlight.atomic import read_frame, write_frame, write_text_atomic  # noqa: E402
 from roughlight.glm import grid_glms  # noqa: E402
+from roughlight.shading import Lighting  # noqa: E402
+from roughlight.share_laws import share_law_fits  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output
@@ -25,3 +27,7 @@ write_frame(coefficients, out.coefficients)
 write_frame(diagnostics, out.diagnostics)
 write_text_atomic(out.messages, json.dumps(messages, indent=1))
 log(f"GLMs: {summary[['response', 'status', 'converged']].to_dict('records')}")
+lighting = Lighting(**snakemake.params.lighting)
+laws = share_law_fits(lobes, m=lighting.light * lighting.specular_reflectance)
+write_frame(laws, out.share_laws)
+log(f"share laws: {laws[['lobe', 'model', 'rmse', 'rmse_held_out']].round(3).to_dict('records')}")

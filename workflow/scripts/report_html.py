@@ -30,6 +30,7 @@ tables = {
     "timings": read_frame(inp.timings),
     "glm_summary": read_frame(inp.glm_summary),
     "glm_coefficients": read_frame(inp.glm_coefficients),
+    "share_laws": read_frame(inp.share_laws),
     "glm_messages": glm_messages,
     "model_fits": pd.read_parquet(inp.fits),
     "model_fits_summary": read_frame(inp.fits_summary),
