@@ -205,7 +205,9 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     assert set(zip(study["kind"], study["seed"])) == {("pyramids", 0), ("random_pyramids", 1),
                                                       ("random_pyramids", 2), ("random_pyramids", 3)}
     stats = E.seed_statistics(study)
-    summary = E.ensemble_summary(stats)
+    pooled = E.pooled_statistics(study)
+    assert set(pooled["kind"]) == {"random_pyramids"} and set(pooled["seed"]) == {0}
+    summary = E.ensemble_summary(stats, pooled=pooled)
     level = summary[summary["statistic"] == "diffuse_level"].iloc[0]
     per_seed = stats[(stats.kind == "random_pyramids") & (stats.statistic == "diffuse_level")]["value"]
     assert level["seeds"] == 3
@@ -215,6 +217,8 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     regular = stats[(stats.kind == "pyramids") & (stats.statistic == "diffuse_level")]["value"].iloc[0]
     assert level["regular"] == pytest.approx(regular)
     assert 0 <= level["p_value"] <= 1
+    # the diffuse level is a view-weighted mean: of the seed-averaged views it is the mean of the seeds' levels
+    assert level["pooled"] == pytest.approx(level["mean"], rel=1e-9)
     needed = E.seeds_needed(summary)
     row = needed[needed["statistic"] == "diffuse_level"].iloc[0]
     assert row["seeds_for_0.1"] <= row["seeds_for_0.05"] <= row["seeds_for_0.02"]

@@ -33,11 +33,10 @@ from roughlight.glm import grid_glms
 from roughlight.lobes import arc_lobes, hemisphere_lobes
 from roughlight.selection import find_aspect
 from roughlight.shading import Lighting
+from roughlight.share_laws import share_law_fits
 from roughlight.surface_models import analytic_model_fits, model_fit_summary
 from roughlight.thesis import exact_lobe_peaks, sine_refits, thesis_tables
 from roughlight.timings import render_timings
-
-from roughlight.share_laws import share_law_fits
 
 from .conftest import REPO
 from .test_analysis import make_study

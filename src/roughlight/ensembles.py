@@ -37,6 +37,8 @@ __all__ = [
     "lobe_shape",
     "phase_shift",
     "seed_statistics",
+    "pooled_study",
+    "pooled_statistics",
     "ensemble_summary",
     "seeds_needed",
     "ensemble_model_fits",
@@ -217,7 +219,27 @@ def seed_statistics(study: pd.DataFrame, lobe_halfwidth: float = 40.0) -> pd.Dat
     return pd.DataFrame(rows, columns=ENSEMBLE_KEYS + ["statistic", "value"])
 
 
-def ensemble_summary(stats: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
+def pooled_study(study: pd.DataFrame) -> pd.DataFrame:
+    """Each random kind's seed-averaged views at every random grid point (seed 0): the reflectance of a surface
+    made of many tiles, as a large random surface is, where each seed alone is a small patch of one."""
+    data = random_points(study)
+    data = data[data["kind"].astype(str) != "pyramids"]
+    keys = ["kind"] + SURFACE_KEYS + ["azimuth", "elevation", "phase", "component"]
+    pooled = data.groupby(keys, observed=True, as_index=False)[["rough", "control", "coverage"]].mean()
+    pooled["kind"] = pooled["kind"].astype(str)
+    pooled.insert(1, "seed", 0)
+    return pooled
+
+
+def pooled_statistics(study: pd.DataFrame, lobe_halfwidth: float = 40.0) -> pd.DataFrame:
+    """:func:`seed_statistics` of each random kind's seed-averaged views (:func:`pooled_study`)."""
+    pooled = pooled_study(study)
+    if pooled.empty:
+        return pd.DataFrame(columns=ENSEMBLE_KEYS + ["statistic", "value"])
+    return seed_statistics(pooled, lobe_halfwidth)
+
+
+def ensemble_summary(stats: pd.DataFrame, level: float = 0.95, pooled: pd.DataFrame | None = None) -> pd.DataFrame:
     """Ensemble means with Student-t intervals over seeds, beside the regular surface, and a t-test.
 
     Parameters
@@ -232,11 +254,14 @@ def ensemble_summary(stats: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
     mean), ``regular`` (the regular surface's value), ``difference``
     (mean - regular), ``t`` and ``p_value`` (two-sided one-sample t-test of
     the seeds against the regular value; NaN with fewer than 2 seeds or no
-    spread).
+    spread), ``pooled`` (the statistic of the seed-averaged views,
+    :func:`pooled_statistics`, when ``pooled`` is given).
     """
     from scipy import stats as sps
 
     regular = stats[stats["kind"] == "pyramids"].set_index(SURFACE_KEYS + ["statistic"])["value"]
+    pooled_values = (pooled.set_index(["kind"] + SURFACE_KEYS + ["statistic"])["value"]
+                     if pooled is not None and len(pooled) else pd.Series(dtype=float))
     rows = []
     random = stats[stats["kind"] != "pyramids"]
     for (kind, t, a, i, name), group in random.groupby(["kind"] + SURFACE_KEYS + ["statistic"], sort=True):
@@ -254,7 +279,8 @@ def ensemble_summary(stats: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
         rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "statistic": name,
                      "unit": STATISTICS.get(name, ""), "seeds": n, "mean": mean, "sd": sd,
                      "ci_low": mean - half, "ci_high": mean + half, "regular": reg, "difference": mean - reg,
-                     "t": t_value, "p_value": p_value})
+                     "t": t_value, "p_value": p_value,
+                     "pooled": float(pooled_values.get((kind, t, a, i, name), np.nan))})
     return pd.DataFrame(rows)
 
 

@@ -941,7 +941,7 @@ def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
         rows.append({"kind": r["kind"], "truncation": r["truncation"], "aspect": r["aspect"],
                      "incidence": r["incidence"], "statistic": r["statistic"], "regular": r["regular"],
                      "random mean [95% CI]": _interval(r), "seeds": int(r["seeds"]), "t": r["t"],
-                     "p_value": r["p_value"]})
+                     "p_value": r["p_value"], "seed-averaged views": r.get("pooled", np.nan)})
     return pd.DataFrame(rows)
 
 
@@ -972,7 +972,9 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
              "ellipse, circles included), and the <b>phase shift</b>, the mean distance (degrees) of each off-plane "
              "arc's peak from where a circular lobe around the same peak would put it (arcs 5°–60° where the lobe "
              "stands above half its maximum). Intervals are Student-t 95% over seeds; the test is a two-sided "
-             "one-sample t-test of the seeds against the regular surface's value.</p>"]
+             "one-sample t-test of the seeds against the regular surface's value. Each seed is a small patch of a "
+             "random surface; the <b>seed-averaged views</b> (the mean over seeds of every view, what a surface "
+             "made of many tiles reflects) give each statistic once more.</p>"]
     claim = random_claim_rows(ensembles)
     verdicts = []
     for (kind, t, a, i), g in ensembles.groupby(["kind", "truncation", "aspect", "incidence"], sort=True):
@@ -982,9 +984,10 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
             continue
         r, sh = rect.iloc[0], shift.iloc[0]
         verdicts.append(f"<li>t {t:g}, a {aspect_label(a)}, i {i:g}, {_e(kind.replace('_', ' '))}: rectangularity "
-                        f"{r['regular']:.3f} regular against {_interval(r)} random (p = {r['p_value']:.2g}); phase "
-                        f"shift {sh['regular']:.2f}° regular against {_interval(sh)}° random "
-                        f"(p = {sh['p_value']:.2g}).</li>")
+                        f"{r['regular']:.3f} regular against {_interval(r)} random (p = {r['p_value']:.2g}; "
+                        f"seed-averaged {r.get('pooled', np.nan):.3f}); phase shift {sh['regular']:.2f}° regular "
+                        f"against {_interval(sh)}° random (p = {sh['p_value']:.2g}; seed-averaged "
+                        f"{sh.get('pooled', np.nan):.2f}°).</li>")
     if verdicts:
         parts.append("<p>As measured:</p><ul>" + "".join(verdicts) + "</ul>")
     parts.append(_table(claim, "The rectangular-lobe claim: back-lobe rectangularity (ratio) and phase shift (deg), "
@@ -993,8 +996,8 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
         if png and os.path.exists(png):
             parts.append(f'<figure id="fig-{stem.replace("_", "-")}"><img src="{png_data_uri(png)}" alt="{alt}">'
                          f"<figcaption>{_e(_caption_text(stem))}</figcaption></figure>")
-    shown = ensembles[["kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean", "ci_low",
-                       "ci_high", "regular", "difference", "p_value"]]
+    shown = ensembles[[c for c in ("kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean",
+                                   "ci_low", "ci_high", "regular", "difference", "p_value", "pooled") if c in ensembles]]
     parts.append(_table(shown, "Every statistic: random ensemble mean with its 95% interval over seeds, beside the "
                         "regular surface (lobes from the light's plane, diffuse level over the hemisphere, the "
                         "three-part diffuse model's levels and continuous decay rate)", table_id="random-ensembles"))

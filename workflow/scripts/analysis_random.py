@@ -17,7 +17,8 @@ out, settings = snakemake.output, snakemake.params.settings
 study = pd.read_parquet(snakemake.input.study)
 stats = E.seed_statistics(study, lobe_halfwidth=float(settings["lobe_halfwidth"]))
 write_frame(stats, out.statistics)
-summary = E.ensemble_summary(stats)
+pooled = E.pooled_statistics(study, lobe_halfwidth=float(settings["lobe_halfwidth"]))
+summary = E.ensemble_summary(stats, pooled=pooled)
 write_frame(summary, out.ensembles)
 write_frame(E.seeds_needed(summary), out.seeds_needed)
 log(f"ensembles: {summary.groupby(['kind', 'truncation', 'aspect', 'incidence']).ngroups} random grid points, "
