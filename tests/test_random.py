@@ -260,3 +260,16 @@ def test_adding_a_seed_renders_only_it(workflow_dir):
     cfg["surface"]["seeds"] = [1, 2, 3]
     write_config(workflow_dir, cfg)
     assert planned_jobs(workflow_dir) == {"random_sweep": 2, "study_table": 1}
+
+
+def test_tile_convergence_measures_the_regular_surface_beside_the_tiles(monkeypatch):
+    from roughlight import roughness_bench as B
+
+    monkeypatch.setitem(B.PLANS, "tiny", {"point": (1.0, 1.0, 30.0), "cells": (1,), "seeds": 1, "views": (3.0, 30.0),
+                                          "accuracy_cells": 1, "accuracy_seeds": 1, "accuracy_views": (30.0, 60.0)})
+    convergence = B.tile_convergence("tiny")
+    assert set(convergence["kind"]) == {"pyramids", "random_pyramids", "random_heightfield"}
+    summary = B.convergence_summary(convergence)
+    level = summary[(summary.statistic == "diffuse_level")]
+    regular = convergence[(convergence.kind == "pyramids") & (convergence.statistic == "diffuse_level")]["value"]
+    assert np.allclose(level["regular"], regular.iloc[0]) and (level["regular_views_per_second"] > 0).all()

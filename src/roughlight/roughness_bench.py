@@ -68,8 +68,7 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     for kind, cells, seed in runs:
         surface = make_surface(kind, t, a, seed, cells=max(cells, 1))
         frame, result = _sweep_frame(surface, i, azimuth, elevation, lighting, settings)
-        stats = seed_statistics(join_controls(frame, control).assign(kind=kind))
-        stats = stats[stats["kind"] == kind] if kind != "pyramids" else stats
+        stats = seed_statistics(join_controls(frame, control))
         views = int(azimuth.size)
         for _, row in stats.iterrows():
             rows.append({"kind": kind, "cells": cells, "seed": seed, "statistic": row["statistic"],
