@@ -399,3 +399,27 @@ def test_input_validation():
     with pytest.raises(ValueError):
         reference_sweep(Surface(1.5, 1.0), 30.0, [0.0], [45.0])
     assert reference.REFERENCE_ERROR < 0.5
+
+
+def test_specular_without_inner_shadows_is_the_theses_protocol():
+    """render.specular_shadows: false shadows the diffuse only; the back lobe widens (15.6 to 16.8 deg, t 1, sqrt3/2)."""
+    from dataclasses import replace
+
+    from roughlight.shading import Lighting
+    from roughlight.surface import SQRT3_2, Surface
+    from roughlight.thesis import _exact_widths
+
+    surface = Surface(1.0, SQRT3_2)
+    el = np.arange(5.0, 180.0, 7.0)
+    az = np.zeros_like(el)
+    shadowed = reference_sweep(surface, 30, az, el, Lighting())
+    thesis = reference_sweep(surface, 30, az, el, Lighting(specular_shadows=False))
+    unshadowed = reference_sweep(surface, 30, az, el, Lighting(shadows=False))
+    np.testing.assert_allclose(thesis["diffuse"], shadowed["diffuse"])
+    np.testing.assert_allclose(thesis["specular"], unshadowed["specular"])
+    assert (thesis["specular"] >= shadowed["specular"] - 1e-9).all()
+    assert (thesis["specular"] > shadowed["specular"] + 0.5).any()
+    widths = _exact_widths(surface, 30, 30.0, Lighting(), 25, 1.0)
+    assert widths["exact_fwhm"] == pytest.approx(15.57, abs=0.05)
+    assert widths["exact_fwhm_no_specular_shadows"] == pytest.approx(16.82, abs=0.05)
+    assert replace(Lighting(), specular_shadows=False).specular_shadows is False

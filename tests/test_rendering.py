@@ -263,3 +263,29 @@ def test_the_reference_method_loads_no_opengl():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={**os.environ, "PYOPENGL_PLATFORM": "osmesa"}).stdout
     assert out.split() == ["[]", "True"]
+
+
+def test_fast_renderer_follows_the_specular_shadows_setting():
+    from roughlight.periodic import fast_sweep
+    from roughlight.reference import reference_sweep
+    from roughlight.shading import Lighting
+    from roughlight.surface import Surface
+
+    surface = Surface(1.0, 1.0)
+    azimuth, elevation = sweeps.view_grid(10, 45)
+    lighting = Lighting(specular_shadows=False)
+    fast = fast_sweep(surface, 30, azimuth, elevation, lighting)
+    exact = reference_sweep(surface, 30, azimuth, elevation, lighting)
+    shadowed = reference_sweep(surface, 30, azimuth, elevation, Lighting())
+    assert np.abs(fast["specular"] - exact["specular"]).mean() < 0.1
+    assert np.abs(fast["diffuse"] - exact["diffuse"]).mean() < 0.5
+    assert np.abs(exact["specular"] - shadowed["specular"]).max() > 0.5  # the setting matters on these views
+
+
+def test_naive_method_refuses_unshadowed_specular():
+    from roughlight.naive import naive_sweep
+    from roughlight.shading import Lighting
+    from roughlight.surface import Surface
+
+    with pytest.raises(ValueError, match="render.specular_shadows"):
+        naive_sweep(Surface(1.0, 1.0), 30, [0.0], [60.0], Lighting(specular_shadows=False))

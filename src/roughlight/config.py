@@ -227,6 +227,7 @@ def lighting_from_config(config: dict) -> Lighting:
         shininess=float(material["shininess"]),
         specular_model=str(material["specular_model"]),
         shadows=bool(render["shadows"]),
+        specular_shadows=bool(render.get("specular_shadows", True)),
     )
 
 

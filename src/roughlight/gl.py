@@ -146,6 +146,7 @@ def set_material_uniforms(program, lighting, light_dir) -> None:
     program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
     program.set_uniform("shininess", float(lighting.shininess))
     program.set_uniform("specular_model", int(SPECULAR_MODELS.index(lighting.specular_model)))
+    program.set_uniform("specular_shadows", int(bool(lighting.specular_shadows)))
 
 
 class Context:

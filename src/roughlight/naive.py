@@ -154,6 +154,9 @@ class _NaiveScene:
         self.distance = 2.0 * periods + 10.0
         self.camera_node = self.scene.add(camera, pose=np.eye(4))
         self.shadows = bool(lighting.shadows) and not surface.is_plate
+        if self.shadows and not lighting.specular_shadows:
+            raise ValueError("render.specular_shadows: false is not available with the naive method (pyrender's "
+                             "shadow pass darkens every component); use render.method fast or reference")
 
     def render(self, renderer, view, jitter=(0.0, 0.0)):
         pyrender = self.pyrender

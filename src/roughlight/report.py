@@ -487,10 +487,22 @@ def _section_lobes(tables: dict, figures: dict, table_aspects) -> list[str]:
         want = [a for a in want if a is not None]
         sel = lobes[lobes["aspect"].isin(want) & lobes["lobe"].isin(["forward", "back"])].copy()
         sel["aspect"] = sel["aspect"].map(aspect_label)
-        sel = sel[["truncation", "aspect", "incidence", "lobe", "predicted", "peak", "peak_elevation", "centroid",
-                   "fwhm", "phase_at_peak", "note"]]
-        parts.append(_table(sel, "Lobes on the azimuth-0 arc (peak 0-255; predicted centre, peak elevation, "
-                                 "centroid and FWHM in degrees)", table_id="arc-lobes"))
+        cols = ["truncation", "aspect", "incidence", "lobe", "predicted", "peak", "peak_elevation", "centroid",
+                "fwhm", "phase_at_peak", "note"]
+        exact = tables.get("exact_peaks")
+        protocols = ["exact_fwhm", "exact_peak_no_specular_shadows", "exact_fwhm_no_specular_shadows"]
+        if exact is not None and len(exact) and all(c in exact for c in protocols):
+            ex = exact[SURFACE_KEYS + ["lobe"] + protocols].copy()
+            ex["aspect"] = ex["aspect"].map(aspect_label)
+            sel = sel.merge(ex, on=SURFACE_KEYS + ["lobe"], how="left")
+            cols = cols[:-1] + protocols + ["note"]
+            parts.append("<p>Specular shadows: the study shadows the specular like the diffuse; the thesis's specular "
+                         "runs had none (Ch. V.D; <code>render.specular_shadows: false</code> is that protocol). The "
+                         "peaks do not change, the widths do: the exact reference's FWHM on the arc under both "
+                         "protocols stands beside the measured lobe.</p>")
+        parts.append(_table(sel[cols], "Lobes on the azimuth-0 arc (peak 0-255; predicted centre, peak elevation, "
+                                       "centroid and FWHM in degrees; exact FWHM with the study's specular shadows "
+                                       "and without, the thesis's protocol)", table_id="arc-lobes"))
     hemi = tables.get("lobes_hemisphere")
     if hemi is not None and len(hemi):
         want = [find_aspect(hemi["aspect"], a) for a in table_aspects]

@@ -96,6 +96,7 @@ def recorded_lighting(study: pd.DataFrame) -> dict:
         "shininess": float(row.get("shininess", 64.0)),
         "specular_model": str(row.get("specular_model", "phong")),
         "shadows": bool(row.get("shadows", True)),
+        "specular_shadows": bool(row.get("specular_shadows", True)),
     }
 
 

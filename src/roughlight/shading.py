@@ -77,6 +77,11 @@ class Lighting:
         ``"phong"`` (R.V, the default) or ``"blinn"`` (N.H).
     shadows : bool
         Whether inner shadows are cast.
+    specular_shadows : bool
+        With ``shadows``, whether they take the specular component too (the
+        default). False is the thesis's protocol for its specular runs, which
+        had no inner shadows (Ch. V.D): the specular is lit wherever
+        ``N.L > 0``, shadowed or not, and the diffuse keeps its shadows.
     """
 
     light: float = 127.0
@@ -87,6 +92,7 @@ class Lighting:
     shininess: float = 64.0
     specular_model: str = "phong"
     shadows: bool = True
+    specular_shadows: bool = True
 
     def __post_init__(self):
         if self.specular_model not in SPECULAR_MODELS:
@@ -179,12 +185,14 @@ def facet_components(normals, light_dir, view_dirs, lighting: Lighting, lit=1.0)
         h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-12)
         base = np.sum(n * h, axis=-1)
     spec_factor = np.where(ndotl > 0, np.maximum(base, 0.0) ** lighting.shininess, 0.0)
+    # the thesis's specular protocol: no inner shadows on the specular (N.L > 0 still gates it)
+    spec_lit = lit if lighting.specular_shadows else (ndotl > 0).astype(float)
     j = lighting.light
     diffuse = j * (
         lighting.ambient_reflectance * lighting.ambient
         + lit * lighting.diffuse_reflectance * np.maximum(ndotl, 0.0)
     )
-    specular = j * lit * lighting.specular_reflectance * spec_factor
+    specular = j * spec_lit * lighting.specular_reflectance * spec_factor
     return diffuse, specular, diffuse + specular
 
 

@@ -22,6 +22,7 @@ ambient        float64 ambient light level A, fraction of J
 shininess      float64 specular exponent
 specular_model string  'phong' or 'blinn'
 shadows        bool    inner shadows cast
+specular_shadows bool  the shadows take the specular too (false: the thesis's specular protocol)
 method         string  'fast', 'naive' or 'reference'
 pixels_per_period int64 pixels per period (naive: 10, its window's; reference: 0)
 sampling       string  'lattice' or 'grid' (fast), 'window' (naive), 'exact' (reference)
@@ -58,6 +59,7 @@ SETTING_COLUMNS = [
     "shininess",
     "specular_model",
     "shadows",
+    "specular_shadows",
     "method",
     "pixels_per_period",
     "sampling",
@@ -111,6 +113,7 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
         "shininess": np.full(n * k, float(lighting.shininess)),
         "specular_model": pa.array([lighting.specular_model] * (n * k), pa.dictionary(pa.int8(), pa.string())),
         "shadows": np.full(n * k, bool(lighting.shadows)),
+        "specular_shadows": np.full(n * k, bool(lighting.specular_shadows)),
         "method": pa.array([method] * (n * k), pa.dictionary(pa.int8(), pa.string())),
         "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]), np.int64),
         "sampling": pa.array([render_settings["sampling"]] * (n * k), pa.dictionary(pa.int8(), pa.string())),
@@ -133,6 +136,8 @@ def read_sweep(path):
     if "kind" not in frame.columns:  # written before random surfaces existed: the regular surface
         frame.insert(0, "kind", "pyramids")
         frame.insert(1, "seed", 0)
+    if "specular_shadows" not in frame.columns:  # written before the setting existed: the default
+        frame["specular_shadows"] = True
     missing = [c for c in SWEEP_COLUMNS if c not in frame.columns]
     if missing:
         raise ValueError(f"{path} lacks columns {missing}; delete it and rerun snakemake to rebuild it")

@@ -193,7 +193,8 @@ def table_data(lobes: pd.DataFrame, aspect: float, incidence: float, value: str 
 
 
 def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE,
-                     lighting=None, halfwidth: float = 10.0, step: float = 1.0) -> pd.DataFrame:
+                     lighting=None, halfwidth: float = 10.0, step: float = 1.0,
+                     width_halfwidth: float = 25.0) -> pd.DataFrame:
     """Exact (polygon-clipping reference) lobe peaks beside the measured ones, for the table surfaces.
 
     For each surface of the tabulated aspects and each of the forward and
@@ -210,7 +211,12 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: floa
     Returns
     -------
     DataFrame: surface keys, ``lobe``, ``peak`` (measured), ``exact_peak``
-    (0-255), ``exact_peak_elevation`` (degrees), ``error`` (measured - exact).
+    (0-255), ``exact_peak_elevation`` (degrees), ``error`` (measured - exact),
+    and the lobe under both specular protocols, exact on the arc within
+    ``width_halfwidth`` of the mirror elevation: ``exact_fwhm`` (degrees,
+    with the study's specular shadows setting), ``exact_peak_no_specular_shadows``
+    and ``exact_fwhm_no_specular_shadows`` (the thesis's specular runs: no
+    inner shadows on the specular, Ch. V.D).
     """
     from .reference import reference_sweep
     from .shading import Lighting
@@ -235,9 +241,35 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: floa
                     k = int(np.argmax(out["specular"]))
                     peak = float(out["specular"][k])
                     row.update(exact_peak=peak, exact_peak_elevation=float(el[k]) if peak >= MIN_LOBE_PEAK else np.nan)
+                row.update(_exact_widths(Surface(r["truncation"], a), r["incidence"], c, lighting, width_halfwidth,
+                                         step))
             rows.append(row)
-    out = pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation"])
+    out = pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation",
+                                                     "exact_fwhm", "exact_peak_no_specular_shadows",
+                                                     "exact_fwhm_no_specular_shadows"])
     out["error"] = out["peak"] - out["exact_peak"]
+    return out
+
+
+def _exact_widths(surface, incidence, centre, lighting, halfwidth, step) -> dict:
+    """The exact lobe's FWHM on the phi = 0 arc with the study's specular shadows and without (the thesis's)."""
+    from dataclasses import replace
+
+    from .lobes import profile_lobe
+    from .reference import reference_sweep
+
+    el = np.arange(np.ceil((centre - halfwidth) / step) * step, centre + halfwidth + 1e-9, step)
+    el = el[(el > 0) & (el < 180)]
+    out = {"exact_fwhm": np.nan, "exact_peak_no_specular_shadows": np.nan, "exact_fwhm_no_specular_shadows": np.nan}
+    if len(el) < 3:
+        return out
+    window = (float(el[0]), float(el[-1]))
+    for suffix, light in (("", lighting), ("_no_specular_shadows", replace(lighting, specular_shadows=False))):
+        values = reference_sweep(surface, incidence, np.zeros_like(el), el, light)["specular"]
+        lobe = profile_lobe(el, values, centre, window)
+        out[f"exact_fwhm{suffix}"] = float(lobe["fwhm"])
+        if suffix:
+            out[f"exact_peak{suffix}"] = float(lobe["peak"])
     return out
 
 

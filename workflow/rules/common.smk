@@ -168,6 +168,7 @@ def control_lighting_params(wildcards):
     """The plate casts no shadows: the shadows switch does not touch the control."""
     lighting = rl_config.lighting_from_config(config).as_dict()
     lighting["shadows"] = False
+    lighting["specular_shadows"] = True
     return lighting
 
 

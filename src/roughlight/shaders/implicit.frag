@@ -43,6 +43,7 @@ uniform float specular_reflectance;// m_s
 uniform float shininess;           // zeta
 uniform int specular_model;        // 0 Phong, 1 Blinn-Phong
 uniform int shadows;               // 1: inner shadows cast
+uniform int specular_shadows;      // 1: shadows take the specular too; 0: the thesis's unshadowed specular
 
 uniform int samples;               // M: pixels a view (sweep) / dither period (scene)
 uniform int generator;             // g: the Fibonacci number before M
@@ -136,8 +137,9 @@ vec3 shade(vec3 N, vec3 V, bool lit)
     vec3 L = light_dir;
     float ndotl = dot(N, L);
     float on = (lit && ndotl > 0.0) ? 1.0 : 0.0;
+    float spec_on = (specular_shadows == 1) ? on : (ndotl > 0.0 ? 1.0 : 0.0);
     float spec = 0.0;
-    if (on > 0.0) {
+    if (spec_on > 0.0) {
         float base;
         if (specular_model == 0) {
             base = max(dot(2.0 * ndotl * N - L, V), 0.0);
@@ -147,7 +149,7 @@ vec3 shade(vec3 N, vec3 V, bool lit)
         spec = (shininess == 0.0) ? 1.0 : pow(base, shininess);
     }
     float diffuse = light * (ambient_term + on * diffuse_reflectance * max(ndotl, 0.0));
-    float specular = light * on * specular_reflectance * spec;
+    float specular = light * spec_on * specular_reflectance * spec;
     return vec3(diffuse, specular, diffuse + specular);
 }
 

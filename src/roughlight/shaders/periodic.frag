@@ -18,6 +18,7 @@ uniform float diffuse_reflectance; // m_d
 uniform float specular_reflectance;// m_s
 uniform float shininess;           // zeta
 uniform int specular_model;        // 0 Phong, 1 Blinn-Phong
+uniform int specular_shadows;      // 1: shadows take the specular too; 0: the thesis's unshadowed specular
 uniform int shadow_mode;           // 0 none, 1 periodic shadow map, 2 all in shadow (grazing light)
 uniform sampler2D shadow_map;      // heights of the first surface along each light ray, one period
 uniform int shadow_size;           // texels per period of the shadow map
@@ -60,7 +61,8 @@ void main()
         lit = (z_receiver >= occluder_height(texel) - shadow_bias) ? 1.0 : 0.0;
     }
     float s = 0.0;
-    if (lit > 0.0) {
+    float spec_lit = (specular_shadows == 1) ? lit : (ndotl > 0.0 ? 1.0 : 0.0);
+    if (spec_lit > 0.0) {
         float base;
         if (specular_model == 0) {
             vec3 R = 2.0 * ndotl * N - L;
@@ -71,6 +73,6 @@ void main()
         s = (shininess == 0.0) ? 1.0 : pow(base, shininess);
     }
     float diffuse = light * (ambient_term + lit * diffuse_reflectance * max(ndotl, 0.0));
-    float specular = light * lit * specular_reflectance * s;
+    float specular = light * spec_lit * specular_reflectance * s;
     frag_color = vec4(diffuse, specular, diffuse + specular, 1.0);
 }
