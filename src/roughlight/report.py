@@ -329,11 +329,19 @@ are in the thesis itself: Java3D's Gouraud shading averages normals at shared ve
 Shading"), which tilts the side facets' normals toward the vertical near the top edges; the 40 × 40-pixel capture
 window of a finite, perspective patch mixes view angles (Ch. III.5, Fig. 12); pixelation and aliasing of small
 facets (Ch. IV.A).</li>
-<li><b>The thesis's "aspect 1.0" is our aspect √3/2.</b> The thesis says the brightest facet's normal at its aspect
-1.0 is "30° back in the direction of the light source": side facets tilted 60°, i.e. our aspect √3/2
-(atan(2·0.866) = 60°). At our aspect 1 (facets tilted 63.4°) the back lobe peaks at 23.1°, seven degrees off zero
-phase. The lobe peaks, and so Tables 1–2, barely depend on this (the visible lit share is the same), but the lobe's
-centre and the opposition behaviour do.</li>
+<li><b>"The thesis's aspect 1.0 is our √3/2" is an inference, not a fact the thesis states.</b> Its
+definition, "height-to-width aspect ratio", read as ours (height over base width) makes its aspect 1.0 our
+aspect 1, with side facets tilted atan(2) = 63.4°. Three of its own observations point instead to facets tilted
+60°, our aspect √3/2 = 0.866 (atan(2·0.866) = 60°): (i) the brightest facet's normal is "30° back in the direction
+of the light source" (Ch. V.B), a 60° tilt; (ii) Fig. 21's back lobe is "centered at 30° elevation, which is also
+the zero phase angle" at incidence 30: the mirror direction of 60° facets, where ours at aspect 1 peaks at 23.1°;
+(iii) its diffuse model breaks at 120/121° (Ch. V.F), where 60° facets leave the view (ours: 120° at √3/2,
+116.6° at aspect 1). Against it: the definition above, and its area formulas, which fit no single geometry (item
+3). If the inference holds and the relation is a scale (for instance a height measured differently), the aspect
+axis of its Figs. 26 and 29 is ours times 0.866 (its aspect 0.5 our 0.433), so its curves compare with ours at
+0.866 times their label; if the thesis's facets were the tilts its definition gives, they compare label for
+label. The lobe peaks, and so Tables 1–2, barely depend on this (the visible lit share is the same), which is why
+the tables are shown at both aspects; the lobe's centre and the opposition behaviour do.</li>
 <li><b>Units.</b> The thesis's area functions are not dimensionless ({2(1-t)/tanθ}² is an area in units of the
 height); we use the normalised shares of the image, <span class="formula">m(1-t)²</span> for the top and
 <span class="formula">m·k·(1-(1-t)²)</span> for the front facet with <span class="formula">k = 1/2</span> from
