@@ -598,3 +598,16 @@ def test_share_laws_fit_what_they_should_and_are_scored_held_out():
     assert linear["rmse_held_out"] > linear["rmse"] > 0.5
     quasi = fits.loc[("back", MODELS[2])]
     assert np.isfinite(quasi["rmse_held_out"]) and quasi["rmse_held_out"] >= quasi["rmse"]
+
+
+def test_the_theses_own_numbers_bound_the_scale_of_its_area_functions():
+    from roughlight.thesis import implied_scales
+
+    scales = implied_scales().set_index("table")
+    square = scales.loc[1]
+    # the mean error at m = 127 is b0 + (b1 - 1) 127 * 0.35 = -4.15, larger in size than the reported MAE 4.10
+    assert square["mean_error_at_stated"] == pytest.approx(-4.684 + 0.012 * 127 * 0.35)
+    assert not square["stated_possible"]
+    assert square["s_min_mae"] == pytest.approx((4.684 - 4.10) / (0.012 * 0.35))
+    assert square["s_min_sd"] >= square["s_min_mae"] and square["s_max_sd"] <= square["s_max_mae"]
+    assert scales.loc[2, "stated_possible"]  # 63.5 for the triangle row fits

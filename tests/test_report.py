@@ -35,7 +35,13 @@ from roughlight.selection import find_aspect
 from roughlight.shading import Lighting
 from roughlight.share_laws import share_law_fits
 from roughlight.surface_models import analytic_model_fits, model_fit_summary
-from roughlight.thesis import exact_lobe_peaks, sine_refits, thesis_tables
+from roughlight.thesis import (
+    exact_lobe_peaks,
+    implied_scales,
+    sine_refits,
+    tables_at_implied_scale,
+    thesis_tables,
+)
 from roughlight.timings import render_timings
 
 from .conftest import REPO
@@ -95,6 +101,7 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
          "lobes_hemisphere": hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
          "thesis_tables": tables, "sine_refits": sine, "timings": per_sweep, "glm_summary": glm_summary,
          "glm_coefficients": glm_coefs, "glm_messages": glm_messages, "share_laws": laws, "model_fits": fits,
+         "implied_scales": implied_scales(), "tables_at_implied_scale": tables_at_implied_scale(lobes),
          "model_fits_summary": model_fit_summary(fits)},
         paths, config={"grid": {"aspect": summary["aspects"]}}, messages=messages,
         provenance={"settings": SETTINGS}, benchmarks=None,
@@ -197,6 +204,7 @@ def test_report_is_self_contained(built):
     assert all(i["src"].startswith("data:image/png;base64,") for i in imgs)
     assert 'id="stability-regressions"' in text and 'id="regression-status"' in text
     assert 'id="share-laws"' in text and "best held out" in text
+    assert 'id="implied-scale"' in text and "is impossible: the mean error would be -4.15" in text
 
 
 def test_report_in_headless_chromium(built):

@@ -400,6 +400,45 @@ def _section_study(study: dict, messages: list, table_aspects) -> list[str]:
     return parts
 
 
+def _implied_scale_parts(scales, at_scale) -> list[str]:
+    """Which scale of its area functions the thesis's own numbers allow, and our rows at that scale."""
+    if scales is None or not len(scales):
+        return []
+    items = []
+    for _, r in scales.iterrows():
+        verdict = ("possible" if r["stated_possible"] else
+                   f"impossible: the mean error would be {r['mean_error_at_stated']:.2f}, larger in size than the "
+                   f"MAE {r['mae']:.2f} it reports")
+        items.append(f"<li>Table {int(r['table'])}, {_e(r['model'])}: its MAE, b0 and b1 allow a scale s in "
+                     f"[{r['s_min_mae']:.1f}, {r['s_max_mae']:.1f}] (with SD of the raw errors: "
+                     f"[{r['s_min_sd']:.1f}, {r['s_max_sd']:.1f}]); the stated {r['stated_scale']:g} is {verdict}.</li>")
+    parts = ["<h3>Which functions the thesis evaluated</h3>",
+             "<p>An area row predicts s·f(t) at the 11 truncations 0–1 and reports its regression of observed on "
+             "predicted, y = b0 + b1·x, so its mean error is b0 + (b1 − 1)·s·mean(f) whatever the observations "
+             "were, and a mean error is never larger in size than the MAE (nor, with SD of the raw errors, smaller "
+             "than √(MAE² − (n − 1)/n·SD²)). That bounds the scale s the thesis's own numbers allow:</p>",
+             "<ul>" + "".join(items) + "</ul>"]
+    if at_scale is not None and len(at_scale) and (at_scale["scale"] == "implied").any():
+        cols = [c for c in ("scale", "m", "table", "aspect_label", "model", "Mean Abs Error", "Standard Deviation",
+                            "b0", "b1", "RSS") if c in at_scale]
+        parts.append("<p>So our rows are shown once more with the area functions at the smallest scale the "
+                     "thesis's numbers allow (the regressed model scaled alike): on comparable functions. At that "
+                     "scale our square-area error is close to the thesis's, and the area function still beats the "
+                     "regressed model on our peaks.</p>" if _area_still_wins(at_scale) else
+                     "<p>Our rows at the smallest scale the thesis's numbers allow (the regressed model scaled "
+                     "alike):</p>")
+        parts.append(_table(at_scale[cols], "Our Tables 1-2 rows at the stated scale (m = 127) and at the scale the "
+                            "thesis's numbers imply", table_id="implied-scale"))
+    return parts
+
+
+def _area_still_wins(at_scale) -> bool:
+    implied = at_scale[at_scale["scale"] == "implied"]
+    area = implied[implied["model"].str.contains("Area")]["Mean Abs Error"]
+    regressed = implied[implied["model"] == "Regressed Model"]["Mean Abs Error"]
+    return bool(len(area) and len(regressed) and area.max() < regressed.min())
+
+
 def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> list[str]:
     """The report's section: tables 1 and 2."""
     parts = []
@@ -420,6 +459,7 @@ def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> 
                 parts.append(thesis_table_html(thesis, table, aspect, table_incidence))
         parts.append(_table_findings(thesis, exact))
         parts.append(_sd_reading())
+        parts += _implied_scale_parts(tables.get("implied_scales"), tables.get("tables_at_implied_scale"))
         parts.append(WHY_DIFFERENT)
     else:
         parts.append(f'<p class="note">None of the table aspects at incidence {table_incidence:g} is in the study: '

@@ -13,6 +13,7 @@ the exact reference's (:func:`exact_lobe_peaks`), their bootstrap spread
 
 from __future__ import annotations
 
+import math
 import warnings
 
 import numpy as np
@@ -465,3 +466,91 @@ def sine_refits(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = T
                              "rss": rss, "n": int(len(yy)), "note": note})
     return pd.DataFrame(rows, columns=["aspect", "aspect_label", "lobe", "parameter", "estimate", "ci_low",
                                        "ci_high", "thesis_value", "thesis_inside", "rss", "n", "note"])
+
+
+#: The area functions the thesis tabulates (Tables 1-2), as shares of the image against truncation, and the
+#: table that reports each: an area row's predictions are ``scale * share(t)``.
+AREA_FUNCTIONS = {
+    1: ("Square Area Function", lambda t: (1.0 - t) ** 2),
+    2: ("Triangle Area Function", lambda t: 1.0 - (1.0 - t) ** 2),
+}
+
+
+def _scale_interval(b0, slope, sign, lo, hi):
+    """The scales s >= 0 with lo <= |b0 + slope s| <= hi, on the side of the mean error whose sign is ``sign``."""
+    ends = sorted(((sign * lo - b0) / slope, (sign * hi - b0) / slope))
+    return max(ends[0], 0.0), ends[1]
+
+
+def implied_scales(truncations=None) -> pd.DataFrame:
+    """The scale of its area functions that the thesis's own Table 1-2 numbers allow.
+
+    An area row predicts ``x = s f(t)`` at the tabulated truncations (the 11
+    values 0-1 by default) and reports MAE, SD, and the regression of observed
+    on predicted, ``y = b0 + b1 x``. Its mean error is then
+    ``e = b0 + (b1 - 1) s mean(f)``, whatever the observations were, and
+    two identities bound it:
+
+    * ``|e| <= MAE`` (a mean is at most the mean of absolute values);
+    * ``MAE^2 <= e^2 + (n - 1)/n SD^2`` when SD is of the raw errors (the mean
+      square error is ``e^2`` plus the variance), i.e. ``|e|`` is at least
+      ``sqrt(MAE^2 - (n - 1)/n SD^2)``.
+
+    Each gives an interval of ``s`` (a back lobe's ``s`` is ``m k``). The
+    thesis's stated scale, ``m = 127`` (and ``m k = 63.5`` for the back lobe
+    with ``k = 1/2``), is inside it or not.
+
+    Returns
+    -------
+    DataFrame, one row per area row: ``table``, ``model``, ``n``, ``mean_share``,
+    ``mean_error_at_stated`` (``e`` at the stated scale), ``mae``,
+    ``s_min_mae`` / ``s_max_mae`` (the first bound), ``s_min_sd`` /
+    ``s_max_sd`` (both bounds, SD of raw errors), ``stated_scale``,
+    ``stated_possible`` (bool, first bound).
+    """
+    t = np.round(np.linspace(0.0, 1.0, 11), 10) if truncations is None else np.asarray(truncations, float)
+    n = len(t)
+    rows = []
+    for table, (model, share) in AREA_FUNCTIONS.items():
+        mae, sd, b0, b1, _ = THESIS_TABLES[table]["rows"][model]
+        f_bar = float(np.mean(share(t)))
+        slope = (b1 - 1.0) * f_bar  # e = b0 + slope * s
+        stated = 127.0 if table == 1 else 63.5
+
+        floor = math.sqrt(max(mae**2 - (n - 1) / n * sd**2, 0.0))
+        sign = float(np.sign(b0 + slope * stated)) or 1.0
+        lo_mae, hi_mae = _scale_interval(b0, slope, sign, 0.0, mae)
+        lo_sd, hi_sd = _scale_interval(b0, slope, sign, floor, mae)
+        e_stated = b0 + slope * stated
+        rows.append({"table": table, "model": model, "n": n, "mean_share": f_bar, "mean_error_at_stated": e_stated,
+                     "mae": mae, "s_min_mae": lo_mae, "s_max_mae": hi_mae, "s_min_sd": lo_sd, "s_max_sd": hi_sd,
+                     "stated_scale": stated, "stated_possible": bool(abs(e_stated) <= mae)})
+    return pd.DataFrame(rows)
+
+
+def tables_at_implied_scale(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE,
+                            k: float | None = None) -> pd.DataFrame:
+    """Our Tables 1-2 rows recomputed with the area functions at the smallest scale the thesis's numbers allow
+    (:func:`implied_scales`, ``s_min_mae``) for every table whose stated scale they contradict, beside our rows at
+    the stated scale: the comparison on comparable functions. A back-lobe scale would be ``m k`` (``m = 2 s``
+    with ``k = 1/2``).
+
+    Returns
+    -------
+    DataFrame: ``scale`` (``stated`` | ``implied``) and the :func:`thesis_tables` columns of our rows (``m`` among
+    them).
+    """
+    scales = implied_scales().set_index("table")
+    frames = []
+    for table in (1, 2):
+        stated_m = 127.0
+        runs = [("stated", stated_m)]
+        if not scales.loc[table, "stated_possible"]:  # only where the stated scale contradicts the thesis's numbers
+            s_min = float(scales.loc[table, "s_min_mae"])
+            runs.append(("implied", s_min if table == 1 else 2.0 * s_min))
+        for label, m in runs:
+            rows, _ = thesis_tables(lobes, aspects, incidence, m=m, k=k)
+            rows = rows[(rows["table"] == table) & (rows["source"] == "ours")].copy()
+            rows.insert(0, "scale", label)
+            frames.append(rows)
+    return pd.concat(frames, ignore_index=True)

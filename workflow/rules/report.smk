@@ -38,6 +38,8 @@ rule analysis_tables:
             subcategory="Thesis Tables 1-2",
         ),
         areas="results/analysis/reflecting_areas.csv",
+        implied_scales="results/analysis/implied_scales.csv",
+        tables_at_implied_scale="results/analysis/tables_at_implied_scale.csv",
         timings="results/analysis/render_timings.csv",
         summary="results/analysis/study_summary.json",
     log:
@@ -231,6 +233,8 @@ rule report_html:
         thesis_tables="results/analysis/thesis_tables.csv",
         bootstrap="results/analysis/thesis_tables_bootstrap.csv",
         sine="results/analysis/sine_refits.csv",
+        implied_scales="results/analysis/implied_scales.csv",
+        tables_at_implied_scale="results/analysis/tables_at_implied_scale.csv",
         timings="results/analysis/render_timings.csv",
         summary="results/analysis/study_summary.json",
         glm_summary="results/analysis/glm_summary.csv",

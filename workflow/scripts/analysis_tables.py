@@ -16,7 +16,14 @@ from roughlight.report import study_summary  # noqa: E402
 from roughlight.selection import SURFACE_KEYS, find_aspect  # noqa: E402
 from roughlight.shading import Lighting  # noqa: E402
 from roughlight.study import regular  # noqa: E402
-from roughlight.thesis import bootstrap_tables, exact_lobe_peaks, sine_refits, thesis_tables  # noqa: E402
+from roughlight.thesis import (  # noqa: E402
+    bootstrap_tables,
+    exact_lobe_peaks,
+    implied_scales,
+    sine_refits,
+    tables_at_implied_scale,
+    thesis_tables,
+)
 from roughlight.timings import render_timings  # noqa: E402
 
 log = _log.setup(snakemake)
@@ -55,6 +62,10 @@ messages += table_messages
 write_frame(tables, out.thesis_tables)
 write_frame(bootstrap_tables(lobes, aspects, incidence, m=m), out.bootstrap)
 write_frame(sine_refits(lobes, aspects, incidence, m=m), out.sine)
+scales = implied_scales()
+write_frame(scales, out.implied_scales)
+write_frame(tables_at_implied_scale(lobes, aspects, incidence), out.tables_at_implied_scale)
+log(f"implied scales: {scales[['model', 's_min_mae', 's_max_mae', 'stated_possible']].to_dict('records')}")
 for msg in table_messages:
     log(msg)
 

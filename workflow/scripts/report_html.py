@@ -27,6 +27,8 @@ tables = {
     "thesis_tables": read_frame(inp.thesis_tables),
     "bootstrap_tables": read_frame(inp.bootstrap),
     "sine_refits": read_frame(inp.sine),
+    "implied_scales": read_frame(inp.implied_scales),
+    "tables_at_implied_scale": read_frame(inp.tables_at_implied_scale),
     "timings": read_frame(inp.timings),
     "glm_summary": read_frame(inp.glm_summary),
     "glm_coefficients": read_frame(inp.glm_coefficients),
