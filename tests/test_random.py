@@ -273,3 +273,18 @@ def test_tile_convergence_measures_the_regular_surface_beside_the_tiles(monkeypa
     level = summary[(summary.statistic == "diffuse_level")]
     regular = convergence[(convergence.kind == "pyramids") & (convergence.statistic == "diffuse_level")]["value"]
     assert np.allclose(level["regular"], regular.iloc[0]) and (level["regular_views_per_second"] > 0).all()
+
+
+def test_the_random_parts_of_the_report_follow_surface_kind(workflow_dir):
+    """Random kinds on: the report needs the ensembles and the random tiles' benchmark; off: neither (config, not files)."""
+    base = {"grid": {"truncation": [0.0, 1.0], "aspect": [1.0], "incidence": [30]},
+            "sweep": {"elevation_step": 30, "azimuth_step": 60}}
+    plans = {}
+    for kinds in (["pyramids"], ["pyramids", "random_pyramids"]):
+        write_config(workflow_dir, {**base, "surface": {"kind": kinds, "seeds": 2,
+                                                        "random_grid": {"truncation": [1.0], "aspect": [1.0]}}})
+        out = snakemake(workflow_dir, "reports/roughlight_report.html", "--dry-run", "--quiet", "rules").stdout
+        plans[len(kinds)] = {line.split()[0]: int(line.split()[1]) for line in out.splitlines()
+                             if len(line.split()) == 2 and line.split()[1].isdigit()}
+    assert "analysis_random" not in plans[1] and "random_tiles" not in plans[1] and "random_sweep" not in plans[1]
+    assert plans[2]["analysis_random"] == 1 and plans[2]["random_tiles"] == 1 and plans[2]["random_sweep"] == 2
