@@ -423,3 +423,13 @@ def test_specular_without_inner_shadows_is_the_theses_protocol():
     assert widths["exact_fwhm"] == pytest.approx(15.57, abs=0.05)
     assert widths["exact_fwhm_no_specular_shadows"] == pytest.approx(16.82, abs=0.05)
     assert replace(Lighting(), specular_shadows=False).specular_shadows is False
+
+
+def test_a_silently_empty_geos_intersection_is_caught_and_redone():
+    """GEOS once returned an empty intersection of a facet's lit and visible parts (0.34 and 0.45 of a 0.45 facet,
+    edges nearly coinciding): the inclusion-exclusion check catches it and the view is recomputed snap-rounded."""
+    areas = visible_lit_areas(Surface(0.8927, 0.3784), 24.13, 0.0, 42.0)
+    lit, shadowed = areas["east"]
+    assert lit == pytest.approx(0.33823, abs=1e-4)
+    assert lit + shadowed == pytest.approx(0.45483, abs=1e-4)
+    assert sum(a + b for a, b in areas.values()) == pytest.approx(1.0, abs=1e-9)
