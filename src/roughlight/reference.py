@@ -212,11 +212,18 @@ def _polygonal(geometry, grid_size):
     snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
     if isinstance(geometry, np.ndarray):
         return np.array([_polygonal(g, grid_size) for g in geometry], dtype=object)
-    geometry = shapely.set_precision(shapely.make_valid(geometry), grid_size)
+    # lines and points first: set_precision on a mixed collection can drop its polygons too
+    geometry = shapely.set_precision(_area_parts(geometry), grid_size)
+    return geometry if geometry.geom_type in ("Polygon", "MultiPolygon") else _area_parts(geometry)
+
+
+def _area_parts(geometry):
+    """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area)."""
+    geometry = shapely.make_valid(geometry)
     if geometry.geom_type in ("Polygon", "MultiPolygon"):
         return geometry
     parts = [p for p in shapely.get_parts(geometry) if p.geom_type in ("Polygon", "MultiPolygon")]
-    return shapely.union_all(parts, grid_size=grid_size) if parts else shapely.Polygon()
+    return shapely.union_all(parts) if parts else shapely.Polygon()
 
 
 def _overlay(operation, *geometries, grid_size=None):
@@ -372,7 +379,7 @@ def _lit_regions_at(surf: _Facets, incidence: float, shadows: bool, grid_size=No
             continue
         plan = affinity.affine_transform(region, _from_oblique(surf, f, d))
         # the lit part lies on the facet: trim floating-point overhang
-        out.append(_overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size))
+        out.append(_area_parts(_overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size)))
     # mapped back onto their facets, the lit parts still fill the light's view (areas scale by det)
     _check_sum(float(sum(r.area * dt for r, dt in zip(out, det) if dt > _EDGE_ON)),
                f"lit footprints (incidence {incidence})", grid_size)
@@ -414,6 +421,10 @@ class _Scene:
                 lit[f] = vis[f]
                 continue
             lit_view = affinity.affine_transform(self.lit[f], _to_oblique(self.surf, f, d))
+            if vis[f] >= self.fp_area[f] * det[f] - AREA_TOLERANCE:
+                # wholly visible: no overlay (GEOS can misjudge a lit part with sliver spikes)
+                lit[f] = min(lit_view.area, vis[f])
+                continue
             both = _overlay(shapely.intersection, region, lit_view, grid_size=grid_size).area
             _check_overlap(both, vis[f], lit_view.area, self.fp_area[f] * det[f],
                            f"facet {self.surf.names[f]}, view (e={elevation}, phi={azimuth})", grid_size)
