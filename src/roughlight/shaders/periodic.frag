@@ -7,6 +7,7 @@
 //   r = diffuse (with ambient), g = specular, b = total, a = 1 (coverage).
 
 in vec3 frag_local;
+flat in vec3 frag_vertex;
 in vec3 frag_normal;
 in vec2 frag_cell;
 flat in vec3 frag_view;
@@ -54,10 +55,14 @@ void main()
         vec2 texel_corner = floor(st);
         ivec2 texel = ivec2(mod(texel_corner, size));
         // receiver plane: this facet's height at the texel centre, so that a
-        // facet never shadows itself (no acne) whatever its slope
+        // facet never shadows itself (no acne) whatever its slope. Taken from
+        // the plane through a vertex (flat), not from the interpolated point:
+        // interpolated x, y and z drift apart by ~1e-6 far out in a large
+        // framebuffer, which on a low surface is more than the bias
         vec2 slope = vec2(-N.x / N.z, -N.y / N.z);
         vec2 grad = slope / (1.0 - dot(slope, light_shear));
-        float z_receiver = frag_local.z + dot(grad, (texel_corner + 0.5 - st) / size);
+        vec2 vertex_oblique = frag_vertex.xy - frag_vertex.z * light_shear;
+        float z_receiver = frag_vertex.z + dot(grad, (texel_corner + 0.5) / size - vertex_oblique);
         lit = (z_receiver >= occluder_height(texel) - shadow_bias) ? 1.0 : 0.0;
     }
     float s = 0.0;

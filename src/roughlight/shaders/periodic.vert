@@ -28,6 +28,7 @@ uniform vec2 surface_shift;  // sub-pixel translation of the whole surface (jitt
 uniform vec2 ndc_scale;      // 2 / framebuffer size
 
 out vec3 frag_local;         // position within the period (periodic lookups)
+flat out vec3 frag_vertex;   // one vertex of the facet, within the period: a point of its plane
 out vec3 frag_normal;        // true face normal (never averaged)
 out vec2 frag_cell;          // oblique cell coordinates: kept only inside [0,1)^2
 flat out vec3 frag_view;
@@ -39,6 +40,7 @@ void main()
     vec2 window = sampling * (cell + inst_m[3].xy);
     gl_Position = vec4(window * ndc_scale - 1.0, 0.9 - 1.8 * p.z * depth_scale, 1.0);
     frag_local = position;
+    frag_vertex = position;
     frag_normal = normal;
     frag_cell = cell;
     frag_view = inst_m[2].xyz;
