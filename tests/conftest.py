@@ -31,7 +31,7 @@ def broken_osmesa(tmp_path_factory):
     import ctypes.util
 
     zlib = ctypes.util.find_library("z")
-    ctypes.CDLL(zlib)  # noqa: the machine has it (numpy needs it too)
+    ctypes.CDLL(zlib)  # the machine has it (numpy needs it too)
     with open("/proc/self/maps") as maps:
         source = next(line.split()[-1] for line in maps if "/libz.so" in line)
     directory = tmp_path_factory.mktemp("broken_osmesa")

@@ -100,12 +100,12 @@ def _theme():
     sns.set_theme(style="whitegrid", context="paper", font_scale=1.05)
 
 
-def save_figure(fig, path) -> str:
+def save_figure(fig, path, dpi: int = DPI, bbox_inches="tight") -> str:
     """Write ``fig`` as a PNG to ``path`` (temporary name in the same directory, then rename); close it."""
     path = os.fspath(path)
     try:
         with atomic_path(path) as tmp:
-            fig.savefig(tmp, format="png", dpi=DPI, bbox_inches="tight")
+            fig.savefig(tmp, format="png", dpi=dpi, bbox_inches=bbox_inches)
     finally:
         plt.close(fig)
     return path
@@ -757,7 +757,8 @@ def fig_pictures(stem: str, pictures):
 
 
 def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
-    """Error against time per view, log scales, one panel per component, Pareto front marked.
+    """Error against time per view, log scales: the mean error (top row) and the worst view (bottom row), one
+    column per component, Pareto front of the mean error marked.
 
     The reference's error is zero (up to floating point); it is drawn at
     ``floor`` so that it shows on the log scale.
@@ -765,29 +766,61 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
     from .sampling import RenderSettings
 
     data = table[table["component"].isin(["diffuse", "specular"])].copy()
-    data["mean abs error (0-255)"] = data["mae"].clip(lower=floor)
     data["ms per view"] = data["ms_per_view"]
     sns.set_theme(style="whitegrid")
-    grid = sns.relplot(
-        data=data, x="ms per view", y="mean abs error (0-255)", hue="method", style="sampling",
-        col="component", kind="scatter", s=70, height=4.2, aspect=1.15, facet_kws={"sharey": False},
-    )
-    for ax, (_, sub) in zip(grid.axes.flat, data.groupby("component", sort=False)):
-        front = sub[sub["pareto"]].sort_values("ms per view")
-        (line,) = ax.plot(front["ms per view"], front["mean abs error (0-255)"], color="black", lw=1, ls="--",
-                          label="Pareto front")
-        for _, row in sub.iterrows():
-            default_bias = np.isclose(row["shadow_bias"], RenderSettings().shadow_bias)
-            lattice_512 = row["sampling"] == "lattice" and row["shadow_map_size"] == 512
-            if row["method"] == "fast" and lattice_512 and default_bias:
-                ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row["mean abs error (0-255)"]),
-                            fontsize=7, xytext=(3, 3), textcoords="offset points")
-        ax.axhline(0.5, color="grey", lw=0.8, ls=":")
-        ax.set(xscale="log", yscale="log")
-        ax.legend(handles=[line], loc="lower left", fontsize=7)
-    grid.figure.suptitle("Speed against accuracy: error against the exact reference vs time per view", y=1.03)
-    grid.figure.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(grid.figure)
+    components = list(dict.fromkeys(data["component"]))
+    fig, axes = plt.subplots(2, len(components), figsize=(5.2 * len(components), 8.4), squeeze=False)
+    rows = (("mae", "mean abs error (0-255)", 0.5), ("max_error", "worst view, abs error (0-255)", 1.0))
+    for r, (column, label, line_at) in enumerate(rows):
+        for ax, component in zip(axes[r], components):
+            sub = data[data["component"] == component].copy()
+            sub[label] = sub[column].clip(lower=floor)
+            sns.scatterplot(data=sub, x="ms per view", y=label, hue="method", style="sampling", s=70, ax=ax,
+                            legend=(r == 0 and component == components[-1]))
+            if r == 0:
+                front = sub[sub["pareto"]].sort_values("ms per view")
+                ax.plot(front["ms per view"], front[label], color="black", lw=1, ls="--", label="Pareto front")
+            for _, row in sub.iterrows():
+                default_bias = np.isclose(row["shadow_bias"], RenderSettings().shadow_bias)
+                lattice_512 = row["sampling"] == "lattice" and row["shadow_map_size"] == 512
+                if row["method"] == "fast" and lattice_512 and default_bias:
+                    ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row[label]),
+                                fontsize=7, xytext=(3, 3), textcoords="offset points")
+            ax.axhline(line_at, color="grey", lw=0.8, ls=":")
+            ax.set(xscale="log", yscale="log", title=f"{component}: {'mean error' if r == 0 else 'worst view'}")
+    if axes[0, -1].get_legend() is not None:
+        sns.move_legend(axes[0, -1], "upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7)
+    fig.suptitle("Speed against accuracy: error against the exact reference vs time per view "
+                 "(dotted: the 0.5 tolerance of the mean, one 8-bit level at the worst view)", y=1.01)
+    fig.tight_layout()
+    save_figure(fig, path, dpi=120)
+
+
+def plot_renderer_validation(validation, smoothness, path) -> None:
+    """The default renderer against the exact reference: each surface's worst view, p99 and MAE per component
+    (left), and the largest deviation of each arc curve of Figs. 21 and 28 against truncation (right)."""
+    sns.set_theme(style="whitegrid")
+    fig, axes = plt.subplots(1, 2, figsize=(14, 4.6))
+    data = validation.copy()
+    data["surface"] = [f"t {t:.2g}, a {a:.3g}" for t, a in zip(data["truncation"], data["aspect"])]
+    long = data.melt(id_vars=["surface", "component"], value_vars=["worst", "p99", "mae"], var_name="statistic",
+                     value_name="abs error (0-255)")
+    sns.stripplot(data=long, x="surface", y="abs error (0-255)", hue="statistic", dodge=False, ax=axes[0],
+                  marker="o", size=6, jitter=False)
+    axes[0].axhline(1.0, color="grey", lw=0.8, ls=":")
+    axes[0].tick_params(axis="x", rotation=70, labelsize=7)
+    axes[0].set_title("every view of each sweep (diffuse, specular, total)")
+    if len(smoothness):
+        sns.lineplot(data=smoothness, x="truncation", y="largest_deviation", hue="figure", style="aspect",
+                     marker="o", ax=axes[1])
+    else:
+        axes[1].text(0.5, 0.5, "no table aspect in the study", ha="center", transform=axes[1].transAxes)
+    axes[1].axhline(1.0, color="grey", lw=0.8, ls=":")
+    axes[1].set(ylabel="largest deviation from the exact curve (0-255)",
+                title="the arc curves of Figs. 21 (specular) and 28 (diffuse)")
+    fig.suptitle("The default renderer against the exact reference (dotted: one 8-bit level)", y=1.02)
+    fig.tight_layout()
+    save_figure(fig, path, dpi=120)
 
 
 def plot_stability(frames, path, pictures=None) -> None:
@@ -860,8 +893,7 @@ def plot_stability(frames, path, pictures=None) -> None:
     for ax in axes[2, 1 + len(pictures or {}):]:
         ax.axis("off")
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
-    plt.close(fig)
+    save_figure(fig, path, dpi=80, bbox_inches=None)
 
 
 def plot_implicit(validation, frames, path, pictures=None) -> None:
@@ -891,8 +923,7 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
     axes[1].set(xscale="log", yscale="log", xlabel="field side N (periods)", ylabel="frame time (ms)",
                 title="N x N field: explicit mesh against one implicit quad")
     fig.tight_layout()
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def plot_implicit_maps(maps, path, component: str = "total") -> None:
@@ -925,8 +956,7 @@ def plot_implicit_maps(maps, path, component: str = "total") -> None:
             ax.set(aspect="equal", xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xticks=[], yticks=[])
             ax.set_title(title, loc="left", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110, bbox_inches="tight")
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
 
 
 #: The statistics the random-roughness chart shows, in reading order (see :data:`roughlight.ensembles.STATISTICS`).

@@ -690,6 +690,9 @@ def _section_provenance(tables: dict, figures: dict, config, provenance: dict, b
                          f"({_e(benchmarks['png'])}).</figcaption></figure>")
         if benchmarks.get("table") is not None:
             parts.append(_table(benchmarks["table"], "Speed and accuracy benchmark", table_id="speed-accuracy"))
+        if benchmarks.get("validation") is not None:
+            parts.append(renderer_validation_html(benchmarks["validation"], benchmarks.get("smoothness"),
+                                                  benchmarks.get("validation_png")))
     else:
         parts.append('<p class="note">The speed/accuracy chart is switched off (<code>report.speed_accuracy: '
                      "false</code>).</p>")
@@ -846,8 +849,44 @@ def _fmt_domain(v):
     return f"{v:.3g}"
 
 
-def stability_section(tables: dict, figure_png_path, plan: str = "full") -> str:
-    """HTML fragment for the report: the safe-domain table, the figure, what fails where.
+def renderer_validation_line(validation: pd.DataFrame) -> str:
+    """One sentence: the default renderer's worst view, p99 and MAE against the exact reference."""
+    from .renderer_validation import validation_summary
+
+    summary = validation_summary(validation).set_index("component")
+    n_surfaces = len(validation[["truncation", "aspect", "incidence"]].drop_duplicates())
+    views = int(validation["n_views"].max())
+    parts = [f"{c} {r.worst:.2f} (p99 {r.p99:.2f}, MAE up to {r.largest_mae:.3f})" for c, r in summary.iterrows()]
+    return (f"Default renderer at every view ({n_surfaces} surfaces x {views:,} views against the exact "
+            f"reference): worst view {'; '.join(parts)}; the goal is a worst view within one 8-bit level.")
+
+
+def renderer_validation_html(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None) -> str:
+    """The default renderer at every view: the summary line, the per-surface table, the arc curves' largest
+    deviations (Figs. 21 and 28) and the chart of :func:`roughlight.figures.plot_renderer_validation`."""
+    parts = ['<h3 id="renderer-validation">Accuracy at every view</h3>',
+             f"<p>{html.escape(renderer_validation_line(validation))}</p>"]
+    if png_path and os.path.exists(png_path):
+        parts.append(f'<figure id="fig-renderer-validation"><img src="{png_data_uri(png_path)}" '
+                     'alt="the default renderer against the exact reference"><figcaption>The default renderer '
+                     f"against the exact reference ({_e(png_path)}).</figcaption></figure>")
+    parts.append(_table(validation, "The default renderer against the exact reference, per surface and component",
+                        table_id="renderer-validation"))
+    if smoothness is not None and len(smoothness):
+        worst = smoothness.sort_values("largest_deviation", ascending=False).iloc[0]
+        parts.append(f"<p>Smoothness of the figures' curves: the largest deviation of an arc curve of Figs. 21 and "
+                     f"28 from the exact curve is {worst['largest_deviation']:.2f} ({_e(worst['figure'])}, "
+                     f"truncation {worst['truncation']:g}, aspect {worst['aspect']:.3g}, "
+                     f"e = {worst['at_elevation']:g}).</p>")
+        parts.append(_table(smoothness, "Arc curves of Figs. 21 and 28 against the exact curves",
+                            table_id="arc-smoothness"))
+    return "".join(parts)
+
+
+def stability_section(tables: dict, figure_png_path, plan: str = "full", renderer_validation=None) -> str:
+    """HTML fragment for the report: the safe-domain table, the figure, what fails where (with the default
+    renderer's worst view at every view when ``renderer_validation``, the frame of
+    :func:`roughlight.renderer_validation.validate_renderer`, is given).
 
     Parameters
     ----------
@@ -891,6 +930,10 @@ def stability_section(tables: dict, figure_png_path, plan: str = "full") -> str:
             "is a perceptual effect, not a change of a capture window's mean: the pictures in the figure's "
             "bottom row show it; the means above show what the averaged normals do to the measurement.</p>"
         )
+    validation_html = ""
+    if renderer_validation is not None and len(renderer_validation):
+        validation_html = (f'<p id="stability-every-view">{html.escape(renderer_validation_line(renderer_validation))} '
+                           'See <a href="#renderer-validation">Accuracy at every view</a>.</p>')
     return (
         '<section id="stability"><h2>Where methods fail</h2>'
         f"<p>Each method against the exact reference ({html.escape(plan)} plan): the fast method on "
@@ -916,7 +959,7 @@ def stability_section(tables: dict, figure_png_path, plan: str = "full") -> str:
         "peter-panning (lost shadows) at low incidence. Clipping at 255, which the thesis avoided by using a "
         "source of 127 after seeing it bend its lobes (Fig. 17), flattens the lobes' peaks and moves their "
         "centres (on a clipped plateau the peak's position is arbitrary; the centre is the measure)."
-        f"{clip_text}</p>{normals_html}</section>"
+        f"{clip_text}</p>{validation_html}{normals_html}</section>"
     )
 
 

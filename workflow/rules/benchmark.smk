@@ -26,6 +26,37 @@ rule speed_accuracy:
         "../scripts/speed_accuracy.py"
 
 
+# The default renderer against the exact reference at every view (worst view, p99 and MAE per surface), and
+# the largest deviation of each arc curve of Figs. 21 and 28 from the exact curve.
+rule renderer_validation:
+    input:
+        study="results/study.parquet",
+    output:
+        validation="results/benchmarks/{plan}/renderer_validation.parquet",
+        smoothness="results/benchmarks/{plan}/arc_smoothness.parquet",
+        chart=report(
+            "results/benchmarks/{plan}/renderer_validation.png",
+            caption="../report/renderer_validation.rst",
+            category="Speed and accuracy",
+        ),
+    log:
+        "results/logs/benchmarks/{plan}/renderer_validation.log",
+    benchmark:
+        "results/logs/benchmarks/{plan}/renderer_validation.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        lighting=lighting_params,
+        render=fast_render_params,
+        table_aspects=table_aspects_param,
+        table_incidence=table_incidence_param,
+    script:
+        "../scripts/renderer_validation.py"
+
+
 # The implicit rough surface (one flat quad through shaders/implicit.frag): its exact form and first-order
 # correction against the exact reference on every view of the validation surfaces, beside the fast renderer
 # and the V-cavity facet model; and frame times of an N x N field drawn explicitly against one implicit quad.

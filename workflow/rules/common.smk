@@ -188,6 +188,15 @@ def fast_render_params(wildcards):
     return rl_config.render_settings_from_config(config)
 
 
+def table_aspects_param(wildcards):
+    """The aspects of Tables 1-2 and of the arc figures (report.table_aspects)."""
+    return [float(a) for a in config["report"]["table_aspects"]]
+
+
+def table_incidence_param(wildcards):
+    return float(config["report"]["table_incidence"])
+
+
 def grid_params(wildcards):
     return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}
 
@@ -219,6 +228,13 @@ def report_measurements(wildcards):
             f"results/benchmarks/{plan}/speed_accuracy.parquet"
         )
         inputs["speed_accuracy_chart"] = f"results/benchmarks/{plan}/speed_accuracy.png"
+        inputs["renderer_validation"] = (
+            f"results/benchmarks/{plan}/renderer_validation.parquet"
+        )
+        inputs["arc_smoothness"] = f"results/benchmarks/{plan}/arc_smoothness.parquet"
+        inputs["renderer_validation_chart"] = (
+            f"results/benchmarks/{plan}/renderer_validation.png"
+        )
     if config["report"]["implicit"]:
         inputs["implicit_validation"] = (
             f"results/benchmarks/{plan}/implicit_validation.parquet"

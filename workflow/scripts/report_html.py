@@ -40,12 +40,15 @@ tables = {
 figures = {os.path.splitext(os.path.basename(p))[0]: p for p in inp.figures}
 benchmarks = None
 if "speed_accuracy_chart" in inp.keys():  # report.speed_accuracy
-    benchmarks = {"png": inp.speed_accuracy_chart, "table": pd.read_parquet(inp.speed_accuracy_table)}
+    benchmarks = {"png": inp.speed_accuracy_chart, "table": pd.read_parquet(inp.speed_accuracy_table),
+                  "validation": pd.read_parquet(inp.renderer_validation),
+                  "smoothness": pd.read_parquet(inp.arc_smoothness), "validation_png": inp.renderer_validation_chart}
 stability_html = None
 if "stability_chart" in inp.keys():  # report.stability
     stability_html = R.stability_section(
         {"safe_domain": pd.read_csv(inp.stability_safe), "stability": pd.read_parquet(inp.stability_table)},
         inp.stability_chart, plan=snakemake.params.plan,
+        renderer_validation=benchmarks["validation"] if benchmarks else None,
     )
 implicit_html = None
 if "implicit_chart" in inp.keys():  # report.implicit

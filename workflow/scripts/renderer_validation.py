@@ -1,0 +1,29 @@
+"""Snakemake adapter: the default renderer against the exact reference at every view of the plan's surfaces, and
+the arc curves of Figs. 21 and 28 against the exact curves."""
+import os
+import sys
+
+os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from roughlight import figures, renderer_validation, shading  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
+from roughlight.sampling import RenderSettings  # noqa: E402
+
+log = _log.setup(snakemake)
+lighting = shading.Lighting(**snakemake.params.lighting)
+settings = RenderSettings(**snakemake.params.render)
+validation = renderer_validation.validate_renderer(snakemake.wildcards.plan, lighting=lighting, settings=settings,
+                                                   log=log)
+write_frame(validation, snakemake.output.validation)
+smoothness = renderer_validation.arc_smoothness(pd.read_parquet(snakemake.input.study),
+                                                aspects=snakemake.params.table_aspects,
+                                                incidence=snakemake.params.table_incidence, lighting=lighting)
+write_frame(smoothness, snakemake.output.smoothness)
+figures.plot_renderer_validation(validation, smoothness, snakemake.output.chart)
+log(renderer_validation.validation_summary(validation).round(3).to_string())
+log(smoothness.round(3).to_string())
