@@ -37,17 +37,24 @@ import time
 
 import numpy as np
 
-from . import geometry, shading, sweeps
+from . import geometry, shading, shares, sweeps
 from .gl import GLTF, Context, Primitive, context, gl, set_material_uniforms
 from .sampling import RenderSettings, lattice_copies, tile_layout
 from .surface import Surface
 
+#: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
+#: texcoord_0 = the facet's index, then the instance matrix).
+ATTRIBUTES = {"NORMAL_LOC": 1, "FACET_LOC": 2, "INST_M_LOC": 3}
+
 
 def _primitive(surface: Surface, poses: np.ndarray):
-    tris, normals, _ = geometry.period_triangles(surface)
+    tris, normals, names = geometry.period_triangles(surface)
+    order = list(dict.fromkeys(names))  # facets in facet_polygons' order, as the reference numbers them
+    facet = np.array([order.index(name) for name in names], np.float32)
     return Primitive(
         positions=tris.reshape(-1, 3).astype(np.float32),
         normals=np.repeat(normals, 3, axis=0).astype(np.float32),
+        texcoord_0=np.repeat(np.stack([facet, np.zeros_like(facet)], axis=1), 3, axis=0),
         mode=GLTF.TRIANGLES,
         poses=poses,
     )
@@ -106,9 +113,7 @@ def _shadow_pass(ctx: Context, surface: Surface, light_dir, depth_scale):
     poses = _copy_poses(copies, shear, light_dir, np.zeros(2))
     _begin_pass(ctx.shadow_fbo, ctx.shadow_size, ctx.shadow_size, gl.GL_DEPTH_BUFFER_BIT)
     primitive = _primitive(surface, poses)
-    program = ctx.programs.get_program(
-        "periodic.vert", "periodic_depth.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
-    )
+    program = ctx.programs.get_program("periodic.vert", "periodic_depth.frag", defines=ATTRIBUTES)
     program._bind()
     program.set_uniform("depth_scale", float(depth_scale))
     program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
@@ -125,7 +130,8 @@ _LAYOUTS: dict = {}
 def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
     if key not in _LAYOUTS:
-        _LAYOUTS.clear()
+        if len(_LAYOUTS) >= 32:
+            _LAYOUTS.clear()
         _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
     return _LAYOUTS[key]
 
@@ -178,12 +184,26 @@ def fast_sweep(
         out["seconds"] = time.perf_counter() - start
         return out
 
-    matrix = settings.sampling_matrix()
-    width, height_px, slots, pixel_order = _cached_layout(matrix, todo.size, int(settings.max_framebuffer))
-    per_tile = len(pixel_order) // len(slots)
+    views = shading.view_direction(elevation[todo], azimuth[todo])
+    shears = views[:, :2] / views[:, 2:3]
+    adaptive = settings.sampling == "adaptive"
+    regions = None
+    if adaptive:
+        regions = shares.facet_regions(surface, incidence, lighting.shadows)
+        if len(regions.normals) > shares.MAX_FACETS:
+            raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
+                             f"this surface has {len(regions.normals)}; use lattice")
     # a camera shift by `jitter` pixels is the surface moved the other way, in cell units
-    shift = -np.linalg.solve(matrix.astype(float), np.asarray(settings.jitter, float))
-    ctx = context(width, height_px, int(settings.shadow_map_size))
+    base = settings.sampling_matrix()
+    shift = -np.linalg.solve(base.astype(float), np.asarray(settings.jitter, float))
+    if adaptive:
+        matrices = shares.candidate_lattices(int(settings.pixels_per_period))
+        choice = shares.choose_lattices(regions, shears, matrices, shift)
+    else:
+        matrices, choice = [base], np.zeros(todo.size, int)
+    groups = [(m, np.flatnonzero(choice == k)) for k, m in enumerate(matrices) if np.any(choice == k)]
+    layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx in groups]
+    ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
     height = surface.height
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
     light_dir = shading.light_direction(incidence)
@@ -196,41 +216,58 @@ def fast_sweep(
             shadow_mode = 1
             _shadow_pass(ctx, surface, light_dir, depth_scale)
 
-    program = ctx.programs.get_program(
-        "periodic.vert", "periodic.frag", defines={"NORMAL_LOC": 1, "INST_M_LOC": 2}
-    )
-    views = shading.view_direction(elevation[todo], azimuth[todo])
-    shears = views[:, :2] / views[:, 2:3]
-    per_pass = len(slots)
-    for first in range(0, todo.size, per_pass):
-        idx = np.arange(first, min(first + per_pass, todo.size))
-        owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift).max()))
-        poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[idx - first][owner])
+    defines = {**ATTRIBUTES, "FACET_IDS": 1} if adaptive else ATTRIBUTES
+    program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
+    for (matrix, members), (width, height_px, slots, pixel_order) in zip(groups, layouts):
+        per_tile = len(pixel_order) // len(slots)
+        shift_m = -np.linalg.solve(matrix.astype(float), np.asarray(settings.jitter, float))
+        for first in range(0, members.size, len(slots)):
+            idx = members[first:first + len(slots)]
+            owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
+            poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[: idx.size][owner])
+            _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+            program._bind()
+            _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
+            program.set_uniform("sampling", matrix.astype(np.float32))
+            program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
+            program.set_uniform("surface_shift", shift_m.astype(np.float32))
+            gl.glActiveTexture(gl.GL_TEXTURE0)
+            gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
+            program.set_uniform("shadow_map", 0)
+            _draw(ctx, _primitive(surface, poses), program)
+            program._unbind()
+            gl.glFinish()
 
-        _begin_pass(0, ctx.width, ctx.height, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
-        program._bind()
-        _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
-        program.set_uniform("sampling", matrix.astype(np.float32))
-        program.set_uniform("ndc_scale", np.array([2.0 / ctx.width, 2.0 / ctx.height], np.float32))
-        program.set_uniform("surface_shift", shift.astype(np.float32))
-        gl.glActiveTexture(gl.GL_TEXTURE0)
-        gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
-        program.set_uniform("shadow_map", 0)
-        _draw(ctx, _primitive(surface, poses), program)
-        program._unbind()
-        gl.glFinish()
-
-        raw = gl.glReadPixels(0, 0, ctx.width, ctx.height, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-        image = np.frombuffer(raw, np.uint8).reshape(-1, 4)
-        tiles_px = image[pixel_order[: idx.size * per_tile]].reshape(idx.size, per_tile, 4)
-        means = tiles_px.mean(axis=1, dtype=np.float64)
-        target = todo[idx]
-        out["diffuse"][target] = means[:, 0]
-        out["specular"][target] = means[:, 1]
-        out["total"][target] = means[:, 2]
-        out["coverage"][target] = means[:, 3] / 255.0
+            raw = gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+            image = np.frombuffer(raw, np.uint8).reshape(-1, 4)
+            tiles_px = image[pixel_order[: idx.size * per_tile]].reshape(idx.size, per_tile, 4)
+            target = todo[idx]
+            if adaptive:
+                ids = tiles_px[..., 0].astype(np.int64) + 256 * tiles_px[..., 1].astype(np.int64)
+                _adaptive_values(out, target, ids, regions, shears[idx], views[idx], matrix, shift_m,
+                                 light_dir, lighting)
+                continue
+            means = tiles_px.mean(axis=1, dtype=np.float64)
+            out["diffuse"][target] = means[:, 0]
+            out["specular"][target] = means[:, 1]
+            out["total"][target] = means[:, 2]
+            out["coverage"][target] = means[:, 3] / 255.0
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def _adaptive_values(out, target, ids, regions, shear, views, matrix, shift, light_dir, lighting) -> None:
+    """Fill ``out`` at ``target`` from the tiles' (facet, lit) identities (``ids`` = 2 facet + lit + 1): each
+    facet's shares by :func:`roughlight.shares.ratio_shares`, weighted by its 8-bit values as the framebuffer
+    stores them (:func:`roughlight.shading.facet_sum`)."""
+    n, width = len(ids), 2 * len(regions.normals) + 2
+    histogram = np.bincount((np.arange(n)[:, None] * width + ids).ravel(), minlength=n * width).reshape(n, width)
+    pixel_counts = histogram[:, 2 * regions.facet + regions.lit.astype(int) + 1]
+    lit, shadow = shares.ratio_shares(pixel_counts, regions, shear, matrix, shift)
+    values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
+    for component in shading.COMPONENTS:
+        out[component][target] = values[component]
+    out["coverage"][target] = 1.0 - histogram[:, 0] / ids.shape[1]
 
 
 def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):

@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 #: Pixel sampling patterns of the fast renderer (``render.sampling``).
-SAMPLINGS = ("lattice", "grid")
+SAMPLINGS = ("lattice", "grid", "adaptive")
 
 
 @dataclass(frozen=True)
@@ -155,7 +155,7 @@ def sampling_matrix(pixels_per_period: int, sampling: str = "lattice") -> np.nda
     P = int(pixels_per_period)
     if sampling == "grid":
         return np.array([[P, 0], [0, P]])
-    if sampling != "lattice":
+    if sampling not in ("lattice", "adaptive"):  # adaptive: this lattice and others chosen per view (shares.py)
         raise ValueError(f"render.sampling must be one of {SAMPLINGS}, got {sampling!r}")
     best = None
     for p in range(1, P + 2):

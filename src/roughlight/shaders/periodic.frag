@@ -4,13 +4,15 @@
 //   S = max(R.V, 0)^zeta (Phong, R = 2 (N.L) N - L) or max(N.H, 0)^zeta (Blinn),
 //   S = 0 where N.L <= 0; shadowed fragments keep the ambient term only.
 // Output channels (each stored as an 8-bit value by the framebuffer):
-//   r = diffuse (with ambient), g = specular, b = total, a = 1 (coverage).
+//   r = diffuse (with ambient), g = specular, b = total, a = 1 (coverage);
+//   with FACET_IDS (adaptive sampling) the facet and whether it is lit instead (see the end of main).
 
 in vec3 frag_local;
 flat in vec3 frag_vertex;
 in vec3 frag_normal;
 in vec2 frag_cell;
 flat in vec3 frag_view;
+flat in float frag_facet;
 
 uniform vec3 light_dir;            // unit vector toward the light
 uniform float light;               // J / 255
@@ -79,5 +81,11 @@ void main()
     }
     float diffuse = light * (ambient_term + lit * diffuse_reflectance * max(ndotl, 0.0));
     float specular = light * spec_lit * specular_reflectance * s;
+#ifdef FACET_IDS
+    // which facet, lit or not: id = 2 facet + lit + 1 in 16 bits (red low byte, green high byte); 0 = no surface
+    float id = 2.0 * frag_facet + lit + 1.0;
+    frag_color = vec4(mod(id, 256.0), floor(id / 256.0), 0.0, 255.0) / 255.0;
+#else
     frag_color = vec4(diffuse, specular, diffuse + specular, 1.0);
+#endif
 }

@@ -20,6 +20,7 @@
 
 layout(location = 0) in vec3 position;
 layout(location = NORMAL_LOC) in vec3 normal;
+layout(location = FACET_LOC) in vec2 facet;  // x: the facet's index in the period
 layout(location = INST_M_LOC) in mat4 inst_m;
 
 uniform float depth_scale;   // 1 / (height range of the surface)
@@ -32,6 +33,7 @@ flat out vec3 frag_vertex;   // one vertex of the facet, within the period: a po
 out vec3 frag_normal;        // true face normal (never averaged)
 out vec2 frag_cell;          // oblique cell coordinates: kept only inside [0,1)^2
 flat out vec3 frag_view;
+flat out float frag_facet;
 
 void main()
 {
@@ -44,6 +46,7 @@ void main()
     frag_normal = normal;
     frag_cell = cell;
     frag_view = inst_m[2].xyz;
+    frag_facet = facet.x;
     // clip each copy to its own tile, before rasterization
     gl_ClipDistance[0] = cell.x;
     gl_ClipDistance[1] = 1.0 - cell.x;

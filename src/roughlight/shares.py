@@ -1,0 +1,285 @@
+"""Each facet's share of a view's image, from pixel counts corrected by exact projected areas.
+
+The fast renderer's tile holds one period of the projected image; a view's value is the sum over facets of each
+facet's 8-bit value times the share of the image it fills, lit and in shadow. Counting pixels estimates the shares
+with an error along every edge in the image, which at single views reaches several 8-bit levels (issue 11, and the
+thesis's "jagged peaks", Ch. IV.A). Two corrections, both exact geometry and no rendering:
+
+- **Ratio to the exact area.** Each *region* (the lit or the shadowed part of a facet, from
+  :func:`roughlight.reference.lit_footprints`) projects along the view to a polygon whose area is known exactly and
+  whose lattice points (the tile's pixel centres) can be counted exactly. The rendered count of the region's visible
+  part over that count is its visible fraction, and times the exact area its share: the pixel errors along the
+  region's own edges cancel, those along the edges of whatever hides it remain.
+- **A lattice chosen per view.** Pixel centres are a lattice; an edge running along a short lattice vector
+  collects its error over its whole length. Among a few rotated lattices of the same density the view is drawn
+  with the one whose edges (every region's, projected) have the smallest *star discrepancy*: the largest count
+  error of any part of an edge, which is what a partly hidden edge contributes.
+
+Coordinates: plan ``(x, y, z)`` of one period; a view's plan shift ``d = (V_x / V_z, V_y / V_z)``; the oblique
+("cell") coordinates ``(x, y) - z d`` in periods, and pixel coordinates ``matrix @ (cell + shift)`` whose integer
+points plus one half are the tile's pixel centres (:mod:`roughlight.sampling`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Largest number of facets whose (facet, lit) identity fits two 8-bit channels (2 F + 1 < 65536).
+MAX_FACETS = 32767
+
+
+@dataclass(frozen=True)
+class Regions:
+    """The lit and shadowed parts of each facet of one period under one light.
+
+    Attributes
+    ----------
+    facet : (R,) int array
+        The facet each region belongs to (index into ``normals``).
+    lit : (R,) bool array
+        True for the lit part, False for the shadowed part.
+    rings : list of R lists of (n, 3) float arrays
+        Each region's boundary rings in plan coordinates with their heights, the exterior counter-clockwise and
+        holes clockwise (seen from above); an empty list for an empty region.
+    normals : (F, 3) float array
+        Unit facet normals.
+    alpha, beta : (F,) float arrays
+        The facets' planes ``z = alpha x + beta y + gamma``.
+    """
+
+    facet: np.ndarray
+    lit: np.ndarray
+    rings: list
+    normals: np.ndarray
+    alpha: np.ndarray
+    beta: np.ndarray
+
+
+def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
+    """The lit and shadowed part of every facet (exact polygon clipping of the light's view, once a sweep)."""
+    import shapely
+    from shapely.geometry.polygon import orient
+
+    from .reference import _area_parts, _Scene
+
+    scene = _Scene(surface, incidence, shadows)
+    surf = scene.surf
+    facet, lit_flag, rings = [], [], []
+    for f in range(len(surf.names)):
+        footprint, lit = surf.footprints[f], scene.lit[f]
+        shadowed = footprint if lit.is_empty else _area_parts(shapely.difference(footprint, lit))
+        for flag, region in ((True, lit), (False, shadowed)):
+            region_rings = []
+            for polygon in shapely.get_parts(region):
+                if polygon.is_empty or polygon.area <= 0.0:
+                    continue
+                polygon = orient(polygon, 1.0)
+                for ring in (polygon.exterior, *polygon.interiors):
+                    xy = np.asarray(ring.coords, float)[:-1, :2]
+                    z = surf.alpha[f] * xy[:, 0] + surf.beta[f] * xy[:, 1] + surf.gamma[f]
+                    region_rings.append(np.column_stack([xy, z]))
+            facet.append(f)
+            lit_flag.append(flag)
+            rings.append(region_rings)
+    return Regions(np.asarray(facet, int), np.asarray(lit_flag, bool), rings, np.asarray(surf.normals, float),
+                   np.asarray(surf.alpha, float), np.asarray(surf.beta, float))
+
+
+def _edges(regions: Regions):
+    """Every ring edge: start (E, 3), end (E, 3), region (E,)."""
+    start, end, owner = [], [], []
+    for r, rings in enumerate(regions.rings):
+        for ring in rings:
+            start.append(ring)
+            end.append(np.roll(ring, -1, axis=0))
+            owner.append(np.full(len(ring), r))
+    if not start:
+        return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, int)
+    return np.concatenate(start), np.concatenate(end), np.concatenate(owner)
+
+
+def _unique_edges(regions: Regions):
+    """Every edge once: start (E, 3), end (E, 3) and the regions on its two sides (E, 2), -1 where the other
+    side is not a region of this period (a cell's border, whose neighbour is the next period's)."""
+    start, end, owner = _edges(regions)
+    found = {}
+    for k, (a, b) in enumerate(zip(np.round(start, 9), np.round(end, 9))):
+        key = (tuple(b), tuple(a)) if (tuple(b), tuple(a)) in found else (tuple(a), tuple(b))
+        found.setdefault(key, []).append(k)
+    keep = np.array([ks[0] for ks in found.values()], int)
+    sides = np.array([[owner[ks[0]], owner[ks[1]] if len(ks) > 1 else -1] for ks in found.values()], int)
+    return start[keep], end[keep], sides.reshape(-1, 2)
+
+
+def _front(regions: Regions, owner, shear) -> np.ndarray:
+    """(V, E) True where the edge's facet faces the view (its projection has positive area)."""
+    f = regions.facet[owner]
+    det = 1.0 - regions.alpha[f][None, :] * shear[:, 0:1] - regions.beta[f][None, :] * shear[:, 1:2]
+    return det > 1e-9
+
+
+def _project(points, shear, matrix, shift) -> np.ndarray:
+    """(V, E, 2) pixel coordinates of plan points (E, 3) seen along each of V shears."""
+    cell = points[None, :, :2] - points[None, :, 2:3] * shear[:, None, :] + np.asarray(shift, float)
+    return cell @ np.asarray(matrix, float).T
+
+
+def _rows(y0, y1, valid):
+    """The pixel-centre rows ``r + 0.5`` in ``[min(y0, y1), max(y0, y1))`` of each segment: (segment, row) pairs."""
+    lo, hi = np.minimum(y0, y1), np.maximum(y0, y1)
+    first = np.ceil(lo - 0.5).astype(np.int64)
+    count = np.where(valid, np.maximum(np.ceil(hi - 0.5).astype(np.int64) - first, 0), 0)
+    segment = np.repeat(np.arange(len(y0)), count)
+    start = np.cumsum(count) - count
+    row = np.arange(count.sum()) - np.repeat(start, count) + first[segment]
+    return segment, row + 0.5, start, count
+
+
+def counts_and_areas(regions: Regions, shear, matrix, shift=(0.0, 0.0)):
+    """Exact pixel-centre counts and areas of every region's projection, per view.
+
+    Parameters
+    ----------
+    regions : Regions
+    shear : (V, 2) array
+        Each view's plan shift ``d``.
+    matrix : (2, 2) int array
+        Cell coordinates to pixels (:func:`roughlight.sampling.sampling_matrix`).
+    shift : (2,) array
+        Translation of the surface in cell units (the renderer's jitter).
+
+    Returns
+    -------
+    counts, areas : (V, R) float arrays
+        Pixel centres inside each region's projected polygon (with multiplicity over periods, as the tile counts
+        them) and the polygon's area in periods (0 where the facet faces away).
+    """
+    shear = np.atleast_2d(np.asarray(shear, float))
+    start, end, owner = _edges(regions)
+    n_views, n_regions = len(shear), len(regions.rings)
+    counts = np.zeros((n_views, n_regions))
+    areas = np.zeros((n_views, n_regions))
+    if len(owner) == 0:
+        return counts, areas
+    front = _front(regions, owner, shear)
+    a, b = _project(start, shear, matrix, shift), _project(end, shear, matrix, shift)
+    n_pixels = abs(round(np.linalg.det(np.asarray(matrix, float))))
+    cross = (a[..., 0] * b[..., 1] - b[..., 0] * a[..., 1]) * front
+    key = np.arange(n_views)[:, None] * n_regions + owner[None, :]
+    areas = np.bincount(key.ravel(), weights=0.5 * cross.ravel() / n_pixels, minlength=n_views * n_regions)
+    # crossing sums: each edge adds, on every pixel-centre row it spans, the pixel centres left of it (+ going up,
+    # - going down); over a closed ring these sum to the centres inside
+    x0, y0, x1, y1 = a[..., 0].ravel(), a[..., 1].ravel(), b[..., 0].ravel(), b[..., 1].ravel()
+    segment, y, _, _ = _rows(y0, y1, front.ravel())
+    x = x0[segment] + (y - y0[segment]) * (x1[segment] - x0[segment]) / (y1[segment] - y0[segment])
+    left = np.floor(x - 0.5) + 1.0
+    sign = np.where(y1[segment] > y0[segment], 1.0, -1.0)
+    counts = np.bincount(key.ravel()[segment], weights=sign * left, minlength=n_views * n_regions)
+    return counts.reshape(n_views, n_regions), areas.reshape(n_views, n_regions)
+
+
+def edge_discrepancy(regions: Regions, shear, matrix, shift=(0.0, 0.0)) -> np.ndarray:
+    """(V,) the sum over every edge of its star discrepancy under the lattice ``matrix``, counted once for each
+    region on either side of it that faces the view.
+
+    An edge's star discrepancy is the largest count error, in pixels, of any part of it cut at a pixel row (or
+    column, for edges nearer the horizontal): the error a partly hidden edge can bring to a view.
+    """
+    shear = np.atleast_2d(np.asarray(shear, float))
+    start, end, sides = _unique_edges(regions)
+    if len(sides) == 0:
+        return np.zeros(len(shear))
+    # each region seeing the edge counts it: an edge between two facets in view weighs twice
+    weight = _front(regions, sides[:, 0], shear).astype(float)
+    weight += (sides[:, 1] >= 0) & _front(regions, np.maximum(sides[:, 1], 0), shear)
+    front = weight > 0
+    a, b = _project(start, shear, matrix, shift), _project(end, shear, matrix, shift)
+    steep = np.abs(b[..., 1] - a[..., 1]) >= np.abs(b[..., 0] - a[..., 0])
+    # run along rows for steep edges, along columns for flat ones
+    x0, y0 = np.where(steep, a[..., 0], a[..., 1]).ravel(), np.where(steep, a[..., 1], a[..., 0]).ravel()
+    x1, y1 = np.where(steep, b[..., 0], b[..., 1]).ravel(), np.where(steep, b[..., 1], b[..., 0]).ravel()
+    segment, y, first, count = _rows(y0, y1, front.ravel())
+    x = x0[segment] + (y - y0[segment]) * (x1[segment] - x0[segment]) / (y1[segment] - y0[segment])
+    error = 0.5 - ((x - 0.5) - np.floor(x - 0.5))  # pixel centres left of x, minus x: mean 0
+    running = np.cumsum(error)
+    running -= np.concatenate([[0.0], running])[np.repeat(first, count)]
+    n = len(x0)
+    star = np.zeros(n)
+    has = np.flatnonzero(count > 0)
+    if has.size:
+        at = first[has]  # each segment's rows are contiguous: reduce over them
+        high = np.maximum(np.maximum.reduceat(running, at), 0.0)
+        low = np.minimum(np.minimum.reduceat(running, at), 0.0)
+        total = running[at + count[has] - 1]
+        star[has] = np.max(np.abs([high, low, total - high, total - low]), axis=0)
+    return (star.reshape(front.shape) * weight).sum(axis=1)
+
+
+def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
+    """``n`` rotated-square sampling matrices ``[[p, q], [-q, p]]`` with ``p^2 + q^2`` within 10% of
+    ``pixels_per_period^2`` (``gcd(p, q) = 1``, ``p + q`` odd, as :func:`roughlight.sampling.sampling_matrix`),
+    their angles ``atan(q / p)`` spread over [0, 45] degrees; the default lattice comes first."""
+    from .sampling import sampling_matrix
+
+    size = int(pixels_per_period) ** 2
+    found = {}
+    for p in range(1, int(pixels_per_period) + 3):
+        for q in range(1, p):
+            if (p + q) % 2 == 1 and math.gcd(p, q) == 1 and abs(p * p + q * q - size) <= 0.1 * size:
+                angle = math.degrees(math.atan2(q, p))
+                key = round(angle)
+                if key not in found or abs(p * p + q * q - size) < abs(sum(x * x for x in found[key][1:]) - size):
+                    found[key] = (angle, p, q)
+    default = sampling_matrix(int(pixels_per_period), "lattice")
+    out = [default]
+    wanted = np.linspace(0.0, 45.0, n + 1)[1:] - 45.0 / (2 * n)
+    options = sorted(found.values())
+    for target in wanted:
+        angle, p, q = min(options, key=lambda o: abs(o[0] - target))
+        matrix = np.array([[p, q], [-q, p]])
+        if not any(np.array_equal(matrix, m) for m in out) and len(out) < n:
+            out.append(matrix)
+    return out
+
+
+def choose_lattices(regions: Regions, shear, matrices, shift=(0.0, 0.0)) -> np.ndarray:
+    """(V,) index into ``matrices`` of the lattice whose edges have the smallest :func:`edge_discrepancy` for each
+    view, as a share of the image (the discrepancy over the lattice's pixels a period)."""
+    shear = np.atleast_2d(np.asarray(shear, float))
+    scores = [edge_discrepancy(regions, shear, m, shift) / abs(round(np.linalg.det(np.asarray(m, float))))
+              for m in matrices]
+    return np.argmin(np.array(scores), axis=0)
+
+
+def ratio_shares(pixel_counts, regions: Regions, shear, matrix, shift=(0.0, 0.0)):
+    """Each facet's lit and shadowed share of the image, from the rendered pixel counts.
+
+    Parameters
+    ----------
+    pixel_counts : (V, R) array
+        Pixels of each view's tile showing each region's visible part.
+    regions, shear, matrix, shift
+        As :func:`counts_and_areas` (the lattice the views were drawn with).
+
+    Returns
+    -------
+    lit, shadow : (V, F) arrays
+        Shares, normalised to sum to 1 over the facets of each view that shows any surface.
+    """
+    pixel_counts = np.asarray(pixel_counts, float)
+    counts, areas = counts_and_areas(regions, shear, matrix, shift)
+    n_pixels = abs(round(np.linalg.det(np.asarray(matrix, float))))
+    plain = pixel_counts / n_pixels
+    # a region seen whole has as many pixels as its projection holds: the ratio then gives its exact area
+    share = np.where(counts > 0.5, areas * pixel_counts / np.maximum(counts, 1.0), plain)
+    total = share.sum(axis=1, keepdims=True)
+    share = np.where(total > 0, share / np.where(total > 0, total, 1.0), 0.0)
+    n_facets = len(regions.normals)
+    lit = np.zeros((len(share), n_facets))
+    shadow = np.zeros((len(share), n_facets))
+    np.add.at(lit.T, regions.facet[regions.lit], share[:, regions.lit].T)
+    np.add.at(shadow.T, regions.facet[~regions.lit], share[:, ~regions.lit].T)
+    return lit, shadow
