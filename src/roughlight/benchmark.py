@@ -78,6 +78,8 @@ def default_configs() -> list[Config]:
     for sampling in ("lattice", "grid"):
         for pixels in (8, 12, 16, 24, 32, 48, 64):
             configs.append(Config("fast", {"sampling": sampling, "pixels_per_period": pixels, "shadow_map_size": 512}))
+    for pixels in (16, 20, 24, 28, 32):
+        configs.append(Config("fast", {"sampling": "adaptive", "pixels_per_period": pixels, "shadow_map_size": 512}))
     for size in (32, 128, 2048):
         configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": size}))
     for bias in (0.0, 1e-2):
@@ -93,6 +95,8 @@ def quick_configs() -> list[Config]:
     for pixels in (8, 16, 24, 32):
         configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": pixels, "shadow_map_size": 512}))
     configs.append(Config("fast", {"sampling": "grid", "pixels_per_period": 24, "shadow_map_size": 512}))
+    for pixels in (24, 28):
+        configs.append(Config("fast", {"sampling": "adaptive", "pixels_per_period": pixels, "shadow_map_size": 512}))
     return configs
 
 
