@@ -14,7 +14,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium study test bench style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test bench style lint clean
 
 setup: system-deps $(STAMP)
 
@@ -37,11 +37,28 @@ $(STAMP): requirements.lock pyproject.toml
 chromium:
 	@command -v chromium >/dev/null || { $(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq chromium >/dev/null; }
 
+# a single-node SLURM for the cluster test (Debian's packages; their services are kept from starting: the test
+# starts munged, slurmctld and slurmd itself and stops them by their PIDs)
+SLURM_PACKAGES := slurmctld slurmd slurm-client munge
+slurm:
+	@if ! command -v slurmctld >/dev/null || ! command -v munged >/dev/null; then \
+		echo "installing Debian's $(SLURM_PACKAGES)"; \
+		printf '#!/bin/sh\nexit 101\n' | $(SUDO) tee /usr/sbin/policy-rc.d >/dev/null; \
+		$(SUDO) chmod +x /usr/sbin/policy-rc.d; \
+		$(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq \
+			--no-install-recommends $(SLURM_PACKAGES) >/dev/null; status=$$?; \
+		$(SUDO) rm -f /usr/sbin/policy-rc.d; exit $$status; \
+	fi
+
 study: setup
 	$(BIN)/snakemake --cores $(CORES)
 
-test: setup chromium style
+test: setup chromium slurm style
 	$(BIN)/python -m pytest -q
+
+# the study on a single-node SLURM brought up here, through profiles/slurm, against a local run (a few minutes)
+cluster-test: setup slurm
+	$(BIN)/python -m pytest -q tests/test_cluster.py
 
 # the full-size speed/accuracy benchmark and stability scans (results/benchmarks/full/, results/stability/full/),
 # and the report built with them

@@ -8,6 +8,8 @@ rule control_sweep:
         "results/logs/sweeps/i{incidence}/control.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/control.benchmark.tsv"
+    group:
+        "sweeps"
     conda:
         "../../envs/render.yaml"
     threads: 1
@@ -31,6 +33,8 @@ rule rough_sweep:
         "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.benchmark.tsv"
+    group:
+        "sweeps"
     conda:
         "../../envs/render.yaml"
     threads: 1
@@ -54,6 +58,8 @@ rule random_sweep:
         "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.benchmark.tsv"
+    group:
+        "sweeps"
     conda:
         "../../envs/render.yaml"
     threads: 1
