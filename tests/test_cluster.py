@@ -5,6 +5,7 @@ import os
 import shutil
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pandas as pd
@@ -38,18 +39,34 @@ def _run(workdir, *args, timeout):
     return proc.stdout + proc.stderr
 
 
-def test_the_study_on_slurm_equals_a_local_run(workflow_dir, tmp_path_factory):
+def test_the_study_on_slurm_equals_a_local_run_and_a_second_driver_stops_at_once(workflow_dir, tmp_path_factory):
     (workflow_dir / "config" / "config.yaml").write_text(yaml.safe_dump(SMALL))
     local = tmp_path_factory.mktemp("local")
     shutil.copytree(workflow_dir, local, dirs_exist_ok=True)
     _run(local, "--cores", "2", timeout=600)
 
     cluster = single_node.start(state=tmp_path_factory.mktemp("slurm"))
+    env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
+    command = [SNAKEMAKE, STUDY, "--profile", "profiles/slurm", "--slurm-no-account"]
+    first = None
     try:
         # the profile as a user has it, less the account (this cluster keeps none); a hard timeout, so that a
         # status query that never sees the jobs finish fails the test instead of hanging it
-        log = _run(workflow_dir, "--profile", "profiles/slurm", "--slurm-no-account", timeout=420)
+        first = subprocess.Popen(command, cwd=workflow_dir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                 text=True, env=env)
+        lock = workflow_dir / ".snakemake" / "roughlight.lock"
+        deadline = time.monotonic() + 120
+        while not (lock.exists() and lock.read_text().strip()) and first.poll() is None:
+            assert time.monotonic() < deadline, "the cluster run never took the run lock"
+            time.sleep(0.2)
+        # a second driver in the same directory stops at once, naming the first, while the first goes on
+        second = subprocess.run(command, cwd=workflow_dir, capture_output=True, text=True, timeout=120, env=env)
+        assert second.returncode != 0 and "another run of this workflow is active" in second.stderr + second.stdout
+        log, _ = first.communicate(timeout=420)
+        assert first.returncode == 0, log[-6000:]
     finally:
+        if first is not None and first.poll() is None:
+            first.kill()
         single_node.stop(cluster)
     assert not Path(single_node.CONF).exists() or single_node.MARK not in Path(single_node.CONF).read_text()
 
