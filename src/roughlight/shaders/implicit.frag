@@ -15,10 +15,7 @@
 //   facet fills, lit and shadowed, is a closed form (README, "An implicit
 //   rough surface"); the pixel shows the facet whose cumulative share its
 //   dither threshold falls in, so the image mean is the facet sum.
-//
-// Lighting equation (as roughlight.shading and periodic.frag):
-//   I = J (m_a A + m_d max(N.L, 0) + m_s S), S = max(R.V, 0)^zeta (Phong) or
-//   max(N.H, 0)^zeta (Blinn), S = 0 where N.L <= 0; shadowed: ambient only.
+// The lighting equation and the correction's shares are in implicit_model.glsl.
 // Output: r = diffuse, g = specular, b = total, a = 1; 8-bit in the framebuffer.
 //
 // Sweep (field_size == 0): pixel p (linear index y * fb_width + x) is sample
@@ -29,21 +26,54 @@
 //   N x N field seen along `scene_view`: `field_pos` moved within the pixel's
 //   footprint by the Fibonacci point of its index (stochastic anti-aliasing);
 //   outside the field is discarded.
+// Scene with the correction (defined SCENE_CORRECTION): one view and one light
+//   for the whole picture (a collimated detector, a directional light), so the
+//   vertex stage computes the facets' shares and values once (implicit.vert)
+//   and a pixel only picks one by its dither threshold
+//   u = fract(x a1 + y a2) (a rank-1 lattice over the pixels, a1, a2 the R2
+//   sequence's constants: equidistributed, no integer arithmetic).
+
+#include "implicit_model.glsl"
+
+uniform float field_size;          // N (scene), 0 (sweep)
+
+#ifdef SCENE_CORRECTION
+
+in vec2 field_pos;
+flat in vec4 cumulative[3];        // the facets' cumulative shares (lit, shadowed; facet by facet), 9 used
+flat in vec3 colours[10];          // each share's value: facet f lit at 2 f, shadowed at 2 f + 1
+
+out vec4 frag_color;
+
+const vec2 DITHER = vec2(0.7548776662, 0.5698402910);
+
+void main()
+{
+    if (any(lessThan(field_pos, vec2(0.0))) || any(greaterThanEqual(field_pos, vec2(field_size)))) {
+        discard;
+    }
+    // the share whose cumulative interval holds u: walk the bounds in order, static indices only
+    // (llvmpipe pays for a dynamically indexed input on every pixel)
+    vec4 u = vec4(fract(dot(gl_FragCoord.xy, DITHER)));
+    bvec4 past0 = greaterThanEqual(u, cumulative[0]);
+    bvec4 past1 = greaterThanEqual(u, cumulative[1]);
+    vec3 c = colours[0];
+    c = past0.x ? colours[1] : c;
+    c = past0.y ? colours[2] : c;
+    c = past0.z ? colours[3] : c;
+    c = past0.w ? colours[4] : c;
+    c = past1.x ? colours[5] : c;
+    c = past1.y ? colours[6] : c;
+    c = past1.z ? colours[7] : c;
+    c = past1.w ? colours[8] : c;
+    c = u.x >= cumulative[2].x ? colours[9] : c;
+    frag_color = vec4(c, 1.0);
+}
+
+#else
 
 in vec2 field_pos;
 
-uniform int model;                 // 0 exact form, 1 first-order correction
-uniform float truncation;          // t in [0, 1]
-uniform float aspect;              // a >= 0
-uniform vec3 light_dir;            // unit vector toward the light
-uniform float light;               // J / 255
-uniform float ambient_term;        // m_a * A
-uniform float diffuse_reflectance; // m_d
-uniform float specular_reflectance;// m_s
-uniform float shininess;           // zeta
-uniform int specular_model;        // 0 Phong, 1 Blinn-Phong
-uniform int shadows;               // 1: inner shadows cast
-uniform int specular_shadows;      // 1: shadows take the specular too; 0: the thesis's unshadowed specular
 
 uniform int samples;               // M: pixels a view (sweep) / dither period (scene)
 uniform int generator;             // g: the Fibonacci number before M
@@ -51,22 +81,12 @@ uniform int fb_width;
 uniform int n_views;
 uniform int views_width;
 uniform sampler2D views;           // RGBA32F: xyz = V of view k at texel (k % views_width, k / views_width)
-uniform float field_size;          // N (scene), 0 (sweep)
+
 uniform vec3 scene_view;           // V (scene)
 
 out vec4 frag_color;
 
 const int MAX_CELLS = 1024;
-
-vec3 facet_normal(int k, float s)
-{
-    vec3 n = vec3(0.0, 0.0, 1.0);
-    if (k == 1) n = vec3(s, 0.0, 1.0);
-    if (k == 2) n = vec3(-s, 0.0, 1.0);
-    if (k == 3) n = vec3(0.0, s, 1.0);
-    if (k == 4) n = vec3(0.0, -s, 1.0);
-    return normalize(n);
-}
 
 // First cell-solid the ray p0 + tau d (0 <= tau <= tau_end) runs through for
 // more than min_length; returns its facet (0-4) or -1, with tau and the cell.
@@ -132,27 +152,6 @@ int cast_ray(vec3 p0, vec3 d, float tau_end, ivec2 cell, float min_length,
     return -1;
 }
 
-vec3 shade(vec3 N, vec3 V, bool lit)
-{
-    vec3 L = light_dir;
-    float ndotl = dot(N, L);
-    float on = (lit && ndotl > 0.0) ? 1.0 : 0.0;
-    float spec_on = (specular_shadows == 1) ? on : (ndotl > 0.0 ? 1.0 : 0.0);
-    float spec = 0.0;
-    if (spec_on > 0.0) {
-        float base;
-        if (specular_model == 0) {
-            base = max(dot(2.0 * ndotl * N - L, V), 0.0);
-        } else {
-            base = max(dot(N, normalize(L + V)), 0.0);
-        }
-        spec = (shininess == 0.0) ? 1.0 : pow(base, shininess);
-    }
-    float diffuse = light * (ambient_term + on * diffuse_reflectance * max(ndotl, 0.0));
-    float specular = light * spec_on * specular_reflectance * spec;
-    return vec3(diffuse, specular, diffuse + specular);
-}
-
 // Exact form: facet seen at the base-plane point q (oblique coordinates) and whether it is lit.
 int exact_facet(vec2 q, vec3 V, out bool lit)
 {
@@ -190,68 +189,6 @@ int exact_facet(vec2 q, vec3 V, out bool lit)
         }
     }
     return facet;
-}
-
-// First-order correction: the lit and shadowed share of each facet, facets in
-// the order top, east, west, north, south. With s = 2a, P_t = (1 - t)^2 and
-// P_s = (1 - P_t) / 4, a side facet with outward direction h has view shear
-// x = s (V.h) / V.z, unmasked share P_s max(1 + x, 0), V-groove masking
-// G(x) = min(1, 2 / (1 + x)); two masked facets split the image more like
-// their unmasked projections: share = a + w (b - a), a = P_s (1 + x) G(x),
-// b = 4 P_s (1 + x) / sum(1 + x), w = t clamp((x_2 - 1) / c, 0, 1), x_2 the
-// second-largest view shear, c = blend_scale. Lit part: share * min(1, G(x_L) / G_eff).
-// (roughlight.implicit.correction_shares is the same in numpy.)
-uniform float blend_scale;
-
-void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
-{
-    float s = 2.0 * aspect;
-    float t = truncation;
-    vec3 L = light_dir;
-    bool light_up = L.z > 1e-9 || shadows == 0;
-    for (int k = 0; k < 5; ++k) {
-        lit_share[k] = 0.0;
-        shadow_share[k] = 0.0;
-    }
-    if (s * t < 1e-9) {                             // the plate
-        lit_share[0] = L.z > 0.0 ? 1.0 : 0.0;
-        shadow_share[0] = 1.0 - lit_share[0];
-        return;
-    }
-    float top = (1.0 - t) * (1.0 - t);
-    float side = (1.0 - top) / 4.0;
-    lit_share[0] = light_up ? top : 0.0;
-    shadow_share[0] = top - lit_share[0];
-    vec2 h[4] = vec2[4](vec2(1.0, 0.0), vec2(-1.0, 0.0), vec2(0.0, 1.0), vec2(0.0, -1.0));
-    float x[4];
-    float unmasked[4];
-    float total = 0.0;
-    float first = -1e30;
-    float second = -1e30;
-    for (int k = 0; k < 4; ++k) {
-        x[k] = s * dot(V.xy, h[k]) / V.z;
-        unmasked[k] = max(1.0 + x[k], 0.0);
-        total += unmasked[k];
-        if (x[k] > first) { second = first; first = x[k]; } else if (x[k] > second) { second = x[k]; }
-    }
-    float w = t * clamp((second - 1.0) / blend_scale, 0.0, 1.0);
-    for (int k = 0; k < 4; ++k) {
-        float xl = s * dot(L.xy, h[k]) / max(L.z, 1e-12);
-        float gv = x[k] > 1.0 ? 2.0 / (1.0 + x[k]) : 1.0;
-        float gl = xl > 1.0 ? 2.0 / (1.0 + xl) : 1.0;
-        float a = side * unmasked[k] * gv;
-        float b = 4.0 * side * unmasked[k] / total;
-        float seen = a + w * (b - a);
-        float g_eff = seen / max(side * unmasked[k], 1e-30);
-        bool faces_light = 1.0 + xl > 0.0 && light_up;
-        float lit = 0.0;
-        if (faces_light) {
-            lit = shadows == 1 ? seen * min(1.0, gl / max(g_eff, 1e-30)) : seen;
-        }
-        lit = min(lit, seen);
-        lit_share[k + 1] = lit;
-        shadow_share[k + 1] = seen - lit;
-    }
 }
 
 // The facet pixel k shows, and whether lit: the dither threshold
@@ -315,3 +252,5 @@ void main()
     }
     frag_color = vec4(shade(facet_normal(facet, s), V, lit), 1.0);
 }
+
+#endif

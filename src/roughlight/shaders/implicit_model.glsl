@@ -1,0 +1,116 @@
+// roughlight's implicit rough surface: what both stages of the implicit
+// shader share (included by implicit.vert and implicit.frag through
+// roughlight.gl's `#include`): the model's uniforms, the facet normals, the
+// OpenGL lighting equation of one facet and the first-order correction's
+// closed-form facet shares.
+//
+// Facets, in order: 0 top, 1 east (+x), 2 west (-x), 3 north (+y), 4 south (-y);
+// with s = 2a the side facet facing h has the normal (s h, 1), normalised.
+// Lighting equation (as roughlight.shading and periodic.frag):
+//   I = J (m_a A + m_d max(N.L, 0) + m_s S), S = max(R.V, 0)^zeta (Phong) or
+//   max(N.H, 0)^zeta (Blinn), S = 0 where N.L <= 0; shadowed: ambient only.
+
+uniform int model;                 // 0 exact form, 1 first-order correction
+uniform float truncation;          // t in [0, 1]
+uniform float aspect;              // a >= 0
+uniform vec3 light_dir;            // unit vector toward the light
+uniform float light;               // J / 255
+uniform float ambient_term;        // m_a * A
+uniform float diffuse_reflectance; // m_d
+uniform float specular_reflectance;// m_s
+uniform float shininess;           // zeta
+uniform int specular_model;        // 0 Phong, 1 Blinn-Phong
+uniform int shadows;               // 1: inner shadows cast
+uniform int specular_shadows;      // 1: shadows take the specular too; 0: the thesis's unshadowed specular
+uniform float blend_scale;         // c of the correction's blend weight
+
+vec3 facet_normal(int k, float s)
+{
+    vec3 n = vec3(0.0, 0.0, 1.0);
+    if (k == 1) n = vec3(s, 0.0, 1.0);
+    if (k == 2) n = vec3(-s, 0.0, 1.0);
+    if (k == 3) n = vec3(0.0, s, 1.0);
+    if (k == 4) n = vec3(0.0, -s, 1.0);
+    return normalize(n);
+}
+
+vec3 shade(vec3 N, vec3 V, bool lit)
+{
+    vec3 L = light_dir;
+    float ndotl = dot(N, L);
+    float on = (lit && ndotl > 0.0) ? 1.0 : 0.0;
+    float spec_on = (specular_shadows == 1) ? on : (ndotl > 0.0 ? 1.0 : 0.0);
+    float spec = 0.0;
+    if (spec_on > 0.0) {
+        float base;
+        if (specular_model == 0) {
+            base = max(dot(2.0 * ndotl * N - L, V), 0.0);
+        } else {
+            base = max(dot(N, normalize(L + V)), 0.0);
+        }
+        spec = (shininess == 0.0) ? 1.0 : pow(base, shininess);
+    }
+    float diffuse = light * (ambient_term + on * diffuse_reflectance * max(ndotl, 0.0));
+    float specular = light * spec_on * specular_reflectance * spec;
+    return vec3(diffuse, specular, diffuse + specular);
+}
+
+// First-order correction: the lit and shadowed share of each facet, facets in
+// the order top, east, west, north, south. With s = 2a, P_t = (1 - t)^2 and
+// P_s = (1 - P_t) / 4, a side facet with outward direction h has view shear
+// x = s (V.h) / V.z, unmasked share P_s max(1 + x, 0), V-groove masking
+// G(x) = min(1, 2 / (1 + x)); two masked facets split the image more like
+// their unmasked projections: share = a + w (b - a), a = P_s (1 + x) G(x),
+// b = 4 P_s (1 + x) / sum(1 + x), w = t clamp((x_2 - 1) / c, 0, 1), x_2 the
+// second-largest view shear, c = blend_scale. Lit part: share * min(1, G(x_L) / G_eff).
+// (roughlight.implicit.correction_shares is the same in numpy.)
+void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
+{
+    float s = 2.0 * aspect;
+    float t = truncation;
+    vec3 L = light_dir;
+    bool light_up = L.z > 1e-9 || shadows == 0;
+    for (int k = 0; k < 5; ++k) {
+        lit_share[k] = 0.0;
+        shadow_share[k] = 0.0;
+    }
+    if (s * t < 1e-9) {                             // the plate
+        lit_share[0] = L.z > 0.0 ? 1.0 : 0.0;
+        shadow_share[0] = 1.0 - lit_share[0];
+        return;
+    }
+    float top = (1.0 - t) * (1.0 - t);
+    float side = (1.0 - top) / 4.0;
+    lit_share[0] = light_up ? top : 0.0;
+    shadow_share[0] = top - lit_share[0];
+    vec2 h[4] = vec2[4](vec2(1.0, 0.0), vec2(-1.0, 0.0), vec2(0.0, 1.0), vec2(0.0, -1.0));
+    float x[4];
+    float unmasked[4];
+    float total = 0.0;
+    float first = -1e30;
+    float second = -1e30;
+    for (int k = 0; k < 4; ++k) {
+        x[k] = s * dot(V.xy, h[k]) / V.z;
+        unmasked[k] = max(1.0 + x[k], 0.0);
+        total += unmasked[k];
+        if (x[k] > first) { second = first; first = x[k]; } else if (x[k] > second) { second = x[k]; }
+    }
+    float w = t * clamp((second - 1.0) / blend_scale, 0.0, 1.0);
+    for (int k = 0; k < 4; ++k) {
+        float xl = s * dot(L.xy, h[k]) / max(L.z, 1e-12);
+        float gv = x[k] > 1.0 ? 2.0 / (1.0 + x[k]) : 1.0;
+        float gl = xl > 1.0 ? 2.0 / (1.0 + xl) : 1.0;
+        float a = side * unmasked[k] * gv;
+        float b = 4.0 * side * unmasked[k] / total;
+        float seen = a + w * (b - a);
+        float g_eff = seen / max(side * unmasked[k], 1e-30);
+        bool faces_light = 1.0 + xl > 0.0 && light_up;
+        float lit = 0.0;
+        if (faces_light) {
+            lit = shadows == 1 ? seen * min(1.0, gl / max(g_eff, 1e-30)) : seen;
+        }
+        lit = min(lit, seen);
+        lit_share[k + 1] = lit;
+        shadow_share[k + 1] = seen - lit;
+    }
+}
