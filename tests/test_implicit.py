@@ -180,3 +180,32 @@ def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
     assert refused and all(r["reference_failures"] == refused for r in rows)
     assert all(r["n_views"] == int((~sweeps.is_grazing(el) & (el <= 170)).sum()) for r in rows)
     assert all(np.isfinite(r["mae"]) for r in rows)
+
+
+@pytest.mark.parametrize("model", implicit.MODELS)
+def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
+    """What a graphics programmer takes away: the two sources compile and link with plain PyOpenGL (no
+    pyrender, no #include left), and shader_uniforms plus the scene's four name every uniform they use."""
+    from OpenGL.GL import shaders as gl_shaders
+
+    from roughlight.gl import context, gl
+    from roughlight.implicit_gl import shader_sources
+
+    vertex, fragment = shader_sources(model)
+    assert not any(line.startswith("#include") for line in (vertex + fragment).splitlines())
+    context(16, 16, 1)
+    program = gl_shaders.compileProgram(gl_shaders.compileShader(vertex, gl.GL_VERTEX_SHADER),
+                                        gl_shaders.compileShader(fragment, gl.GL_FRAGMENT_SHADER),
+                                        validate=False)
+    try:
+        active = set()
+        for index in range(gl.glGetProgramiv(program, gl.GL_ACTIVE_UNIFORMS)):
+            name = gl.glGetActiveUniform(program, index)[0]
+            active.add((name.decode() if isinstance(name, bytes) else name).split("[")[0])
+    finally:
+        gl.glDeleteProgram(program)
+    given = set(implicit.shader_uniforms(model, Surface(0.7, 0.9), 40.0)) | {"camera", "field_size", "scene_view",
+                                                                              "fb_width"}
+    sweep_only = {"views", "n_views", "views_width"}  # the exact form's program also draws sweeps
+    assert active - given <= (sweep_only if model == "exact" else set())
+    assert {"truncation", "aspect", "light_dir", "scene_view"} <= active

@@ -25,8 +25,6 @@ import re  # noqa: E402
 import sys  # noqa: E402
 import types  # noqa: E402
 
-import numpy as np  # noqa: E402
-
 from .osmesa import HELP as _OSMESA_HELP  # noqa: E402
 from .osmesa import OSMesaUnavailable, check_osmesa  # noqa: E402
 
@@ -89,6 +87,7 @@ __all__ = [
     "SHADER_DIR",
     "OSMESA_HELP",
     "ShaderCache",
+    "set_uniforms",
     "set_material_uniforms",
     "Context",
     "context",
@@ -148,22 +147,18 @@ class ShaderCache:
         self._programs = {}
 
 
+def set_uniforms(program, uniforms: dict) -> None:
+    """Set each ``name: value`` of ``uniforms`` on the bound ``program`` (ints as int, floats as float,
+    float32 arrays as vectors or matrices)."""
+    for name, value in uniforms.items():
+        program.set_uniform(name, value)
+
+
 def set_material_uniforms(program, lighting, light_dir) -> None:
-    """The lighting equation's uniforms, as ``periodic.frag`` and ``implicit.frag`` both name them.
+    """The lighting equation's uniforms (:func:`roughlight.shading.material_uniforms`) on the bound ``program``."""
+    from .shading import material_uniforms
 
-    ``light_dir`` is the unit vector toward the light; ``lighting`` a
-    :class:`roughlight.shading.Lighting` (``light`` goes in as ``J / 255``).
-    """
-    from .shading import SPECULAR_MODELS
-
-    program.set_uniform("light_dir", np.asarray(light_dir, np.float32))
-    program.set_uniform("light", float(lighting.light) / 255.0)
-    program.set_uniform("ambient_term", float(lighting.ambient_reflectance * lighting.ambient))
-    program.set_uniform("diffuse_reflectance", float(lighting.diffuse_reflectance))
-    program.set_uniform("specular_reflectance", float(lighting.specular_reflectance))
-    program.set_uniform("shininess", float(lighting.shininess))
-    program.set_uniform("specular_model", int(SPECULAR_MODELS.index(lighting.specular_model)))
-    program.set_uniform("specular_shadows", int(bool(lighting.specular_shadows)))
+    set_uniforms(program, material_uniforms(lighting, light_dir))
 
 
 class Context:

@@ -48,6 +48,7 @@ __all__ = [
     "cast_rays",
     "exact_shares",
     "exact_sweep",
+    "shader_uniforms",
 ]
 
 #: Fibonacci numbers usable as lattice sizes ``M`` (the generator is the one before).
@@ -396,3 +397,43 @@ def correction_sweep(surface: Surface, incidence, azimuth, elevation, lighting=N
     out = facet_sum(surface, incidence, az, el, lit, shadow, lighting)
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samples: int | None = None) -> dict:
+    """The implicit shader's uniforms for one surface, light and material: what a program using
+    ``shaders/implicit.vert`` and ``implicit.frag`` sets before drawing its quad.
+
+    Parameters
+    ----------
+    model : str
+        ``"exact"`` or ``"correction"`` (:data:`MODELS`).
+    surface : Surface
+        Truncation in [0, 1], aspect >= 0 (checked by :func:`check_uniforms`).
+    incidence : float
+        Light elevation, degrees in [0, 90] (light at azimuth 0).
+    lighting : Lighting, optional
+    samples : int, optional
+        Pixels a view (sweep) or the dither period (scene), a Fibonacci number (default
+        :func:`model_samples`).
+
+    Returns
+    -------
+    dict, uniform name -> value: ``model``, ``truncation``, ``aspect``, ``shadows``, ``blend_scale``,
+    ``samples``, ``generator`` and the material (:func:`roughlight.shading.material_uniforms`). A scene adds
+    ``camera``, ``field_size``, ``scene_view`` and ``fb_width`` (:func:`roughlight.implicit_gl.render_field`).
+    """
+    default = model_samples(model)  # refuses an unknown model
+    lighting = lighting or shading.Lighting()
+    check_uniforms(surface.truncation, surface.aspect)
+    samples = default if samples is None else int(samples)
+    fibonacci_lattice(samples)  # refuses a size that is not a Fibonacci number
+    return {
+        "model": MODELS.index(model),
+        "truncation": float(surface.truncation),
+        "aspect": float(surface.aspect),
+        **shading.material_uniforms(lighting, shading.light_direction(shading.check_incidence(incidence))),
+        "shadows": int(bool(lighting.shadows)),
+        "blend_scale": float(BLEND_SCALE),
+        "samples": samples,
+        "generator": int(FIBONACCI[FIBONACCI.index(samples) - 1]),
+    }

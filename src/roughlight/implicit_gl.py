@@ -23,11 +23,11 @@ import time
 import numpy as np
 
 from . import shading, sweeps
-from .gl import GLTF, Primitive, context, gl, set_material_uniforms
-from .implicit import BLEND_SCALE, FIBONACCI, MODELS, check_uniforms, model_samples
+from .gl import GLTF, Primitive, context, gl, set_uniforms
+from .implicit import check_uniforms, model_samples, shader_uniforms
 from .surface import Surface
 
-__all__ = ["implicit_sweep", "render_field", "FRAMEBUFFER_WIDTH"]
+__all__ = ["implicit_sweep", "render_field", "scene_defines", "shader_sources", "FRAMEBUFFER_WIDTH"]
 
 #: Width of the sweep's framebuffer, pixels.
 FRAMEBUFFER_WIDTH = 2048
@@ -49,18 +49,6 @@ def _draw_quad(primitive) -> None:
         primitive._unbind()
     finally:
         primitive.delete()
-
-
-def _set_uniforms(program, model: str, surface: Surface, incidence, lighting, samples: int):
-    light_dir = shading.light_direction(incidence)
-    program.set_uniform("model", MODELS.index(model))
-    program.set_uniform("truncation", float(surface.truncation))
-    program.set_uniform("aspect", float(surface.aspect))
-    set_material_uniforms(program, lighting, light_dir)
-    program.set_uniform("shadows", int(bool(lighting.shadows)))
-    program.set_uniform("blend_scale", float(BLEND_SCALE))
-    program.set_uniform("samples", int(samples))
-    program.set_uniform("generator", int(FIBONACCI[FIBONACCI.index(samples) - 1]))
 
 
 def _begin(width: int, height: int) -> None:
@@ -132,7 +120,7 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
             idx = np.arange(first, min(first + per_pass, todo.size))
             _begin(width, rows)
             program._bind()
-            _set_uniforms(program, model, surface, incidence, lighting, samples)
+            set_uniforms(program, shader_uniforms(model, surface, incidence, lighting, samples))
             program.set_uniform("camera", np.eye(4, dtype=np.float32))
             program.set_uniform("field_size", 0.0)
             program.set_uniform("fb_width", width)
@@ -176,6 +164,26 @@ def field_camera(view, field_size: float, span: float) -> np.ndarray:
     return m
 
 
+def scene_defines(model: str) -> dict:
+    """Defines of the implicit shader drawing a scene with ``model``: the correction sees the whole field
+    along one view under one light, so its shares and values are computed once a vertex and a pixel only
+    picks one (``SCENE_CORRECTION``, implicit.vert); the exact form casts its rays a pixel, as in a sweep."""
+    return {"SCENE_CORRECTION": 1} if model == "correction" else {}
+
+
+def shader_sources(model: str) -> tuple[str, str]:
+    """The implicit shader's vertex and fragment sources for a scene drawn with ``model``, self-contained:
+    ``#include`` expanded and the model's defines applied, ready for any OpenGL 3.3 program to compile.
+    Set the uniforms :func:`roughlight.implicit.shader_uniforms` gives, plus ``camera`` (world -> clip),
+    ``field_size`` (N), ``scene_view`` (unit vector toward the detector) and ``fb_width`` (pixels), and draw
+    one quad over ``[0, N]^2`` of the plane ``z = 0`` (:func:`render_field`)."""
+    from .gl import SHADER_DIR, _Program
+
+    program = _Program.__new__(_Program)  # only its source loader: no GL context is needed
+    program.defines = scene_defines(model)
+    return tuple(program._load(f"{SHADER_DIR}/implicit.{stage}") for stage in ("vert", "frag"))
+
+
 def render_field(model: str, surface: Surface, incidence, elevation, azimuth, field_size: int,
                  size: int = 512, span: float | None = None, lighting=None, samples: int = 46368):
     """One picture of an ``N x N`` field drawn as one implicit quad.
@@ -185,23 +193,18 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     image : (size, size, 4) uint8 array (r diffuse, g specular, b total, a coverage)
     seconds : float, the frame's time (draw and read back)
     """
-    lighting = lighting or shading.Lighting()
-    incidence = shading.check_incidence(incidence)
-    check_uniforms(surface.truncation, surface.aspect)
+    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
     span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
     ctx = context(size, size, 1)
-    # the correction sees the whole field along one view under one light: its shares and values are
-    # computed once a vertex, and a pixel only picks one (implicit.vert, SCENE_CORRECTION)
-    defines = {"SCENE_CORRECTION": 1} if model == "correction" else None
-    program = ctx.programs.get_program("implicit.vert", "implicit.frag", defines)
+    program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines(model))
     quad = _quad(size=float(field_size))  # the scene's geometry, uploaded once as a real-time scene would
     quad._add_to_context()
     try:
         start = time.perf_counter()
         _begin(size, size)
         program._bind()
-        _set_uniforms(program, model, surface, incidence, lighting, samples)
+        set_uniforms(program, uniforms)
         program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
         program.set_uniform("field_size", float(field_size))
         program.set_uniform("scene_view", np.asarray(view, np.float32))

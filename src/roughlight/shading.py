@@ -46,6 +46,7 @@ __all__ = [
     "facet_components",
     "facet_sum",
     "quantize",
+    "material_uniforms",
 ]
 
 #: Components written to the study table, in this order.
@@ -241,3 +242,29 @@ _TIE_SLACK = 1e-6
 def quantize(values) -> np.ndarray:
     """8-bit framebuffer value of an intensity: clamp to [0, 255], round to nearest, ties up."""
     return np.floor(np.clip(np.asarray(values, float), 0.0, 255.0) + 0.5 + _TIE_SLACK)
+
+
+def material_uniforms(lighting: Lighting, light_dir) -> dict:
+    """The lighting equation's shader uniforms, as ``periodic.frag`` and ``implicit_model.glsl`` name them.
+
+    Parameters
+    ----------
+    lighting : Lighting
+    light_dir : (3,) array, unit vector toward the light
+
+    Returns
+    -------
+    dict, uniform name -> value: ``light_dir`` (float32 (3,)), ``light`` (``J / 255``), ``ambient_term``
+    (``m_a A``), ``diffuse_reflectance``, ``specular_reflectance``, ``shininess``, ``specular_model``
+    (index in :data:`SPECULAR_MODELS`), ``specular_shadows`` (0 or 1).
+    """
+    return {
+        "light_dir": np.asarray(light_dir, np.float32),
+        "light": float(lighting.light) / 255.0,
+        "ambient_term": float(lighting.ambient_reflectance * lighting.ambient),
+        "diffuse_reflectance": float(lighting.diffuse_reflectance),
+        "specular_reflectance": float(lighting.specular_reflectance),
+        "shininess": float(lighting.shininess),
+        "specular_model": int(SPECULAR_MODELS.index(lighting.specular_model)),
+        "specular_shadows": int(bool(lighting.specular_shadows)),
+    }
