@@ -22,7 +22,7 @@ from .sampling import RenderSettings
 __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures"]
 
 PLANS = {
-    "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (1.0, 5.0),
+    "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (2.0, 10.0),
               "accuracy_cells": 2, "accuracy_seeds": 1, "accuracy_views": (15.0, 30.0)},
     "full": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 3, 4, 6), "seeds": 6, "views": (1.0, 5.0),
              "accuracy_cells": 4, "accuracy_seeds": 2, "accuracy_views": (5.0, 15.0)},
