@@ -47,7 +47,7 @@ rule renderer_validation:
         "../../envs/render.yaml"
     threads: 1
     resources:
-        mem_mb=2048,
+        mem_mb=4096,
     params:
         lighting=lighting_params,
         render=fast_render_params,
