@@ -1016,6 +1016,10 @@ def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_
     parts.append(_table(summary(validation), "Error against the exact reference (0–255): per method, component and "
                         "band, the median and largest surface MAE, the largest p99 and the worst view",
                         table_id="implicit-validation"))
+    parts.append("<p>The correction's error sits at near-grazing views off the light's plane. There the pyramids "
+                 "line up in rows along the lattice's directions, and the exact split of the image between the two "
+                 "visible sides jumps with the azimuth (README, \"An implicit rough surface\"): a smooth term in "
+                 "truncation, aspect, view and light can only follow its average. The exact form follows it.</p>")
     if figure_png_path and os.path.exists(figure_png_path):
         parts.append(f'<figure id="fig-implicit"><img src="{png_data_uri(figure_png_path)}" alt="implicit surface">'
                      f"<figcaption>{_e(_caption_text('implicit'))}"
@@ -1029,8 +1033,9 @@ def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_
     explicit = f[f["method"] == "explicit"].set_index("field")["frame_ms"]
     f["speedup_vs_explicit"] = f["frame_ms"].rdiv(f["field"].map(explicit))
     parts.append(_table(f, "Frame time of an N × N field, 512 × 512 pixels, OSMesa (llvmpipe): explicit mesh with "
-                        "pyrender's shadow pass against one implicit quad; error = largest |image mean − exact| "
-                        "over the views (0–255)", table_id="implicit-frames"))
+                        "pyrender's shadow pass against one implicit quad (the correction computes its shares and "
+                        "facet values once a frame, in the vertex stage; the exact form casts two rays a pixel); "
+                        "error = largest |image mean − exact| over the views (0–255)", table_id="implicit-frames"))
     return "\n".join(parts)
 
 
