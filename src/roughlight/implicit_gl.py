@@ -24,7 +24,7 @@ import numpy as np
 
 from . import shading, sweeps
 from .gl import GLTF, Primitive, context, gl, set_uniforms
-from .implicit import check_uniforms, model_samples, shader_uniforms
+from .implicit import shader_uniforms
 from .surface import Surface
 
 __all__ = ["implicit_sweep", "render_field", "scene_defines", "shader_sources", "FRAMEBUFFER_WIDTH"]
@@ -99,10 +99,8 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
     ``total``, ``coverage`` (n_views,) and ``seconds``.
     """
     start = time.perf_counter()
-    lighting = lighting or shading.Lighting()
-    incidence = shading.check_incidence(incidence)
-    check_uniforms(surface.truncation, surface.aspect)
-    samples = model_samples(model) if samples is None else int(samples)
+    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)  # checks every input
+    samples = uniforms["samples"]
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
     if azimuth.shape != elevation.shape:
@@ -120,7 +118,7 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
             idx = np.arange(first, min(first + per_pass, todo.size))
             _begin(width, rows)
             program._bind()
-            set_uniforms(program, shader_uniforms(model, surface, incidence, lighting, samples))
+            set_uniforms(program, uniforms)
             program.set_uniform("camera", np.eye(4, dtype=np.float32))
             program.set_uniform("field_size", 0.0)
             program.set_uniform("fb_width", width)
@@ -198,7 +196,7 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     view = shading.view_direction(float(elevation), float(azimuth))
     ctx = context(size, size, 1)
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines(model))
-    quad = _quad(size=float(field_size))  # the scene's geometry, uploaded once as a real-time scene would
+    quad = _quad(size=float(field_size))  # uploaded before the frame's timer: a real-time scene keeps its buffers
     quad._add_to_context()
     try:
         start = time.perf_counter()
