@@ -288,3 +288,24 @@ def test_the_random_parts_of_the_report_follow_surface_kind(workflow_dir):
                              if len(line.split()) == 2 and line.split()[1].isdigit()}
     assert "analysis_random" not in plans[1] and "random_tiles" not in plans[1] and "random_sweep" not in plans[1]
     assert plans[2]["analysis_random"] == 1 and plans[2]["random_tiles"] == 1 and plans[2]["random_sweep"] == 2
+
+
+def test_random_accuracy_leaves_out_and_counts_the_views_the_reference_refuses(monkeypatch):
+    """One view the exact reference refuses (its own checks, seen on a random tile in make bench) no longer fails
+    the whole benchmark: it is left out of the comparison and counted."""
+    from roughlight import reference
+    from roughlight import roughness_bench as B
+
+    real = reference.reference_sweep
+
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, quantized=True):
+        if np.any((np.asarray(elevation) > 140) & (np.asarray(elevation) < 170)):
+            raise RuntimeError("reference clipping failed")
+        return real(surface, incidence, azimuth, elevation, lighting, quantized)
+
+    monkeypatch.setattr(reference, "reference_sweep", refusing)
+    monkeypatch.setitem(B.PLANS, "tiny", {**B.PLANS["quick"], "accuracy_views": (30.0, 60.0)})
+    table = B.random_accuracy("tiny")
+    refused = table["reference_refused"]
+    assert (refused > 0).all() and np.isfinite(table["mae"]).all()
+    assert ((table["views"] + refused) == table["views"].iloc[0] + refused.iloc[0]).all()

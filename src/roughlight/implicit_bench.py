@@ -114,18 +114,13 @@ def validation(plan: str = "full", lighting=None, log=None):
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
     """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
     from .measure import measure_sweep
-    from .reference import reference_sweep
+    from .reference import reference_views
     from .surface_models import facet_model
 
     lighting = lighting or shading.Lighting()
     seen = ~np.asarray(sweeps.is_grazing(elevation))
-    try:
-        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
-        failed = np.zeros(len(seen), bool)
-    except RuntimeError:
-        # the reference's own check refused a view (its visible areas do not sum to 1): compare on the
-        # views it can compute, and count the others
-        exact, failed = _reference_view_by_view(surface, incidence, azimuth, elevation, lighting)
+    # a view the reference's own checks refuse is left out of the comparison and counted
+    exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting)
     seen &= ~failed
     results = {}
     for method in VALIDATED[:3]:
@@ -147,23 +142,6 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
                          "p99": float(np.percentile(err, 99)), "worst": float(err.max()),
                          "seconds": float(out["seconds"]), "reference_failures": int(failed.sum())})
     return rows
-
-
-def _reference_view_by_view(surface, incidence, azimuth, elevation, lighting):
-    """The exact reference one view at a time: (values, failed), NaN where it raised."""
-    from .reference import reference_sweep
-
-    exact = {c: np.full(len(azimuth), np.nan) for c in shading.COMPONENTS}
-    failed = np.zeros(len(azimuth), bool)
-    for k in range(len(azimuth)):
-        try:
-            one = reference_sweep(surface, incidence, azimuth[k:k + 1], elevation[k:k + 1], lighting)
-        except RuntimeError:
-            failed[k] = True
-            continue
-        for c in shading.COMPONENTS:
-            exact[c][k] = one[c][0]
-    return exact, failed
 
 
 def summary(table):

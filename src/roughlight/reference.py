@@ -90,6 +90,7 @@ __all__ = [
     "REFERENCE_ERROR",
     "AREA_TOLERANCE",
     "reference_sweep",
+    "reference_views",
     "visible_lit_areas",
     "lit_footprints",
     "is_grazing_view",
@@ -563,3 +564,37 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     out = {name: np.where(grazing, 0.0, value).astype(np.float64) for name, value in values.items()}
     out["coverage"] = coverage.astype(np.float64)
     return out
+
+
+def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None):
+    """The exact reference on many views, leaving out the views it refuses instead of failing all of them.
+
+    :func:`reference_sweep` raises ``RuntimeError`` when a view's clipping fails its own checks (seen on random
+    tiles: GEOS areas off even after snap-rounding). A measurement that compares against the reference keeps the
+    other views: the sweep is computed whole and, only when it raises, again one view at a time.
+
+    Returns
+    -------
+    values : dict, ``diffuse``, ``specular``, ``total``: (n_views,) arrays, NaN at refused views
+    refused : (n_views,) bool array
+    """
+    from .shading import COMPONENTS
+
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    try:
+        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
+        return {c: np.asarray(exact[c], float) for c in COMPONENTS}, np.zeros(azimuth.size, bool)
+    except RuntimeError:
+        pass
+    values = {c: np.full(azimuth.size, np.nan) for c in COMPONENTS}
+    refused = np.zeros(azimuth.size, bool)
+    for k in range(azimuth.size):
+        try:
+            one = reference_sweep(surface, incidence, azimuth[k:k + 1], elevation[k:k + 1], lighting)
+        except RuntimeError:
+            refused[k] = True
+            continue
+        for c in COMPONENTS:
+            values[c][k] = one[c][0]
+    return values, refused
