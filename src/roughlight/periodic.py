@@ -193,14 +193,12 @@ def fast_sweep(
         if len(regions.normals) > shares.MAX_FACETS:
             raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
                              f"this surface has {len(regions.normals)}; use lattice")
-    # a camera shift by `jitter` pixels is the surface moved the other way, in cell units
-    base = settings.sampling_matrix()
-    shift = -np.linalg.solve(base.astype(float), np.asarray(settings.jitter, float))
     if adaptive:
         matrices = shares.candidate_lattices(int(settings.pixels_per_period))
-        choice = shares.choose_lattices(regions, shears, matrices, shift)
+        shifts = [_surface_shift(m, settings.jitter) for m in matrices]
+        choice = shares.choose_lattices(regions, shears, matrices, shifts)
     else:
-        matrices, choice = [base], np.zeros(todo.size, int)
+        matrices, choice = [settings.sampling_matrix()], np.zeros(todo.size, int)
     groups = [(m, np.flatnonzero(choice == k)) for k, m in enumerate(matrices) if np.any(choice == k)]
     layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx in groups]
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
@@ -220,7 +218,7 @@ def fast_sweep(
     program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
     for (matrix, members), (width, height_px, slots, pixel_order) in zip(groups, layouts):
         per_tile = len(pixel_order) // len(slots)
-        shift_m = -np.linalg.solve(matrix.astype(float), np.asarray(settings.jitter, float))
+        shift_m = _surface_shift(matrix, settings.jitter)
         for first in range(0, members.size, len(slots)):
             idx = members[first:first + len(slots)]
             owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
@@ -254,6 +252,11 @@ def fast_sweep(
             out["coverage"][target] = means[:, 3] / 255.0
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:
+    """(2,) the surface's shift in periods that a camera shift by ``jitter`` pixels is, drawn with ``matrix``."""
+    return -np.linalg.solve(np.asarray(matrix, float), np.asarray(jitter, float))
 
 
 def _tile_pixels(raw: bytes, pixel_order: np.ndarray, n_tiles: int) -> np.ndarray:

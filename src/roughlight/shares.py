@@ -248,12 +248,14 @@ def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
     return out
 
 
-def choose_lattices(regions: Regions, shear, matrices, shift=(0.0, 0.0)) -> np.ndarray:
+def choose_lattices(regions: Regions, shear, matrices, shifts=None) -> np.ndarray:
     """(V,) index into ``matrices`` of the lattice whose edges have the smallest :func:`edge_discrepancy` for each
-    view, as a share of the image (the discrepancy over the lattice's pixels a period)."""
+    view, as a share of the image (the discrepancy over the lattice's pixels a period). ``shifts``: each
+    lattice's surface shift in periods, as it will be drawn (default none)."""
     shear = np.atleast_2d(np.asarray(shear, float))
-    scores = [edge_discrepancy(regions, shear, m, shift) / abs(round(np.linalg.det(np.asarray(m, float))))
-              for m in matrices]
+    shifts = [(0.0, 0.0)] * len(matrices) if shifts is None else shifts
+    scores = [edge_discrepancy(regions, shear, m, s) / abs(round(np.linalg.det(np.asarray(m, float))))
+              for m, s in zip(matrices, shifts)]
     return np.argmin(np.array(scores), axis=0)
 
 
