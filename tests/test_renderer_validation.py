@@ -202,3 +202,24 @@ def test_adaptive_sampling_is_within_one_level_where_the_lattice_is_not(truncati
         assert rows[component]["mae"] <= 0.1, rows[component]
     assert max(r["worst"] for r in plain.values()) > 2 * max(r["worst"] for r in rows.values())
     assert np.allclose(adaptive["coverage"][~sweeps.is_grazing(elevation)], 1.0)
+
+
+def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_reference():
+    """Where no facet faces away nothing is hidden: adaptive sampling gives each region its exact projected area
+    without rendering, so those views equal the exact reference; views with a facet facing away are rendered."""
+    from roughlight import shading, shares
+    from roughlight.periodic import fast_sweep
+    from roughlight.reference import reference_sweep
+    from roughlight.sampling import RenderSettings
+
+    surface = Surface(0.4, 0.6)
+    azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 25.0), [8.0, 40.0, 75.0, 90.0, 130.0],
+                                                         indexing="ij"))
+    view = shading.view_direction(elevation, azimuth)
+    whole = shares.all_facing(shares.facet_regions(surface, 30.0, True), view[:, :2] / view[:, 2:3])
+    assert whole.any() and not whole.all()
+    exact = reference_sweep(surface, 30.0, azimuth, elevation)
+    adaptive = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(sampling="adaptive"))
+    for component in ("diffuse", "specular", "total"):
+        assert np.allclose(adaptive[component][whole], exact[component][whole], atol=1e-9, rtol=0)
+        assert np.abs(adaptive[component] - exact[component]).max() <= 1.5

@@ -186,6 +186,7 @@ def fast_sweep(
 
     views = shading.view_direction(elevation[todo], azimuth[todo])
     shears = views[:, :2] / views[:, 2:3]
+    light_dir = shading.light_direction(incidence)
     adaptive = settings.sampling == "adaptive"
     regions = None
     if adaptive:
@@ -193,7 +194,13 @@ def fast_sweep(
         if len(regions.normals) > shares.MAX_FACETS:
             raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
                              f"this surface has {len(regions.normals)}; use lattice")
-    if adaptive:
+        # where every facet faces the view nothing is hidden: each region's share is its exact area, unrendered
+        whole = shares.all_facing(regions, shears)
+        _exact_values(out, todo[whole], regions, shears[whole], views[whole], light_dir, lighting)
+        todo, views, shears = todo[~whole], views[~whole], shears[~whole]
+        if todo.size == 0:
+            out["seconds"] = time.perf_counter() - start
+            return out
         matrices = shares.candidate_lattices(int(settings.pixels_per_period))
         shifts = [_surface_shift(m, settings.jitter) for m in matrices]
         choice = shares.choose_lattices(regions, shears, matrices, shifts)
@@ -204,7 +211,6 @@ def fast_sweep(
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
     height = surface.height
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
-    light_dir = shading.light_direction(incidence)
 
     shadow_mode = 0
     if lighting.shadows and height > 0:
@@ -222,6 +228,9 @@ def fast_sweep(
         for first in range(0, members.size, len(slots)):
             idx = members[first:first + len(slots)]
             owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
+            # nearest the detector first, so that the depth test rejects the copies behind before shading them
+            order = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
+            owner, copies = owner[order], copies[order]
             poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[: idx.size][owner])
             _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
             program._bind()
@@ -278,6 +287,16 @@ def _adaptive_values(out, target, ids, regions, shear, views, matrix, shift, lig
     for component in shading.COMPONENTS:
         out[component][target] = values[component]
     out["coverage"][target] = 1.0 - histogram[:, 0] / ids.shape[1]
+
+
+def _exact_values(out, target, regions, shear, views, light_dir, lighting) -> None:
+    """Fill ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
+    (:func:`roughlight.shares.area_shares`) weighted by its 8-bit values (:func:`roughlight.shading.facet_sum`)."""
+    lit, shadow = shares.area_shares(regions, shear)
+    values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
+    for component in shading.COMPONENTS:
+        out[component][target] = values[component]
+    out["coverage"][target] = 1.0
 
 
 def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):

@@ -30,6 +30,11 @@ import numpy as np
 #: Largest number of facets whose (facet, lit) identity fits two 8-bit channels (2 F + 1 < 65536).
 MAX_FACETS = 32767
 
+#: The lattice choice scores at most this many periods' worth of pixel rows of each edge, from its top: at views
+#: near the horizon an edge spans tens of periods of the image, of which only the top can be seen past the rows
+#: in front (scoring the rest costs most of the choice's time and changes no view's worst error, issue 11).
+SCORED_PERIODS = 4.0
+
 
 @dataclass(frozen=True)
 class Regions:
@@ -121,21 +126,63 @@ def _front(regions: Regions, owner, shear) -> np.ndarray:
     return det > 1e-9
 
 
+def all_facing(regions: Regions, shear) -> np.ndarray:
+    """(V,) True where every facet faces the view: nothing is hidden.
+
+    The surface is a continuous periodic height field, so when every facet's projection keeps its orientation the
+    projection of one period covers the unit cell once: every region is seen whole and its share of the image is
+    its exact projected area (:func:`area_shares`), with no rendering.
+    """
+    shear = np.atleast_2d(np.asarray(shear, float))
+    det = 1.0 - regions.alpha[None, :] * shear[:, 0:1] - regions.beta[None, :] * shear[:, 1:2]
+    return np.all(det > 1e-9, axis=1)
+
+
+def area_shares(regions: Regions, shear):
+    """Each facet's lit and shadowed share of the image when nothing is hidden (see :func:`all_facing`).
+
+    Parameters
+    ----------
+    regions : Regions
+    shear : (V, 2) array
+        Each view's plan shift ``d``.
+
+    Returns
+    -------
+    lit, shadow : (V, F) arrays
+        The exact projected areas of each facet's lit and shadowed parts, in periods (summing to 1 a view).
+    """
+    return _facet_shares(_areas(regions, np.atleast_2d(np.asarray(shear, float))), regions)
+
+
+def _areas(regions: Regions, shear) -> np.ndarray:
+    """(V, R) each region's projected area in periods, 0 where its facet faces away (shoelace over the edges)."""
+    start, end, owner = _edges(regions)
+    n_views, n_regions = len(shear), len(regions.rings)
+    if len(owner) == 0:
+        return np.zeros((n_views, n_regions))
+    identity = np.eye(2)
+    a, b = _project(start, shear, identity, (0.0, 0.0)), _project(end, shear, identity, (0.0, 0.0))
+    cross = (a[..., 0] * b[..., 1] - b[..., 0] * a[..., 1]) * _front(regions, owner, shear)
+    key = np.arange(n_views)[:, None] * n_regions + owner[None, :]
+    areas = np.bincount(key.ravel(), weights=0.5 * cross.ravel(), minlength=n_views * n_regions)
+    return areas.reshape(n_views, n_regions)
+
+
+def _facet_shares(share, regions: Regions):
+    """(V, F) lit and (V, F) shadowed shares from (V, R) region shares."""
+    n_facets = len(regions.normals)
+    lit = np.zeros((len(share), n_facets))
+    shadow = np.zeros((len(share), n_facets))
+    np.add.at(lit.T, regions.facet[regions.lit], share[:, regions.lit].T)
+    np.add.at(shadow.T, regions.facet[~regions.lit], share[:, ~regions.lit].T)
+    return lit, shadow
+
+
 def _project(points, shear, matrix, shift) -> np.ndarray:
     """(V, E, 2) pixel coordinates of plan points (E, 3) seen along each of V shears."""
     cell = points[None, :, :2] - points[None, :, 2:3] * shear[:, None, :] + np.asarray(shift, float)
     return cell @ np.asarray(matrix, float).T
-
-
-def _rows(y0, y1, valid):
-    """The pixel-centre rows ``r + 0.5`` in ``[min(y0, y1), max(y0, y1))`` of each segment: (segment, row) pairs."""
-    lo, hi = np.minimum(y0, y1), np.maximum(y0, y1)
-    first = np.ceil(lo - 0.5).astype(np.int64)
-    count = np.where(valid, np.maximum(np.ceil(hi - 0.5).astype(np.int64) - first, 0), 0)
-    segment = np.repeat(np.arange(len(y0)), count)
-    start = np.cumsum(count) - count
-    row = np.arange(count.sum()) - np.repeat(start, count) + first[segment]
-    return segment, row + 0.5, start, count
 
 
 def counts_and_areas(regions: Regions, shear, matrix, shift=(0.0, 0.0)):
@@ -160,25 +207,19 @@ def counts_and_areas(regions: Regions, shear, matrix, shift=(0.0, 0.0)):
     shear = np.atleast_2d(np.asarray(shear, float))
     start, end, owner = _edges(regions)
     n_views, n_regions = len(shear), len(regions.rings)
-    counts = np.zeros((n_views, n_regions))
-    areas = np.zeros((n_views, n_regions))
     if len(owner) == 0:
-        return counts, areas
+        return np.zeros((n_views, n_regions)), np.zeros((n_views, n_regions))
     front = _front(regions, owner, shear)
     a, b = _project(start, shear, matrix, shift), _project(end, shear, matrix, shift)
-    n_pixels = abs(round(np.linalg.det(np.asarray(matrix, float))))
-    cross = (a[..., 0] * b[..., 1] - b[..., 0] * a[..., 1]) * front
     key = np.arange(n_views)[:, None] * n_regions + owner[None, :]
-    areas = np.bincount(key.ravel(), weights=0.5 * cross.ravel() / n_pixels, minlength=n_views * n_regions)
     # crossing sums: each edge adds, on every pixel-centre row it spans, the pixel centres left of it (+ going up,
     # - going down); over a closed ring these sum to the centres inside
     x0, y0, x1, y1 = a[..., 0].ravel(), a[..., 1].ravel(), b[..., 0].ravel(), b[..., 1].ravel()
-    segment, y, _, _ = _rows(y0, y1, front.ravel())
-    x = x0[segment] + (y - y0[segment]) * (x1[segment] - x0[segment]) / (y1[segment] - y0[segment])
-    left = np.floor(x - 0.5) + 1.0
-    sign = np.where(y1[segment] > y0[segment], 1.0, -1.0)
-    counts = np.bincount(key.ravel()[segment], weights=sign * left, minlength=n_views * n_regions)
-    return counts.reshape(n_views, n_regions), areas.reshape(n_views, n_regions)
+    has, start, _, x = _row_crossings(x0, y0, x1, y1, front.ravel())
+    left = np.add.reduceat(np.floor(x) + 1.0, start) if has.size else np.zeros(0)
+    sign = np.where(y1[has] > y0[has], 1.0, -1.0)
+    counts = np.bincount(key.ravel()[has], weights=sign * left, minlength=n_views * n_regions)
+    return counts.reshape(n_views, n_regions), _areas(regions, shear)
 
 
 def edge_discrepancy(regions: Regions, shear, matrix, shift=(0.0, 0.0)) -> np.ndarray:
@@ -197,28 +238,57 @@ def edge_discrepancy(regions: Regions, shear, matrix, shift=(0.0, 0.0)) -> np.nd
     weight += (sides[:, 1] >= 0) & _front(regions, np.maximum(sides[:, 1], 0), shear)
     front = weight > 0
     a, b = _project(start, shear, matrix, shift), _project(end, shear, matrix, shift)
+    # keep each edge's top SCORED_PERIODS periods of rows
+    run = np.maximum(np.abs(b - a).max(axis=-1), 1e-12)[..., None]
+    keep = np.minimum(1.0, SCORED_PERIODS * math.sqrt(abs(np.linalg.det(np.asarray(matrix, float)))) / run)
+    top_first = (start[:, 2] >= end[:, 2])[None, :, None]
+    a, b = np.where(top_first, a, b + (a - b) * keep), np.where(top_first, a + (b - a) * keep, b)
     steep = np.abs(b[..., 1] - a[..., 1]) >= np.abs(b[..., 0] - a[..., 0])
     # run along rows for steep edges, along columns for flat ones
     x0, y0 = np.where(steep, a[..., 0], a[..., 1]).ravel(), np.where(steep, a[..., 1], a[..., 0]).ravel()
     x1, y1 = np.where(steep, b[..., 0], b[..., 1]).ravel(), np.where(steep, b[..., 1], b[..., 0]).ravel()
-    segment, y, first, count = _rows(y0, y1, front.ravel())
-    # a score, not a count: single precision (a thousandth of a pixel) halves the work
-    slope = ((x1 - x0) / np.where(y1 != y0, y1 - y0, 1.0)).astype(np.float32)
-    offset = (x0 - 0.5 - y0 * (x1 - x0) / np.where(y1 != y0, y1 - y0, 1.0)).astype(np.float32)
-    x = offset[segment] + y.astype(np.float32) * slope[segment]  # x - 1/2 on each row
-    error = np.float32(0.5) - (x - np.floor(x))  # pixel centres left of x, minus x: mean 0
-    running = np.cumsum(error, dtype=np.float32)
-    running -= np.concatenate([[0.0], running])[np.repeat(first, count)]
-    n = len(x0)
-    star = np.zeros(n)
-    has = np.flatnonzero(count > 0)
-    if has.size:
-        at = first[has]  # each segment's rows are contiguous: reduce over them
-        high = np.maximum(np.maximum.reduceat(running, at), 0.0)
-        low = np.minimum(np.minimum.reduceat(running, at), 0.0)
-        total = running[at + count[has] - 1]
-        star[has] = np.max(np.abs([high, low, total - high, total - low]), axis=0)
+    star = _star_discrepancy(x0, y0, x1, y1, front.ravel())
     return (star.reshape(front.shape) * weight).sum(axis=1)
+
+
+def _row_crossings(x0, y0, x1, y1, valid):
+    """Where each segment crosses the pixel-centre rows ``r + 1/2`` it spans (``[min(y0, y1), max(y0, y1))``).
+
+    Returns
+    -------
+    has : (S',) int array
+        The segments (indices into ``x0``...) that are valid and cross at least one row.
+    start, count : (S',) int arrays
+        Where each one's rows begin in ``x`` and how many there are.
+    x : (sum count,) float array
+        x - 1/2 where each segment crosses each of its rows, a segment's rows contiguous.
+    """
+    lo, hi = np.minimum(y0, y1), np.maximum(y0, y1)
+    first = np.ceil(lo - 0.5)
+    count = np.where(valid, np.maximum(np.ceil(hi - 0.5) - first, 0), 0).astype(np.int64)
+    has = np.flatnonzero(count > 0)
+    count, first = count[has], first[has]
+    slope = (x1[has] - x0[has]) / (y1[has] - y0[has])
+    start = np.cumsum(count) - count
+    row = np.arange(count.sum(), dtype=float) - np.repeat(start, count)  # the row's number in its segment
+    x = np.repeat(x0[has] - 0.5 + (first + 0.5 - y0[has]) * slope, count) + row * np.repeat(slope, count)
+    return has, start, count, x
+
+
+def _star_discrepancy(x0, y0, x1, y1, valid) -> np.ndarray:
+    """(S,) each segment's star discrepancy against the pixel centres: walking the rows ``r + 1/2`` it spans, the
+    largest absolute running sum, from either end, of (pixel centres left of it) - (its x); 0 where not valid."""
+    star = np.zeros(len(x0))
+    has, start, count, x = _row_crossings(x0, y0, x1, y1, valid)
+    if has.size == 0:
+        return star
+    running = np.cumsum(0.5 - (x - np.floor(x)))  # pixel centres left of x, minus x: mean 0
+    before = np.concatenate([[0.0], running])[start]
+    high = np.maximum(np.maximum.reduceat(running, start) - before, 0.0)
+    low = np.minimum(np.minimum.reduceat(running, start) - before, 0.0)
+    total = running[start + count - 1] - before
+    star[has] = np.max(np.abs([high, low, total - high, total - low]), axis=0)
+    return star
 
 
 def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
@@ -282,9 +352,4 @@ def ratio_shares(pixel_counts, regions: Regions, shear, matrix, shift=(0.0, 0.0)
     share = np.where(counts > 0.5, areas * pixel_counts / np.maximum(counts, 1.0), plain)
     total = share.sum(axis=1, keepdims=True)
     share = np.where(total > 0, share / np.where(total > 0, total, 1.0), 0.0)
-    n_facets = len(regions.normals)
-    lit = np.zeros((len(share), n_facets))
-    shadow = np.zeros((len(share), n_facets))
-    np.add.at(lit.T, regions.facet[regions.lit], share[:, regions.lit].T)
-    np.add.at(shadow.T, regions.facet[~regions.lit], share[:, ~regions.lit].T)
-    return lit, shadow
+    return _facet_shares(share, regions)

@@ -39,9 +39,6 @@ float occluder_height(ivec2 texel)
 
 void main()
 {
-    if (frag_cell.x < 0.0 || frag_cell.y < 0.0 || frag_cell.x >= 1.0 || frag_cell.y >= 1.0) {
-        discard;
-    }
     vec3 N = normalize(frag_normal);
     vec3 L = light_dir;
     vec3 V = frag_view;
