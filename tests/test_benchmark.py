@@ -16,7 +16,7 @@ def test_benchmark_runs_every_method_against_the_reference(tmp_path):
     configs = [
         benchmark.Config("naive"),
         benchmark.Config("reference"),
-        benchmark.Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512}),
+        benchmark.Config("fast", {"sampling": "adaptive", "pixels_per_period": 28, "shadow_map_size": 512}),
         benchmark.Config("fast", {"sampling": "grid", "pixels_per_period": 8, "shadow_map_size": 64}),
     ]
     table = benchmark.run_benchmark(configs, surfaces=[(Surface(0.5, 1.0), 30.0)], views=views, repeats=1)

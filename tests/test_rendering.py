@@ -235,8 +235,16 @@ def test_each_method_records_how_it_sampled(tmp_path):
         table = pq.read_table(path).to_pandas()
         seen[method] = {c: table[c].astype(object).unique().tolist()
                         for c in ("method", "pixels_per_period", "sampling", "shadow_map_size")}
-    assert seen["fast"] == {"method": ["fast"], "pixels_per_period": [24], "sampling": ["lattice"],
+    assert seen["fast"] == {"method": ["fast"], "pixels_per_period": [28], "sampling": ["adaptive"],
                             "shadow_map_size": [512]}
+    # a random tile is drawn, and recorded, with the tile settings (per cell)
+    from roughlight.roughness import make_surface
+
+    path = tmp_path / "tile.parquet"
+    study.run_sweep(str(path), make_surface("random_pyramids", 0.5, 0.5, 1, cells=2), 30.0, sweep, lighting, "fast",
+                    {"tile_sampling": "grid", "tile_pixels_per_period": 12})
+    table = pq.read_table(path).to_pandas()
+    assert table["sampling"].unique().tolist() == ["grid"] and table["pixels_per_period"].unique().tolist() == [12]
     assert seen["naive"] == {"method": ["naive"], "pixels_per_period": [10], "sampling": ["window"],
                              "shadow_map_size": [2048]}
     assert seen["reference"] == {"method": ["reference"], "pixels_per_period": [0], "sampling": ["exact"],

@@ -238,4 +238,6 @@ def render_settings_from_config(config: dict) -> dict:
         "pixels_per_period": int(render["pixels_per_period"]),
         "sampling": str(render["sampling"]),
         "shadow_map_size": int(render["shadow_map_size"]),
+        "tile_sampling": str(render["random_tiles"]["sampling"]),
+        "tile_pixels_per_period": int(render["random_tiles"]["pixels_per_period"]),
     }

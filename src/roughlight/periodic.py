@@ -158,8 +158,10 @@ def fast_sweep(
         Views, degrees: azimuth in [0, 180), elevation in [0, 180].
     lighting : Lighting
     settings : RenderSettings
-        Densities per cell: a random tile of ``cells`` a side is sampled at
-        ``cells`` times them (:meth:`RenderSettings.for_tile`).
+        A random tile is drawn with its tile settings
+        (:meth:`RenderSettings.tile_settings`), densities per cell: a tile of
+        ``cells`` a side is sampled at ``cells`` times them
+        (:meth:`RenderSettings.for_tile`).
 
     Returns
     -------
@@ -171,7 +173,9 @@ def fast_sweep(
     """
     start = time.perf_counter()
     lighting = lighting or shading.Lighting()
-    settings = (settings or RenderSettings()).for_tile(getattr(surface, "cells", 1))
+    settings = settings or RenderSettings()
+    if hasattr(surface, "cells"):  # a random tile
+        settings = settings.tile_settings().for_tile(surface.cells)
     incidence = shading.check_incidence(incidence)
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
@@ -208,7 +212,8 @@ def fast_sweep(
         matrices, choice = [settings.sampling_matrix()], np.zeros(todo.size, int)
     groups = [(m, np.flatnonzero(choice == k)) for k, m in enumerate(matrices) if np.any(choice == k)]
     layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx in groups]
-    ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
+    sides = [_context_side(max(lay[k] for lay in layouts), settings) for k in (0, 1)]
+    ctx = context(sides[0], sides[1], int(settings.shadow_map_size))
     height = surface.height
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
 
@@ -261,6 +266,12 @@ def fast_sweep(
             out["coverage"][target] = means[:, 3] / 255.0
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def _context_side(pixels: int, settings: RenderSettings) -> int:
+    """A framebuffer side of at least ``pixels``, rounded up to a multiple of 512 (at most the largest): sweeps
+    whose views need slightly different sizes share one OSMesa context and its compiled shaders."""
+    return int(min(max(512 * -(-int(pixels) // 512), int(pixels)), max(int(settings.max_framebuffer), int(pixels))))
 
 
 def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:

@@ -310,7 +310,7 @@ def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
     out = [default]
     wanted = np.linspace(0.0, 45.0, n + 1)[1:] - 45.0 / (2 * n)
     options = sorted(found.values())
-    for target in wanted:
+    for target in wanted if options else ():  # none at very low densities: the default lattice alone
         angle, p, q = min(options, key=lambda o: abs(o[0] - target))
         matrix = np.array([[p, q], [-q, p]])
         if not any(np.array_equal(matrix, m) for m in out) and len(out) < n:

@@ -227,7 +227,7 @@ def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render
     result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
     log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
     table = sweep_table(result, surface, incidence, azimuth, elevation, lighting, method,
-                        recorded_settings(method, settings))
+                        recorded_settings(method, settings.tile_settings() if hasattr(surface, "cells") else settings))
     write_frame(table, path)
     log(f"wrote {table.num_rows} rows to {path}")
     return result
