@@ -231,13 +231,17 @@ def lighting_from_config(config: dict) -> Lighting:
     )
 
 
-def render_settings_from_config(config: dict) -> dict:
-    """The ``fast`` renderer's knobs (plain dict: it travels through Snakemake params)."""
+def render_settings_from_config(config: dict, random_tiles: bool = False) -> dict:
+    """The ``fast`` renderer's knobs (plain dict: it travels through Snakemake params); with ``random_tiles`` also
+    how random tiles are sampled (``render.random_tiles``), which only their jobs get, so that changing it reruns
+    only them."""
     render = config["render"]
-    return {
+    settings = {
         "pixels_per_period": int(render["pixels_per_period"]),
         "sampling": str(render["sampling"]),
         "shadow_map_size": int(render["shadow_map_size"]),
-        "tile_sampling": str(render["random_tiles"]["sampling"]),
-        "tile_pixels_per_period": int(render["random_tiles"]["pixels_per_period"]),
     }
+    if random_tiles:
+        settings["tile_sampling"] = str(render["random_tiles"]["sampling"])
+        settings["tile_pixels_per_period"] = int(render["random_tiles"]["pixels_per_period"])
+    return settings

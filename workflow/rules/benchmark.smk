@@ -113,6 +113,6 @@ rule random_tiles:
         mem_mb=4096,
     params:
         lighting=lighting_params,
-        render=fast_render_params,
+        render=fast_tile_render_params,
     script:
         "../scripts/random_tiles.py"

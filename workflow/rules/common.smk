@@ -183,9 +183,21 @@ def render_params(wildcards):
     return rl_config.render_settings_from_config(config)
 
 
+def random_render_params(wildcards):
+    """The fast renderer's knobs with those of random tiles (render.random_tiles); empty for the reference."""
+    if config["render"]["method"] != "fast":
+        return {}
+    return rl_config.render_settings_from_config(config, random_tiles=True)
+
+
 def fast_render_params(wildcards):
     """The fast renderer's knobs as configured (whatever render.method the study uses)."""
     return rl_config.render_settings_from_config(config)
+
+
+def fast_tile_render_params(wildcards):
+    """The fast renderer's knobs for random tiles as configured (whatever render.method the study uses)."""
+    return rl_config.render_settings_from_config(config, random_tiles=True)
 
 
 def table_aspects_param(wildcards):

@@ -71,7 +71,7 @@ rule random_sweep:
         sweep=sweep_params,
         lighting=lighting_params,
         method=method_param,
-        render=render_params,
+        render=random_render_params,
     script:
         "../scripts/sweep.py"
 
