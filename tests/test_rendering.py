@@ -49,7 +49,7 @@ def test_mirror_symmetry_about_the_lights_plane(t, a, i):
     # the mirror of view (e, phi) in the plane y = 0 is (180 - e, 180 - phi) on this orbit
     az, el = sweeps.view_grid(10, 15)
     # the square pixel grid is itself symmetric about y = 0: mirror views sample mirror points
-    out = render(t, a, i, az=az, el=el, sampling="grid")
+    out = render(t, a, i, az=az, el=el, sampling="grid", pixels_per_period=24)
     lattice = render(t, a, i, az=az, el=el)
     index = {(round(x), round(y)): k for k, (x, y) in enumerate(zip(az, el))}
     pairs = [(k, index[(180 - round(x), 180 - round(y))]) for k, (x, y) in enumerate(zip(az, el))

@@ -216,14 +216,18 @@ CONTEXTS: dict = {}
 
 
 def context(width: int, height: int, shadow_map_size: int) -> Context:
-    key = (width, height, shadow_map_size)
-    ctx = CONTEXTS.get(key)
-    if ctx is None:
-        # one framebuffer size at a time: OSMesa buffers are fixed at creation
-        for other in list(CONTEXTS.values()):
-            other.delete()
-        CONTEXTS.clear()
-        ctx = CONTEXTS[key] = Context(width, height, shadow_map_size)
+    """An OSMesa context whose framebuffer holds at least ``width`` x ``height`` pixels, with a shadow map of
+    ``shadow_map_size`` texels a side: the live one when it is large enough (callers draw into their own
+    viewport of it), else a new one as large as both (OSMesa buffers are fixed at creation; one at a time)."""
+    for (w, h, size), ctx in CONTEXTS.items():
+        if size == shadow_map_size and w >= width and h >= height:
+            ctx.platform.make_current()
+            return ctx
+    for (w, h, _), other in list(CONTEXTS.items()):
+        width, height = max(width, w), max(height, h)
+        other.delete()
+    CONTEXTS.clear()
+    ctx = CONTEXTS[(width, height, shadow_map_size)] = Context(width, height, shadow_map_size)
     ctx.platform.make_current()
     return ctx
 

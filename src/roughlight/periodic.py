@@ -33,6 +33,7 @@ the shader programs (:mod:`roughlight.gl`); its stock shader
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -103,7 +104,11 @@ def _begin_pass(framebuffer, width: int, height: int, clear_bits) -> None:
     gl.glFrontFace(gl.GL_CCW)
     for plane in range(4):
         gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
+    # clear only the viewport: the context's framebuffer may be larger
+    gl.glEnable(gl.GL_SCISSOR_TEST)
+    gl.glScissor(0, 0, width, height)
     gl.glClear(clear_bits)
+    gl.glDisable(gl.GL_SCISSOR_TEST)
 
 
 def _shadow_pass(ctx: Context, surface: Surface, light_dir, depth_scale):
@@ -128,9 +133,13 @@ _LAYOUTS: dict = {}
 
 
 def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    """:func:`roughlight.sampling.tile_layout` for at least ``n_views``: the count is rounded up to a step of
+    2^(1/4) (at most 19% spare slots), so that sweeps drawing slightly different numbers of views with one
+    lattice (adaptive sampling) share a layout; the caller uses the first slots."""
+    n_views = int(math.ceil(2.0 ** (math.ceil(4.0 * math.log2(max(int(n_views), 1))) / 4.0)))
     key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
     if key not in _LAYOUTS:
-        if len(_LAYOUTS) >= 32:
+        if len(_LAYOUTS) >= 64:
             _LAYOUTS.clear()
         _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
     return _LAYOUTS[key]
@@ -212,8 +221,7 @@ def fast_sweep(
         matrices, choice = [settings.sampling_matrix()], np.zeros(todo.size, int)
     groups = [(m, np.flatnonzero(choice == k)) for k, m in enumerate(matrices) if np.any(choice == k)]
     layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx in groups]
-    sides = [_context_side(max(lay[k] for lay in layouts), settings) for k in (0, 1)]
-    ctx = context(sides[0], sides[1], int(settings.shadow_map_size))
+    ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
     height = surface.height
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
 
@@ -266,12 +274,6 @@ def fast_sweep(
             out["coverage"][target] = means[:, 3] / 255.0
     out["seconds"] = time.perf_counter() - start
     return out
-
-
-def _context_side(pixels: int, settings: RenderSettings) -> int:
-    """A framebuffer side of at least ``pixels``, rounded up to a multiple of 512 (at most the largest): sweeps
-    whose views need slightly different sizes share one OSMesa context and its compiled shaders."""
-    return int(min(max(512 * -(-int(pixels) // 512), int(pixels)), max(int(settings.max_framebuffer), int(pixels))))
 
 
 def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:

@@ -250,6 +250,7 @@ def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     if len(base) != per_tile:
         raise RuntimeError("tile layout: a tile does not hold exactly |det S| pixel centres")
     shift = np.rint(slots @ matrix.T).astype(np.int64)
-    px = base[None, :, :] + shift[:, None, :]
-    pixel_order = (px[..., 1] * width + px[..., 0]).ravel()
+    # flat indices (< 4096^2, so 32 bits): each slot's offset plus the home slot's pixels
+    offset = (shift[:, 1] * width + shift[:, 0]).astype(np.int32)
+    pixel_order = (offset[:, None] + (base[:, 1] * width + base[:, 0]).astype(np.int32)[None, :]).ravel()
     return width, height, slots, pixel_order
