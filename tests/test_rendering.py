@@ -117,13 +117,19 @@ def test_blinn_and_phong_differ_and_both_peak_at_the_mirror():
 
 
 def test_shader_programs_are_compiled_once():
-    render(0.5, 1.0, 30)
+    gl.release_contexts()
+    render(0.5, 1.0, 30, sampling="lattice")
     ctx = next(iter(gl.CONTEXTS.values()))
     before = dict(ctx.programs._programs)
-    render(0.7, 0.5, 45)
-    render(0.2, 1.0, 20)
+    render(0.7, 0.5, 45, sampling="lattice")
+    render(0.2, 1.0, 20, sampling="lattice")
+    assert list(gl.CONTEXTS.values()) == [ctx]
     after = ctx.programs._programs
     assert len(after) == 2 and all(after[k] is before[k] for k in before)
+    # adaptive sweeps draw fewer views in smaller framebuffers: the same context serves them, one program more
+    render(0.5, 1.0, 30)
+    render(0.3, 0.8, 40)
+    assert list(gl.CONTEXTS.values()) == [ctx] and len(ctx.programs._programs) == 3
 
 
 def test_bad_incidence_and_shapes_are_refused():

@@ -782,8 +782,8 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
                 ax.plot(front["ms per view"], front[label], color="black", lw=1, ls="--", label="Pareto front")
             for _, row in sub.iterrows():
                 default_bias = np.isclose(row["shadow_bias"], RenderSettings().shadow_bias)
-                lattice_512 = row["sampling"] == "lattice" and row["shadow_map_size"] == 512
-                if row["method"] == "fast" and lattice_512 and default_bias:
+                labelled = row["sampling"] in ("lattice", "adaptive") and row["shadow_map_size"] == 512
+                if row["method"] == "fast" and labelled and default_bias:
                     ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row[label]),
                                 fontsize=7, xytext=(3, 3), textcoords="offset points")
             ax.axhline(line_at, color="grey", lw=0.8, ls=":")
