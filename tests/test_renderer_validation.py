@@ -223,3 +223,33 @@ def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_refer
     for component in ("diffuse", "specular", "total"):
         assert np.allclose(adaptive[component][whole], exact[component][whole], atol=1e-9, rtol=0)
         assert np.abs(adaptive[component] - exact[component]).max() <= 1.5
+
+
+def test_study_accuracy_checks_a_study_tables_own_numbers_against_the_reference(tmp_path):
+    """The audit of a whole study: its regular rows against the exact reference, view by view; a study made of
+    exact values has no error, and a value moved by two levels is found where it was moved."""
+    from roughlight.reference import reference_sweep
+
+    azimuth, elevation = sweeps.view_grid(30.0, 45.0)
+    frames = []
+    for truncation, aspect in ((0.5, 1.0), (1.0, 0.5)):
+        exact = reference_sweep(Surface(truncation, aspect), 30.0, azimuth, elevation)
+        for component in ("diffuse", "specular", "total"):
+            frames.append(pd.DataFrame({"kind": "pyramids", "truncation": truncation, "aspect": aspect,
+                                        "incidence": 30.0, "azimuth": azimuth, "elevation": elevation,
+                                        "component": component, "rough": exact[component]}))
+    study = pd.concat(frames, ignore_index=True)
+    moved = (study["truncation"] == 1.0) & (study["component"] == "diffuse") & (study["elevation"] == 60.0) \
+        & (study["azimuth"] == 90.0)
+    study.loc[moved, "rough"] += 2.0
+    table = rv.study_accuracy(study)
+    assert len(table) == 6
+    worst = table.set_index(["truncation", "component"])["worst"]
+    assert worst[(1.0, "diffuse")] == pytest.approx(2.0)
+    assert worst.drop((1.0, "diffuse")).max() == 0.0
+    row = table[(table["truncation"] == 1.0) & (table["component"] == "diffuse")].iloc[0]
+    assert (row["worst_elevation"], row["worst_azimuth"]) == (60.0, 90.0)
+    # the command line: one shard of two surfaces is one surface
+    study.to_parquet(tmp_path / "study.parquet")
+    assert rv.main([str(tmp_path / "study.parquet"), str(tmp_path / "out.csv"), "--shard", "1/2"]) == 0
+    assert pd.read_csv(tmp_path / "out.csv")["truncation"].unique().tolist() == [1.0]

@@ -118,6 +118,49 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     return pd.DataFrame(rows)
 
 
+def study_accuracy(study: pd.DataFrame, lighting=None, shard: tuple[int, int] = (0, 1), log=None) -> pd.DataFrame:
+    """Every view of a study's regular surfaces against the exact reference: the study's own numbers, as its
+    analyses read them.
+
+    Parameters
+    ----------
+    study : DataFrame
+        A study table (``results/study.parquet``); its regular rows are checked.
+    lighting : Lighting
+        The study's lighting (:func:`roughlight.config.lighting_from_config`).
+    shard : (k, n)
+        Check only the surfaces ``k, k + n, k + 2n, ...`` of the study's (incidence, truncation, aspect) order,
+        to spread the work over ``n`` processes.
+
+    Returns
+    -------
+    DataFrame, one row per surface x component: ``truncation``, ``aspect``, ``incidence`` and the columns of
+    :func:`view_errors`.
+    """
+    from .reference import reference_sweep
+
+    lighting = lighting or shading.Lighting()
+    log = log or (lambda message: None)
+    rows = regular(study)
+    wide = rows.pivot_table(index=["incidence", "truncation", "aspect", "azimuth", "elevation"], columns="component",
+                            values="rough", aggfunc="first").reset_index()
+    keys = wide[["incidence", "truncation", "aspect"]].drop_duplicates().sort_values(["incidence", "truncation",
+                                                                                        "aspect"])
+    out = []
+    for i, (incidence, truncation, aspect) in enumerate(keys.itertuples(index=False)):
+        if i % int(shard[1]) != int(shard[0]):
+            continue
+        sweep = wide[(wide["incidence"] == incidence) & (wide["truncation"] == truncation) & (wide["aspect"] == aspect)]
+        azimuth, elevation = sweep["azimuth"].to_numpy(float), sweep["elevation"].to_numpy(float)
+        exact = reference_sweep(Surface(float(truncation), float(aspect)), float(incidence), azimuth, elevation,
+                                lighting)
+        errors = view_errors({c: sweep[c].to_numpy(float) for c in shading.COMPONENTS}, exact, azimuth, elevation)
+        out += [{"truncation": float(truncation), "aspect": float(aspect), "incidence": float(incidence), **row}
+                for row in errors]
+        log(f"t={truncation:g} aspect={aspect:g} i={incidence:g}: worst view {max(r['worst'] for r in errors):.2f}")
+    return pd.DataFrame(out)
+
+
 def arc_smoothness(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE,
                    lighting=None) -> pd.DataFrame:
     """How far each curve of Figs. 21 (specular) and 28 (diffuse) lies from the exact curve.
@@ -170,3 +213,36 @@ def validation_summary(validation: pd.DataFrame) -> pd.DataFrame:
                          "largest_mae": grouped["mae"].max(), "median_mae": grouped["mae"].median(),
                          "grazing_worst": grouped["grazing_worst"].max(),
                          "views_per_second": grouped["fast_views_per_second"].median()}).reset_index()
+
+
+def main(argv=None) -> int:
+    """``python -m roughlight.renderer_validation STUDY.parquet OUT.csv [--config CONFIG] [--shard K/N]``: every
+    view of a study's regular surfaces against the exact reference (:func:`study_accuracy`), one row per surface
+    and component; the summary (worst view, largest MAE) is printed."""
+    import argparse
+
+    import yaml
+
+    from .atomic import write_frame
+    from .config import lighting_from_config, validate_config
+
+    parser = argparse.ArgumentParser(prog="python -m roughlight.renderer_validation", description=main.__doc__)
+    parser.add_argument("study")
+    parser.add_argument("out")
+    parser.add_argument("--config", default="config/config.yaml", help="the study's config (its lighting)")
+    parser.add_argument("--shard", default="0/1", help="K/N: only every N-th surface from the K-th")
+    args = parser.parse_args(argv)
+    k, n = (int(x) for x in args.shard.split("/"))
+    with open(args.config) as f:
+        lighting = lighting_from_config(validate_config(yaml.safe_load(f)))
+    table = study_accuracy(pd.read_parquet(args.study), lighting, (k, n), log=print)
+    write_frame(table, args.out)
+    if len(table):
+        summary = table.groupby("component").agg(surfaces=("worst", "size"), worst=("worst", "max"),
+                                                 largest_mae=("mae", "max"), n_views=("n_views", "sum"))
+        print(summary.to_string())
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
