@@ -244,7 +244,8 @@ def fast_sweep(
             # nearest the detector first, so that the depth test rejects the copies behind before shading them
             order = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
             owner, copies = owner[order], copies[order]
-            poses = _copy_poses(copies, shears[idx][owner], views[idx][owner], slots[: idx.size][owner])
+            copy_idx = idx[owner]
+            poses = _copy_poses(copies, shears[copy_idx], views[copy_idx], slots[: idx.size][owner])
             _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
             program._bind()
             _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
@@ -296,20 +297,24 @@ def _adaptive_values(out, target, ids, regions, shear, views, matrix, shift, lig
     histogram = np.bincount((np.arange(n)[:, None] * width + ids).ravel(), minlength=n * width).reshape(n, width)
     pixel_counts = histogram[:, 2 * regions.facet + regions.lit.astype(int) + 1]
     lit, shadow = shares.ratio_shares(pixel_counts, regions, shear, matrix, shift)
-    values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
-    for component in shading.COMPONENTS:
-        out[component][target] = values[component]
-    out["coverage"][target] = 1.0 - histogram[:, 0] / ids.shape[1]
+    _fill_from_shares(out, target, regions, views, lit, shadow, light_dir, lighting,
+                      1.0 - histogram[:, 0] / ids.shape[1])
 
 
 def _exact_values(out, target, regions, shear, views, light_dir, lighting) -> None:
     """Fill ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
     (:func:`roughlight.shares.area_shares`) weighted by its 8-bit values (:func:`roughlight.shading.facet_sum`)."""
     lit, shadow = shares.area_shares(regions, shear)
+    _fill_from_shares(out, target, regions, views, lit, shadow, light_dir, lighting, 1.0)
+
+
+def _fill_from_shares(out, target, regions, views, lit, shadow, light_dir, lighting, coverage) -> None:
+    """Write at ``target`` each component's facet sum of the (V, F) ``lit`` and ``shadow`` shares, and
+    ``coverage``."""
     values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
     for component in shading.COMPONENTS:
         out[component][target] = values[component]
-    out["coverage"][target] = 1.0
+    out["coverage"][target] = coverage
 
 
 def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):

@@ -144,13 +144,10 @@ def study_accuracy(study: pd.DataFrame, lighting=None, shard: tuple[int, int] = 
     rows = regular(study)
     wide = rows.pivot_table(index=["incidence", "truncation", "aspect", "azimuth", "elevation"], columns="component",
                             values="rough", aggfunc="first").reset_index()
-    keys = wide[["incidence", "truncation", "aspect"]].drop_duplicates().sort_values(["incidence", "truncation",
-                                                                                        "aspect"])
     out = []
-    for i, (incidence, truncation, aspect) in enumerate(keys.itertuples(index=False)):
+    for i, ((incidence, truncation, aspect), sweep) in enumerate(wide.groupby(["incidence", "truncation", "aspect"])):
         if i % int(shard[1]) != int(shard[0]):
             continue
-        sweep = wide[(wide["incidence"] == incidence) & (wide["truncation"] == truncation) & (wide["aspect"] == aspect)]
         azimuth, elevation = sweep["azimuth"].to_numpy(float), sweep["elevation"].to_numpy(float)
         exact = reference_sweep(Surface(float(truncation), float(aspect)), float(incidence), azimuth, elevation,
                                 lighting)

@@ -134,8 +134,7 @@ def all_facing(regions: Regions, shear) -> np.ndarray:
     its exact projected area (:func:`area_shares`), with no rendering.
     """
     shear = np.atleast_2d(np.asarray(shear, float))
-    det = 1.0 - regions.alpha[None, :] * shear[:, 0:1] - regions.beta[None, :] * shear[:, 1:2]
-    return np.all(det > 1e-9, axis=1)
+    return np.all(_front(regions, np.arange(len(regions.facet)), shear), axis=1)
 
 
 def area_shares(regions: Regions, shear):
