@@ -216,11 +216,16 @@ def fast_sweep(
             return out
         matrices = shares.candidate_lattices(int(settings.pixels_per_period))
         shifts = [_surface_shift(m, settings.jitter) for m in matrices]
-        choice = shares.choose_lattices(regions, shears, matrices, shifts)
+        values = shares.region_values(regions, light_dir, views, lighting)
+        order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
+        # where even the best lattice may be off by the threshold, draw the second best too and average the two
+        twice = (score >= float(settings.second_lattice_above)) & (order[1] != order[0])
+        groups = [_lattice_group(m, np.flatnonzero(order[0] == k), np.flatnonzero(twice & (order[1] == k)), twice)
+                  for k, m in enumerate(matrices)]
     else:
-        matrices, choice = [settings.sampling_matrix()], np.zeros(todo.size, int)
-    groups = [(m, np.flatnonzero(choice == k)) for k, m in enumerate(matrices) if np.any(choice == k)]
-    layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx in groups]
+        groups = [_lattice_group(settings.sampling_matrix(), np.arange(todo.size), np.zeros(0, int), None)]
+    groups = [g for g in groups if g[1].size]
+    layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
     height = surface.height
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
@@ -235,11 +240,11 @@ def fast_sweep(
 
     defines = {**ATTRIBUTES, "FACET_IDS": 1} if adaptive else ATTRIBUTES
     program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
-    for (matrix, members), (width, height_px, slots, pixel_order) in zip(groups, layouts):
+    for (matrix, members, weights), (width, height_px, slots, pixel_order) in zip(groups, layouts):
         per_tile = len(pixel_order) // len(slots)
         shift_m = _surface_shift(matrix, settings.jitter)
         for first in range(0, members.size, len(slots)):
-            idx = members[first:first + len(slots)]
+            idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
             owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
             # nearest the detector first, so that the depth test rejects the copies behind before shading them
             order = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
@@ -264,7 +269,7 @@ def fast_sweep(
             target = todo[idx]
             if adaptive:
                 ids = tiles_px[..., 0].astype(np.int64) + 256 * tiles_px[..., 1].astype(np.int64)
-                _adaptive_values(out, target, ids, regions, shears[idx], views[idx], matrix, shift_m,
+                _adaptive_values(out, target, weight, ids, regions, shears[idx], views[idx], matrix, shift_m,
                                  light_dir, lighting)
                 continue
             # integer sums (exact) over the tile's pixel count: the same float64 means as numpy's mean, faster
@@ -275,6 +280,14 @@ def fast_sweep(
             out["coverage"][target] = means[:, 3] / 255.0
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def _lattice_group(matrix, best, again, twice):
+    """One lattice's pass: (matrix, the views it draws, each one's weight in its value): weight 1 where it is the
+    view's only lattice, 1/2 where the view is drawn on two (``twice``)."""
+    members = np.concatenate([best, again])
+    weights = np.ones(members.size) if twice is None else np.where(twice[members], 0.5, 1.0)
+    return matrix, members, weights
 
 
 def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:
@@ -289,32 +302,32 @@ def _tile_pixels(raw: bytes, pixel_order: np.ndarray, n_tiles: int) -> np.ndarra
     return words.view(np.uint8).reshape(n_tiles, -1, 4)
 
 
-def _adaptive_values(out, target, ids, regions, shear, views, matrix, shift, light_dir, lighting) -> None:
-    """Fill ``out`` at ``target`` from the tiles' (facet, lit) identities (``ids`` = 2 facet + lit + 1): each
-    facet's shares by :func:`roughlight.shares.ratio_shares`, weighted by its 8-bit values as the framebuffer
-    stores them (:func:`roughlight.shading.facet_sum`)."""
+def _adaptive_values(out, target, weight, ids, regions, shear, views, matrix, shift, light_dir, lighting) -> None:
+    """Add to ``out`` at ``target``, times ``weight``, the values from the tiles' (facet, lit) identities (``ids``
+    = 2 facet + lit + 1): each facet's shares by :func:`roughlight.shares.ratio_shares`, weighted by its 8-bit
+    values as the framebuffer stores them (:func:`roughlight.shading.facet_sum`)."""
     n, width = len(ids), 2 * len(regions.normals) + 2
     histogram = np.bincount((np.arange(n)[:, None] * width + ids).ravel(), minlength=n * width).reshape(n, width)
     pixel_counts = histogram[:, 2 * regions.facet + regions.lit.astype(int) + 1]
     lit, shadow = shares.ratio_shares(pixel_counts, regions, shear, matrix, shift)
-    _fill_from_shares(out, target, regions, views, lit, shadow, light_dir, lighting,
-                      1.0 - histogram[:, 0] / ids.shape[1])
+    _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting,
+                     1.0 - histogram[:, 0] / ids.shape[1])
 
 
 def _exact_values(out, target, regions, shear, views, light_dir, lighting) -> None:
-    """Fill ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
+    """Add to ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
     (:func:`roughlight.shares.area_shares`) weighted by its 8-bit values (:func:`roughlight.shading.facet_sum`)."""
     lit, shadow = shares.area_shares(regions, shear)
-    _fill_from_shares(out, target, regions, views, lit, shadow, light_dir, lighting, 1.0)
+    _add_from_shares(out, target, 1.0, regions, views, lit, shadow, light_dir, lighting, 1.0)
 
 
-def _fill_from_shares(out, target, regions, views, lit, shadow, light_dir, lighting, coverage) -> None:
-    """Write at ``target`` each component's facet sum of the (V, F) ``lit`` and ``shadow`` shares, and
-    ``coverage``."""
+def _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting, coverage) -> None:
+    """Add at ``target`` (no repeats), times ``weight``, each component's facet sum of the (V, F) ``lit`` and
+    ``shadow`` shares, and ``coverage``."""
     values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
     for component in shading.COMPONENTS:
-        out[component][target] = values[component]
-    out["coverage"][target] = coverage
+        out[component][target] += weight * values[component]
+    out["coverage"][target] += weight * coverage
 
 
 def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):

@@ -44,6 +44,7 @@ __all__ = [
     "view_direction",
     "phase_angle",
     "facet_components",
+    "facet_values",
     "facet_sum",
     "quantize",
     "material_uniforms",
@@ -197,8 +198,8 @@ def facet_components(normals, light_dir, view_dirs, lighting: Lighting, lit=1.0)
     return diffuse, specular, diffuse + specular
 
 
-def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, quantized: bool = True) -> dict:
-    """Image mean of each component: every facet's value weighted by its lit and its shadowed share.
+def facet_values(normals, light_dir, view_dirs, lighting: Lighting, quantized: bool = True):
+    """Every facet's value lit and in shadow, for each view.
 
     Parameters
     ----------
@@ -208,29 +209,42 @@ def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, qu
         Unit vector toward the light.
     view_dirs : (n_views, 3) array
         Unit vectors toward the detector.
-    lit, shadow : (n_views, F) arrays
-        Share of the image each facet fills, lit and in shadow.
     lighting : Lighting
     quantized : bool
-        True: each facet's value is its 8-bit framebuffer value
-        (:func:`quantize`); False: the raw float.
+        True: each value is its 8-bit framebuffer value (:func:`quantize`); False: the raw float.
+
+    Returns
+    -------
+    on, off : tuples of three (n_views, F) arrays
+        Diffuse, specular and total of each facet where it is lit (``on``) and in shadow (``off``), 0-255.
+    """
+    normals = np.asarray(normals, float)[None, :, :]
+    views = np.asarray(view_dirs, float)[:, None, :]
+    shape = (views.shape[0], normals.shape[1])
+    out = []
+    for lit in (1.0, 0.0):
+        values = facet_components(normals, light_dir, views, lighting, lit=lit)
+        out.append(tuple(np.broadcast_to(quantize(v) if quantized else v, shape) for v in values))
+    return out[0], out[1]
+
+
+def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, quantized: bool = True) -> dict:
+    """Image mean of each component: every facet's value weighted by its lit and its shadowed share.
+
+    Parameters
+    ----------
+    normals, light_dir, view_dirs, lighting, quantized
+        As :func:`facet_values`.
+    lit, shadow : (n_views, F) arrays
+        Share of the image each facet fills, lit and in shadow.
 
     Returns
     -------
     dict: ``diffuse``, ``specular``, ``total`` as (n_views,) arrays (0-255).
     """
-    normals = np.asarray(normals, float)[None, :, :]
-    views = np.asarray(view_dirs, float)[:, None, :]
-    on = facet_components(normals, light_dir, views, lighting, lit=1.0)
-    off = facet_components(normals, light_dir, views, lighting, lit=0.0)
-    out = {}
-    for name, v_on, v_off in zip(COMPONENTS, on, off):
-        if quantized:
-            v_on, v_off = quantize(v_on), quantize(v_off)
-        v_on = np.broadcast_to(v_on, lit.shape)
-        v_off = np.broadcast_to(v_off, lit.shape)
-        out[name] = (v_on * lit).sum(axis=1) + (v_off * shadow).sum(axis=1)
-    return out
+    on, off = facet_values(normals, light_dir, view_dirs, lighting, quantized)
+    return {name: (v_on * lit).sum(axis=1) + (v_off * shadow).sum(axis=1)
+            for name, v_on, v_off in zip(COMPONENTS, on, off)}
 
 
 #: Values within this of a half step round up, as the framebuffer's float to
