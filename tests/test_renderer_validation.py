@@ -251,16 +251,16 @@ def test_value_discrepancy_is_close_to_a_bound_on_a_views_error():
     matrices = shares.candidate_lattices(28)
     values = shares.region_values(regions, shading.light_direction(30.0), views, Lighting())
     _, score = shares.choose_lattices(regions, shear, matrices, [np.zeros(2)] * len(matrices), values)
-    once = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(second_lattice_above=np.inf))
+    once = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(average_lattices_above=np.inf))
     exact = reference_sweep(surface, 30.0, azimuth, elevation)
     error = np.max([np.abs(once[c] - exact[c]) for c in ("diffuse", "specular", "total")], axis=0)
     assert error.max() > 0.1
     assert np.all(error <= 1.5 * score + 0.05)
 
 
-def test_views_drawn_on_two_lattices_take_the_mean_of_the_two(monkeypatch):
-    """A view scoring at or above ``second_lattice_above`` is drawn on its best and second best lattice and
-    its values are the mean of what each gives alone."""
+def test_views_drawn_on_several_lattices_take_the_mean_of_them(monkeypatch):
+    """A view scoring at or above ``average_lattices_above`` is drawn on each of its best lattices and its values
+    are the mean of what each gives alone; the others are drawn on their best alone."""
     from roughlight import shares
     from roughlight.periodic import fast_sweep
     from roughlight.sampling import RenderSettings
@@ -268,28 +268,30 @@ def test_views_drawn_on_two_lattices_take_the_mean_of_the_two(monkeypatch):
     surface = Surface(1.0, 1.0)
     azimuth, elevation = np.array([0.0, 30.0, 90.0]), np.array([25.0, 40.0, 150.0])
 
-    def fixed(first, second):
+    def fixed(order, score):
         def choose(regions, shear, matrices, shifts, values):
             n = len(np.atleast_2d(shear))
-            return np.array([np.full(n, first), np.full(n, second)]), np.full(n, 5.0)
+            return np.array([np.full(n, k) for k in order]), np.broadcast_to(np.asarray(score, float), (n,)).copy()
         return choose
 
     swept = {}
-    for name, order, threshold in (("a", (0, 1), np.inf), ("b", (1, 0), np.inf), ("ab", (0, 1), 5.0)):
-        monkeypatch.setattr(shares, "choose_lattices", fixed(*order))
-        swept[name] = fast_sweep(surface, 30.0, azimuth, elevation,
-                                 settings=RenderSettings(second_lattice_above=threshold))
+    for name, order, score in (("a", (0,), 0.0), ("b", (3,), 0.0), ("c", (5,), 0.0),
+                                ("abc", (0, 3, 5), (5.0, 5.0, 0.5))):
+        monkeypatch.setattr(shares, "choose_lattices", fixed(order, score))
+        swept[name] = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(average_lattices_above=5.0))
     for component in ("diffuse", "specular", "total", "coverage"):
-        assert np.allclose(swept["ab"][component], 0.5 * (swept["a"][component] + swept["b"][component]),
-                           atol=1e-12, rtol=0)
-    assert not np.allclose(swept["a"]["total"], swept["b"]["total"], atol=1e-6, rtol=0)
+        mean = (swept["a"][component] + swept["b"][component] + swept["c"][component]) / 3.0
+        assert np.allclose(swept["abc"][component][:2], mean[:2], atol=1e-12, rtol=0)
+        # the third view scores below the threshold: its best lattice alone
+        assert swept["abc"][component][2] == pytest.approx(swept["a"][component][2], abs=1e-12)
+    assert not np.allclose(swept["a"]["total"][:2], swept["b"]["total"][:2], atol=1e-6, rtol=0)
 
 
-def test_second_lattice_above_must_not_be_negative():
+def test_average_lattices_above_must_not_be_negative():
     from roughlight.sampling import RenderSettings
 
-    with pytest.raises(ValueError, match="second_lattice_above"):
-        RenderSettings(second_lattice_above=-0.5)
+    with pytest.raises(ValueError, match="average_lattices_above"):
+        RenderSettings(average_lattices_above=-0.5)
 
 
 @pytest.mark.parametrize("truncation,aspect,incidence", [(1.0, 1.0, 30.0), (0.5, 0.5, 30.0), (1.0, 1.0, 5.0)])

@@ -240,7 +240,7 @@ def render_settings_from_config(config: dict, random_tiles: bool = False) -> dic
         "pixels_per_period": int(render["pixels_per_period"]),
         "sampling": str(render["sampling"]),
         "shadow_map_size": int(render["shadow_map_size"]),
-        "second_lattice_above": float(render["second_lattice_above"]),
+        "average_lattices_above": float(render["average_lattices_above"]),
     }
     if random_tiles:
         settings["tile_sampling"] = str(render["random_tiles"]["sampling"])

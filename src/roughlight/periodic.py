@@ -218,12 +218,11 @@ def fast_sweep(
         shifts = [_surface_shift(m, settings.jitter) for m in matrices]
         values = shares.region_values(regions, light_dir, views, lighting)
         order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
-        # where even the best lattice may be off by the threshold, draw the second best too and average the two
-        twice = (score >= float(settings.second_lattice_above)) & (order[1] != order[0])
-        groups = [_lattice_group(m, np.flatnonzero(order[0] == k), np.flatnonzero(twice & (order[1] == k)), twice)
-                  for k, m in enumerate(matrices)]
+        # where even the best lattice may be off by the threshold, draw the next best too and average them all
+        many = score >= float(settings.average_lattices_above)
+        groups = [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
     else:
-        groups = [_lattice_group(settings.sampling_matrix(), np.arange(todo.size), np.zeros(0, int), None)]
+        groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int), None)]
     groups = [g for g in groups if g[1].size]
     layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
@@ -282,12 +281,17 @@ def fast_sweep(
     return out
 
 
-def _lattice_group(matrix, best, again, twice):
-    """One lattice's pass: (matrix, the views it draws, each one's weight in its value): weight 1 where it is the
-    view's only lattice, 1/2 where the view is drawn on two (``twice``)."""
-    members = np.concatenate([best, again])
-    weights = np.ones(members.size) if twice is None else np.where(twice[members], 0.5, 1.0)
-    return matrix, members, weights
+def _lattice_group(k, matrix, order, many):
+    """Lattice ``k``'s pass: (matrix, the views it draws, each one's weight in its value).
+
+    ``order`` (K, V): each view's best lattices, best first; ``many`` (V,) bool or None: the views drawn on all K,
+    each with weight 1 / K; the others are drawn on their best alone, with weight 1.
+    """
+    if many is None:
+        many = np.zeros(order.shape[1], bool)
+    drawn = (order[0] == k) | (many & np.any(order[1:] == k, axis=0))
+    members = np.flatnonzero(drawn)
+    return matrix, members, np.where(many[members], 1.0 / len(order), 1.0)
 
 
 def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:

@@ -32,8 +32,8 @@ class RenderSettings:
     sampling : str
         ``"adaptive"`` (the default): views where every facet faces the
         detector are each region's exact projected area, unrendered; the others
-        are drawn on the lattice chosen for the view among six (on the two
-        best, averaged, where the best may be off by ``second_lattice_above``),
+        are drawn on the lattice chosen for the view among six (on the three
+        best, averaged, where the best may be off by ``average_lattices_above``),
         and each region's pixel count is corrected by its exact area
         (:mod:`roughlight.shares`). ``"lattice"``: the tile is a rotated square
         whose pixel centres sample the period on a rotated lattice (no row of
@@ -48,11 +48,12 @@ class RenderSettings:
     max_framebuffer : int
         Largest framebuffer side in pixels; views beyond one framebuffer are
         drawn in further passes.
-    second_lattice_above : float
+    average_lattices_above : float
         Adaptive sampling: a view whose best lattice's value discrepancy (close
         to a bound on its error, :func:`roughlight.shares.value_discrepancy`)
-        is at least this many 8-bit levels is drawn on the second best lattice
-        too, and the two values averaged. ``inf``: one lattice a view.
+        is at least this many 8-bit levels is drawn on its three best lattices
+        (:data:`roughlight.shares.AVERAGED`) and the values averaged. ``inf``:
+        one lattice a view.
     tile_sampling, tile_pixels_per_period : str, int
         ``sampling`` and ``pixels_per_period`` (per cell) of random tiles
         (:meth:`tile_settings`): adaptive sampling on a tile's hundreds of
@@ -72,7 +73,7 @@ class RenderSettings:
     jitter: tuple = (0.0, 0.0)
     tile_sampling: str = "lattice"
     tile_pixels_per_period: int = 24
-    second_lattice_above: float = 1.4
+    average_lattices_above: float = 1.6
 
     def __post_init__(self):
         if int(self.pixels_per_period) < 1:
@@ -86,8 +87,8 @@ class RenderSettings:
         for key in ("sampling", "tile_sampling"):
             if getattr(self, key) not in SAMPLINGS:
                 raise ValueError(f"render.{key} must be one of {SAMPLINGS}, got {getattr(self, key)!r}")
-        if not (float(self.second_lattice_above) >= 0):
-            raise ValueError(f"render.second_lattice_above must be >= 0, got {self.second_lattice_above!r}")
+        if not (float(self.average_lattices_above) >= 0):
+            raise ValueError(f"render.average_lattices_above must be >= 0, got {self.average_lattices_above!r}")
         if int(self.tile_pixels_per_period) < 1:
             raise ValueError(f"render.tile_pixels_per_period must be >= 1, got {self.tile_pixels_per_period!r}")
 

@@ -10,7 +10,7 @@ thesis's "jagged peaks", Ch. IV.A). Two corrections, both exact geometry and no 
   whose lattice points (the tile's pixel centres) can be counted exactly. The rendered count of the region's visible
   part over that count is its visible fraction, and times the exact area its share: the pixel errors along the
   region's own edges cancel, those along the edges of whatever hides it remain.
-- **A lattice chosen per view, and a second where the choice is not good enough.** Pixel centres are a
+- **A lattice chosen per view, and three where the choice is not good enough.** Pixel centres are a
   lattice; an edge running along a short lattice vector collects its error over its whole length. Among a few
   rotated lattices of the same density the view is drawn with the one whose edges have the smallest *value
   discrepancy*: the sum over the edges in view of the step in 8-bit value across the edge times its *star
@@ -18,7 +18,7 @@ thesis's "jagged peaks", Ch. IV.A). Two corrections, both exact geometry and no 
   over the lattice's pixels a period. It is close to a bound on the view's error, in 8-bit levels: drawn on
   its best lattice, a view's error was above the score on 0.003% of 72,900 views of 22 surfaces, and at most
   1.11 times it (issue 11). Where even the best lattice scores at or above a threshold the view is drawn on
-  the second best too and the two values are averaged: their errors are nearly independent.
+  its three best lattices and the values averaged: their errors are nearly independent.
 
 Coordinates: plan ``(x, y, z)`` of one period; a view's plan shift ``d = (V_x / V_z, V_y / V_z)``; the oblique
 ("cell") coordinates ``(x, y) - z d`` in periods, and pixel coordinates ``matrix @ (cell + shift)`` whose integer
@@ -34,6 +34,12 @@ import numpy as np
 
 #: Largest number of facets whose (facet, lit) identity fits two 8-bit channels (2 F + 1 < 65536).
 MAX_FACETS = 32767
+
+#: A view whose best lattice scores at or above ``render.average_lattices_above`` is drawn on this many best
+#: lattices and their values averaged. Two were not enough: where the second best is much worse than the best,
+#: the mean of the two is worse than the best alone (1.29 against 0.61 at t 0.8, a sqrt(3)/2, e 2, the one view
+#: of the default study past 1.0 with two, issue 11).
+AVERAGED = 3
 
 #: The lattice choice scores at most this many periods' worth of pixel rows of each edge, from its top: at views
 #: near the horizon an edge spans tens of periods of the image, of which only the top can be seen past the rows
@@ -399,7 +405,7 @@ def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
 
 
 def choose_lattices(regions: Regions, shear, matrices, shifts, values):
-    """The two lattices with the smallest :func:`value_discrepancy` for each view.
+    """The lattices with the smallest :func:`value_discrepancy` for each view, best first.
 
     Parameters
     ----------
@@ -415,9 +421,9 @@ def choose_lattices(regions: Regions, shear, matrices, shifts, values):
 
     Returns
     -------
-    order : (2, V) int array
-        Index into ``matrices`` of the best and the second best lattice of each view (the best twice when there is
-        one candidate).
+    order : (K, V) int array
+        Index into ``matrices`` of each view's :data:`AVERAGED` best lattices, best first (K = :data:`AVERAGED`,
+        or the number of candidates if there are fewer).
     score : (V,) array
         The best lattice's value discrepancy, 8-bit levels.
     """
@@ -425,8 +431,7 @@ def choose_lattices(regions: Regions, shear, matrices, shifts, values):
     start, end, sides = _unique_edges(regions)
     steps = edge_steps(regions, sides, shear, values)
     scores = np.array([value_discrepancy(start, end, steps, shear, m, s) for m, s in zip(matrices, shifts)])
-    order = np.argsort(scores, axis=0, kind="stable")[:2]
-    order = np.vstack([order, order[:1]])[:2]
+    order = np.argsort(scores, axis=0, kind="stable")[:AVERAGED]
     return order, scores[order[0], np.arange(len(shear))]
 
 
