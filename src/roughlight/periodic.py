@@ -246,8 +246,8 @@ def fast_sweep(
             idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
             owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
             # nearest the detector first, so that the depth test rejects the copies behind before shading them
-            order = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
-            owner, copies = owner[order], copies[order]
+            nearest = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
+            owner, copies = owner[nearest], copies[nearest]
             copy_idx = idx[owner]
             poses = _copy_poses(copies, shears[copy_idx], views[copy_idx], slots[: idx.size][owner])
             _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
