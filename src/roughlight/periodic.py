@@ -222,7 +222,8 @@ def fast_sweep(
         many = score >= float(settings.average_lattices_above)
         groups = [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
     else:
-        groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int), None)]
+        groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int),
+                                 np.zeros(todo.size, bool))]
     groups = [g for g in groups if g[1].size]
     layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
@@ -284,11 +285,9 @@ def fast_sweep(
 def _lattice_group(k, matrix, order, many):
     """Lattice ``k``'s pass: (matrix, the views it draws, each one's weight in its value).
 
-    ``order`` (K, V): each view's best lattices, best first; ``many`` (V,) bool or None: the views drawn on all K,
-    each with weight 1 / K; the others are drawn on their best alone, with weight 1.
+    ``order`` (K, V): each view's best lattices, best first; ``many`` (V,) bool: the views drawn on all K, each
+    with weight 1 / K; the others are drawn on their best alone, with weight 1.
     """
-    if many is None:
-        many = np.zeros(order.shape[1], bool)
     drawn = (order[0] == k) | (many & np.any(order[1:] == k, axis=0))
     members = np.flatnonzero(drawn)
     return matrix, members, np.where(many[members], 1.0 / len(order), 1.0)

@@ -125,20 +125,18 @@ def _unique_edges(regions: Regions):
     where no copy matches vertex for vertex.
     """
     start, end, owner = _edges(regions)
-    # polygon clipping can leave zero-width spikes, an edge there and back within one region: they bound nothing
     rounded = [(tuple(a), tuple(b)) for a, b in zip(np.round(start, 9), np.round(end, 9))]
+    # polygon clipping can leave zero-width spikes, an edge there and back within one region: they bound nothing
     ring = set(zip(rounded, owner.tolist()))
-    solid = np.array([((b, a), r) not in ring for (a, b), r in zip(rounded, owner.tolist())], bool)
-    start, end, owner = start[solid], end[solid], owner[solid]
+    solid = [k for k, ((a, b), r) in enumerate(zip(rounded, owner.tolist())) if ((b, a), r) not in ring]
     found = {}
-    for k, (a, b) in enumerate(zip(np.round(start, 9), np.round(end, 9))):
-        key = (tuple(b), tuple(a)) if (tuple(b), tuple(a)) in found else (tuple(a), tuple(b))
-        found.setdefault(key, []).append(k)
+    for k in solid:
+        a, b = rounded[k]
+        found.setdefault((b, a) if (b, a) in found else (a, b), []).append(k)
     keep = np.array([ks[0] for ks in found.values()], int)
     sides = np.array([[owner[ks[0]], owner[ks[1]] if len(ks) > 1 else -1] for ks in found.values()], int)
     start, end, sides = start[keep], end[keep], sides.reshape(-1, 2)
-    lone = {(tuple(a), tuple(b)): k for k, (a, b) in enumerate(zip(np.round(start, 9), np.round(end, 9)))
-            if sides[k, 1] < 0}
+    lone = {rounded[keep[k]]: k for k in range(len(keep)) if sides[k, 1] < 0}
     absorbed = set()
     for k in lone.values():
         if k in absorbed or sides[k, 1] >= 0:
