@@ -368,3 +368,8 @@ def test_study_accuracy_checks_a_study_tables_own_numbers_against_the_reference(
     study.to_parquet(tmp_path / "study.parquet")
     assert rv.main([str(tmp_path / "study.parquet"), str(tmp_path / "out.csv"), "--shard", "1/2"]) == 0
     assert pd.read_csv(tmp_path / "out.csv")["truncation"].unique().tolist() == [1.0]
+    # shards count from 0: K = N would check no surface, and is refused rather than written as an empty table
+    for shard in ("2/2", "x/2"):
+        with pytest.raises(SystemExit):
+            rv.main([str(tmp_path / "study.parquet"), str(tmp_path / "bad.csv"), "--shard", shard])
+    assert not (tmp_path / "bad.csv").exists()

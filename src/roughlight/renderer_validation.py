@@ -227,9 +227,15 @@ def main(argv=None) -> int:
     parser.add_argument("study")
     parser.add_argument("out")
     parser.add_argument("--config", default="config/config.yaml", help="the study's config (its lighting)")
-    parser.add_argument("--shard", default="0/1", help="K/N: only every N-th surface from the K-th")
+    parser.add_argument("--shard", default="0/1",
+                        help="K/N: only every N-th surface from the K-th, K counted from 0 (0 <= K < N)")
     args = parser.parse_args(argv)
-    k, n = (int(x) for x in args.shard.split("/"))
+    try:
+        k, n = (int(x) for x in args.shard.split("/"))
+    except ValueError:
+        parser.error(f"--shard must be K/N with integers K and N, got {args.shard!r}")
+    if not 0 <= k < n:
+        parser.error(f"--shard K/N needs 0 <= K < N (shards count from 0), got {args.shard!r}")
     with open(args.config) as f:
         lighting = lighting_from_config(validate_config(yaml.safe_load(f)))
     table = study_accuracy(pd.read_parquet(args.study), lighting, (k, n), log=print)
