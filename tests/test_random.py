@@ -111,7 +111,7 @@ def test_bad_random_surfaces_name_the_key(build, key):
 @pytest.mark.parametrize(
     "surface, problem",
     [
-        ({"kind": "random_pyramids"}, "surface.kind"),
+        ({"kind": "fractal"}, "surface.kind"),
         ({"kind": ["pyramids", "fractal"]}, "surface.kind"),
         ({"seeds": 0}, "surface.seeds"),
         ({"seeds": [2, 2]}, "surface.seeds"),

@@ -28,6 +28,9 @@ __all__ = [
     "seeds",
     "random_surfaces",
     "random_surface_settings",
+    "report_settings",
+    "FOLLOWS_GRID",
+    "follow_grid",
 ]
 
 SCHEMA_PATH = Path(__file__).resolve().parents[2] / "workflow" / "schemas" / "config.schema.yaml"
@@ -95,8 +98,14 @@ def _describe(error, schema: dict) -> str:
     return line
 
 
-def validate_config(config: dict, schema_path=None) -> dict:
-    """Validate ``config`` in place against the schema, filling defaults.
+def validate_config(config: dict, schema_path=None, notes: list | None = None) -> dict:
+    """Validate ``config`` in place against the schema, filling defaults; the keys that follow the grid
+    (:data:`FOLLOWS_GRID`), where unset, take the grid values nearest to their defaults.
+
+    Parameters
+    ----------
+    notes : list, optional
+        Receives one line a key that followed the grid (:func:`follow_grid`).
 
     Raises
     ------
@@ -132,6 +141,9 @@ def validate_config(config: dict, schema_path=None) -> dict:
     problems += _semantic_problems(config) if not problems else []
     if problems:
         raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
+    followed = follow_grid(config)
+    if notes is not None:
+        notes.extend(followed)
     return config
 
 
@@ -156,9 +168,6 @@ def _semantic_problems(config: dict) -> list[str]:
 def _surface_problems(config: dict) -> list[str]:
     surface = config.get("surface", {})
     problems = []
-    if "pyramids" not in kinds(config):
-        problems.append(f"config: surface.kind = {surface.get('kind')!r} must include pyramids (the regular grid is "
-                        "the study's baseline: Tables 1-2 and every random ensemble's comparison)")
     spread = surface.get("spread", {})
     if spread.get("apex", 0.5) + spread.get("corner", 0.3) >= 1:
         problems.append(f"config: surface.spread.apex + surface.spread.corner = {spread.get('apex', 0.5)} + "
@@ -166,20 +175,99 @@ def _surface_problems(config: dict) -> list[str]:
                         "overhanging or vertical side)")
     if isinstance(surface.get("seeds"), list) and len(set(surface["seeds"])) != len(surface["seeds"]):
         problems.append(f"config: surface.seeds lists the same seed twice: {surface['seeds']!r}")
-    for key in ("truncation", "aspect"):
-        grid_labels = {label(v) for v in config["grid"][key]}
-        missing = [v for v in surface.get("random_grid", {}).get(key, []) if label(v) not in grid_labels]
-        if missing and len(kinds(config)) > 1:
-            problems.append(f"config: surface.random_grid.{key} = {missing!r} must be values of grid.{key} (each random "
-                            "ensemble is compared with the regular surface at the same grid point)")
+    return problems + _follower_problems(config)
+
+
+#: The keys that follow the grid when left unset: key path -> (the grid axis they take values of, the values
+#: they prefer). Unset, each takes the grid values nearest to its preferred ones (:func:`follow_grid`); set, each
+#: value must be a value of its grid axis.
+FOLLOWS_GRID = {
+    ("surface", "random_grid", "truncation"): ("truncation", [0.5, 1.0]),
+    ("surface", "random_grid", "aspect"): ("aspect", [0.5, 1.0]),
+    ("report", "table_aspects"): ("aspect", [1.0, math.sqrt(3.0) / 2.0]),
+    ("report", "table_incidence"): ("incidence", 30.0),
+}
+
+_WHY = {
+    "random_grid": "each random ensemble is compared with the regular surface at the same grid point",
+    "table_aspects": "Tables 1-2 are of the study's own surfaces",
+    "table_incidence": "Tables 1-2 are of the study's own sweeps",
+}
+
+
+def _get(config: dict, path):
+    """The value at ``path`` (a tuple of keys), or None where any key on the way is missing."""
+    for key in path:
+        if not isinstance(config, dict) or key not in config:
+            return None
+        config = config[key]
+    return config
+
+
+def _follower_problems(config: dict) -> list[str]:
+    """A key that follows the grid, set explicitly to a value outside it, stops the run (one line a key)."""
+    problems = []
+    for path, (axis, _) in FOLLOWS_GRID.items():
+        value = _get(config, path)
+        if value is None or (path[0] == "surface" and len(kinds(config)) == 1):  # no random kind: unused
+            continue
+        grid_labels = {label(v) for v in config["grid"][axis]}
+        listed = value if isinstance(value, list) else [value]
+        missing = [v for v in listed if label(v) not in grid_labels]
+        if missing:
+            key = ".".join(path)
+            why = _WHY[path[1] if path[0] == "surface" else path[-1]]
+            problems.append(f"config: {key} = {missing!r} must be values of grid.{axis} ({why}); leave {key} "
+                            f"unset to follow the grid")
     return problems
 
 
+def _nearest(preferred: list[float], values: list[float]) -> list[float]:
+    """For each preferred value the nearest of ``values`` (the first of a tie), each listed once, in order."""
+    chosen = []
+    for want in preferred:
+        best = min(values, key=lambda v: abs(float(v) - want))
+        if float(best) not in chosen:
+            chosen.append(float(best))
+    return chosen
+
+
+def follow_grid(config: dict) -> list[str]:
+    """Fill, in place, every key of :data:`FOLLOWS_GRID` the config leaves unset with the grid values nearest to
+    its preferred values; the default grid gets exactly the preferred values.
+
+    Returns
+    -------
+    list of str: one line a filled key, naming the key, the values used and why (for the log and the report).
+    """
+    notes = []
+    for path, (axis, preferred) in FOLLOWS_GRID.items():
+        if _get(config, path) is not None:
+            continue
+        scalar = not isinstance(preferred, list)
+        grid = [float(v) for v in config["grid"][axis]]
+        chosen = _nearest([preferred] if scalar else preferred, grid)
+        value = chosen[0] if scalar else chosen
+        parent = config
+        for key in path[:-1]:
+            parent = parent.setdefault(key, {})
+        parent[path[-1]] = value
+        if path[0] == "surface" and len(kinds(config)) == 1:
+            continue  # no random kind is measured: nothing to say
+        wanted = [preferred] if scalar else preferred
+        how = ("as by default" if [label(v) for v in chosen] == [label(v) for v in wanted]
+               else "the grid values nearest to the default " + ", ".join(f"{v:g}" for v in wanted))
+        shown = ", ".join(f"{v:g}" for v in chosen)
+        notes.append(f"{'.'.join(path)} is not set: it follows grid.{axis}, {shown} ({how})")
+    return notes
+
+
 def kinds(config: dict) -> list[str]:
-    """The surface kinds measured (``surface.kind``, a name or a list), regular pyramids first."""
+    """The surface kinds measured (``surface.kind``, a name or a list), regular pyramids first: the regular grid
+    is always measured, listed or not."""
     kind = config.get("surface", {}).get("kind", ["pyramids"])
     listed = [kind] if isinstance(kind, str) else list(kind)
-    return sorted(set(listed), key=["pyramids", "random_pyramids", "random_heightfield"].index)
+    return sorted(set(listed) | {"pyramids"}, key=["pyramids", "random_pyramids", "random_heightfield"].index)
 
 
 def seeds(config: dict) -> list[int]:
@@ -203,6 +291,14 @@ def random_surface_settings(config: dict) -> dict:
     """How random tiles are built (``surface.cells`` and ``surface.spread``), as plain types for params."""
     surface = config["surface"]
     return {"cells": int(surface["cells"]), "spread": {k: float(v) for k, v in surface["spread"].items()}}
+
+
+def report_settings(config: dict) -> dict:
+    """The ``report:`` section (validated, defaults filled, the grid's followers set), as plain types for params."""
+    settings = dict(config["report"])
+    settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
+    settings["table_incidence"] = float(settings["table_incidence"])
+    return settings
 
 
 def label(value) -> str:

@@ -118,7 +118,10 @@ def lobe_shape(azimuth, elevation, values, centre_elevation: float, max_angle: f
     x, y, w = np.concatenate([x, x]), np.concatenate([y, -y]), np.concatenate([v[near], v[near]])
     axis = np.arange(-max_angle, max_angle + resolution / 2, resolution)
     X, Y = np.meshgrid(axis, axis, indexing="ij")
-    grid = griddata((x, y), w, (X, Y), method="linear")
+    try:
+        grid = griddata((x, y), w, (X, Y), method="linear")
+    except (ValueError, RuntimeError):  # too few views near the lobe to triangulate (a coarse sweep: QhullError)
+        return nan
     inside = np.isfinite(grid) & (np.hypot(X, Y) <= max_angle)
     if not inside.any():
         return nan

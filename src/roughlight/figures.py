@@ -100,6 +100,45 @@ def _theme():
     sns.set_theme(style="whitegrid", context="paper", font_scale=1.05)
 
 
+def drawn_figures(tables, settings: dict):
+    """Draw every figure of :data:`roughlight.registry.FIGURES` that is drawn, not rendered, giving each function
+    what its parameters name: the settings' table aspects and incidence and Hapke's phase limit, the study's light,
+    and tables by the names of the figures rule's inputs.
+
+    Parameters
+    ----------
+    tables : mapping name -> DataFrame (the figures rule's inputs: ``study``, ``lobes``, ``sine``, ...); a name it
+        lacks leaves that parameter at its default
+    settings : the ``report:`` section (:func:`roughlight.config.report_settings`)
+
+    Yields
+    ------
+    (name, matplotlib Figure) in the registry's order.
+    """
+    import inspect
+
+    from .registry import figures as registered
+
+    values = {"aspects": settings["table_aspects"], "incidence": settings["table_incidence"],
+              "hapke_max_phase": settings["hapke_max_phase"]}
+    for figure in registered(rendered=False):
+        draw = globals()[figure.draw]
+        kwargs = {}
+        for name in inspect.signature(draw).parameters:
+            if name in values:
+                kwargs[name] = values[name]
+            elif name == "light":
+                kwargs[name] = float(tables["study"]["light"].iloc[0])
+            elif name in tables:
+                kwargs[name] = tables[name]
+        try:
+            fig = draw(**kwargs)
+        except Exception as exc:  # a study no check foresaw: the page says why, the run goes on
+            fig = placeholder(figure_title(figure.name), f"could not be drawn for this study: "
+                                                         f"{type(exc).__name__}: {exc}"[:300])
+        yield figure.name, fig
+
+
 def save_figure(fig, path, dpi: int = DPI, bbox_inches="tight") -> str:
     """Write ``fig`` as a PNG to ``path`` (temporary name in the same directory, then rename); close it."""
     path = os.fspath(path)
@@ -345,6 +384,15 @@ def fig26_specular_aspect(study: pd.DataFrame, truncations=(0.2, 1.0), incidence
     return fig
 
 
+def hemisphere_map_problem(n_azimuths: int, n_elevations: int) -> str | None:
+    """Why a sweep's views cannot be mapped over the hemisphere (a triangulation of them), or None."""
+    if n_azimuths >= 2 and n_elevations >= 3:
+        return None
+    return (f"a map of the hemisphere needs views on two half great circles or more, each with three elevations or "
+            f"more: this sweep has {n_azimuths} azimuth(s) and {n_elevations} elevation(s) (sweep.azimuth_step, "
+            "sweep.elevation_step)")
+
+
 def _topdown_xy(az, el):
     """Orthographic top-down coordinates of views (x toward the light's azimuth)."""
     A, E = np.meshgrid(np.radians(az), np.radians(el), indexing="ij")
@@ -378,6 +426,9 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, i
                 surfaces.append(hit[0])
     if not surfaces:
         return placeholder(figure_title("fig19_topdown"), "none of the example surfaces is in the study")
+    problem = hemisphere_map_problem(*map(len, grids[surfaces[0]][:2]))
+    if problem:
+        return placeholder(figure_title("fig19_topdown"), problem)
     n = len(surfaces)
     fig = plt.figure(figsize=(3.4 * n + 0.6, 7.2))
     gs = fig.add_gridspec(2, 2 * n, height_ratios=[1.25, 1])
@@ -1025,6 +1076,10 @@ def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", see
     _theme()
     data = random_points(study)
     data = data[data["component"].astype(str) == component]
+    problem = hemisphere_map_problem(data["azimuth"].nunique(), data["elevation"].nunique())
+    if problem:
+        save_figure(placeholder("Random roughness: maps of the hemisphere", problem), path)
+        return
     kinds = [k for k in KIND_COLOURS if k in set(data["kind"].astype(str))]
     points = data[["truncation", "aspect", "incidence"]].drop_duplicates().sort_values(
         ["incidence", "aspect", "truncation"]).to_numpy()

@@ -194,6 +194,9 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
         messages.append(f"{response}: {len(d)} surfaces for {X.shape[1]} coefficients: not fitted")
         return unfitted()
     y = d[response].to_numpy(float)
+    if np.ptp(y) < 1e-12:
+        messages.append(f"{response}: takes the one value {y[0]:g} on all {len(y)} surfaces: nothing to fit")
+        return unfitted()
     summary["terms"] = " + ".join(terms)
     summary["condition_raw"] = float(np.linalg.cond(X))
     summary["condition_scaled"] = _scaled_condition(X)

@@ -223,8 +223,8 @@ def hemisphere_lobes(study: pd.DataFrame, max_angle: float = 40.0) -> pd.DataFra
         A, E = np.meshgrid(az, el, indexing="ij")
         V = view_direction(E, A)  # (A, E, 3)
         w = solid_angle_weights(az, el)
-        names = list(dirs)
-        cosang = np.stack([V @ dirs[n] for n in names], axis=-1)  # (A, E, K)
+        names = list(dirs)  # empty where no mirror direction is above the horizon (incidence 0 on the plate)
+        cosang = np.stack([V @ dirs[n] for n in names] or [np.full(A.shape, -1.0)], axis=-1)  # (A, E, K)
         nearest = np.argmax(cosang, axis=-1)
         best = np.max(cosang, axis=-1)
         for lobe in ("forward", "back"):
@@ -235,7 +235,8 @@ def hemisphere_lobes(study: pd.DataFrame, max_angle: float = 40.0) -> pd.DataFra
                 continue
             k = names.index(lobe)
             region = (nearest == k) & (best >= math.cos(math.radians(max_angle))) & np.isfinite(vals)
-            if lobe == "back" and np.degrees(np.arccos(np.clip(dirs["back"] @ dirs["forward"], -1, 1))) < 1e-6:
+            if (lobe == "back" and "forward" in dirs
+                    and np.degrees(np.arccos(np.clip(dirs["back"] @ dirs["forward"], -1, 1))) < 1e-6):
                 row.update(peak=np.nan, note="back lobe coincides with the forward lobe")
                 rows.append(row)
                 continue

@@ -285,6 +285,15 @@ def _sd_reading(n: int = 11) -> str:
     return text
 
 
+def _best_fit(area: float, regressed: float, area_name: str, thesis: str) -> str:
+    """How a lobe's area function and regressed model compare, or why they could not be."""
+    if not (np.isfinite(area) and np.isfinite(regressed)):
+        return ("could not be compared (too few truncations with this lobe at the table incidence for a "
+                "regression: the notes above say which)")
+    best = area_name if area < regressed else "the regressed sine model"
+    return f"is fitted best by {best} (MAE {area:.2f} against {regressed:.2f}; the thesis: {thesis})"
+
+
 def _table_findings(tables: pd.DataFrame, exact: pd.DataFrame | None) -> str:
     if tables is None or tables.empty:
         return '<p class="note">No table could be computed (see the notes above).</p>'
@@ -295,17 +304,13 @@ def _table_findings(tables: pd.DataFrame, exact: pd.DataFrame | None) -> str:
         fr = _stat(tables, 1, aspect, "Regressed Model", "ours", "Mean Abs Error")
         tr = _stat(tables, 2, aspect, "Triangle Area Function", "ours", "Mean Abs Error")
         br = _stat(tables, 2, aspect, "Regressed Model", "ours", "Mean Abs Error")
-        fwd = "the square area function" if sq < fr else "the regressed sine model"
-        bwd = "the triangle area function" if tr < br else "the regressed sine model"
-        out.append(
-            f"<li>Aspect {_e(lab)}: the forward lobe is fitted best by {fwd} (MAE {sq:.2f} against {fr:.2f}; "
-            f"the thesis: 4.10 against 2.35), the back lobe by {bwd} (MAE {tr:.2f} against {br:.2f}; "
-            f"the thesis: 4.96 against 1.71).</li>")
-    if exact is not None and len(exact):
-        err = exact["error"].abs()
+        out.append(f"<li>Aspect {_e(lab)}: the forward lobe {_best_fit(sq, fr, 'the square area function', '4.10 against 2.35')}"
+                   f", the back lobe {_best_fit(tr, br, 'the triangle area function', '4.96 against 1.71')}.</li>")
+    err = exact["error"].abs().dropna() if exact is not None and len(exact) else pd.Series(dtype=float)
+    if len(err):
         ex_sq = tables[(tables["source"] == "exact geometry") & tables["model"].str.contains("Area")]
         exact_line = ""
-        if len(ex_sq):
+        if ex_sq["Mean Abs Error"].notna().any():
             worst = float(ex_sq["Mean Abs Error"].max())
             exact_line = (" On the exact peaks the area functions are exact (MAE below 1e-9): they are the law of "
                           "these lobe peaks." if worst < 1e-9 else
@@ -367,7 +372,8 @@ def _model_findings(summary: pd.DataFrame) -> str:
         parts = []
         for band, gb in g.groupby("band", sort=True):
             best = gb.sort_values(["best_in", "median_rmse"], ascending=[False, True]).iloc[0]
-            parts.append(f"{band}: {best['model']} (median RMSE {best['median_rmse']:.2f})")
+            parts.append(f"{band}: {best['model']} (median RMSE {best['median_rmse']:.2f})"
+                         if np.isfinite(best["median_rmse"]) else f"{band}: no model could be fitted")
         out.append(f"<li><b>{_e(comp)}</b>: " + "; ".join(_e(p) for p in parts) + "</li>")
     return "<p>Best model per band (most surfaces where it has the smallest RMSE):</p><ul>" + "".join(out) + "</ul>"
 
@@ -376,10 +382,13 @@ def _model_findings(summary: pd.DataFrame) -> str:
 # the page
 
 
-def _section_study(study: dict, messages: list, table_aspects) -> list[str]:
+def _section_study(study: dict, messages: list, table_aspects, followed=()) -> list[str]:
     """The report's section: the study."""
     parts = []
     parts.append('<h2 id="study">The study</h2>')
+    if followed:
+        parts.append('<p class="note" id="followed">Settings left unset that follow the grid '
+                     "(config/README.md): " + "; ".join(_e(line) for line in followed) + ".</p>")
     if study:
         aspects = study.get("aspects", [])
         parts.append(
@@ -445,7 +454,8 @@ def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> 
     k_text = "k from geometry"
     if thesis is not None and len(thesis) and "k" in thesis:
         ks = thesis[thesis["source"] == "ours"].groupby("aspect_label")["k"].first()
-        k_text = "k from geometry (" + ", ".join(f"{_e(a)}: {v:.4g}" for a, v in ks.items()) + ")"
+        k_text = "k from geometry (" + ", ".join(
+            f"{_e(a)}: {v:.4g}" if np.isfinite(v) else f"{_e(a)}: none, no side facets" for a, v in ks.items()) + ")"
     parts.append('<h2 id="tables">Tables 1 and 2</h2>')
     parts.append("<p>Data: the forward (mirror, elevation 180 − i) and back (the light-facing facet's mirror "
                  f"direction) specular lobe peaks on the light's plane (azimuth 0), incidence {table_incidence:g}, truncation "
@@ -467,15 +477,17 @@ def _section_tables_1_2(tables: dict, thesis, exact, table_incidence: float) -> 
     boot = tables.get("bootstrap_tables")
     if boot is not None and len(boot):
         b = boot.copy()
-        b["interval"] = [f"[{lo:.3g}, {hi:.3g}]" for lo, hi in zip(b["low"], b["high"])]
+        b["interval"] = [f"[{lo:.3g}, {hi:.3g}]" if np.isfinite(lo) and np.isfinite(hi) else "–"
+                         for lo, hi in zip(b["low"], b["high"])]
         wide = b.pivot_table(index=["table", "aspect_label", "model"], columns="metric", values="interval",
                              aggfunc="first")
         wide = wide[[m for m in TABLE_METRICS if m in wide.columns]].reset_index()
         wide = wide.rename(columns={"aspect_label": "aspect"})
         n_boot = int(b["n_boot"].iloc[0])
         n_trunc = "/".join(str(int(n)) for n in sorted(b["n"].unique()))
+        none = " – : too few truncations with this lobe to resample." if (b["interval"] == "–").any() else ""
         parts.append(_table(wide, TABLE_CAPTIONS["bootstrap_tables"] + f" ({n_boot} resamples of the {n_trunc} "
-                            "truncations, seeded).", table_id="bootstrap-tables"))
+                            f"truncations, seeded).{none}", table_id="bootstrap-tables"))
     sine = tables.get("sine_refits")
     if sine is not None and len(sine):
         s = sine.copy()
@@ -723,6 +735,7 @@ def build_report(
     table_incidence: float = THESIS_INCIDENCE,
     implicit_html: str | None = None,
     random_html: str | None = None,
+    followed=(),
 ) -> str:
     """The report as one self-contained HTML string.
 
@@ -746,6 +759,8 @@ def build_report(
     implicit_html : the "An implicit rough surface" section (:func:`implicit_section`);
         None: switched off (``report.implicit: false``).
     random_html : the "Random roughness" section (:func:`random_section`); None: no random kind measured.
+    followed : lines naming the settings left unset that took the grid's values
+        (:func:`roughlight.config.follow_grid`), shown in "The study".
     table_aspects, table_incidence : the aspects and incidence of Tables 1-2
         (``report.table_aspects``, ``report.table_incidence``): every table and text of the
         page that speaks of "the table aspects" shows these.
@@ -775,7 +790,7 @@ def build_report(
            ("provenance", "Settings and provenance")]
     parts.append("<nav><ul>" + "".join(f'<li><a href="#{a}">{_e(b)}</a></li>' for a, b in nav) + "</ul></nav>")
 
-    parts += _section_study(study, messages, table_aspects)
+    parts += _section_study(study, messages, table_aspects, followed)
     parts += _section_tables_1_2(tables, thesis, exact, table_incidence)
     parts += _section_figures("specular", figures)
     parts += _section_figures("diffuse", figures)

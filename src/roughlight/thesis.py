@@ -160,6 +160,9 @@ def fit_statistics(observed, predicted) -> dict:
     if np.ptp(x) < 1e-12:
         out["note"] = "the model predicts one value for every point: no regression line"
         return out
+    if np.ptp(y) < 1e-12:
+        out["note"] = f"the peaks take one value ({y[0]:g}) at every truncation: no regression line"
+        return out
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -550,7 +553,9 @@ def tables_at_implied_scale(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidenc
             runs.append(("implied", s_min if table == 1 else 2.0 * s_min))
         for label, m in runs:
             rows, _ = thesis_tables(lobes, aspects, incidence, m=m, k=k)
+            if rows.empty:  # no table aspect at this incidence has lobes: thesis_tables' messages say why
+                continue
             rows = rows[(rows["table"] == table) & (rows["source"] == "ours")].copy()
             rows.insert(0, "scale", label)
             frames.append(rows)
-    return pd.concat(frames, ignore_index=True)
+    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=["scale", "table", "source"])

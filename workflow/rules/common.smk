@@ -23,12 +23,31 @@ wildcard_constraints:
     seed=r"[1-9][0-9]*",
 
 
+# the keys left unset that follow the grid, one line each (roughlight.config.follow_grid): logged at the start
+# of a run and shown in the report
+FOLLOWED = []
+
+
 def check_config(config, schema):
-    """Validate the config with one readable line per problem; stop before any job runs."""
+    """Validate the config with one readable line per problem; stop before any job runs. The keys that follow
+    the grid take their values here (FOLLOWED says which)."""
     try:
-        rl_config.validate_config(config, schema)
+        rl_config.validate_config(config, schema, notes=FOLLOWED)
     except rl_config.ConfigError as exc:
         raise WorkflowError(str(exc))
+
+
+def log_followed():
+    """Say in the run's log which keys followed the grid and the values they took."""
+    from snakemake.logging import logger
+
+    for line in FOLLOWED:
+        logger.info(f"config: {line}")
+
+
+def followed_params(wildcards):
+    """The keys that followed the grid, as lines for the report."""
+    return list(FOLLOWED)
 
 
 def check_results_writable(directory="results", probe=False):
@@ -274,10 +293,7 @@ def report_measurements(wildcards):
 
 def report_settings(wildcards):
     """The `report:` section of the config (validated, defaults filled), as plain types."""
-    settings = dict(config["report"])
-    settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
-    settings["table_incidence"] = float(settings["table_incidence"])
-    return settings
+    return rl_config.report_settings(config)
 
 
 def figure_outputs(rendered):

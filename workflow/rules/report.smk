@@ -264,5 +264,6 @@ rule report_html:
         settings=report_settings,
         plan=measurement_plan,
         surface=random_surface_settings,
+        followed=followed_params,
     script:
         "../scripts/report_html.py"

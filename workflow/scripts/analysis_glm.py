@@ -1,4 +1,4 @@
-"""Snakemake adapter: lobe peaks and diffuse levels -> grid GLMs with diagnostics."""
+"""Snakemake adapter: lobe peaks and diffuse levels -> grid GLMs with diagnostics, and the share laws."""
 import json
 import os
 import sys
@@ -9,25 +9,15 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight.atomic import read_frame, write_frame, write_text_atomic  # noqa: E402
-from roughlight.glm import grid_glms  # noqa: E402
-from roughlight.shading import Lighting  # noqa: E402
-from roughlight.share_laws import share_law_fits  # noqa: E402
+from roughlight.steps import analysis_glm  # noqa: E402
 
 log = _log.setup(snakemake)
-out = snakemake.output
-lobes = pd.read_parquet(snakemake.input.lobes)
-levels = read_frame(snakemake.input.diffuse_levels)
-summary, coefficients, diagnostics, messages = grid_glms(
-    lobes, levels, collinearity_limit=float(snakemake.params.settings["collinearity_limit"])
-)
+tables, messages = analysis_glm(pd.read_parquet(snakemake.input.lobes), read_frame(snakemake.input.diffuse_levels),
+                                snakemake.params.settings, snakemake.params.lighting)
 for msg in messages:
     log(msg)
-write_frame(summary, out.summary)
-write_frame(coefficients, out.coefficients)
-write_frame(diagnostics, out.diagnostics)
-write_text_atomic(out.messages, json.dumps(messages, indent=1))
-log(f"GLMs: {summary[['response', 'status', 'converged']].to_dict('records')}")
-lighting = Lighting(**snakemake.params.lighting)
-laws = share_law_fits(lobes, m=lighting.light * lighting.specular_reflectance)
-write_frame(laws, out.share_laws)
-log(f"share laws: {laws[['lobe', 'model', 'rmse', 'rmse_held_out']].round(3).to_dict('records')}")
+for name, frame in tables.items():
+    write_frame(frame, snakemake.output[name])
+write_text_atomic(snakemake.output.messages, json.dumps(messages, indent=1))
+log(f"GLMs: {tables['summary'][['response', 'status', 'converged']].to_dict('records')}")
+log(f"share laws: {tables['share_laws'][['lobe', 'model', 'rmse', 'rmse_held_out']].round(3).to_dict('records')}")

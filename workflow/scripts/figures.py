@@ -4,7 +4,6 @@ Which figures: :data:`roughlight.registry.FIGURES` (those not rendered). Each fi
 :mod:`roughlight.figures` names what it needs by its parameters; they are given from the inputs
 (tables, by input name) and the settings (the table aspects and incidence, the light, ...).
 """
-import inspect
 import os
 import sys
 
@@ -14,39 +13,27 @@ import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight import figures as F  # noqa: E402
-from roughlight import registry  # noqa: E402
 from roughlight.atomic import read_frame  # noqa: E402
 from roughlight.study import regular  # noqa: E402
 
 log = _log.setup(snakemake)
-inp, out, settings = snakemake.input, snakemake.output, snakemake.params.settings
-tables = {}
 
 
-def table(name):
-    """An input table, read once when a figure first needs it."""
-    if name not in tables:
-        path = inp[name]
-        tables[name] = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
+class Inputs(dict):
+    """The rule's input tables by name, each read when a figure first asks for it."""
+
+    def __contains__(self, name):
+        return name in snakemake.input.keys()
+
+    def __missing__(self, name):
+        path = snakemake.input[name]
+        frame = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
         if name == "study":  # the thesis's figures are of the regular surface; the random ones: analysis_random.py
-            tables[name] = regular(tables[name])
-    return tables[name]
+            frame = regular(frame)
+        self[name] = frame
+        return frame
 
 
-values = {
-    "aspects": settings["table_aspects"],
-    "incidence": settings["table_incidence"],
-    "hapke_max_phase": settings["hapke_max_phase"],
-}
-for figure in registry.figures(rendered=False):
-    draw = getattr(F, figure.draw)
-    kwargs = {}
-    for name in inspect.signature(draw).parameters:
-        if name in values:
-            kwargs[name] = values[name]
-        elif name == "light":
-            kwargs[name] = float(table("study")["light"].iloc[0])
-        elif name in inp.keys():
-            kwargs[name] = table(name)
-    F.save_figure(draw(**kwargs), out[figure.name])
-    log(f"{figure.name} -> {out[figure.name]}")
+for name, fig in F.drawn_figures(Inputs(), snakemake.params.settings):
+    F.save_figure(fig, snakemake.output[name])
+    log(f"{name} -> {snakemake.output[name]}")

@@ -72,6 +72,7 @@ settings = snakemake.params.settings
 html = R.build_report(tables, figures, config=dict(snakemake.params.config), provenance=provenance,
                       messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html,
                       table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"],
-                      implicit_html=implicit_html, random_html=random_html)
+                      implicit_html=implicit_html, random_html=random_html,
+                      followed=list(snakemake.params.followed))
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")
