@@ -1,5 +1,5 @@
 """The whole report for a user's config, in one process: every sweep of the grid (the sweep rules' function),
-the study table, the analysis steps (:mod:`roughlight.steps`, what the analysis rules' scripts call), the drawn
+the study table, the analysis steps (:mod:`roughlight.analysis.steps`, what the analysis rules' scripts call), the drawn
 figures and the HTML page. The rendered pictures and the measurement sections (speed/accuracy, stability,
 implicit, the random-tile benchmark) do not depend on the grid: the workflow tests build those.
 """
@@ -11,12 +11,12 @@ from pathlib import Path
 
 import pandas as pd
 
-from roughlight import config as rl_config
-from roughlight import figures as F
-from roughlight import report as R
-from roughlight import steps
-from roughlight.roughness import make_surface
-from roughlight.study import aggregate, regular, run_sweep
+from roughlight.analysis import steps
+from roughlight.report import figures as F
+from roughlight.report import page as R
+from roughlight.study import config as rl_config
+from roughlight.study.tables import aggregate, regular, run_sweep
+from roughlight.surfaces.roughness import make_surface
 
 from .conftest import REPO
 

@@ -12,13 +12,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight.diffuse import diffuse_breakpoints, diffuse_levels, diffuse_three_part
-from roughlight.geometry import lobe_centres, reflecting_areas
-from roughlight.glm import grid_glm, grid_glms
-from roughlight.lobes import arc_lobes, hemisphere_lobes, profile_lobe
-from roughlight.shading import Lighting, phase_angle, quantize
-from roughlight.surface import Surface
-from roughlight.surface_models import (
+from roughlight.analysis.areas import reflecting_areas
+from roughlight.analysis.diffuse import diffuse_breakpoints, diffuse_levels, diffuse_three_part
+from roughlight.analysis.glm import grid_glm, grid_glms
+from roughlight.analysis.lobes import arc_lobes, hemisphere_lobes, profile_lobe
+from roughlight.analysis.surface_models import (
     analytic_model_fits,
     facet_model,
     fit_hapke,
@@ -26,7 +24,7 @@ from roughlight.surface_models import (
     oren_nayar,
     oren_nayar_sigma,
 )
-from roughlight.thesis import (
+from roughlight.analysis.thesis import (
     TABLE_METRICS,
     bootstrap_statistics,
     exact_lobe_peaks,
@@ -34,7 +32,10 @@ from roughlight.thesis import (
     sine_refits,
     thesis_tables,
 )
-from roughlight.timings import render_timings
+from roughlight.analysis.timings import render_timings
+from roughlight.render.shading import Lighting, phase_angle, quantize
+from roughlight.surfaces.geometry import lobe_centres
+from roughlight.surfaces.surface import Surface
 
 J = 127.0
 S32 = math.sqrt(3.0) / 2.0
@@ -46,8 +47,8 @@ def make_study(truncations, aspects, incidence=30.0, azimuths=(0.0,), elevations
 
     ``method`` 'reference' uses the exact polygon clipping, 'fast' the renderer.
     """
-    from roughlight.measure import measure_sweep
-    from roughlight.sampling import RenderSettings
+    from roughlight.render.measure import measure_sweep
+    from roughlight.render.sampling import RenderSettings
 
     lighting = lighting or Lighting()
     elevations = np.arange(0.0, 181.0, 1.0) if elevations is None else np.asarray(elevations, float)
@@ -309,7 +310,7 @@ def test_grid_glm_recovers_an_interaction_model():
 
 
 def test_scaled_condition_is_belsleys_uncentred_unit_length_scaling():
-    from roughlight.glm import _scaled_condition
+    from roughlight.analysis.glm import _scaled_condition
 
     # a column nearly constant is collinear with the intercept: centring would hide it, Belsley's scaling shows it
     x = 10 + 1e-3 * np.arange(20)
@@ -466,7 +467,7 @@ def test_bootstrap_intervals_cover_the_statistics_and_match_statsmodels():
 
 def test_the_plates_diffuse_level_is_J_sin_i():
     """Views that see no surface (e = 0, 180: coverage 0, value 0) stay out of the hemisphere mean."""
-    from roughlight.selection import solid_angle_weights
+    from roughlight.study.selection import solid_angle_weights
 
     study = make_study([0.0], [0.0], azimuths=np.arange(0.0, 180.0, 45.0), elevations=np.arange(0.0, 181.0, 5.0))
     level = diffuse_levels(study).iloc[0]
@@ -490,7 +491,7 @@ def test_a_maximum_on_the_windows_edge_is_no_lobe():
 
 
 def test_the_three_part_model_is_continuous_at_its_second_break():
-    from roughlight.diffuse import continuous_part, exponential_part
+    from roughlight.analysis.diffuse import continuous_part, exponential_part
 
     L1, L3, k, e1, e2 = 80.0, 20.0, 0.05, 30.0, 120.0
     assert continuous_part(e1, L1, L3, k, e1, e2) == pytest.approx(L1)
@@ -519,7 +520,7 @@ def test_every_model_is_scored_on_the_same_8_bit_values():
 
 
 def test_the_report_flags_sigma_fits_on_a_bound():
-    from roughlight import report
+    from roughlight.report import page as report
 
     fits = pd.DataFrame({"truncation": [0.0, 0.5, 1.0], "aspect": [0.0, 1.0, 1.0],
                          "sigma_fitted_at_bound": [False, True, False]})
@@ -540,7 +541,7 @@ def test_the_thesis_rows_carry_only_what_the_thesis_printed():
 def test_the_sd_identity_tells_which_sd_a_table_gives():
     """RSS of the least-squares line <= (n - 1) SD^2 for the SD of the raw errors, never for SD of |error|
     necessarily; the thesis's Table 1 rows break the first at n = 11."""
-    from roughlight.thesis import THESIS_TABLES, sd_bound
+    from roughlight.analysis.thesis import THESIS_TABLES, sd_bound
 
     rng = np.random.default_rng(7)
     for _ in range(20):
@@ -560,7 +561,7 @@ def test_the_sd_identity_tells_which_sd_a_table_gives():
 
 
 def test_hapke_is_charged_for_its_parameters_and_scored_on_held_out_bins():
-    from roughlight.surface_models import fit_hapke
+    from roughlight.analysis.surface_models import fit_hapke
 
     g = np.linspace(0, 60, 121)
     # no surge, a little scatter: the nested four-parameter fit always wins in-sample, and loses where it counts
@@ -577,7 +578,7 @@ def test_hapke_is_charged_for_its_parameters_and_scored_on_held_out_bins():
 
 
 def test_share_laws_fit_what_they_should_and_are_scored_held_out():
-    from roughlight.share_laws import MODELS, share_law_fits
+    from roughlight.analysis.share_laws import MODELS, share_law_fits
 
     m = 127.0
     rows = []
@@ -601,7 +602,7 @@ def test_share_laws_fit_what_they_should_and_are_scored_held_out():
 
 
 def test_the_theses_own_numbers_bound_the_scale_of_its_area_functions():
-    from roughlight.thesis import implied_scales
+    from roughlight.analysis.thesis import implied_scales
 
     scales = implied_scales().set_index("table")
     square = scales.loc[1]

@@ -1,8 +1,9 @@
 import numpy as np
 import pandas as pd
 
-from roughlight import benchmark, figures
-from roughlight.surface import Surface
+from roughlight.measurements import speed_accuracy as benchmark
+from roughlight.report import figures
+from roughlight.surfaces.surface import Surface
 
 
 def test_pareto_front():

@@ -5,7 +5,7 @@ import yaml
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from roughlight import config as rl_config
+from roughlight.study import config as rl_config
 
 from .conftest import REPO
 

@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from roughlight import geometry
-from roughlight.surface import Surface
+from roughlight.surfaces import geometry
+from roughlight.surfaces.surface import Surface
 
 truncations = st.floats(0.0, 1.0, allow_nan=False)
 aspects = st.floats(0.0, 5.0, allow_nan=False)

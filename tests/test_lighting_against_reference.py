@@ -16,10 +16,10 @@ import math
 import numpy as np
 import pytest
 
-from roughlight import naive, periodic, reference
-from roughlight.sampling import RenderSettings
-from roughlight.shading import Lighting, quantize
-from roughlight.surface import PLATE, SQRT3_2, Surface
+from roughlight.render import naive, periodic, reference
+from roughlight.render.sampling import RenderSettings
+from roughlight.render.shading import Lighting, quantize
+from roughlight.surfaces.surface import PLATE, SQRT3_2, Surface
 
 COMPONENTS = ("diffuse", "specular", "total")
 SURFACES = (Surface(0.5, 1.0), Surface(1.0, SQRT3_2), Surface(0.3, 0.5))

@@ -7,18 +7,19 @@ import pandas as pd
 import pytest
 import shapely
 
-from roughlight import config as rl_config
-from roughlight import ensembles as E
-from roughlight import geometry, sweeps
-from roughlight.reference import reference_sweep
-from roughlight.roughness import (
+from roughlight.analysis import ensembles as E
+from roughlight.render import views as sweeps
+from roughlight.render.reference import reference_sweep
+from roughlight.render.shading import view_direction
+from roughlight.study import config as rl_config
+from roughlight.surfaces import geometry
+from roughlight.surfaces.roughness import (
     RandomSurface,
     Spread,
     make_surface,
     pyramid_rms_slope,
     rms_slope,
 )
-from roughlight.shading import view_direction
 
 from .test_workflow import planned_jobs, snakemake, write_config
 
@@ -130,7 +131,7 @@ def test_bad_surface_config_stops_before_rendering(surface, problem):
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_fast_renderer_matches_the_reference_on_a_small_random_tile(kind):
-    from roughlight.periodic import fast_sweep
+    from roughlight.render.periodic import fast_sweep
 
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
     azimuth, elevation = sweeps.view_grid(15, 30)
@@ -173,9 +174,9 @@ def test_lobe_shape_tells_rectangles_from_ellipses():
 
 
 def _tiny_ensemble_study():
-    from roughlight.periodic import fast_sweep
-    from roughlight.shading import Lighting
-    from roughlight.study import sweep_table
+    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.shading import Lighting
+    from roughlight.study.tables import sweep_table
 
     azimuth, elevation = sweeps.view_grid(2, 15)
     tables = []
@@ -194,7 +195,7 @@ def _tiny_ensemble_study():
 def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     import pyarrow.parquet as pq
 
-    from roughlight.study import aggregate
+    from roughlight.study.tables import aggregate
 
     tables, control = _tiny_ensemble_study()
     paths = []
@@ -228,7 +229,7 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     assert (fits.loc[fits["kind"] == "random_pyramids", "rmse_regular_diffuse"] > 0).all()
 
     # the report's section says what was measured, with the numbers of these tables
-    from roughlight.report import random_section
+    from roughlight.report.page import random_section
 
     html = random_section(summary, needed, fits, surface_settings={"cells": 2, "spread": {"truncation": 0.2}})
     assert '<h2 id="random">Random roughness</h2>' in html
@@ -263,7 +264,7 @@ def test_adding_a_seed_renders_only_it(workflow_dir):
 
 
 def test_tile_convergence_measures_the_regular_surface_beside_the_tiles(monkeypatch):
-    from roughlight import roughness_bench as B
+    from roughlight.measurements import random_tiles as B
 
     monkeypatch.setitem(B.PLANS, "tiny", {"point": (1.0, 1.0, 30.0), "cells": (1,), "seeds": 1, "views": (3.0, 30.0),
                                           "accuracy_cells": 1, "accuracy_seeds": 1, "accuracy_views": (30.0, 60.0)})
@@ -293,8 +294,8 @@ def test_the_random_parts_of_the_report_follow_surface_kind(workflow_dir):
 def test_random_accuracy_leaves_out_and_counts_the_views_the_reference_refuses(monkeypatch):
     """One view the exact reference refuses (its own checks, seen on a random tile in make bench) no longer fails
     the whole benchmark: it is left out of the comparison and counted."""
-    from roughlight import reference
-    from roughlight import roughness_bench as B
+    from roughlight.measurements import random_tiles as B
+    from roughlight.render import reference
 
     real = reference.reference_sweep
 

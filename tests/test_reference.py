@@ -1,4 +1,4 @@
-"""Tests of the exact polygon-clipping reference (roughlight.reference)."""
+"""Tests of the exact polygon-clipping reference (roughlight.render.reference)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from roughlight import reference
-from roughlight.reference import reference_sweep, visible_lit_areas
-from roughlight.shading import Lighting, facet_components, light_direction, quantize, view_direction
-from roughlight.surface import Surface
+from roughlight.render import reference
+from roughlight.render.reference import reference_sweep, visible_lit_areas
+from roughlight.render.shading import Lighting, facet_components, light_direction, quantize, view_direction
+from roughlight.surfaces.surface import Surface
 
 J = 127.0
 
@@ -405,9 +405,9 @@ def test_specular_without_inner_shadows_is_the_theses_protocol():
     """render.specular_shadows: false shadows the diffuse only; the back lobe widens (15.6 to 16.8 deg, t 1, sqrt3/2)."""
     from dataclasses import replace
 
-    from roughlight.shading import Lighting
-    from roughlight.surface import SQRT3_2, Surface
-    from roughlight.thesis import _exact_widths
+    from roughlight.analysis.thesis import _exact_widths
+    from roughlight.render.shading import Lighting
+    from roughlight.surfaces.surface import SQRT3_2, Surface
 
     surface = Surface(1.0, SQRT3_2)
     el = np.arange(5.0, 180.0, 7.0)

@@ -6,8 +6,9 @@ import sys
 import numpy as np
 import pytest
 
-from roughlight import gl, measure, naive, osmesa, periodic, reference, sampling, shading, sweeps
-from roughlight.surface import Surface
+from roughlight.render import gl, measure, naive, osmesa, periodic, reference, sampling, shading
+from roughlight.render import views as sweeps
+from roughlight.surfaces.surface import Surface
 
 AZ, EL = sweeps.view_grid(10, 30)  # coarse orbit: 19 elevations x 6 azimuths
 INNER = (EL > 0) & (EL < 180)
@@ -183,11 +184,11 @@ def test_missing_or_broken_osmesa_is_named(broken_osmesa):
 
 def test_broken_osmesa_on_the_library_path_stops_the_import_with_one_message(broken_osmesa):
     env = {**os.environ, "LD_LIBRARY_PATH": str(broken_osmesa), "PYOPENGL_PLATFORM": "osmesa"}
-    proc = subprocess.run([sys.executable, "-c", "import roughlight.periodic"], env=env, capture_output=True,
+    proc = subprocess.run([sys.executable, "-c", "import roughlight.render.periodic"], env=env, capture_output=True,
                           text=True, timeout=120)
     assert proc.returncode != 0
     last = proc.stderr.strip().splitlines()[-1]
-    assert last.startswith("roughlight.osmesa.OSMesaUnavailable: libOSMesa is broken")
+    assert last.startswith("roughlight.render.osmesa.OSMesaUnavailable: libOSMesa is broken")
     assert "apt-get install libosmesa6" in last
 
 
@@ -230,7 +231,7 @@ def test_each_method_records_how_it_sampled(tmp_path):
     """The study table names the naive method's window and pyrender's shadow map, not the fast defaults."""
     import pyarrow.parquet as pq
 
-    from roughlight import study
+    from roughlight.study import tables as study
 
     sweep = {"elevation_step": 60, "azimuth_step": 90}  # 4 views
     lighting = shading.Lighting().as_dict()
@@ -244,7 +245,7 @@ def test_each_method_records_how_it_sampled(tmp_path):
     assert seen["fast"] == {"method": ["fast"], "pixels_per_period": [28], "sampling": ["adaptive"],
                             "shadow_map_size": [512]}
     # a random tile is drawn, and recorded, with the tile settings (per cell)
-    from roughlight.roughness import make_surface
+    from roughlight.surfaces.roughness import make_surface
 
     path = tmp_path / "tile.parquet"
     study.run_sweep(str(path), make_surface("random_pyramids", 0.5, 0.5, 1, cells=2), 30.0, sweep, lighting, "fast",
@@ -262,7 +263,8 @@ def test_each_method_records_how_it_sampled(tmp_path):
 def test_a_sweep_job_imports_only_what_it_renders_with():
     """A sweep job is a fresh process: pandas, scipy, trimesh or the whole of pyrender would each cost it
     a large share of its start-up (pandas alone 0.4 s), so the measuring path must not import them."""
-    code = ("import sys, roughlight.study, roughlight.measure, roughlight.periodic, roughlight.sweeps; "
+    code = ("import sys, roughlight.study.tables, roughlight.render.measure, roughlight.render.periodic, "
+            "roughlight.render.views; "
             "print(sorted(m for m in ('pandas', 'scipy', 'trimesh', 'shapely', 'matplotlib') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={**os.environ, "PYOPENGL_PLATFORM": "osmesa"}).stdout
@@ -271,7 +273,7 @@ def test_a_sweep_job_imports_only_what_it_renders_with():
 
 def test_the_reference_method_loads_no_opengl():
     """measure_sweep imports a renderer only for the methods that need one: the exact reference needs none."""
-    code = ("import sys; from roughlight.measure import measure_sweep; from roughlight.surface import Surface; "
+    code = ("import sys; from roughlight.render.measure import measure_sweep; from roughlight.surfaces.surface import Surface; "
             "out = measure_sweep('reference', Surface(0.5, 1.0), 30.0, [0.0], [60.0]); "
             "print(sorted({m.split('.')[0] for m in sys.modules} & {'OpenGL', 'pyrender'}), out['diffuse'][0] > 0)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
@@ -280,10 +282,10 @@ def test_the_reference_method_loads_no_opengl():
 
 
 def test_fast_renderer_follows_the_specular_shadows_setting():
-    from roughlight.periodic import fast_sweep
-    from roughlight.reference import reference_sweep
-    from roughlight.shading import Lighting
-    from roughlight.surface import Surface
+    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.reference import reference_sweep
+    from roughlight.render.shading import Lighting
+    from roughlight.surfaces.surface import Surface
 
     surface = Surface(1.0, 1.0)
     azimuth, elevation = sweeps.view_grid(10, 45)
@@ -297,9 +299,9 @@ def test_fast_renderer_follows_the_specular_shadows_setting():
 
 
 def test_naive_method_refuses_unshadowed_specular():
-    from roughlight.naive import naive_sweep
-    from roughlight.shading import Lighting
-    from roughlight.surface import Surface
+    from roughlight.render.naive import naive_sweep
+    from roughlight.render.shading import Lighting
+    from roughlight.surfaces.surface import Surface
 
     with pytest.raises(ValueError, match="render.specular_shadows"):
         naive_sweep(Surface(1.0, 1.0), 30, [0.0], [60.0], Lighting(specular_shadows=False))

@@ -24,25 +24,27 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight import figures as F
-from roughlight import pictures, registry
-from roughlight import report as R
-from roughlight.diffuse import diffuse_levels, diffuse_three_part
-from roughlight.geometry import reflecting_areas
-from roughlight.glm import grid_glms
-from roughlight.lobes import arc_lobes, hemisphere_lobes
-from roughlight.selection import find_aspect
-from roughlight.shading import Lighting
-from roughlight.share_laws import share_law_fits
-from roughlight.surface_models import analytic_model_fits, model_fit_summary
-from roughlight.thesis import (
+from roughlight.analysis.areas import reflecting_areas
+from roughlight.analysis.diffuse import diffuse_levels, diffuse_three_part
+from roughlight.analysis.glm import grid_glms
+from roughlight.analysis.lobes import arc_lobes, hemisphere_lobes
+from roughlight.analysis.share_laws import share_law_fits
+from roughlight.analysis.surface_models import analytic_model_fits, model_fit_summary
+from roughlight.analysis.thesis import (
     exact_lobe_peaks,
     implied_scales,
     sine_refits,
     tables_at_implied_scale,
     thesis_tables,
 )
-from roughlight.timings import render_timings
+from roughlight.analysis.timings import render_timings
+from roughlight.render import pictures
+from roughlight.render.shading import Lighting
+from roughlight.report import figures as F
+from roughlight.report import page as R
+from roughlight.report import registry
+from roughlight.study.selection import find_aspect
+from roughlight.study.tables import study_summary
 
 from .conftest import REPO
 from .test_analysis import make_study
@@ -95,7 +97,7 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
             _, views = pictures.PICTURE_SETS[stem]
             figs[stem] = F.fig_pictures(stem, pictures.surface_pictures(views[:2], size=(160, 120), periods=3))
     paths = {stem: F.save_figure(fig, fig_dir / f"{stem}.png") for stem, fig in figs.items()}
-    summary = R.study_summary(study)
+    summary = study_summary(study)
     html = R.build_report(
         {"study_summary": summary, "timings_summary": timing_summary, "lobes": lobes,
          "lobes_hemisphere": hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
@@ -261,7 +263,7 @@ def test_report_without_sqrt3_2_says_so(built, tmp_path):
     lobes = arc_lobes(study)
     tables, messages = thesis_tables(lobes, SETTINGS["table_aspects"], 30.0)
     assert any("√3/2" in m for m in messages)
-    html = R.build_report({"study_summary": R.study_summary(study), "thesis_tables": tables, "lobes": lobes},
+    html = R.build_report({"study_summary": study_summary(study), "thesis_tables": tables, "lobes": lobes},
                           {}, messages=messages)
     dom = _parse(html)
     assert {t["data-aspect"] for t in dom.tables if t.get("class") == "thesis-table"} == {"1"}
@@ -460,8 +462,8 @@ def test_fig21_plots_the_studys_arc(built):
 
 def test_pictures_are_rendered_from_the_view_they_name():
     """surface_pictures renders each (elevation, azimuth) as named: a swap would show another view."""
-    from roughlight.naive import render_picture
-    from roughlight.surface import Surface
+    from roughlight.render.naive import render_picture
+    from roughlight.surfaces.surface import Surface
 
     views = [(1.0, 1.0, 30.0, 20.0, 60.0, "e20 phi60")]
     (_, picture), = pictures.surface_pictures(views, size=(80, 60), periods=2)

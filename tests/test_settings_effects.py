@@ -10,10 +10,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from roughlight import periodic, reference
-from roughlight.sampling import RenderSettings
-from roughlight.shading import Lighting
-from roughlight.surface import Surface
+from roughlight.render import periodic, reference
+from roughlight.render.sampling import RenderSettings
+from roughlight.render.shading import Lighting
+from roughlight.surfaces.surface import Surface
 
 AZ, EL = (a.ravel() for a in np.meshgrid(np.arange(0.0, 180.0, 30.0), np.arange(10.0, 171.0, 10.0), indexing="ij"))
 ROUGH = Surface(0.5, 1.0)

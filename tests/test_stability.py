@@ -3,8 +3,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight import figures, report, stability
-from roughlight.surface import PLATE, Surface
+from roughlight.measurements import stability
+from roughlight.report import figures
+from roughlight.report import page as report
+from roughlight.surfaces.surface import PLATE, Surface
 
 SURFACE = [(Surface(1.0, 1.0), 30.0)]
 
@@ -114,7 +116,8 @@ def test_importing_stability_loads_no_opengl():
     import subprocess
     import sys
 
-    code = "import sys, roughlight.stability; print(sorted(m for m in sys.modules if m.split('.')[0] in ('OpenGL', 'pyrender')))"
+    code = ("import sys, roughlight.measurements.stability; "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('OpenGL', 'pyrender')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"
     with pytest.raises(ValueError, match="no stability measurement 'moire'"):

@@ -24,8 +24,8 @@ import yaml
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
-from roughlight import config as rl_config
-from roughlight.surface import aspect_label
+from roughlight.study import config as rl_config
+from roughlight.surfaces.surface import aspect_label
 
 from .conftest import REPO
 from .report_chain import SCHEMA, resolved, whole_report

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from roughlight.study import STUDY_COLUMNS
+from roughlight.study.tables import STUDY_COLUMNS
 
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 

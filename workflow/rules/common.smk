@@ -2,9 +2,9 @@
 import os
 
 try:
-    from roughlight import config as rl_config
-    from roughlight import registry as rl_registry
-    from roughlight import stability as rl_stability
+    from roughlight.study import config as rl_config
+    from roughlight.report import registry as rl_registry
+    from roughlight.measurements import stability as rl_stability
 except (
     ImportError
 ) as exc:  # the package is installed by `make setup` (pip install -e .)
@@ -23,7 +23,7 @@ wildcard_constraints:
     seed=r"[1-9][0-9]*",
 
 
-# the keys left unset that follow the grid, one line each (roughlight.config.follow_grid): logged at the start
+# the keys left unset that follow the grid, one line each (roughlight.study.config.follow_grid): logged at the start
 # of a run and shown in the report
 FOLLOWED = []
 
@@ -83,7 +83,7 @@ def check_results_writable(directory="results", probe=False):
 
 def check_osmesa():
     """Stop before any job if libOSMesa (software OpenGL, every renderer and picture) is missing or broken."""
-    from roughlight import osmesa
+    from roughlight.render import osmesa
 
     try:
         osmesa.check_osmesa()
@@ -232,7 +232,7 @@ def grid_params(wildcards):
     return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}
 
 
-# the stability scans, one job each (importing roughlight.stability loads no OpenGL)
+# the stability scans, one job each (importing roughlight.measurements.stability loads no OpenGL)
 STABILITY_MEASUREMENTS = list(rl_stability.MEASUREMENTS)
 
 

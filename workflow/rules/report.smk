@@ -1,6 +1,6 @@
 # Analysis and report: results/study.parquet -> results/analysis/*, results/figures/*.png and the
 # self-contained reports/roughlight_report.html. Settings under `report:` in the config (defaults and
-# allowed values in workflow/schemas/config.schema.yaml). The figures are roughlight.registry.FIGURES:
+# allowed values in workflow/schemas/config.schema.yaml). The figures are roughlight.report.registry.FIGURES:
 # each rule's outputs, the figure scripts and the HTML page are made from that one list; each
 # figure's caption is workflow/report/{name}.rst.
 

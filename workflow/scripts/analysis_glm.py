@@ -8,8 +8,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from roughlight.analysis.steps import analysis_glm  # noqa: E402
 from roughlight.atomic import read_frame, write_frame, write_text_atomic  # noqa: E402
-from roughlight.steps import analysis_glm  # noqa: E402
 
 log = _log.setup(snakemake)
 tables, messages = analysis_glm(pd.read_parquet(snakemake.input.lobes), read_frame(snakemake.input.diffuse_levels),

@@ -7,9 +7,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
+from roughlight.analysis.steps import analysis_models  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.steps import analysis_models  # noqa: E402
-from roughlight.study import regular  # noqa: E402
+from roughlight.study.tables import regular  # noqa: E402
 
 log = _log.setup(snakemake)
 study = regular(pd.read_parquet(snakemake.input.study))  # the random ensembles: analysis_random.py

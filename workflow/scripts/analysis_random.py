@@ -8,9 +8,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight import figures as F  # noqa: E402
+from roughlight.analysis.steps import analysis_random  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.steps import analysis_random  # noqa: E402
+from roughlight.report import figures as F  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output

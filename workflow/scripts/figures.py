@@ -1,7 +1,7 @@
 """Snakemake adapter: the study and the analysis tables -> the report's drawn figures (no rendering).
 
-Which figures: :data:`roughlight.registry.FIGURES` (those not rendered). Each figure's function in
-:mod:`roughlight.figures` names what it needs by its parameters; they are given from the inputs
+Which figures: :data:`roughlight.report.registry.FIGURES` (those not rendered). Each figure's function in
+:mod:`roughlight.report.figures` names what it needs by its parameters; they are given from the inputs
 (tables, by input name) and the settings (the table aspects and incidence, the light, ...).
 """
 import os
@@ -12,9 +12,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight import figures as F  # noqa: E402
 from roughlight.atomic import read_frame  # noqa: E402
-from roughlight.study import regular  # noqa: E402
+from roughlight.report import figures as F  # noqa: E402
+from roughlight.study.tables import regular  # noqa: E402
 
 log = _log.setup(snakemake)
 

@@ -6,8 +6,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight import geometry  # noqa: E402
-from roughlight.roughness import make_surface  # noqa: E402
+from roughlight.surfaces import geometry  # noqa: E402
+from roughlight.surfaces.roughness import make_surface  # noqa: E402
 
 log = _log.setup(snakemake)
 surface = make_surface(**snakemake.params.surface)

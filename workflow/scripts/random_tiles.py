@@ -9,9 +9,11 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight import figures, roughness_bench, shading  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.sampling import RenderSettings  # noqa: E402
+from roughlight.measurements import random_tiles as roughness_bench  # noqa: E402
+from roughlight.render import shading  # noqa: E402
+from roughlight.render.sampling import RenderSettings  # noqa: E402
+from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)

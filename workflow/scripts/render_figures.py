@@ -7,10 +7,10 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight import figures as F  # noqa: E402
-from roughlight import pictures  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.shading import Lighting  # noqa: E402
+from roughlight.render import pictures  # noqa: E402
+from roughlight.render.shading import Lighting  # noqa: E402
+from roughlight.report import figures as F  # noqa: E402
 
 log = _log.setup(snakemake)
 out, params = snakemake.output, snakemake.params

@@ -10,9 +10,11 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight import figures, renderer_validation, shading  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.sampling import RenderSettings  # noqa: E402
+from roughlight.measurements import renderer_validation  # noqa: E402
+from roughlight.render import shading  # noqa: E402
+from roughlight.render.sampling import RenderSettings  # noqa: E402
+from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)

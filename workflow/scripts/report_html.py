@@ -8,8 +8,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight import report as R  # noqa: E402
 from roughlight.atomic import read_frame  # noqa: E402
+from roughlight.report import page as R  # noqa: E402
 
 log = _log.setup(snakemake)
 inp = snakemake.input

@@ -8,8 +8,10 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight import benchmark, figures, shading  # noqa: E402
 from roughlight.atomic import atomic_path, write_frame  # noqa: E402
+from roughlight.measurements import speed_accuracy as benchmark  # noqa: E402
+from roughlight.render import shading  # noqa: E402
+from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)

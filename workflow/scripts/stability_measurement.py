@@ -1,4 +1,4 @@
-"""Snakemake adapter: one stability measurement (roughlight.stability.MEASUREMENTS) to Parquet."""
+"""Snakemake adapter: one stability measurement (roughlight.measurements.stability.MEASUREMENTS) to Parquet."""
 import os
 import sys
 import time
@@ -9,8 +9,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight import shading, stability  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
+from roughlight.measurements import stability  # noqa: E402
+from roughlight.render import shading  # noqa: E402
 
 log = _log.setup(snakemake)
 name, plan = snakemake.wildcards.measurement, snakemake.wildcards.plan

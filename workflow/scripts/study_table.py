@@ -7,7 +7,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.study import aggregate  # noqa: E402
+from roughlight.study.tables import aggregate  # noqa: E402
 
 log = _log.setup(snakemake)
 study = aggregate(list(snakemake.input.rough) + list(snakemake.input.random), snakemake.input.control)

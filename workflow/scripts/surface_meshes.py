@@ -6,8 +6,9 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight import config, geometry  # noqa: E402
-from roughlight.surface import PLATE, Surface  # noqa: E402
+from roughlight.study import config  # noqa: E402
+from roughlight.surfaces import geometry  # noqa: E402
+from roughlight.surfaces.surface import PLATE, Surface  # noqa: E402
 
 log = _log.setup(snakemake)
 targets = {

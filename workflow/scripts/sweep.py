@@ -9,8 +9,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight.roughness import make_surface  # noqa: E402
-from roughlight.study import run_sweep  # noqa: E402
+from roughlight.study.tables import run_sweep  # noqa: E402
+from roughlight.surfaces.roughness import make_surface  # noqa: E402
 
 log = _log.setup(snakemake)
 run_sweep(

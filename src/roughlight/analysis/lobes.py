@@ -1,0 +1,297 @@
+"""The reflection lobes of each surface: where they are, how high and how wide.
+
+On the ``phi = 0`` arc a facet whose normal lies in the x-z plane at angle
+``theta_n`` from +x mirrors the light to elevation ``2 theta_n - i``. The top
+(and the plate) has ``theta_n = 90``: the *forward* lobe at ``180 - i``. The
+side facet facing the light ("east") has ``theta_n = 90 - s`` with
+``s = atan(2 aspect)`` its tilt: the *back* lobe at ``180 - 2 s - i``; at
+aspect sqrt(3)/2 (s = 60) and i = 30 that is elevation 30, zero phase. The
+facet facing away ("west") mirrors to ``180 + 2 s - i``, on the arc only while
+``2 s < i`` (the thesis's second lobe at very low aspect, Fig. 26). The
+predicted centres are :func:`roughlight.surfaces.geometry.lobe_centres`.
+
+Lobes are measured on the arc (:func:`arc_lobes`: peak, centre, half-maximum
+width) and over the hemisphere (:func:`hemisphere_lobes`: peak, where it is
+and the solid angle above half maximum). Angles are degrees; values 0-255.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pandas as pd
+
+from ..render.shading import light_direction, phase_angle, view_direction
+from ..study.selection import SURFACE_KEYS, arc, solid_angle_weights, surface_grids
+from ..surfaces.geometry import facets, lobe_centres
+from ..surfaces.surface import is_plate
+
+#: A lobe whose peak is below this (0-255 scale) is "no lobe" (less than an 8-bit step).
+MIN_LOBE_PEAK = 0.5
+
+
+def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) -> dict:
+    """Peak, centre and full width at half maximum of one lobe of a 1-D profile.
+
+    Parameters
+    ----------
+    elevation : (n,) array, degrees, ascending
+    values : (n,) array, 0-255 scale
+    centre : float
+        Predicted centre (degrees); only used to report the offset.
+    window : (lo, hi)
+        Elevations (degrees, inclusive) that belong to this lobe.
+
+    Returns
+    -------
+    dict
+        ``peak`` (max value in the window; NaN when that maximum sits on a
+        window edge that the arc continues past: the tail of another lobe,
+        not a peak of this one), ``peak_elevation`` (mean of the
+        elevations attaining it), ``centroid`` (value-weighted mean elevation
+        over the part above half maximum), ``fwhm`` (degrees, half-maximum
+        crossings interpolated linearly; NaN when a crossing lies outside the
+        window), ``note`` (why something is NaN, else '').
+    """
+    e = np.asarray(elevation, float)
+    v = np.asarray(values, float)
+    inside = (e >= window[0]) & (e <= window[1]) & np.isfinite(v)
+    out = {"peak": np.nan, "peak_elevation": np.nan, "centroid": np.nan, "fwhm": np.nan, "note": ""}
+    if inside.sum() < 1:
+        out["note"] = "no views in the lobe's window"
+        return out
+    ew, vw = e[inside], v[inside]
+    peak = float(vw.max())
+    out["peak"] = peak
+    if peak < MIN_LOBE_PEAK:
+        out["note"] = "no lobe (peak below one 8-bit step)"
+        return out
+    at = np.flatnonzero(vw == peak)
+    # a maximum on the window's edge, where the arc goes on, is the tail of a neighbouring lobe rising out of
+    # the window, not a peak of this one: no value enters a fit or a table
+    edge = [ew[j] for j in (at[0], at[-1]) if (j == 0 and ew[0] > e.min()) or (j == len(vw) - 1 and ew[-1] < e.max())]
+    if edge:
+        out["peak"] = np.nan
+        out["note"] = f"no lobe: the maximum ({peak:.3g}) is on the window's edge at {edge[0]:g} deg, another lobe's tail"
+        return out
+    out["peak_elevation"] = float(ew[at].mean())
+    half = peak / 2.0
+    k = int(at[0])
+    # walk outwards from the peak to the half-maximum crossings
+    left = k
+    while left > 0 and vw[left - 1] >= half:
+        left -= 1
+    k2 = int(at[-1])
+    right = k2
+    while right < len(vw) - 1 and vw[right + 1] >= half:
+        right += 1
+    above = slice(left, right + 1)
+    out["centroid"] = float(np.sum(ew[above] * vw[above]) / np.sum(vw[above]))
+    if left == 0 or right == len(vw) - 1:
+        out["note"] = "half maximum not reached inside the window"
+        return out
+
+    def cross(i_out, i_in):
+        e0, e1, v0, v1 = ew[i_out], ew[i_in], vw[i_out], vw[i_in]
+        return float(e0 + (half - v0) * (e1 - e0) / (v1 - v0))
+
+    out["fwhm"] = cross(right + 1, right) - cross(left - 1, left)
+    return out
+
+
+def _arc_windows(centres: dict, max_halfwidth: float) -> dict:
+    """Each lobe's elevation window: its Voronoi cell among the distinct centres, capped."""
+    live = {k: c for k, c in centres.items() if c is not None}
+    out = {}
+    for name, c in live.items():
+        lo, hi = max(0.0, c - max_halfwidth), min(180.0, c + max_halfwidth)
+        for other, c2 in live.items():
+            if other == name or abs(c2 - c) < 1e-9:
+                continue
+            mid = 0.5 * (c + c2)
+            if c2 > c:
+                hi = min(hi, mid)
+            else:
+                lo = max(lo, mid)
+        out[name] = (lo, hi)
+    return out
+
+
+def arc_lobes(study: pd.DataFrame, azimuth: float = 0.0, max_halfwidth: float = 40.0) -> pd.DataFrame:
+    """Forward, back (and west) specular lobes of every surface on one arc.
+
+    Parameters
+    ----------
+    study : DataFrame
+        The study table.
+    azimuth : float
+        The arc (degrees); the thesis's plots are the light's plane, 0.
+    max_halfwidth : float
+        A lobe's window reaches at most this far from its predicted centre
+        (degrees), and never past the midpoint to a neighbouring lobe's.
+
+    Returns
+    -------
+    DataFrame, one row per surface x lobe: surface keys, ``lobe``
+    ('forward' | 'back' | 'west'), ``predicted`` (elevation, degrees),
+    ``window_lo``/``window_hi``, ``peak`` (0-255), ``peak_elevation``,
+    ``centroid``, ``fwhm`` (degrees), ``phase_at_peak`` (degrees),
+    ``offset`` (peak elevation minus predicted, degrees), ``plate`` (bool),
+    ``note``.
+    """
+    spec = arc(study, "specular", azimuth)
+    rows = []
+    for key, group in spec.groupby(SURFACE_KEYS, sort=True):
+        t, a, i = (float(k) for k in key)
+        centres = lobe_centres(i, a)
+        windows = _arc_windows(centres, max_halfwidth)
+        e = group["elevation"].to_numpy(float)
+        v = group["rough"].to_numpy(float)
+        for lobe in ("forward", "back", "west"):
+            c = centres[lobe]
+            row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe, "plate": is_plate(t, a)}
+            if c is None:
+                if lobe == "west":
+                    continue  # not on the arc: nothing to report
+                row.update(predicted=np.nan, window_lo=np.nan, window_hi=np.nan, peak=np.nan,
+                           peak_elevation=np.nan, centroid=np.nan, fwhm=np.nan,
+                           note="aspect 0: no side facets" if a <= 0 else "mirror direction below the horizon")
+                rows.append(row)
+                continue
+            if lobe == "back" and abs(c - centres["forward"]) < 1e-9:
+                row.update(predicted=c, window_lo=np.nan, window_hi=np.nan, peak=np.nan,
+                           peak_elevation=np.nan, centroid=np.nan, fwhm=np.nan,
+                           note="back lobe coincides with the forward lobe")
+                rows.append(row)
+                continue
+            lo, hi = windows[lobe]
+            prof = profile_lobe(e, v, c, (lo, hi))
+            row.update(predicted=c, window_lo=lo, window_hi=hi, **prof)
+            rows.append(row)
+    out = pd.DataFrame(rows)
+    out["phase_at_peak"] = np.where(
+        np.isfinite(out["peak_elevation"]),
+        phase_angle(out["incidence"].to_numpy(float), out["peak_elevation"].fillna(0).to_numpy(float), azimuth),
+        np.nan,
+    )
+    out["offset"] = out["peak_elevation"] - out["predicted"]
+    cols = SURFACE_KEYS + ["lobe", "plate", "predicted", "window_lo", "window_hi", "peak", "peak_elevation",
+                           "centroid", "fwhm", "phase_at_peak", "offset", "note"]
+    return out[cols]
+
+
+def _mirror(normal, incidence) -> np.ndarray | None:
+    L = light_direction(incidence)
+    nl = float(np.dot(normal, L))
+    if nl <= 0:
+        return None
+    r = 2.0 * nl * np.asarray(normal, float) - L
+    return r if r[2] > 1e-9 else None
+
+
+def lobe_directions(truncation, aspect, incidence) -> dict:
+    """Unit mirror directions of the named lobes (forward always, from the plane)."""
+    out = {"forward": _mirror(np.array([0.0, 0.0, 1.0]), incidence)}
+    if aspect > 0:
+        for name, n, _ in facets(max(truncation, 0.5), aspect):
+            if name in ("east", "west", "north", "south"):
+                r = _mirror(n, incidence)
+                if r is not None:
+                    out["back" if name == "east" else name] = r
+    return {k: v for k, v in out.items() if v is not None}
+
+
+def hemisphere_lobes(study: pd.DataFrame, max_angle: float = 40.0) -> pd.DataFrame:
+    """Forward and back specular lobes over the whole hemisphere.
+
+    Each view is assigned to the nearest (3-D angle) facet mirror direction,
+    within ``max_angle`` degrees; a lobe's statistics are over its views.
+
+    Returns
+    -------
+    DataFrame, one row per surface x lobe ('forward', 'back'): surface keys,
+    ``lobe``, ``peak`` (0-255), ``peak_azimuth``/``peak_elevation``
+    (degrees), ``phase_at_peak`` (degrees), ``angle_from_mirror`` (degrees
+    between the peak view and the predicted mirror direction),
+    ``solid_angle`` (sr above half maximum) and ``cone_fwhm`` (degrees, full
+    apex angle of the cone with that solid angle), ``note``.
+    """
+    rows = []
+    for (t, a, i), az, el, vals in surface_grids(study, "specular"):
+        dirs = lobe_directions(t, a, i)
+        A, E = np.meshgrid(az, el, indexing="ij")
+        V = view_direction(E, A)  # (A, E, 3)
+        w = solid_angle_weights(az, el)
+        names = list(dirs)  # empty where no mirror direction is above the horizon (incidence 0 on the plate)
+        cosang = np.stack([V @ dirs[n] for n in names] or [np.full(A.shape, -1.0)], axis=-1)  # (A, E, K)
+        nearest = np.argmax(cosang, axis=-1)
+        best = np.max(cosang, axis=-1)
+        for lobe in ("forward", "back"):
+            row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe}
+            if lobe not in dirs:
+                row.update(peak=np.nan, note="no mirror direction above the horizon")
+                rows.append(row)
+                continue
+            k = names.index(lobe)
+            region = (nearest == k) & (best >= math.cos(math.radians(max_angle))) & np.isfinite(vals)
+            if (lobe == "back" and "forward" in dirs
+                    and np.degrees(np.arccos(np.clip(dirs["back"] @ dirs["forward"], -1, 1))) < 1e-6):
+                row.update(peak=np.nan, note="back lobe coincides with the forward lobe")
+                rows.append(row)
+                continue
+            if not region.any():
+                row.update(peak=np.nan, note="no views near the mirror direction")
+                rows.append(row)
+                continue
+            rv = np.where(region, vals, -np.inf)
+            peak = float(rv.max())
+            ia, ie = np.unravel_index(int(np.argmax(rv)), rv.shape)
+            row.update(peak=peak, peak_azimuth=float(az[ia]), peak_elevation=float(el[ie]))
+            row["phase_at_peak"] = float(phase_angle(i, el[ie], az[ia]))
+            row["angle_from_mirror"] = float(np.degrees(np.arccos(np.clip(V[ia, ie] @ dirs[lobe], -1, 1))))
+            if peak < MIN_LOBE_PEAK:
+                row.update(solid_angle=np.nan, cone_fwhm=np.nan, note="no lobe (peak below one 8-bit step)")
+            else:
+                omega = float(np.sum(w[region & (vals >= peak / 2.0)]))
+                row["solid_angle"] = omega
+                row["cone_fwhm"] = float(2.0 * np.degrees(np.arccos(max(-1.0, 1.0 - omega / (2.0 * math.pi)))))
+                row["note"] = ""
+            rows.append(row)
+    out = pd.DataFrame(rows)
+    for col in ("peak_azimuth", "peak_elevation", "phase_at_peak", "angle_from_mirror", "solid_angle", "cone_fwhm"):
+        if col not in out:
+            out[col] = np.nan
+    out["note"] = out["note"].fillna("")
+    cols = SURFACE_KEYS + ["lobe", "peak", "peak_azimuth", "peak_elevation", "phase_at_peak",
+                           "angle_from_mirror", "solid_angle", "cone_fwhm", "note"]
+    return out[cols]
+
+
+def lobe_track(azimuth, elevation, values, centre_elevation: float, halfwidth: float = 40.0) -> pd.DataFrame:
+    """Where the lobe peaks on each half great circle (the thesis's "phase shift", Fig. 19).
+
+    Parameters
+    ----------
+    azimuth : (A,) degrees; elevation : (E,) degrees; values : (A, E), 0-255
+    centre_elevation : float
+        The lobe's elevation on the phi = 0 arc (degrees); on every arc the
+        peak is searched within ``halfwidth`` degrees of it.
+
+    Returns
+    -------
+    DataFrame with ``azimuth``, ``elevation`` (of the arc's maximum),
+    ``value`` (0-255); rows whose arc has no value above 0 get NaN elevation.
+    """
+    el = np.asarray(elevation, float)
+    vals = np.asarray(values, float)
+    sel = np.abs(el - centre_elevation) <= halfwidth
+    rows = []
+    for k, phi in enumerate(np.asarray(azimuth, float)):
+        v = vals[k, sel]
+        if v.size == 0 or not np.any(v > 0):
+            rows.append({"azimuth": phi, "elevation": np.nan, "value": 0.0})
+            continue
+        j = int(np.nanargmax(v))
+        rows.append({"azimuth": phi, "elevation": float(el[sel][j]), "value": float(v[j])})
+    return pd.DataFrame(rows)

@@ -1,0 +1,121 @@
+"""The workflow's analysis steps as functions over tables: what each analysis rule computes, without its files.
+
+Each function takes the tables a rule reads and its settings, and returns the tables it writes, keyed by the
+rule's output names (``workflow/rules/report.smk``); the rule's script only reads, calls and writes. Tests chain
+them in memory to build the whole report for any grid.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from ..render.shading import Lighting
+from ..study.selection import SURFACE_KEYS, find_aspect
+from ..study.tables import study_summary
+from .areas import reflecting_areas
+from .diffuse import diffuse_levels, diffuse_three_part
+from .glm import grid_glms
+from .lobes import arc_lobes, hemisphere_lobes
+from .share_laws import share_law_fits
+from .surface_models import analytic_model_fits, model_fit_summary
+from .thesis import (
+    bootstrap_tables,
+    exact_lobe_peaks,
+    implied_scales,
+    sine_refits,
+    tables_at_implied_scale,
+    thesis_tables,
+)
+from .timings import render_timings
+
+__all__ = ["analysis_tables", "analysis_glm", "analysis_models", "analysis_random"]
+
+
+def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=print) -> tuple[dict, dict]:
+    """The regular surface's study -> lobes, diffuse parts and levels, Tables 1-2 and their refits, timings.
+
+    Parameters
+    ----------
+    study : the regular surface's rows of ``results/study.parquet``
+    settings : the ``report:`` section (:func:`roughlight.study.config.report_settings`)
+    lighting : :class:`roughlight.render.shading.Lighting` fields
+
+    Returns
+    -------
+    (tables, summary): DataFrames keyed by the rule's output names; the JSON summary (study, timings, messages).
+    """
+    light = Lighting(**lighting)
+    aspects, incidence = settings["table_aspects"], float(settings["table_incidence"])
+    m = light.light * light.specular_reflectance
+    halfwidth = float(settings["lobe_halfwidth"])
+    out, messages = {}, []
+    lobes = out["lobes"] = arc_lobes(study, max_halfwidth=halfwidth)
+    out["hemisphere"] = hemisphere_lobes(study, max_angle=halfwidth)
+    log(f"lobes: {len(lobes)} arc lobes")
+    out["diffuse_parts"] = diffuse_three_part(study)
+    out["diffuse_levels"] = diffuse_levels(study)
+    if settings["exact_check"]:
+        exact = exact_lobe_peaks(lobes, aspects, incidence, light)
+        if len(exact):
+            log(f"exact peaks: {len(exact)}; max |measured - exact| = {exact['error'].abs().max():.3f}")
+    else:
+        exact = pd.DataFrame(columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation", "error"])
+        messages.append("the exact-reference check of the lobe peaks is switched off (report.exact_check)")
+    out["exact"] = exact
+    tables, table_messages = thesis_tables(lobes, aspects, incidence, m=m, k=None, exact=exact if len(exact) else None)
+    messages += table_messages
+    out["thesis_tables"] = tables
+    out["bootstrap"] = bootstrap_tables(lobes, aspects, incidence, m=m)
+    out["sine"] = sine_refits(lobes, aspects, incidence, m=m)
+    out["implied_scales"] = implied_scales()
+    out["tables_at_implied_scale"] = tables_at_implied_scale(lobes, aspects, incidence)
+    out["areas"] = _reflecting_areas(study, aspects, incidence)
+    per_sweep, timing_summary = render_timings(study)
+    out["timings"] = per_sweep
+    for msg in table_messages:
+        log(msg)
+    return out, {"study": study_summary(study), "timings": timing_summary, "messages": messages}
+
+
+def _reflecting_areas(study: pd.DataFrame, aspects, incidence: float) -> pd.DataFrame:
+    """Fig. 24's reflecting areas at each table aspect the study has."""
+    areas = []
+    for wanted in aspects:
+        found = find_aspect(study["aspect"], wanted)
+        if found is not None:
+            frame = reflecting_areas(found, incidence)
+            frame.insert(0, "aspect", found)
+            areas.append(frame)
+    return pd.concat(areas, ignore_index=True) if areas else pd.DataFrame()
+
+
+def analysis_glm(lobes: pd.DataFrame, levels: pd.DataFrame, settings: dict, lighting: dict) -> tuple[dict, list]:
+    """Lobe peaks and diffuse levels -> the grid GLMs, their diagnostics and the share laws.
+
+    Returns
+    -------
+    (tables, messages): DataFrames keyed by the rule's output names; what could not be fitted and why.
+    """
+    summary, coefficients, diagnostics, messages = grid_glms(
+        lobes, levels, collinearity_limit=float(settings["collinearity_limit"]))
+    light = Lighting(**lighting)
+    laws = share_law_fits(lobes, m=light.light * light.specular_reflectance)
+    return {"summary": summary, "coefficients": coefficients, "diagnostics": diagnostics, "share_laws": laws}, messages
+
+
+def analysis_models(study: pd.DataFrame, settings: dict, lighting: dict) -> dict:
+    """The regular surface's study -> each analytic model fitted to each surface, and the best by band."""
+    fits = analytic_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
+    return {"fits": fits, "summary": model_fit_summary(fits)}
+
+
+def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict) -> dict:
+    """The whole study (random tiles and the regular surface) -> per-tile statistics, the ensembles against the
+    regular surface, the seeds each comparison needs and the models refitted to every tile."""
+    from . import ensembles as E
+
+    halfwidth = float(settings["lobe_halfwidth"])
+    stats = E.seed_statistics(study, lobe_halfwidth=halfwidth)
+    summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, lobe_halfwidth=halfwidth))
+    fits = E.ensemble_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
+    return {"statistics": stats, "ensembles": summary, "seeds_needed": E.seeds_needed(summary), "model_fits": fits}

@@ -1,0 +1,302 @@
+"""The implicit rough surface measured: validation against the exact reference, and frame times.
+
+Two measurements, each at a size named by a plan (:data:`PLANS`: ``full`` is
+``make bench``'s, ``quick`` the same code on a few surfaces and coarse views):
+
+* :func:`validation`: on every view of each validation surface, the error
+  against the exact reference (:func:`roughlight.render.reference.reference_sweep`)
+  of the implicit exact form and first-order correction (both through the
+  shader, :func:`roughlight.render.implicit_gl.implicit_sweep`), the explicit fast
+  renderer and the V-cavity facet model (the best analytic model the report
+  fits, :func:`roughlight.analysis.surface_models.facet_model`): MAE, p99 and worst
+  view per surface, method and component.
+* :func:`frame_times`: the thesis's trade-off. One square field of ``N x N``
+  pyramids drawn explicitly by pyrender (``N^2 x 10`` triangles, with its
+  shadow pass) against the same field as one implicit quad, at the same image
+  size and views; frame time, triangles and the image mean's error against
+  the exact value.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..render import shading
+from ..render import views as sweeps
+from ..surfaces.geometry import period_triangles
+from ..surfaces.surface import SQRT3_2, Surface
+
+__all__ = ["PLANS", "validation_surfaces", "validation", "frame_times", "summary", "hemisphere_maps"]
+
+#: Validation incidences, degrees.
+INCIDENCES = (10.0, 30.0, 50.0, 70.0)
+
+#: Surfaces of the default grid validated at every incidence: its corners, its middle and the
+#: table aspects (truncation, aspect).
+GRID_SURFACES = ((0.1, 0.1), (1.0, 0.1), (0.1, 1.0), (1.0, 1.0), (0.5, 0.5), (1.0, SQRT3_2))
+
+#: Methods of the validation, in the order of its table.
+VALIDATED = ("implicit_exact", "implicit_correction", "fast", "v_cavity")
+
+PLANS = {
+    "full": {"grid": GRID_SURFACES, "incidences": INCIDENCES, "random": 20, "steps": (1.0, 5.0),
+             "fields": (16, 64, 256), "frame_views": ((30.0, 0.0), (60.0, 20.0), (90.0, 45.0), (120.0, 0.0)),
+             "repeats": 3},
+    "quick": {"grid": ((1.0, 1.0), (0.5, 0.5)), "incidences": (30.0,), "random": 1, "steps": (6.0, 30.0),
+              "fields": (16, 64), "frame_views": ((60.0, 20.0),), "repeats": 1},
+}
+
+#: Seed of the random (truncation, aspect, incidence) triples.
+RANDOM_SEED = 20011
+
+
+def _plan(plan: str) -> dict:
+    if plan not in PLANS:
+        raise ValueError(f"no implicit benchmark plan {plan!r}: one of {', '.join(PLANS)}")
+    return PLANS[plan]
+
+
+def validation_surfaces(plan: str = "full") -> list[tuple[Surface, float, str]]:
+    """(surface, incidence, kind) of a plan: the grid surfaces at every incidence, then random triples.
+
+    The random triples (``kind`` ``"random"``) are drawn with :data:`RANDOM_SEED`:
+    truncation in [0.05, 1], aspect in [0.05, 1.2], incidence in [5, 85],
+    each off the default grid's values.
+    """
+    size = _plan(plan)
+    out = [(Surface(t, a), float(i), "grid") for i in size["incidences"] for t, a in size["grid"]]
+    rng = np.random.default_rng(RANDOM_SEED)
+    while sum(kind == "random" for *_, kind in out) < size["random"]:
+        t, a, i = rng.uniform(0.05, 1.0), rng.uniform(0.05, 1.2), rng.uniform(5.0, 85.0)
+        on_grid = min(abs(t * 10 - round(t * 10)), abs(a * 10 - round(a * 10))) < 0.05
+        if not on_grid:
+            out.append((Surface(round(t, 4), round(a, 4)), round(i, 2), "random"))
+    return out
+
+
+def _band(surface: Surface) -> str:
+    if surface.truncation > 0.5 and surface.aspect > 0.5:
+        return "t > 0.5, aspect > 0.5"
+    return "other"
+
+
+def validation(plan: str = "full", lighting=None, log=None):
+    """Errors against the exact reference on every view of each validation surface.
+
+    Returns
+    -------
+    pandas.DataFrame, one row per surface x method x component: ``truncation``,
+    ``aspect``, ``incidence``, ``kind`` (grid | random), ``band``, ``method``
+    (:data:`VALIDATED`), ``component``, ``n_views`` (views with surface,
+    0 < e < 180, that the reference could compute), ``mae``, ``p99``,
+    ``worst`` (0-255), ``seconds`` (the method's time for the sweep) and
+    ``reference_failures`` (views where the exact reference's own check
+    refused its clipping: left out of the comparison and counted here).
+    """
+    import pandas as pd
+
+    size = _plan(plan)
+    log = log or (lambda message: None)
+    azimuth, elevation = sweeps.view_grid(*size["steps"])
+    rows = []
+    surfaces = validation_surfaces(plan)
+    for n, (surface, incidence, kind) in enumerate(surfaces, 1):
+        new = validate_surface(surface, incidence, kind, azimuth, elevation, lighting)
+        rows += new
+        worst = {m: max(r["worst"] for r in new if r["method"] == m) for m in ("implicit_exact", "fast")}
+        log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
+            f"worst view exact form {worst['implicit_exact']:.2f}, fast {worst['fast']:.2f}")
+    return pd.DataFrame(rows)
+
+
+def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
+    """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
+    from ..analysis.surface_models import facet_model
+    from ..render.measure import measure_sweep
+    from ..render.reference import reference_views
+
+    lighting = lighting or shading.Lighting()
+    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    # a view the reference's own checks refuse is left out of the comparison and counted
+    exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting)
+    seen &= ~failed
+    results = {}
+    for method in VALIDATED[:3]:
+        results[method] = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
+    start = time.perf_counter()
+    model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
+                        lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
+                        lighting.ambient, lighting.ambient_reflectance)
+    model["total"] = model["diffuse"] + model["specular"]
+    model["seconds"] = time.perf_counter() - start
+    results["v_cavity"] = model
+    rows = []
+    for method, out in results.items():
+        for component in shading.COMPONENTS:
+            err = np.abs(np.asarray(out[component]) - exact[component])[seen]
+            rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
+                         "kind": kind, "band": _band(surface), "method": method, "component": component,
+                         "n_views": int(seen.sum()), "mae": float(err.mean()),
+                         "p99": float(np.percentile(err, 99)), "worst": float(err.max()),
+                         "seconds": float(out["seconds"]), "reference_failures": int(failed.sum())})
+    return rows
+
+
+def summary(table):
+    """Per method and component: median and largest surface MAE, largest p99 and the worst view.
+
+    Also per band (``t > 0.5, aspect > 0.5`` and the rest). Returns a DataFrame.
+    """
+    import pandas as pd
+
+    parts = []
+    for band, rows in [("all", table)] + list(table.groupby("band")):
+        g = rows.groupby(["method", "component"], sort=False)
+        part = g.agg(median_mae=("mae", "median"), max_mae=("mae", "max"), max_p99=("p99", "max"),
+                     worst=("worst", "max"), surfaces=("mae", "size")).reset_index()
+        part.insert(0, "band", band)
+        parts.append(part)
+    return pd.concat(parts, ignore_index=True)
+
+
+class _Field:
+    """An N x N field drawn explicitly by pyrender: the mesh, one directional light with its shadow
+    map (redrawn every frame, as pyrender does), an orthographic camera; programs compiled once."""
+
+    def __init__(self, surface: Surface, incidence: float, lighting, field_size: int, size: int, span: float):
+        from ..render.naive import CompiledShaders, _look_pose, _NaiveScene
+
+        self._look_pose = _look_pose
+        self.scene = _NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
+        # the patch is centred on the origin; the implicit field spans [0, N]^2 (same surface, shifted
+        # by whole periods when N is even)
+        from ..render.gl import import_pyrender, release_contexts
+
+        release_contexts()
+        self.renderer = import_pyrender().OffscreenRenderer(size, size)
+        self.renderer._renderer._program_cache = CompiledShaders()
+        self.triangles = int(field_size * field_size * len(period_triangles(surface)[0]))
+
+    def render(self, view):
+        pyrender = self.scene.pyrender
+        from ..render.naive import _up_vector
+
+        pose = self._look_pose(view, _up_vector(view), self.scene.distance)
+        self.scene.scene.set_pose(self.scene.camera_node, pose)
+        flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.scene.shadows else pyrender.RenderFlags.NONE
+        start = time.perf_counter()
+        color, _ = self.renderer.render(self.scene.scene, flags=flags)
+        return color, time.perf_counter() - start
+
+    def delete(self):
+        self.renderer.delete()
+
+
+#: The surface of the frame-time fields: the full pyramid of aspect 1 (the thesis's runs).
+FIELD_SURFACE = Surface(1.0, 1.0)
+
+
+def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence: float = 30.0,
+                size: int = 512, lighting=None, log=None, pictures: dict | None = None):
+    """Frame time of an N x N field drawn explicitly against one implicit quad, same views and image size.
+
+    The picture shows the field's central ``N / 2`` periods (the field fills
+    it down to elevation 30). Each frame's value is the mean of the total
+    channel over the picture; its error is against the exact mean over the
+    infinite surface (:func:`roughlight.render.reference.reference_sweep`).
+
+    Returns
+    -------
+    pandas.DataFrame, one row per field size x method x view: ``field``
+    (N), ``method`` (``explicit``, ``implicit_exact``, ``implicit_correction``),
+    ``triangles``, ``elevation``, ``azimuth``, ``frame_ms`` (fastest of the
+    plan's repeats), ``fps``, ``mean_total``, ``exact_total``, ``error``.
+    ``pictures``, when a dict is given, receives the pictures (total, 8-bit,
+    (size, size)) of the smallest field at the first view, by method: the
+    thesis's own test, "if it looks good, it is good".
+    """
+    import pandas as pd
+
+    from ..render.gl import release_contexts
+    from ..render.implicit_gl import render_field
+    from ..render.reference import reference_sweep
+
+    size_plan = _plan(plan)
+    lighting = lighting or shading.Lighting()
+    log = log or (lambda message: None)
+    views = size_plan["frame_views"]
+    el = np.array([v[0] for v in views])
+    az = np.array([v[1] for v in views])
+    exact = reference_sweep(surface, incidence, az, el, lighting)["total"]
+    rows = []
+    pictures = {} if pictures is None else pictures
+    for n in size_plan["fields"]:
+        span = n / 2.0
+        field = _Field(surface, incidence, lighting, n, size, span)
+        for k, (e, phi) in enumerate(views):
+            view = shading.view_direction(e, phi)
+            field.render(view)  # warm up
+            times, color = [], None
+            for _ in range(size_plan["repeats"]):
+                color, seconds = field.render(view)
+                times.append(seconds)
+            rows.append(_frame_row(n, "explicit", field.triangles, e, phi, min(times), color[..., 2], exact[k]))
+            if n == size_plan["fields"][0] and k == 0:
+                pictures["explicit"] = color[..., 2].copy()
+        field.delete()
+        release_contexts()
+        for model in ("exact", "correction"):
+            for k, (e, phi) in enumerate(views):
+                render_field(model, surface, incidence, e, phi, n, size, span, lighting)  # warm up
+                times, image = [], None
+                for _ in range(size_plan["repeats"]):
+                    image, seconds = render_field(model, surface, incidence, e, phi, n, size, span, lighting)
+                    times.append(seconds)
+                rows.append(_frame_row(n, f"implicit_{model}", 2, e, phi, min(times), image[..., 2], exact[k]))
+                if n == size_plan["fields"][0] and k == 0:
+                    pictures[f"implicit_{model}"] = image[..., 2].copy()
+        last = [r for r in rows if r["field"] == n]
+        log(f"N={n}: explicit {np.mean([r['frame_ms'] for r in last if r['method'] == 'explicit']):.1f} ms, "
+            f"implicit exact {np.mean([r['frame_ms'] for r in last if r['method'] == 'implicit_exact']):.1f} ms")
+    return pd.DataFrame(rows)
+
+
+def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact):
+    mean = float(np.asarray(channel, float).mean())
+    return {"field": int(n), "method": method, "triangles": int(triangles), "elevation": float(elevation),
+            "azimuth": float(azimuth), "frame_ms": 1000.0 * seconds, "fps": 1.0 / seconds if seconds > 0 else math.inf,
+            "mean_total": mean, "exact_total": float(exact), "error": abs(mean - float(exact))}
+
+
+#: Telling surfaces of the hemisphere maps: the thesis's full pyramid and its 30-degree facets, at incidence 30.
+MAP_SURFACES = ((Surface(1.0, 1.0), 30.0), (Surface(1.0, SQRT3_2), 30.0))
+
+
+def hemisphere_maps(plan: str = "full", lighting=None):
+    """Every view of the telling surfaces by the exact reference and both implicit models (through the shader).
+
+    Returns
+    -------
+    pandas.DataFrame: ``truncation``, ``aspect``, ``incidence``, ``azimuth``,
+    ``elevation``, ``method`` (``reference``, ``implicit_exact``,
+    ``implicit_correction``) and the three components (0-255), on the plan's
+    view grid.
+    """
+    import pandas as pd
+
+    from ..render.measure import measure_sweep
+
+    size = _plan(plan)
+    lighting = lighting or shading.Lighting()
+    azimuth, elevation = sweeps.view_grid(*size["steps"])
+    parts = []
+    for surface, incidence in MAP_SURFACES:
+        for method in ("reference", "implicit_exact", "implicit_correction"):
+            out = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
+            parts.append(pd.DataFrame({"truncation": surface.truncation, "aspect": surface.aspect,
+                                       "incidence": incidence, "azimuth": azimuth, "elevation": elevation,
+                                       "method": method, **{c: out[c] for c in shading.COMPONENTS}}))
+    return pd.concat(parts, ignore_index=True)

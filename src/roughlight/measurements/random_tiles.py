@@ -1,0 +1,173 @@
+"""Random tiles measured for the benchmark stage: the tile-size convergence, the fast renderer's accuracy against
+the exact reference and its speed beside the regular surface's, and pictures of each kind as rendered.
+
+Plans (``measurements.plan``, the folder ``results/benchmarks/{plan}/``):
+
+* ``quick``: tiles of 1, 2 and 4 cells, 3 seeds, the study's views (1 x 5 degrees) at t = 1, a = 1,
+  i = 30; accuracy on one 2-cell tile of each kind at coarse views (15 x 30 degrees).
+* ``full`` (``make bench``): tiles of 1, 2, 3, 4 and 6 cells, 6 seeds; accuracy on 2 seeds of
+  4-cell tiles (the study's default) of each kind at 5 x 15 degrees (444 views).
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pandas as pd
+
+from ..render.sampling import RenderSettings
+from ..surfaces.roughness import RANDOM_KINDS, make_surface
+
+__all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures"]
+
+PLANS = {
+    "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (2.0, 10.0),
+              "accuracy_cells": 2, "accuracy_seeds": 1, "accuracy_views": (15.0, 30.0)},
+    "full": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 3, 4, 6), "seeds": 6, "views": (1.0, 5.0),
+             "accuracy_cells": 4, "accuracy_seeds": 2, "accuracy_views": (5.0, 15.0)},
+}
+#: The statistics followed against tile size.
+CONVERGENCE_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "diffuse_level", "diffuse_level3")
+
+
+def _sweep_frame(surface, incidence, azimuth, elevation, lighting, settings, method="fast"):
+    from ..render.measure import measure_sweep, recorded_settings
+    from ..study.tables import sweep_table
+
+    result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
+    frame = sweep_table(result, surface, incidence, azimuth, elevation, lighting, method,
+                        recorded_settings(method, settings)).to_pandas()
+    return frame, result
+
+
+def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None) -> pd.DataFrame:
+    """Ensemble statistics of each random kind against tile size (cells a side), with the regular surface.
+
+    Returns
+    -------
+    DataFrame: ``kind``, ``cells`` (0 for the regular surface), ``seed``, ``statistic``, ``value``,
+    ``seconds`` (the sweep's wall time), ``views``, ``views_per_second``.
+    """
+    from ..analysis.ensembles import seed_statistics
+    from ..render.shading import Lighting
+    from ..render.views import view_grid
+    from ..study.tables import join_controls
+
+    p = PLANS[plan]
+    log = log or (lambda message: None)
+    lighting = lighting or Lighting()
+    settings = settings or RenderSettings()
+    t, a, i = p["point"]
+    azimuth, elevation = view_grid(*p["views"])
+    control, _ = _sweep_frame(make_surface(), i, azimuth, elevation, Lighting(**{**lighting.as_dict(), "shadows": False}),
+                              settings)
+    runs = [("pyramids", 0, 0)] + [(kind, cells, seed) for kind in RANDOM_KINDS for cells in p["cells"]
+                                   for seed in range(1, p["seeds"] + 1)]
+    rows = []
+    for kind, cells, seed in runs:
+        surface = make_surface(kind, t, a, seed, cells=max(cells, 1))
+        frame, result = _sweep_frame(surface, i, azimuth, elevation, lighting, settings)
+        stats = seed_statistics(join_controls(frame, control))
+        views = int(azimuth.size)
+        for _, row in stats.iterrows():
+            rows.append({"kind": kind, "cells": cells, "seed": seed, "statistic": row["statistic"],
+                         "value": row["value"], "seconds": result["seconds"], "views": views,
+                         "views_per_second": views / result["seconds"]})
+        log(f"{kind} cells={cells} seed={seed}: {views} views in {result['seconds']:.2f} s")
+    return pd.DataFrame(rows)
+
+
+def convergence_summary(convergence: pd.DataFrame) -> pd.DataFrame:
+    """Mean, SD and 95% interval over seeds of each followed statistic (:data:`CONVERGENCE_STATISTICS`) per kind
+    and tile size, beside the regular value, and the fast renderer's views per second (random and regular)."""
+    from scipy import stats as sps
+
+    regular_rows = convergence[convergence["kind"] == "pyramids"]
+    regular = regular_rows.set_index("statistic")["value"]
+    regular_speed = float(regular_rows["views_per_second"].mean()) if len(regular_rows) else np.nan
+    convergence = convergence[convergence["statistic"].isin(CONVERGENCE_STATISTICS)]
+    rows = []
+    for (kind, cells, name), g in convergence[convergence["kind"] != "pyramids"].groupby(["kind", "cells", "statistic"]):
+        v = g["value"].dropna().to_numpy(float)
+        n = len(v)
+        half = float(sps.t.ppf(0.975, n - 1) * v.std(ddof=1) / np.sqrt(n)) if n > 1 else np.nan
+        rows.append({"kind": kind, "cells": int(cells), "statistic": name, "seeds": n,
+                     "mean": float(v.mean()) if n else np.nan, "sd": float(v.std(ddof=1)) if n > 1 else np.nan,
+                     "ci_half_width": half, "regular": float(regular.get(name, np.nan)),
+                     "views_per_second": float(g["views_per_second"].mean()),
+                     "regular_views_per_second": regular_speed})
+    return pd.DataFrame(rows)
+
+
+def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None) -> pd.DataFrame:
+    """The fast renderer against the exact reference on random tiles (and the regular surface at the same point).
+
+    Returns
+    -------
+    DataFrame, one row per surface x component: ``kind``, ``cells``, ``seed``, ``component``, ``views``
+    (compared), ``reference_refused`` (views the reference's own checks refused, left out), ``mae``, ``p99``,
+    ``worst`` (0-255), ``fast_views_per_second``, ``reference_seconds``.
+    """
+    from ..render.reference import reference_views
+    from ..render.shading import Lighting
+    from ..render.views import view_grid
+
+    p = PLANS[plan]
+    log = log or (lambda message: None)
+    lighting = lighting or Lighting()
+    settings = settings or RenderSettings()
+    t, a, i = p["point"]
+    azimuth, elevation = view_grid(*p["accuracy_views"])
+    seen = np.sin(np.radians(elevation)) > 1e-9
+    runs = [("pyramids", 1, 0)] + [(kind, p["accuracy_cells"], seed) for kind in RANDOM_KINDS
+                                   for seed in range(1, p["accuracy_seeds"] + 1)]
+    rows = []
+    for kind, cells, seed in runs:
+        surface = make_surface(kind, t, a, seed, cells=cells)
+        start = time.perf_counter()
+        # a view the reference's own checks refuse is left out and counted
+        exact, refused = reference_views(surface, i, azimuth, elevation, lighting)
+        reference_seconds = time.perf_counter() - start
+        from ..render.periodic import fast_sweep
+
+        fast = fast_sweep(surface, i, azimuth, elevation, lighting, settings)
+        compared = seen & ~refused
+        for component in ("diffuse", "specular", "total"):
+            error = np.abs(fast[component] - exact[component])[compared]
+            rows.append({"kind": kind, "cells": cells if kind != "pyramids" else 0, "seed": seed,
+                         "component": component, "views": int(compared.sum()),
+                         "reference_refused": int((seen & refused).sum()), "mae": float(error.mean()),
+                         "p99": float(np.quantile(error, 0.99)), "worst": float(error.max()),
+                         "fast_views_per_second": azimuth.size / fast["seconds"],
+                         "reference_seconds": reference_seconds})
+        log(f"accuracy {kind} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
+            f"worst {rows[-1]['worst']:.2f}; reference {reference_seconds:.1f} s")
+    return pd.DataFrame(rows)
+
+
+#: The thesis's telling views for the pictures: (incidence, elevation, azimuth, label).
+PICTURE_VIEWS = ((30.0, 20.0, 60.0, "Fig. 9's view: e 20, phi 60"),
+                 (30.0, 150.0, 0.0, "forward mirror: e 150, phi 0"),
+                 (30.0, 60.0, 30.0, "off the light's plane: e 60, phi 30"))
+
+
+def random_pictures(plan: str = "quick", lighting=None, cells: int = 4) -> list:
+    """Pictures of each kind as rendered (finite patches, :func:`roughlight.render.naive.render_picture`) at the thesis's
+    telling views, the same width of surface for every kind (8 cells across).
+
+    Returns
+    -------
+    list of (label, (H, W, 3) uint8 image), kinds by rows and views by columns.
+    """
+    from ..render.naive import render_picture
+
+    t, a, _ = PLANS[plan]["point"]
+    out = []
+    for kind in ("pyramids",) + RANDOM_KINDS:
+        surface = make_surface(kind, t, a, 0 if kind == "pyramids" else 1, cells=cells)
+        periods = 8 if kind == "pyramids" else max(1, 8 // cells)
+        for i, e, phi, label in PICTURE_VIEWS:
+            image = render_picture(surface, i, e, phi, lighting=lighting, size=(240, 180), periods=periods)
+            out.append((f"{kind.replace('_', ' ')}: {label}", np.asarray(image)))
+    return out

@@ -1,0 +1,222 @@
+"""Speed against accuracy: every method and setting on one fixed set of views.
+
+The benchmark measures, in one process, each method's views per second and
+its error against the exact reference on the same surfaces and views, and
+charts error against time per view (log scales) with the Pareto front.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..render import reference, shading
+from ..render.measure import measure_sweep, recorded_settings
+from ..render.sampling import RenderSettings
+from ..render.shading import COMPONENTS
+from ..surfaces.surface import SQRT3_2, Surface
+
+__all__ = [
+    "BENCH_SURFACES",
+    "bench_views",
+    "Config",
+    "default_configs",
+    "quick_configs",
+    "PLANS",
+    "run_benchmark",
+    "pareto_front",
+]
+
+#: Surfaces under a light (Surface, incidence) spread over the grid: low and tall,
+#: truncated and full, the thesis's aspect 1 and the 30-degree facets of sqrt(3)/2.
+BENCH_SURFACES = (
+    (Surface(0.2, 0.3), 30.0),
+    (Surface(0.5, 1.0), 30.0),
+    (Surface(0.8, SQRT3_2), 30.0),
+    (Surface(1.0, 1.0), 30.0),
+    (Surface(1.0, 0.5), 60.0),
+    (Surface(0.3, 0.7), 15.0),
+)
+
+
+def bench_views(elevation_step: float = 5.0, azimuth_step: float = 20.0):
+    """The fixed views: elevation 10..170 deg, azimuth 0..<180 deg (degrees)."""
+    el = np.arange(10.0, 170.0 + 1e-9, elevation_step)
+    az = np.arange(0.0, 180.0 - 1e-9, azimuth_step)
+    a, e = np.meshgrid(az, el, indexing="ij")
+    return a.ravel(), e.ravel()
+
+
+@dataclass(frozen=True)
+class Config:
+    """One method with its settings."""
+
+    method: str
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def label(self) -> str:
+        if self.method == "fast":
+            s = self.settings
+            return f"fast {s.get('sampling', 'lattice')} P={s.get('pixels_per_period')} S={s.get('shadow_map_size')}" + (
+                f" bias={s['shadow_bias']:g}" if "shadow_bias" in s else ""
+            )
+        if self.method == "naive":
+            return "naive (thesis: 400x300, central 40x40)"
+        if self.method == "implicit_exact":
+            return "implicit quad: exact form (ray cast)"
+        if self.method == "implicit_correction":
+            return "implicit quad: first-order correction"
+        return self.method
+
+
+def default_configs() -> list[Config]:
+    """The naive baseline, the reference, and the fast method's knobs."""
+    configs = [Config("naive"), Config("reference"), Config("implicit_exact"), Config("implicit_correction")]
+    for sampling in ("lattice", "grid"):
+        for pixels in (8, 12, 16, 24, 32, 48, 64):
+            configs.append(Config("fast", {"sampling": sampling, "pixels_per_period": pixels, "shadow_map_size": 512}))
+    for pixels in (16, 20, 24, 28, 32):
+        configs.append(Config("fast", {"sampling": "adaptive", "pixels_per_period": pixels, "shadow_map_size": 512}))
+    for size in (32, 128, 2048):
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": size}))
+    for bias in (0.0, 1e-2):
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": 24, "shadow_map_size": 512,
+                                       "shadow_bias": bias}))
+    return configs
+
+
+def quick_configs() -> list[Config]:
+    """A few of :func:`default_configs`: the naive baseline, the reference and the fast method's
+    pixels per period around the default, lattice and grid (the default workflow's chart)."""
+    configs = [Config("naive"), Config("reference"), Config("implicit_exact"), Config("implicit_correction")]
+    for pixels in (8, 16, 24, 32):
+        configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": pixels, "shadow_map_size": 512}))
+    configs.append(Config("fast", {"sampling": "grid", "pixels_per_period": 24, "shadow_map_size": 512}))
+    for pixels in (24, 28):
+        configs.append(Config("fast", {"sampling": "adaptive", "pixels_per_period": pixels, "shadow_map_size": 512}))
+    return configs
+
+
+#: Sizes of the benchmark, by name (``report.speed_accuracy.plan`` in the config): ``full`` is
+#: ``make bench``'s measurement; ``quick`` the same code on fewer configs, surfaces and views,
+#: sized for the default workflow's chart.
+PLANS = {
+    "full": {"configs": default_configs, "surfaces": BENCH_SURFACES, "views": (5.0, 20.0), "repeats": 3},
+    "quick": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:4:2], "views": (20.0, 45.0), "repeats": 1},
+}
+
+
+def _settings(config: Config):
+    """The fast method's RenderSettings of a config (None for the other methods)."""
+    return RenderSettings(**config.settings) if config.method == "fast" else None
+
+
+def _measure(config: Config, lit_surface, azimuth, elevation, lighting):
+    surface, incidence = lit_surface
+    return measure_sweep(config.method, surface, incidence, azimuth, elevation, lighting, _settings(config))
+
+
+def run_plan(plan: str = "full", lighting=None, log=None):
+    """The benchmark at one of the sizes of :data:`PLANS`."""
+    if plan not in PLANS:
+        raise ValueError(f"no benchmark plan {plan!r}: one of {', '.join(PLANS)}")
+    size = PLANS[plan]
+    return run_benchmark(size["configs"](), size["surfaces"], bench_views(*size["views"]), lighting, log,
+                         size["repeats"])
+
+
+def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=None, log=None, repeats=3):
+    """Run every config on every surface and view; errors against the reference.
+
+    Parameters
+    ----------
+    configs : list of Config (default :func:`default_configs`)
+    surfaces : sequence of (Surface, incidence)
+    views : (azimuth, elevation) arrays, degrees (default :func:`bench_views`)
+    lighting : shading.Lighting
+    log : callable, optional
+    repeats : int
+        Timed runs of each fast config (the fastest counts: the machine's other
+        load only ever slows a run down); the slow methods run once.
+
+    Returns
+    -------
+    pandas.DataFrame, one row per config x component: method, label, settings
+    columns (sampling, pixels_per_period, shadow_map_size, shadow_bias),
+    n_views, seconds, views_per_second, ms_per_view, mae, max_error, component,
+    speedup_vs_naive (views per second over the naive method's, same run),
+    default (the fast method's default settings), pareto (on the front of
+    error against time per view for that component).
+    """
+    import pandas as pd
+
+    configs = list(configs or default_configs())
+    lighting = lighting or shading.Lighting()
+    log = log or (lambda message: None)
+    azimuth, elevation = views if views is not None else bench_views()
+    exact = [
+        reference.reference_sweep(surface, i, azimuth, elevation, lighting) for (surface, i) in surfaces
+    ]
+    rows = []
+    for config in configs:
+        _measure(config, surfaces[0], azimuth, elevation, lighting)  # warm up: context, layout, shaders
+        runs = []
+        for _ in range(repeats if config.method == "fast" else 1):
+            seconds = 0.0
+            errors = {c: [] for c in COMPONENTS}
+            for surface, truth in zip(surfaces, exact):
+                start = time.perf_counter()
+                out = _measure(config, surface, azimuth, elevation, lighting)
+                seconds += time.perf_counter() - start
+                for c in COMPONENTS:
+                    errors[c].append(np.abs(np.asarray(out[c]) - truth[c]))
+            runs.append(seconds)
+        seconds = min(runs)
+        n_views = len(surfaces) * azimuth.size
+        log(f"{config.label}: {n_views / seconds:.0f} views/s")
+        recorded = recorded_settings(config.method, _settings(config))
+        for c in COMPONENTS:
+            err = np.concatenate(errors[c])
+            rows.append(
+                {
+                    "method": config.method,
+                    "label": config.label,
+                    **recorded,
+                    "shadow_bias": config.settings.get(
+                        "shadow_bias", RenderSettings().shadow_bias if config.method == "fast" else np.nan),
+                    "component": c,
+                    "n_views": n_views,
+                    "seconds": seconds,
+                    "views_per_second": n_views / seconds,
+                    "ms_per_view": 1000.0 * seconds / n_views,
+                    "mae": float(err.mean()),
+                    "max_error": float(err.max()),
+                }
+            )
+    table = pd.DataFrame(rows)
+    defaults = RenderSettings()
+    default = Config("fast", {"sampling": defaults.sampling, "pixels_per_period": defaults.pixels_per_period,
+                              "shadow_map_size": defaults.shadow_map_size}).label
+    naive = table.loc[table["method"] == "naive", "views_per_second"]
+    table["speedup_vs_naive"] = table["views_per_second"] / naive.iloc[0] if len(naive) else np.nan
+    table["default"] = table["label"] == default
+    table["pareto"] = False
+    for c in COMPONENTS:
+        mask = table["component"] == c
+        table.loc[mask, "pareto"] = pareto_front(table.loc[mask, "ms_per_view"].to_numpy(), table.loc[mask, "mae"].to_numpy())
+    return table
+
+
+def pareto_front(cost, error) -> np.ndarray:
+    """True for points no other point beats on both cost and error (lower is better)."""
+    cost = np.asarray(cost, float)
+    error = np.asarray(error, float)
+    front = np.ones(len(cost), bool)
+    for k in range(len(cost)):
+        better_or_equal = (cost <= cost[k]) & (error <= error[k])
+        strictly = (cost < cost[k]) | (error < error[k])
+        front[k] = not np.any(better_or_equal & strictly)
+    return front

@@ -1,0 +1,556 @@
+"""Where methods fail: each method against the exact reference, knob by knob.
+
+The thesis (Ch. IV) saw, but never measured, pixelation and aliasing of the
+finely sampled pyramids ("flashing lines" as the camera moved), values
+clipped at 255 bending the lobes (its Fig. 17), and trouble at grazing views
+and low incidence. This module measures those failures on a few surfaces and
+coarse view sets, for the ``naive`` method (the thesis's procedure in
+pyrender, :func:`roughlight.render.naive.naive_sweep`) and the ``fast`` method
+(:func:`roughlight.render.periodic.fast_sweep`), always against the exact
+reference (:func:`roughlight.render.reference.reference_sweep`). Each measurement is
+a *scan*: one knob varied over its values (a *sweep* is one surface seen from
+every view). Its chart is drawn by :mod:`roughlight.report.figures` and its report
+section written by :mod:`roughlight.report.page`.
+
+Every measurement returns a long pandas frame with the columns
+
+``experiment`` (str), ``method`` (str), ``variable`` (name of the scanned
+knob), ``x`` (its value, float), ``setting`` (str, the other knob held
+fixed, "" when none), ``component`` (``diffuse``, ``specular``, ``total`` or
+``all``), ``metric`` (str) and ``value`` (float).
+
+Metrics: ``mae`` (mean absolute error against the reference, 0-255 scale,
+over the surfaces and views), ``max_error`` (0-255), ``jitter_sd`` (standard
+deviation of a view's value over sub-pixel camera jitters, 0-255, averaged
+over views and surfaces), ``coverage`` (mean fraction of the capture window
+showing the surface), ``clipped_fraction`` (fraction of views whose total has
+a pixel clamped at 255), ``peak_shift`` / ``centre_shift`` (degrees of
+elevation a lobe's peak / intensity-weighted centre moves from source 127 to
+source 255) and ``peak_ratio`` (lobe peak at 255 over twice the peak at 127).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ..render import reference, shading
+from ..render.measure import measure_sweep
+from ..render.sampling import RenderSettings
+from ..render.shading import COMPONENTS, SHADINGS
+from ..surfaces.surface import PLATE, SQRT3_2, Surface
+
+__all__ = [
+    "TOLERANCE",
+    "SURFACES",
+    "pixel_scan",
+    "elevation_scan",
+    "shadow_scan",
+    "shininess_scan",
+    "normals_scan",
+    "normals_pictures",
+    "clipping_scan",
+    "MEASUREMENTS",
+    "run_measurement",
+    "safe_domain",
+    "normals_table",
+]
+
+#: Largest mean absolute error (0-255 scale, each component) counted as "within tolerance".
+TOLERANCE = 0.5
+#: Surfaces under a light, (Surface, incidence), the fast method is measured on: the thesis's
+#: aspect-1 quarter, half and full pyramids, a low half pyramid, the 30-degree facets
+#: (aspect sqrt(3)/2, its side facets facing a light at incidence 30) and a wide low mesa.
+SURFACES = ((Surface(0.25, 1.0), 30.0), (Surface(0.5, 1.0), 30.0), (Surface(1.0, 1.0), 30.0),
+            (Surface(0.5, 0.5), 30.0), (Surface(1.0, SQRT3_2), 30.0), (Surface(0.8, 0.3), 30.0))
+#: The naive method's surfaces (the thesis's half and full pyramids of aspect 1): it renders
+#: one view at a time (about 18 views/s) and is outside tolerance everywhere on these already.
+NAIVE_SURFACES = ((Surface(0.5, 1.0), 30.0), (Surface(1.0, 1.0), 30.0))
+#: Which surfaces each method is measured on (a plain sequence given to a scan serves every method).
+PLAN = {"fast": SURFACES, "naive": NAIVE_SURFACES}
+FAST_PIXELS = (2, 3, 4, 6, 8, 12, 16, 20, 24, 28, 32, 48)
+NAIVE_PIXELS = (0.25, 0.5, 1.0, 2.0, 4.0, 10.0, 32.0)
+GRAZING = (0.5, 1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 45.0, 90.0)
+#: View azimuths of the elevation scan (degrees): every 15 for fast, every 30 for naive.
+AZIMUTHS = {"fast": tuple(np.arange(0.0, 180.0, 15.0)), "naive": tuple(np.arange(0.0, 180.0, 30.0))}
+INCIDENCES = (1.0, 2.0, 5.0, 10.0, 20.0, 45.0)
+BIASES = (0.0, 1e-6, 1e-4, 1e-2, 1e-1)
+MAP_SIZES = (16, 32, 64, 128, 256, 512, 1024, 2048)
+SHININESS = (1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0)
+#: The surfaces of the shading-normals measurement: averaged vertex normals matter where
+#: facets meet at an angle, so every one has sloped sides.
+NORMALS_SURFACES = SURFACES[:4]
+
+
+# The renderers load OpenGL: imported when a scan renders, so that importing this module
+# (the workflow reads MEASUREMENTS while it parses) does not.
+def _fast_sweep(*args, **kwargs):
+    from ..render.periodic import fast_sweep
+
+    return fast_sweep(*args, **kwargs)
+
+
+def _naive_sweep(*args, **kwargs):
+    from ..render.naive import naive_sweep
+
+    return naive_sweep(*args, **kwargs)
+
+
+def _render_picture(*args, **kwargs):
+    from ..render.naive import render_picture
+
+    return render_picture(*args, **kwargs)
+
+
+def _for(plan, method):
+    """``plan[method]`` when ``plan`` is a per-method dict, else ``plan`` itself."""
+    return plan[method] if isinstance(plan, dict) else plan
+
+
+def _views(elevations, azimuths):
+    a, e = np.meshgrid(np.asarray(azimuths, float), np.asarray(elevations, float), indexing="ij")
+    return a.ravel(), e.ravel()
+
+
+def _jitters(n, seed=0):
+    """``n`` seeded sub-pixel camera shifts (pixels), uniform in [-0.5, 0.5)^2."""
+    return [tuple(j) for j in np.random.default_rng(seed).uniform(-0.5, 0.5, (n, 2))]
+
+
+_TRUTHS: dict = {}
+
+
+def _truth(lit_surface, azimuth, elevation, lighting):
+    """The reference sweep of one (Surface, incidence), once per (surface, views, lighting) in a process."""
+    surface, incidence = lit_surface
+    key = (surface, float(incidence), azimuth.tobytes(), elevation.tobytes(), lighting)
+    if key not in _TRUTHS:
+        if len(_TRUTHS) > 512:
+            _TRUTHS.clear()
+        _TRUTHS[key] = reference.reference_sweep(surface, incidence, azimuth, elevation, lighting)
+    return _TRUTHS[key]
+
+
+def _compare(surfaces, azimuth, elevation, lighting, run):
+    """``run(surface, incidence)`` against the reference on every (Surface, incidence) of ``surfaces``.
+
+    Returns ({component: |error| over every surface's views, 0-255}, mean coverage, [outputs]).
+    """
+    errors = {c: [] for c in COMPONENTS}
+    coverage, outputs = [], []
+    for lit_surface in surfaces:
+        truth = _truth(lit_surface, azimuth, elevation, lighting)
+        out = run(*lit_surface)
+        for c in COMPONENTS:
+            errors[c].append(np.abs(np.asarray(out[c], float) - truth[c]))
+        coverage.append(out["coverage"])
+        outputs.append(out)
+    return {c: np.concatenate(v) for c, v in errors.items()}, float(np.concatenate(coverage).mean()), outputs
+
+
+def _rows(experiment, method, variable, x, setting, errors, extra=None, per_component=None):
+    """Rows for one (method, x, setting): ``errors`` is {component: concatenated |error|};
+    ``extra`` {metric: value} (component 'all'); ``per_component`` {metric: {component: value}}."""
+    base = dict(experiment=experiment, method=method, variable=variable, x=float(x), setting=setting)
+    rows = []
+    for c, err in errors.items():
+        err = np.asarray(err, float)
+        rows.append({**base, "component": c, "metric": "mae", "value": float(err.mean())})
+        rows.append({**base, "component": c, "metric": "max_error", "value": float(err.max())})
+    for metric, value in (extra or {}).items():
+        rows.append({**base, "component": "all", "metric": metric, "value": float(value)})
+    for metric, values in (per_component or {}).items():
+        for c, value in values.items():
+            rows.append({**base, "component": c, "metric": metric, "value": float(value)})
+    return rows
+
+
+def pixel_scan(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXELS, n_jitter=4,
+                naive_jitter_pixels=(1.0, 2.0, 10.0), lighting=None, fast_views=None, naive_views=None, seed=0):
+    """Error and jitter spread against pixels per period (pixelation, aliasing, "flashing lines").
+
+    Parameters
+    ----------
+    surfaces : sequence of (Surface, incidence), or {method: sequence}
+        Default :data:`PLAN` (fast on :data:`SURFACES`, naive on :data:`NAIVE_SURFACES`).
+    fast_pixels : ints >= 2
+        ``RenderSettings.pixels_per_period`` of the fast method (its tile is one
+        period, so fewer than 2 pixels a period is not a valid setting).
+    naive_pixels : floats, pixels per period
+        The naive method's 400-pixel window spans ``400 / ppp`` periods (below 1:
+        several pyramids per pixel). Its patch is sized to cover the capture
+        window at the views' lowest elevation.
+    n_jitter : int
+        Seeded sub-pixel camera shifts per setting (uniform in [-0.5, 0.5) px).
+    naive_jitter_pixels : floats
+        The naive settings whose jitter spread is measured (each costs
+        ``n_jitter`` renders a view).
+    fast_views, naive_views : (azimuth, elevation) arrays, degrees
+        Default: fast 9 elevations x 6 azimuths; naive 3 views (one render each).
+
+    Returns
+    -------
+    Long frame (module docstring): ``mae``/``max_error`` of the unjittered
+    render, ``jitter_sd`` (0-255, 'total', averaged over views) and ``coverage``.
+    """
+    lighting = lighting or shading.Lighting()
+    if fast_views is None:
+        fast_views = _views((10, 20, 45, 70, 90, 110, 135, 160, 170), (0, 30, 60, 90, 120, 150))
+    naive_views = naive_views if naive_views is not None else (np.array([0.0, 0.0, 90.0]), np.array([90.0, 60.0, 60.0]))
+    jitters = _jitters(n_jitter, seed)
+    rows = []
+    for method, pixels, views in (("fast", fast_pixels, fast_views), ("naive", naive_pixels, naive_views)):
+        az, el = (np.asarray(v, float) for v in views)
+        lowest = float(np.min(el))
+        for p in pixels:
+            def run(surface, i, jitter=(0.0, 0.0), method=method, p=p, az=az, el=el, lowest=lowest):
+                if method == "fast":
+                    settings = RenderSettings(pixels_per_period=int(p), jitter=jitter)
+                    return _fast_sweep(surface, i, az, el, lighting, settings)
+                # the 400-pixel window spans 400 / p periods
+                return _naive_sweep(surface, i, az, el, lighting, view_periods=400.0 / p,
+                                         lowest_elevation=lowest, jitter=jitter)
+
+            errors, coverage, _ = _compare(_for(surfaces, method), az, el, lighting, run)
+            extra = {"coverage": coverage}
+            if method == "fast" or p in naive_jitter_pixels:
+                spread = [np.std([run(*s, jitter=j)["total"] for j in jitters], axis=0) for s in _for(surfaces, method)]
+                extra["jitter_sd"] = np.concatenate(spread).mean()
+            rows += _rows("pixels", method, "pixels_per_period", p, "", errors, extra)
+    return pd.DataFrame(rows)
+
+
+def elevation_scan(surfaces=PLAN, elevations=GRAZING, azimuths=AZIMUTHS, lighting=None, methods=("fast", "naive")):
+    """Error and coverage against view elevation down to grazing.
+
+    ``x`` is the elevation above the horizon, degrees: views at e and at the
+    mirror 180 - e are pooled, at every azimuth of ``azimuths`` (a sequence, or
+    {method: sequence}). The naive method runs as it comes (10 pixels a
+    period, its patch sized for views down to 10 degrees), so below that its
+    capture window runs off the patch (coverage < 1).
+    """
+    lighting = lighting or shading.Lighting()
+    rows = []
+    for x in elevations:
+        for method in methods:
+            az, el = _views(np.unique([x, 180.0 - x]), _for(azimuths, method))
+            errors, coverage, _ = _compare(
+                _for(surfaces, method), az, el, lighting,
+                lambda surface, i, method=method, az=az, el=el, lighting=lighting:
+                measure_sweep(method, surface, i, az, el, lighting))
+            rows += _rows("elevation", method, "elevation", x, "", errors, {"coverage": coverage})
+    return pd.DataFrame(rows)
+
+
+def shadow_scan(surfaces=PLAN, incidences=INCIDENCES, biases=BIASES, map_sizes=MAP_SIZES, lighting=None,
+                 views=None, naive=True):
+    """Shadow acne and peter-panning against incidence, shadow bias and shadow-map size.
+
+    Fast: every ``shadow_bias`` (map 512) at every incidence
+    (experiment ``shadow_bias``, x = incidence, setting ``bias=...``) and every
+    ``shadow_map_size`` (bias default) at every incidence (experiment
+    ``shadow_map``, x = map size, setting ``i=...``). Naive: pyrender's fixed
+    2048^2 shadow map (experiment ``shadow_bias``, setting ``naive``). The
+    surfaces' own incidences are replaced by each of ``incidences``.
+    """
+    lighting = lighting or shading.Lighting()
+    az, el = views if views is not None else _views((30, 60, 90, 120, 150), (0, 30, 60, 90, 120, 150))
+    az, el = np.asarray(az, float), np.asarray(el, float)
+    rows = []
+    for inc in incidences:
+        def at(method, inc=inc):
+            return [(surface, inc) for (surface, _) in _for(surfaces, method)]
+
+        # (experiment, variable, x, setting, fast renderer's settings)
+        plan = [("shadow_bias", "incidence", inc, f"bias={b:g}", RenderSettings(shadow_bias=b)) for b in biases]
+        plan += [("shadow_map", "shadow_map_size", size, f"i={inc:g}", RenderSettings(shadow_map_size=int(size)))
+                 for size in map_sizes]
+        for experiment, variable, x, setting, s in plan:
+            errors, _, _ = _compare(at("fast"), az, el, lighting,
+                                    lambda surface, i, s=s: _fast_sweep(surface, i, az, el, lighting, s))
+            rows += _rows(experiment, "fast", variable, x, setting, errors)
+        if naive:
+            errors, _, _ = _compare(at("naive"), az, el, lighting,
+                                    lambda surface, i: _naive_sweep(surface, i, az, el, lighting))
+            rows += _rows("shadow_bias", "naive", "incidence", inc, "naive", errors)
+    return pd.DataFrame(rows)
+
+
+def shininess_scan(surfaces=PLAN, shininess=SHININESS, lighting=None, views=None, methods=("fast", "naive")):
+    """Error against the specular exponent (``Lighting(shininess=...)``, 1-128)."""
+    base = (lighting or shading.Lighting()).as_dict()
+    az, el = views if views is not None else _views((45, 90, 120, 150, 165), (0, 30))
+    az, el = np.asarray(az, float), np.asarray(el, float)
+    rows = []
+    for z in shininess:
+        lighting = shading.Lighting(**{**base, "shininess": float(z)})
+        for method in methods:
+            errors, _, _ = _compare(_for(surfaces, method), az, el, lighting,
+                                    lambda surface, i, method=method, az=az, el=el, lighting=lighting:
+                measure_sweep(method, surface, i, az, el, lighting))
+            rows += _rows("shininess", method, "shininess", z, "", errors)
+    return pd.DataFrame(rows)
+
+
+def normals_scan(surfaces=NORMALS_SURFACES, models=SHADINGS, lighting=None, views=None):
+    """Shading on faceted geometry: true face normals against averaged vertex normals.
+
+    The naive method with each ``shading_model`` (``flat``: the study's true
+    face normals; ``gouraud``: lighting at the vertices with averaged normals,
+    interpolated; ``phong``: averaged normals interpolated, lighting per
+    pixel), experiment ``normals``, ``x`` the model's index in ``models``,
+    ``setting`` its name. Per component: ``mae``/``max_error`` against the
+    reference; ``mae_vs_flat`` against the same renderer with flat normals
+    (what the averaged normals alone change, the sampling error taken out);
+    ``highlight_ratio`` (component ``specular``): the brightest specular view
+    over the reference's, averaged over surfaces (below 1: highlights missed,
+    Gouraud's failure in the shading notes).
+
+    Views default to elevations 10..170 by 10 at azimuths 0, 45 and 90.
+    """
+    lighting = lighting or shading.Lighting()
+    az, el = views if views is not None else _views(np.arange(10.0, 171.0, 10.0), (0, 45, 90))
+    az, el = np.asarray(az, float), np.asarray(el, float)
+    rows, flat = [], None
+    for k, model in enumerate(models):
+        errors, _, outputs = _compare(
+            surfaces, az, el, lighting,
+            lambda surface, i, model=model: _naive_sweep(surface, i, az, el, lighting, shading_model=model))
+        if model == "flat":
+            flat = outputs
+        per = {}
+        if flat is not None:
+            per["mae_vs_flat"] = {c: np.mean(np.concatenate([np.abs(o[c] - f[c]) for o, f in zip(outputs, flat)]))
+                                  for c in COMPONENTS}
+        ratios = []
+        for lit_surface, out in zip(surfaces, outputs):
+            peak = float(np.max(_truth(lit_surface, az, el, lighting)["specular"]))
+            if peak > 0.5:
+                ratios.append(float(np.max(out["specular"])) / peak)
+        per["highlight_ratio"] = {"specular": np.mean(ratios) if ratios else np.nan}
+        rows += _rows("normals", "naive", "shading", k, model, errors, per_component=per)
+    return pd.DataFrame(rows)
+
+
+def normals_pictures(surface=NORMALS_SURFACES[1][0], incidence=30.0, elevation=60.0, azimuth=20.0, models=SHADINGS,
+                     lighting=None, size=(240, 180), periods=3):
+    """Pictures of one surface under each shading model ({model: (H, W, 3) uint8}, total)."""
+    return {m: _render_picture(surface, incidence, elevation, azimuth, lighting, size=size, periods=periods,
+                                    shading_model=m) for m in models}
+
+
+def _lobes(elevation, values, split=90.0):
+    """(peak elevation, centre elevation, peak value) of the back (e < split) and forward lobes."""
+    out = {}
+    for name, mask in (("back", elevation < split), ("forward", elevation > split)):
+        e, v = elevation[mask], values[mask]
+        w = np.clip(v - v.min(), 0.0, None)
+        centre = float((w * e).sum() / w.sum()) if w.sum() > 0 else float("nan")
+        out[name] = (float(e[np.argmax(v)]), centre, float(v.max()))
+    return out
+
+
+def clipping_scan(surfaces=((PLATE, 30.0),) + SURFACES, lights=(127.0, 255.0),
+                   elevation_step=2.0, lighting=None):
+    """Where clipping at 255 bends the lobes (thesis Fig. 17): source 127 against 255.
+
+    Views in the light's plane (azimuth 0, elevation 1..179). A view's total
+    counts as clipped when its 8-bit mean (clamped per facet, the
+    framebuffer) falls more than 0.5 below the unclamped mean. Lobe peak and
+    centre (intensity-weighted elevation above the lobe's minimum) of the
+    total, back lobe (e < 90) and forward lobe (e > 90); ``setting`` names the
+    surface. Returns also the curves (metric ``curve``: x = elevation, one
+    row per light in ``setting`` "t.._a.._i.. J=..", component ``total``).
+    """
+    base = (lighting or shading.Lighting()).as_dict()
+    el = np.arange(1.0, 179.0 + 1e-9, elevation_step)
+    az = np.zeros_like(el)
+    rows = []
+    for (surface, i) in surfaces:
+        name = f"t{surface.truncation:g}_a{surface.aspect:.3g}_i{i:g}"
+        lobes = {}
+        for light in lights:
+            lighting = shading.Lighting(**{**base, "light": float(light)})
+            q = reference.reference_sweep(surface, i, az, el, lighting, quantized=True)
+            raw = reference.reference_sweep(surface, i, az, el, lighting, quantized=False)
+            clipped = (raw["total"] - q["total"]) > 0.5
+            rows.append(dict(experiment="clipping", method="reference", variable="light", x=light, setting=name,
+                             component="total", metric="clipped_fraction", value=float(clipped.mean())))
+            for e, v in zip(el, q["total"]):
+                rows.append(dict(experiment="clipping", method="reference", variable="elevation", x=float(e),
+                                 setting=f"{name} J={light:g}", component="total", metric="curve", value=float(v)))
+            lobes[light] = _lobes(el, np.asarray(q["total"], float))
+        low, high = lobes[lights[0]], lobes[lights[-1]]
+        scale = lights[-1] / lights[0]
+        for lobe in ("back", "forward"):
+            for metric, value in (("peak_shift", high[lobe][0] - low[lobe][0]),
+                                  ("centre_shift", high[lobe][1] - low[lobe][1]),
+                                  ("peak_ratio", high[lobe][2] / (scale * low[lobe][2]) if low[lobe][2] > 0 else np.nan)):
+                rows.append(dict(experiment="clipping", method="reference", variable="lobe", x=0.0 if lobe == "back" else 1.0,
+                                 setting=f"{name} {lobe}", component="total", metric=metric, value=float(value)))
+    return pd.DataFrame(rows)
+
+
+#: The measurements, by name: each is one job of the workflow's stability rules.
+MEASUREMENTS = {
+    "pixels": pixel_scan,
+    "elevation": elevation_scan,
+    "shadows": shadow_scan,
+    "shininess": shininess_scan,
+    "normals": normals_scan,
+    "clipping": clipping_scan,
+}
+
+
+#: The quick plan's surfaces: the thesis's half and full pyramids (fast) and its half pyramid (naive).
+QUICK_SURFACES = {"fast": SURFACES[1:3], "naive": NAIVE_SURFACES[:1]}
+
+#: Sizes of the measurements, by name (``measurements.plan`` in the config): ``full`` is ``make bench``'s
+#: (every measurement at its defaults above); ``quick`` runs the same code on fewer surfaces, settings and
+#: views, sized for the default workflow's "Where methods fail" section.
+PLANS = {
+    "full": {name: {} for name in MEASUREMENTS},
+    "quick": {
+        "pixels": {"surfaces": QUICK_SURFACES, "fast_pixels": (4, 8, 16, 24, 32), "naive_pixels": (10.0,),
+                   "n_jitter": 2, "naive_jitter_pixels": ()},
+        "elevation": {"surfaces": QUICK_SURFACES, "elevations": (1.0, 5.0, 20.0, 90.0),
+                      "azimuths": {"fast": (0.0, 60.0, 120.0), "naive": (0.0, 90.0)}},
+        "shadows": {"surfaces": QUICK_SURFACES, "incidences": (5.0, 45.0), "biases": (0.0, 1e-4),
+                    "map_sizes": (32, 512)},
+        "shininess": {"surfaces": QUICK_SURFACES, "shininess": (4.0, 64.0)},
+        "normals": {"surfaces": NORMALS_SURFACES[1:2], "views": _views((30.0, 60.0, 90.0, 120.0, 150.0), (0.0, 90.0))},
+        "clipping": {"surfaces": ((PLATE, 30.0),) + SURFACES[1:3], "elevation_step": 4.0},
+    },
+}
+
+
+def plan_surfaces(plan: str = "full") -> dict:
+    """The (Surface, incidence) pairs each method is measured on in a plan: {method: tuple}."""
+    if plan == "quick":
+        return {**QUICK_SURFACES, "normals": NORMALS_SURFACES[1:2]}
+    return {**PLAN, "normals": NORMALS_SURFACES}
+
+
+def run_measurement(name, lighting=None, plan: str = "full") -> pd.DataFrame:
+    """One measurement of :data:`MEASUREMENTS` at the size of ``plan`` (:data:`PLANS`; long frame)."""
+    if name not in MEASUREMENTS:
+        raise ValueError(f"no stability measurement {name!r}: one of {', '.join(MEASUREMENTS)}")
+    if plan not in PLANS:
+        raise ValueError(f"no stability plan {plan!r}: one of {', '.join(PLANS)}")
+    return MEASUREMENTS[name](lighting=lighting, **PLANS[plan][name])
+
+
+def _worst(frame, experiment, method, setting=None):
+    """Worst component MAE per x (sorted) for one experiment and method."""
+    sel = (frame["experiment"] == experiment) & (frame["method"] == method) & (frame["metric"] == "mae")
+    if setting is not None:
+        sel &= frame["setting"] == setting
+    curve = frame[sel].groupby("x")["value"].max().sort_index()
+    return curve
+
+
+def _safe_from(curve, tol=TOLERANCE):
+    """Smallest x from which every larger x is within tolerance (NaN: never)."""
+    ok = (curve <= tol).to_numpy()
+    if len(ok) == 0 or not ok[-1]:
+        return float("nan")
+    k = len(ok) - 1
+    while k > 0 and ok[k - 1]:
+        k -= 1
+    return float(curve.index[k])
+
+
+def _safe_up_to(curve, tol=TOLERANCE):
+    """Largest x up to which every smaller x is within tolerance (NaN: never)."""
+    ok = (curve <= tol).to_numpy()
+    if len(ok) == 0 or not ok[0]:
+        return float("nan")
+    k = 0
+    while k < len(ok) - 1 and ok[k + 1]:
+        k += 1
+    return float(curve.index[k])
+
+
+def safe_domain(frames, tol=TOLERANCE) -> pd.DataFrame:
+    """One row per method: the domain where its worst-component MAE stays <= ``tol`` (0-255).
+
+    Columns (NaN: no tested value is within tolerance, or not measured):
+    ``min_pixels_per_period`` (and ``best_mae_pixels``, the lowest worst-component MAE
+    of that sweep), ``jitter_sd_at_min_pixels`` (0-255), ``min_elevation``
+    (degrees above the horizon, pooled with the mirror view),
+    ``min_incidence`` (degrees; fast at its default bias 1e-4, naive with
+    pyrender's map), ``shadow_bias_ok`` (fast: the biases within tolerance at
+    every tested incidence), ``min_shadow_map_size`` (fast: texels a period,
+    at every tested incidence where the largest map is within tolerance),
+    ``max_shininess``, ``outside_tolerance`` (the tested values, per knob,
+    where the worst-component MAE exceeds ``tol``; fast's incidences at its
+    default bias).
+    """
+    frame = frames if isinstance(frames, pd.DataFrame) else pd.concat(list(frames), ignore_index=True)
+    rows = []
+    for method in ("naive", "fast"):
+        pix = _worst(frame, "pixels", method)
+        p_min = _safe_from(pix, tol)
+        jit = frame[(frame["experiment"] == "pixels") & (frame["method"] == method) & (frame["metric"] == "jitter_sd")]
+        jit = jit.set_index("x")["value"].sort_index()
+        row = {
+            "method": method,
+            "min_pixels_per_period": p_min,
+            "best_mae_pixels": float(pix.min()) if len(pix) else np.nan,
+            "jitter_sd_at_min_pixels": float(jit.get(p_min, np.nan)) if np.isfinite(p_min) else np.nan,
+            "min_elevation": _safe_from(_worst(frame, "elevation", method), tol),
+            "best_mae_elevation": float(_worst(frame, "elevation", method).min()),
+            "min_incidence": _safe_from(_worst(frame, "shadow_bias", method,
+                                               "naive" if method == "naive" else f"bias={RenderSettings().shadow_bias:g}"), tol),
+            "max_shininess": _safe_up_to(_worst(frame, "shininess", method), tol),
+            "best_mae_shininess": float(_worst(frame, "shininess", method).min()),
+        }
+        if method == "fast":
+            sb = frame[(frame["experiment"] == "shadow_bias") & (frame["method"] == "fast") & (frame["metric"] == "mae")]
+            worst = sb.groupby("setting")["value"].max()
+            row["shadow_bias_ok"] = ", ".join(s.split("=")[1] for s in worst.index[worst <= tol]) or "none"
+            sm = frame[(frame["experiment"] == "shadow_map") & (frame["metric"] == "mae")]
+            sm = sm.groupby(["setting", "x"])["value"].max().unstack("x").sort_index(axis=1)
+            # incidences where even the largest map is out of tolerance are not the map's fault
+            sm = sm[sm.iloc[:, -1] <= tol] if sm.shape[1] else sm
+            row["min_shadow_map_size"] = _safe_from(sm.max(axis=0), tol) if len(sm) else np.nan
+            row["shading_ok"] = "flat (true face normals, the only model)"
+        else:
+            row["shadow_bias_ok"] = "fixed (pyrender)"
+            row["min_shadow_map_size"] = np.nan
+            nt = normals_table(frame)
+            if len(nt):
+                worst = nt[[f"mae_vs_flat {c}" for c in COMPONENTS]].max(axis=1)
+                ok = [m for m, v in worst.items() if m != "flat" and v <= tol]
+                row["shading_ok"] = ", ".join(["flat"] + ok)
+            else:
+                row["shading_ok"] = "not measured"
+        fails = []
+        for experiment, label in (("pixels", "ppp"), ("elevation", "elevation"), ("shininess", "shininess")):
+            curve = _worst(frame, experiment, method)
+            bad = [f"{x:g}" for x, v in curve.items() if v > tol]
+            if bad:
+                fails.append(f"{label} {','.join(bad)}")
+        setting = "naive" if method == "naive" else f"bias={RenderSettings().shadow_bias:g}"
+        curve = _worst(frame, "shadow_bias", method, setting)
+        bad = [f"{x:g}" for x, v in curve.items() if v > tol]
+        if bad:
+            fails.append(f"incidence {','.join(bad)}")
+        row["outside_tolerance"] = "; ".join(fails) or "none"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def normals_table(frames) -> pd.DataFrame:
+    """One row per shading model (index): ``mae {component}`` against the reference,
+    ``mae_vs_flat {component}`` against flat normals (0-255) and ``highlight_ratio``."""
+    frame = frames if isinstance(frames, pd.DataFrame) else pd.concat(list(frames), ignore_index=True)
+    d = frame[(frame["experiment"] == "normals") & frame["metric"].isin(["mae", "mae_vs_flat", "highlight_ratio"])]
+    if not len(d):
+        return pd.DataFrame()
+    wide = d.pivot_table(index=["x", "setting"], columns=["metric", "component"], values="value", aggfunc="first")
+    wide.columns = [m if m == "highlight_ratio" else f"{m} {c}" for m, c in wide.columns]
+    wide = wide.reset_index(level="x", drop=True)
+    wide.index.name = "shading"
+    cols = [f"{m} {c}" for m in ("mae", "mae_vs_flat") for c in COMPONENTS] + ["highlight_ratio"]
+    return wide[[c for c in cols if c in wide.columns]]

@@ -1,0 +1,239 @@
+"""OpenGL for the renderers: OSMesa, the parts of pyrender they use, shader programs, contexts.
+
+This is the one module that loads OpenGL. It selects PyOpenGL's OSMesa
+platform (``PYOPENGL_PLATFORM=osmesa``, unless the caller chose another
+before), turns PyOpenGL's bare import errors into one message that says what
+to install, and loads only the parts of pyrender the fast method needs (see
+:func:`import_pyrender_core`). The renderers (:mod:`roughlight.render.periodic`,
+:mod:`roughlight.render.naive`) import it; nothing else does, so measuring with the
+exact reference or analysing a study table never loads OpenGL.
+
+pyrender's program cache keys programs on the GL context object, which OSMesa
+hands back anew on every call (every render would recompile):
+:class:`ShaderCache` keys them on the shader files and defines only.
+"""
+
+from __future__ import annotations
+
+import os
+
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+
+import importlib  # noqa: E402
+import importlib.util  # noqa: E402
+import re  # noqa: E402
+import sys  # noqa: E402
+import types  # noqa: E402
+
+from .osmesa import HELP as _OSMESA_HELP  # noqa: E402
+from .osmesa import OSMesaUnavailable, check_osmesa  # noqa: E402
+
+try:
+    from OpenGL import GL as gl  # noqa: E402
+except (ImportError, AttributeError, OSError) as _exc:  # PyOpenGL's own errors do not say what to do
+    if os.environ.get("PYOPENGL_PLATFORM") == "osmesa":
+        check_osmesa()  # raises OSMesaUnavailable naming the missing or broken library
+    raise OSMesaUnavailable(f"PyOpenGL could not load ({type(_exc).__name__}: {_exc}): {_OSMESA_HELP}") from _exc
+
+
+def import_pyrender_core():
+    """Load the parts of pyrender the fast method uses, without pyrender's package ``__init__``.
+
+    ``import pyrender`` imports its viewer (pyglet), its trimesh-based Mesh and
+    Scene, and through trimesh scipy and networkx: about 1.7 s, paid again by
+    every sweep job (each is a fresh process). The fast method needs only the
+    OSMesa platform, Primitive (vertex buffers with instancing) and the shader
+    programs, whose modules import nothing heavy. When pyrender is not yet
+    imported, an empty package module stands in for its ``__init__`` so that
+    those submodules load alone; :func:`import_pyrender` swaps in the real
+    package whenever the whole of pyrender is needed (the naive method).
+    """
+    if "pyrender" not in sys.modules:
+        spec = importlib.util.find_spec("pyrender")
+        if spec is None or not spec.submodule_search_locations:
+            raise ImportError("pyrender is not installed: run `make setup` (pip package pyrender2)")
+        package = types.ModuleType("pyrender")
+        package.__path__ = list(spec.submodule_search_locations)
+        package.__spec__ = spec
+        package.__file__ = spec.origin
+        package._roughlight_core_only = True
+        sys.modules["pyrender"] = package
+    for name in ("constants", "primitive", "shader_program", "platforms.osmesa"):
+        importlib.import_module(f"pyrender.{name}")
+    return sys.modules["pyrender"]
+
+
+def import_pyrender():
+    """The whole pyrender package (Scene, OffscreenRenderer, ...), for the naive method."""
+    module = sys.modules.get("pyrender")
+    if module is not None and getattr(module, "_roughlight_core_only", False):
+        del sys.modules["pyrender"]  # the real __init__ reuses the submodules already loaded
+    return importlib.import_module("pyrender")
+
+
+import_pyrender_core()
+from pyrender.constants import GLTF, SHADOW_TEX_SZ  # noqa: E402
+from pyrender.platforms.osmesa import OSMesaPlatform  # noqa: E402
+from pyrender.primitive import Primitive  # noqa: E402
+from pyrender.shader_program import ShaderProgram  # noqa: E402
+from pyrender.shader_program import ShaderProgramCache as PyrenderShaderCache  # noqa: E402
+
+__all__ = [
+    "gl",
+    "GLTF",
+    "SHADOW_TEX_SZ",
+    "Primitive",
+    "PyrenderShaderCache",
+    "SHADER_DIR",
+    "OSMESA_HELP",
+    "ShaderCache",
+    "set_uniforms",
+    "set_material_uniforms",
+    "Context",
+    "context",
+    "release_contexts",
+    "import_pyrender",
+]
+
+SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
+
+#: What to do when OpenGL cannot start: the one message a sweep job ends with.
+OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software rendering): " + _OSMESA_HELP
+
+
+_INCLUDE = re.compile(r'^#include\s+"([A-Za-z0-9_.]+)"\s*$', re.MULTILINE)
+
+
+class _Program(ShaderProgram):
+    """pyrender's shader program with one more directive: ``#include "file"`` (a file of the same
+    directory, its defines applied as to the includer), so that two stages can share GLSL functions."""
+
+    def _load(self, shader_filename):
+        folder = os.path.dirname(shader_filename)
+        text = ShaderProgram._load(self, shader_filename)
+        return _INCLUDE.sub(lambda match: self._load(os.path.join(folder, match.group(1))), text)
+
+
+class ShaderCache:
+    """pyrender shader programs keyed by shader files and defines, not by GL context.
+
+    Shader files may ``#include "file"`` another file of the shader directory.
+    """
+
+    def __init__(self, shader_dir: str = SHADER_DIR):
+        self.shader_dir = shader_dir
+        self._programs = {}
+
+    def get_program(self, vertex_shader, fragment_shader, defines=None):
+        defines = dict(defines or {})
+        key = (vertex_shader, fragment_shader, tuple(sorted(defines.items())))
+        program = self._programs.get(key)
+        if program is None:
+            program = _Program(
+                vertex_shader=os.path.join(self.shader_dir, vertex_shader),
+                fragment_shader=os.path.join(self.shader_dir, fragment_shader),
+                defines=defines,
+            )
+            program._add_to_context()
+            self._programs[key] = program
+        return program
+
+    def __len__(self):
+        return len(self._programs)
+
+    def clear(self):
+        for program in self._programs.values():
+            program.delete()
+        self._programs = {}
+
+
+def set_uniforms(program, uniforms: dict) -> None:
+    """Set each ``name: value`` of ``uniforms`` on the bound ``program`` (ints as int, floats as float,
+    float32 arrays as vectors or matrices)."""
+    for name, value in uniforms.items():
+        program.set_uniform(name, value)
+
+
+def set_material_uniforms(program, lighting, light_dir) -> None:
+    """The lighting equation's uniforms (:func:`roughlight.render.shading.material_uniforms`) on the bound ``program``."""
+    from .shading import material_uniforms
+
+    set_uniforms(program, material_uniforms(lighting, light_dir))
+
+
+class Context:
+    """One OSMesa context of a fixed framebuffer size, with its programs and shadow target."""
+
+    def __init__(self, width: int, height: int, shadow_map_size: int):
+        self.width, self.height = int(width), int(height)
+        self.platform = OSMesaPlatform(self.width, self.height)
+        try:
+            self.platform.init_context()
+            if not self.platform._context:
+                raise RuntimeError("OSMesaCreateContextAttribs returned no context")
+            self.platform.make_current()
+        except Exception as exc:
+            raise OSMesaUnavailable(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
+        self.programs = ShaderCache()
+        self.shadow_size = int(shadow_map_size)
+        # periodic shadow map: a depth texture, one period of light-oblique coordinates
+        self.shadow_tex = gl.glGenTextures(1)
+        gl.glBindTexture(gl.GL_TEXTURE_2D, self.shadow_tex)
+        gl.glTexImage2D(
+            gl.GL_TEXTURE_2D, 0, gl.GL_DEPTH_COMPONENT24, self.shadow_size, self.shadow_size, 0,
+            gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT, None,
+        )
+        for pname, value in (
+            (gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST),
+            (gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST),
+            (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT),
+            (gl.GL_TEXTURE_WRAP_T, gl.GL_REPEAT),
+            (gl.GL_TEXTURE_COMPARE_MODE, gl.GL_NONE),
+        ):
+            gl.glTexParameteri(gl.GL_TEXTURE_2D, pname, value)
+        self.shadow_fbo = gl.glGenFramebuffers(1)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, self.shadow_fbo)
+        gl.glFramebufferTexture2D(
+            gl.GL_FRAMEBUFFER, gl.GL_DEPTH_ATTACHMENT, gl.GL_TEXTURE_2D, self.shadow_tex, 0
+        )
+        gl.glDrawBuffer(gl.GL_NONE)
+        gl.glReadBuffer(gl.GL_NONE)
+        status = gl.glCheckFramebufferStatus(gl.GL_FRAMEBUFFER)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+        if status != gl.GL_FRAMEBUFFER_COMPLETE:
+            raise RuntimeError(f"shadow framebuffer incomplete (status {status})")
+
+    def delete(self):
+        self.platform.make_current()
+        self.programs.clear()
+        gl.glDeleteFramebuffers(1, [self.shadow_fbo])
+        gl.glDeleteTextures([self.shadow_tex])
+        self.platform.delete_context()
+
+
+#: The fast method's live OSMesa contexts, by (width, height, shadow map size): one at a time.
+CONTEXTS: dict = {}
+
+
+def context(width: int, height: int, shadow_map_size: int) -> Context:
+    """An OSMesa context whose framebuffer holds at least ``width`` x ``height`` pixels, with a shadow map of
+    ``shadow_map_size`` texels a side: the live one when it is large enough (callers draw into their own
+    viewport of it), else a new one as large as both (OSMesa buffers are fixed at creation; one at a time)."""
+    for (w, h, size), ctx in CONTEXTS.items():
+        if size == shadow_map_size and w >= width and h >= height:
+            ctx.platform.make_current()
+            return ctx
+    for (w, h, _), other in list(CONTEXTS.items()):
+        width, height = max(width, w), max(height, h)
+        other.delete()
+    CONTEXTS.clear()
+    ctx = CONTEXTS[(width, height, shadow_map_size)] = Context(width, height, shadow_map_size)
+    ctx.platform.make_current()
+    return ctx
+
+
+def release_contexts() -> None:
+    """Delete the fast method's OSMesa contexts (before the naive method makes its own: one at a time)."""
+    for ctx in list(CONTEXTS.values()):
+        ctx.delete()
+    CONTEXTS.clear()

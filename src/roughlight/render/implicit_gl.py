@@ -1,0 +1,220 @@
+"""The implicit rough surface on OpenGL: one quad, ``shaders/implicit.frag``, pyrender over OSMesa.
+
+Two uses:
+
+* :func:`implicit_sweep`: a sweep (one surface from many views) with the
+  exact form or the first-order correction (``render.method``
+  ``implicit_exact`` / ``implicit_correction``). The quad covers the
+  framebuffer; each view owns ``M`` consecutive pixels (``M`` a Fibonacci
+  number), pixel ``k`` of a view being point ``k`` of the Fibonacci lattice
+  over one period (:func:`roughlight.render.implicit.fibonacci_lattice`). The view's
+  value is the mean of its pixels' 8-bit values.
+* :func:`render_field`: a picture of an ``N x N`` field of periods as a
+  real-time scene would draw it: one quad through an orthographic camera
+  (used by the speed benchmark, :mod:`roughlight.measurements.implicit_surface`).
+
+The numpy forms of both models are in :mod:`roughlight.render.implicit`.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..surfaces.surface import Surface
+from . import shading
+from . import views as sweeps
+from .gl import GLTF, Primitive, context, gl, set_uniforms
+from .implicit import shader_uniforms
+
+__all__ = ["implicit_sweep", "render_field", "scene_defines", "shader_sources", "FRAMEBUFFER_WIDTH"]
+
+#: Width of the sweep's framebuffer, pixels.
+FRAMEBUFFER_WIDTH = 2048
+#: Most framebuffer rows of one pass.
+MAX_ROWS = 2048
+
+
+def _quad(z: float = 0.0, size: float = 1.0, ndc: bool = False):
+    lo, hi = (-1.0, 1.0) if ndc else (0.0, size)
+    corners = np.array([[lo, lo, z], [hi, lo, z], [hi, hi, z], [lo, lo, z], [hi, hi, z], [lo, hi, z]], np.float32)
+    return Primitive(positions=corners, mode=GLTF.TRIANGLES)
+
+
+def _draw_quad(primitive) -> None:
+    primitive._add_to_context()
+    try:
+        primitive._bind()
+        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+        primitive._unbind()
+    finally:
+        primitive.delete()
+
+
+def _begin(width: int, height: int) -> None:
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+    gl.glViewport(0, 0, width, height)
+    gl.glDisable(gl.GL_DEPTH_TEST)
+    gl.glDisable(gl.GL_CULL_FACE)
+    gl.glDisable(gl.GL_BLEND)
+    for plane in range(4):
+        gl.glDisable(gl.GL_CLIP_DISTANCE0 + plane)
+    gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+    gl.glClear(gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+
+
+def _views_texture(views: np.ndarray, width: int) -> int:
+    rows = -(-len(views) // width)
+    data = np.zeros((rows * width, 4), np.float32)
+    data[: len(views), :3] = views
+    tex = gl.glGenTextures(1)
+    gl.glActiveTexture(gl.GL_TEXTURE0)
+    gl.glBindTexture(gl.GL_TEXTURE_2D, tex)
+    gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA32F, width, rows, 0, gl.GL_RGBA, gl.GL_FLOAT, data)
+    gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST)
+    gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST)
+    return tex
+
+
+def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, lighting=None,
+                   samples: int | None = None) -> dict:
+    """Render one sweep through the implicit shader on one quad.
+
+    Parameters
+    ----------
+    model : str
+        ``"exact"`` or ``"correction"`` (:data:`roughlight.render.implicit.MODELS`).
+    surface : Surface
+    incidence : float
+        Light elevation, degrees in [0, 90] (light at azimuth 0).
+    azimuth, elevation : (n_views,) arrays, degrees
+    lighting : Lighting, optional
+    samples : int, optional
+        Pixels a view, a Fibonacci number (default
+        :func:`roughlight.render.implicit.model_samples`).
+
+    Returns
+    -------
+    dict as :func:`roughlight.render.periodic.fast_sweep`: ``diffuse``, ``specular``,
+    ``total``, ``coverage`` (n_views,) and ``seconds``.
+    """
+    start = time.perf_counter()
+    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)  # checks every input
+    samples = uniforms["samples"]
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    if azimuth.shape != elevation.shape:
+        raise ValueError("azimuth and elevation must have the same shape")
+    out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
+    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
+    if todo.size:
+        width = FRAMEBUFFER_WIDTH
+        per_pass = (width * MAX_ROWS) // samples
+        rows = -(-min(per_pass, todo.size) * samples // width)
+        ctx = context(width, rows, 1)
+        program = ctx.programs.get_program("implicit.vert", "implicit.frag")
+        views = shading.view_direction(elevation[todo], azimuth[todo])
+        for first in range(0, todo.size, per_pass):
+            idx = np.arange(first, min(first + per_pass, todo.size))
+            _begin(width, rows)
+            program._bind()
+            set_uniforms(program, uniforms)
+            program.set_uniform("camera", np.eye(4, dtype=np.float32))
+            program.set_uniform("field_size", 0.0)
+            program.set_uniform("fb_width", width)
+            program.set_uniform("n_views", int(idx.size))
+            views_width = min(idx.size, 4096)
+            program.set_uniform("views_width", views_width)
+            tex = _views_texture(views[idx], views_width)
+            program.set_uniform("views", 0)
+            _draw_quad(_quad(ndc=True))
+            program._unbind()
+            gl.glFinish()
+            gl.glDeleteTextures([tex])
+            raw = gl.glReadPixels(0, 0, width, rows, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+            image = np.frombuffer(raw, np.uint8).reshape(-1, 4)[: idx.size * samples]
+            means = image.reshape(idx.size, samples, 4).mean(axis=1, dtype=np.float64)
+            target = todo[idx]
+            for channel, name in enumerate(("diffuse", "specular", "total")):
+                out[name][target] = means[:, channel]
+            out["coverage"][target] = means[:, 3] / 255.0
+    out["seconds"] = time.perf_counter() - start
+    return out
+
+
+def field_camera(view, field_size: float, span: float) -> np.ndarray:
+    """World -> clip matrix of an orthographic camera looking along ``-view`` at the field's centre.
+
+    ``span`` periods of the field's centre fill the picture across; the
+    picture's up is the direction of increasing elevation.
+    """
+    v = np.asarray(view, float)
+    up = np.array([0.0, 0.0, 1.0]) - v[2] * v
+    if np.linalg.norm(up) < 1e-9:
+        up = np.array([-1.0, 0.0, 0.0])
+    up /= np.linalg.norm(up)
+    right = np.cross(up, v)
+    centre = np.array([field_size / 2.0, field_size / 2.0, 0.0])
+    half = span / 2.0
+    m = np.eye(4)
+    m[0, :3], m[1, :3], m[2, :3] = right / half, up / half, -v / (4.0 * field_size + 4.0)
+    m[:3, 3] = -m[:3, :3] @ centre
+    return m
+
+
+def scene_defines(model: str) -> dict:
+    """Defines of the implicit shader drawing a scene with ``model``: the correction sees the whole field
+    along one view under one light, so its shares and values are computed once a vertex and a pixel only
+    picks one (``SCENE_CORRECTION``, implicit.vert); the exact form casts its rays a pixel, as in a sweep."""
+    return {"SCENE_CORRECTION": 1} if model == "correction" else {}
+
+
+def shader_sources(model: str) -> tuple[str, str]:
+    """The implicit shader's vertex and fragment sources for a scene drawn with ``model``, self-contained:
+    ``#include`` expanded and the model's defines applied, ready for any OpenGL 3.3 program to compile.
+    Set the uniforms :func:`roughlight.render.implicit.shader_uniforms` gives, plus ``camera`` (world -> clip),
+    ``field_size`` (N), ``scene_view`` (unit vector toward the detector) and ``fb_width`` (pixels), and draw
+    one quad over ``[0, N]^2`` of the plane ``z = 0`` (:func:`render_field`)."""
+    from .gl import SHADER_DIR, _Program
+
+    program = _Program.__new__(_Program)  # only its source loader: no GL context is needed
+    program.defines = scene_defines(model)
+    return tuple(program._load(f"{SHADER_DIR}/implicit.{stage}") for stage in ("vert", "frag"))
+
+
+def render_field(model: str, surface: Surface, incidence, elevation, azimuth, field_size: int,
+                 size: int = 512, span: float | None = None, lighting=None, samples: int = 46368):
+    """One picture of an ``N x N`` field drawn as one implicit quad.
+
+    Returns
+    -------
+    image : (size, size, 4) uint8 array (r diffuse, g specular, b total, a coverage)
+    seconds : float, the frame's time (draw and read back)
+    """
+    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
+    span = float(field_size) / 2.0 if span is None else float(span)
+    view = shading.view_direction(float(elevation), float(azimuth))
+    ctx = context(size, size, 1)
+    program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines(model))
+    quad = _quad(size=float(field_size))  # uploaded before the frame's timer: a real-time scene keeps its buffers
+    quad._add_to_context()
+    try:
+        start = time.perf_counter()
+        _begin(size, size)
+        program._bind()
+        set_uniforms(program, uniforms)
+        program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
+        program.set_uniform("field_size", float(field_size))
+        program.set_uniform("scene_view", np.asarray(view, np.float32))
+        program.set_uniform("fb_width", size)
+        quad._bind()
+        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+        quad._unbind()
+        program._unbind()
+        gl.glFinish()
+        raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+        seconds = time.perf_counter() - start
+    finally:
+        quad.delete()
+    return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds

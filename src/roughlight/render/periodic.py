@@ -1,0 +1,345 @@
+"""The fast method: every view of a sweep in one framebuffer, one period per view (pyrender over OSMesa).
+
+A sweep is one surface under one directional light seen from many views. The
+renderer draws *every view of a sweep in one framebuffer*, one small tile per
+view, with one instanced draw call:
+
+* Each view's tile shows exactly one period of the projected image of the
+  infinite periodic surface. The projection is the oblique parallel projection
+  along the view direction onto the base plane (``shaders/periodic.vert``): it
+  is an orthographic camera whose image plane is sheared onto the surface's
+  lattice, so the pixels of a tile sample one period uniformly and the tile
+  mean is the mean over the infinite surface: no background, no patch edge,
+  no moire between the surface period and the pixel grid. ``coverage`` is
+  the fraction of the tile's pixels that show the surface (1 for every view
+  but the grazing ones, ``e`` = 0 or 180, which see no area and are 0).
+  How the tile samples the period is :mod:`roughlight.render.sampling`.
+* The scene holds only what the measurement needs: one period (at most 10
+  triangles), instanced at the lattice copies whose projection reaches the
+  tile (more copies only near grazing views of tall surfaces).
+* The light does not move during a sweep, so the shadow map is drawn once per
+  sweep. It is periodic too: one period of light-oblique coordinates,
+  sampled with wrap-around, storing the height of the first surface along
+  each light ray; a fragment compares its own facet's height at the texel
+  centre (receiver-plane depth), so a facet never shadows itself.
+* The lighting equation (:mod:`roughlight.render.shading`) is evaluated per fragment
+  in ``shaders/periodic.frag``; diffuse, specular and total go to the r, g and
+  b channels of one pass and are each stored as 8-bit values.
+
+pyrender provides the OSMesa context, the vertex buffers with instancing and
+the shader programs (:mod:`roughlight.render.gl`); its stock shader
+(metallic-roughness PBR with gamma) is not the study's equation and is not used.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..surfaces import geometry
+from ..surfaces.surface import Surface
+from . import shading, shares
+from . import views as sweeps
+from .gl import GLTF, Context, Primitive, context, gl, set_material_uniforms
+from .sampling import RenderSettings, lattice_copies, tile_layout
+
+#: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
+#: texcoord_0 = the facet's index, then the instance matrix).
+ATTRIBUTES = {"NORMAL_LOC": 1, "FACET_LOC": 2, "INST_M_LOC": 3}
+
+
+def _primitive(surface: Surface, poses: np.ndarray):
+    tris, normals, names = geometry.period_triangles(surface)
+    order = list(dict.fromkeys(names))  # facets in facet_polygons' order, as the reference numbers them
+    facet = np.array([order.index(name) for name in names], np.float32)
+    return Primitive(
+        positions=tris.reshape(-1, 3).astype(np.float32),
+        normals=np.repeat(normals, 3, axis=0).astype(np.float32),
+        texcoord_0=np.repeat(np.stack([facet, np.zeros_like(facet)], axis=1), 3, axis=0),
+        mode=GLTF.TRIANGLES,
+        poses=poses,
+    )
+
+
+def _draw(ctx: Context, primitive, program):
+    primitive._add_to_context()
+    try:
+        primitive._bind()
+        gl.glDrawArraysInstanced(gl.GL_TRIANGLES, 0, len(primitive.positions), len(primitive.poses))
+        primitive._unbind()
+    finally:
+        primitive.delete()
+
+
+def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
+    """Instance matrices (see ``shaders/periodic.vert``), one per copy.
+
+    ``shear``, ``view`` and ``tile`` (the slot's integer cell offset) are per
+    copy ((m, 2), (m, 3), (m, 2)) or broadcast from one view.
+    """
+    n = len(copies)
+    poses = np.zeros((n, 4, 4), np.float32)
+    poses[:, 0, 0] = copies[:, 0]
+    poses[:, 1, 0] = copies[:, 1]
+    poses[:, 0, 1] = shear[..., 0]
+    poses[:, 1, 1] = shear[..., 1]
+    poses[:, 0:3, 2] = view
+    poses[:, 0:2, 3] = tile
+    return poses
+
+
+def _begin_pass(framebuffer, width: int, height: int, clear_bits) -> None:
+    """Bind a framebuffer and set the state both passes draw with: depth test
+    keeping the highest surface, back faces culled, copies clipped to their tile."""
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, framebuffer)
+    gl.glViewport(0, 0, width, height)
+    gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+    gl.glClearDepth(1.0)
+    gl.glEnable(gl.GL_DEPTH_TEST)
+    gl.glDepthMask(gl.GL_TRUE)
+    gl.glDepthFunc(gl.GL_LESS)
+    gl.glDisable(gl.GL_BLEND)
+    gl.glEnable(gl.GL_CULL_FACE)
+    gl.glCullFace(gl.GL_BACK)
+    gl.glFrontFace(gl.GL_CCW)
+    for plane in range(4):
+        gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
+    # clear only the viewport: the context's framebuffer may be larger
+    gl.glEnable(gl.GL_SCISSOR_TEST)
+    gl.glScissor(0, 0, width, height)
+    gl.glClear(clear_bits)
+    gl.glDisable(gl.GL_SCISSOR_TEST)
+
+
+def _shadow_pass(ctx: Context, surface: Surface, light_dir, depth_scale):
+    height = surface.height
+    shear = light_dir[:2] / light_dir[2]
+    _, copies = lattice_copies(height * shear[None, :])
+    poses = _copy_poses(copies, shear, light_dir, np.zeros(2))
+    _begin_pass(ctx.shadow_fbo, ctx.shadow_size, ctx.shadow_size, gl.GL_DEPTH_BUFFER_BIT)
+    primitive = _primitive(surface, poses)
+    program = ctx.programs.get_program("periodic.vert", "periodic_depth.frag", defines=ATTRIBUTES)
+    program._bind()
+    program.set_uniform("depth_scale", float(depth_scale))
+    program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
+    program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
+    program.set_uniform("surface_shift", np.zeros(2, np.float32))
+    _draw(ctx, primitive, program)
+    program._unbind()
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+
+
+_LAYOUTS: dict = {}
+
+
+def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    """:func:`roughlight.render.sampling.tile_layout` for at least ``n_views``: the count is rounded up to a step of
+    2^(1/4) (at most 19% spare slots), so that sweeps drawing slightly different numbers of views with one
+    lattice (adaptive sampling) share a layout; the caller uses the first slots."""
+    n_views = int(math.ceil(2.0 ** (math.ceil(4.0 * math.log2(max(int(n_views), 1))) / 4.0)))
+    key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
+    if key not in _LAYOUTS:
+        if len(_LAYOUTS) >= 64:
+            _LAYOUTS.clear()
+        _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
+    return _LAYOUTS[key]
+
+
+def fast_sweep(
+    surface: Surface,
+    incidence: float,
+    azimuth,
+    elevation,
+    lighting: shading.Lighting | None = None,
+    settings: RenderSettings | None = None,
+) -> dict:
+    """Render one sweep with the ``fast`` method (pyrender over OSMesa).
+
+    Parameters
+    ----------
+    surface : Surface or RandomSurface
+        The surface (see :mod:`roughlight.surfaces.surface`), or a random tile
+        (:mod:`roughlight.surfaces.roughness`) drawn as one period.
+    incidence : float
+        Light elevation above the surface plane, degrees in [0, 90]; the light
+        comes from azimuth 0.
+    azimuth, elevation : (n_views,) arrays
+        Views, degrees: azimuth in [0, 180), elevation in [0, 180].
+    lighting : Lighting
+    settings : RenderSettings
+        A random tile is drawn with its tile settings
+        (:meth:`RenderSettings.tile_settings`), densities per cell: a tile of
+        ``cells`` a side is sampled at ``cells`` times them
+        (:meth:`RenderSettings.for_tile`).
+
+    Returns
+    -------
+    dict
+        ``diffuse``, ``specular``, ``total``: (n_views,) means of the 8-bit
+        pixel values of the view's tile (0-255); ``coverage``: (n_views,)
+        fraction of the tile's pixels showing the surface; ``seconds``: wall
+        time of the sweep.
+    """
+    start = time.perf_counter()
+    lighting = lighting or shading.Lighting()
+    settings = settings or RenderSettings()
+    if hasattr(surface, "cells"):  # a random tile
+        settings = settings.tile_settings().for_tile(surface.cells)
+    incidence = shading.check_incidence(incidence)
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    if azimuth.shape != elevation.shape:
+        raise ValueError("azimuth and elevation must have the same shape")
+    n = azimuth.size
+    out = {key: np.zeros(n) for key in ("diffuse", "specular", "total", "coverage")}
+    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
+    if todo.size == 0:
+        out["seconds"] = time.perf_counter() - start
+        return out
+
+    views = shading.view_direction(elevation[todo], azimuth[todo])
+    shears = views[:, :2] / views[:, 2:3]
+    light_dir = shading.light_direction(incidence)
+    adaptive = settings.sampling == "adaptive"
+    regions = None
+    if adaptive:
+        regions = shares.facet_regions(surface, incidence, lighting.shadows)
+        if len(regions.normals) > shares.MAX_FACETS:
+            raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
+                             f"this surface has {len(regions.normals)}; use lattice")
+        # where every facet faces the view nothing is hidden: each region's share is its exact area, unrendered
+        whole = shares.all_facing(regions, shears)
+        _exact_values(out, todo[whole], regions, shears[whole], views[whole], light_dir, lighting)
+        todo, views, shears = todo[~whole], views[~whole], shears[~whole]
+        if todo.size == 0:
+            out["seconds"] = time.perf_counter() - start
+            return out
+        matrices = shares.candidate_lattices(int(settings.pixels_per_period))
+        shifts = [_surface_shift(m, settings.jitter) for m in matrices]
+        values = shares.region_values(regions, light_dir, views, lighting)
+        order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
+        # where even the best lattice may be off by the threshold, draw the next best too and average them all
+        many = score >= float(settings.average_lattices_above)
+        groups = [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
+    else:
+        groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int),
+                                 np.zeros(todo.size, bool))]
+    groups = [g for g in groups if g[1].size]
+    layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
+    ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
+    height = surface.height
+    depth_scale = 1.0 / max(height * 1.001, 1e-6)
+
+    shadow_mode = 0
+    if lighting.shadows and height > 0:
+        if light_dir[2] < 1e-9:
+            shadow_mode = 2
+        else:
+            shadow_mode = 1
+            _shadow_pass(ctx, surface, light_dir, depth_scale)
+
+    defines = {**ATTRIBUTES, "FACET_IDS": 1} if adaptive else ATTRIBUTES
+    program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
+    for (matrix, members, weights), (width, height_px, slots, pixel_order) in zip(groups, layouts):
+        per_tile = len(pixel_order) // len(slots)
+        shift_m = _surface_shift(matrix, settings.jitter)
+        for first in range(0, members.size, len(slots)):
+            idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
+            owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
+            # nearest the detector first, so that the depth test rejects the copies behind before shading them
+            nearest = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
+            owner, copies = owner[nearest], copies[nearest]
+            copy_idx = idx[owner]
+            poses = _copy_poses(copies, shears[copy_idx], views[copy_idx], slots[: idx.size][owner])
+            _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+            program._bind()
+            _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
+            program.set_uniform("sampling", matrix.astype(np.float32))
+            program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
+            program.set_uniform("surface_shift", shift_m.astype(np.float32))
+            gl.glActiveTexture(gl.GL_TEXTURE0)
+            gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
+            program.set_uniform("shadow_map", 0)
+            _draw(ctx, _primitive(surface, poses), program)
+            program._unbind()
+            gl.glFinish()
+
+            raw = gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+            tiles_px = _tile_pixels(raw, pixel_order[: idx.size * per_tile], idx.size)
+            target = todo[idx]
+            if adaptive:
+                ids = tiles_px[..., 0].astype(np.int64) + 256 * tiles_px[..., 1].astype(np.int64)
+                _adaptive_values(out, target, weight, ids, regions, shears[idx], views[idx], matrix, shift_m,
+                                 light_dir, lighting)
+                continue
+            # integer sums (exact) over the tile's pixel count: the same float64 means as numpy's mean, faster
+            means = tiles_px.sum(axis=1, dtype=np.uint32) / float(per_tile)
+            out["diffuse"][target] = means[:, 0]
+            out["specular"][target] = means[:, 1]
+            out["total"][target] = means[:, 2]
+            out["coverage"][target] = means[:, 3] / 255.0
+    out["seconds"] = time.perf_counter() - start
+    return out
+
+
+def _lattice_group(k, matrix, order, many):
+    """Lattice ``k``'s pass: (matrix, the views it draws, each one's weight in its value).
+
+    ``order`` (K, V): each view's best lattices, best first; ``many`` (V,) bool: the views drawn on all K, each
+    with weight 1 / K; the others are drawn on their best alone, with weight 1.
+    """
+    drawn = (order[0] == k) | (many & np.any(order[1:] == k, axis=0))
+    members = np.flatnonzero(drawn)
+    return matrix, members, np.where(many[members], 1.0 / len(order), 1.0)
+
+
+def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:
+    """(2,) the surface's shift in periods that a camera shift by ``jitter`` pixels is, drawn with ``matrix``."""
+    return -np.linalg.solve(np.asarray(matrix, float), np.asarray(jitter, float))
+
+
+def _tile_pixels(raw: bytes, pixel_order: np.ndarray, n_tiles: int) -> np.ndarray:
+    """(n_tiles, pixels a tile, 4) uint8: each tile's RGBA pixels out of the framebuffer's bytes, gathered as
+    one 32-bit word a pixel (a third faster than gathering rows of four bytes)."""
+    words = np.frombuffer(raw, np.uint32).take(pixel_order)
+    return words.view(np.uint8).reshape(n_tiles, -1, 4)
+
+
+def _adaptive_values(out, target, weight, ids, regions, shear, views, matrix, shift, light_dir, lighting) -> None:
+    """Add to ``out`` at ``target``, times ``weight``, the values from the tiles' (facet, lit) identities (``ids``
+    = 2 facet + lit + 1): each facet's shares by :func:`roughlight.render.shares.ratio_shares`, weighted by its 8-bit
+    values as the framebuffer stores them (:func:`roughlight.render.shading.facet_sum`)."""
+    n, width = len(ids), 2 * len(regions.normals) + 2
+    histogram = np.bincount((np.arange(n)[:, None] * width + ids).ravel(), minlength=n * width).reshape(n, width)
+    pixel_counts = histogram[:, 2 * regions.facet + regions.lit.astype(int) + 1]
+    lit, shadow = shares.ratio_shares(pixel_counts, regions, shear, matrix, shift)
+    _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting,
+                     1.0 - histogram[:, 0] / ids.shape[1])
+
+
+def _exact_values(out, target, regions, shear, views, light_dir, lighting) -> None:
+    """Add to ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
+    (:func:`roughlight.render.shares.area_shares`) weighted by its 8-bit values (:func:`roughlight.render.shading.facet_sum`)."""
+    lit, shadow = shares.area_shares(regions, shear)
+    _add_from_shares(out, target, 1.0, regions, views, lit, shadow, light_dir, lighting, 1.0)
+
+
+def _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting, coverage) -> None:
+    """Add at ``target`` (no repeats), times ``weight``, each component's facet sum of the (V, F) ``lit`` and
+    ``shadow`` shares, and ``coverage``."""
+    values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
+    for component in shading.COMPONENTS:
+        out[component][target] += weight * values[component]
+    out["coverage"][target] += weight * coverage
+
+
+def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):
+    set_material_uniforms(program, lighting, light_dir)
+    program.set_uniform("shadow_mode", int(shadow_mode))
+    program.set_uniform("shadow_size", int(ctx.shadow_size))
+    lz = max(float(light_dir[2]), 1e-12)
+    program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
+    program.set_uniform("depth_scale", float(depth_scale))
+    program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))

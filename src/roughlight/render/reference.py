@@ -1,0 +1,600 @@
+"""Exact reference values of a sweep, by polygon clipping (no sampling, no GPU).
+
+What is measured
+----------------
+For one surface (``truncation``, ``aspect``; see :mod:`roughlight.surfaces.geometry`),
+one directional light and many views, the value of a view is the mean, over
+the projected image of the *infinite* periodic surface seen by an
+orthographic detector looking along ``-V``, of the per-pixel value of each
+component (diffuse, specular, total) of the lighting equation
+(:mod:`roughlight.render.shading`). The light is directional and the detector
+orthographic, so every flat facet has one value where it is lit and the
+ambient-only value where it is shadowed, and
+
+    value = sum over facets f of  q(f, lit) * A_lit(f) + q(f, shadow) * A_shadow(f)
+
+with ``A_lit`` / ``A_shadow`` the visible-and-lit / visible-and-shadowed
+areas of facet ``f`` in the view's oblique base-plane coordinates (below)
+and ``q`` the 8-bit value ``quantize(component)`` (``quantized=True``, what
+an 8-bit framebuffer stores) or the raw float.
+
+Oblique coordinates
+-------------------
+Every view ray (direction ``-V``, ``0 < e < 180``) crosses ``z = 0`` once;
+the world point ``p`` maps to ``(s, u) = (p.x - p.z Vx/Vz, p.y - p.z Vy/Vz)``.
+Up to a constant area factor the projected image *is* the ``(s, u)`` plane,
+periodic with the unit lattice, so the image mean is the mean over one unit
+cell: the visible parts of the facets of one period (all lattice copies
+counted mod 1) tile it and their areas sum to exactly 1 (checked to 1e-9 on
+every view: a clipping bug raises). Along a view ray the surface point seen
+is the one with the largest ``z``. The projections of two facets overlap in a
+convex region on which one of them is in front throughout (facets meet only
+at edges), so the visible region of a facet is its projection minus the
+union of the projections, on that overlap, of the facet copies in front of it
+(depth compared at the overlap's centroid). Only facets facing the detector
+(``N.V > 0``) can be seen or need to be considered as occluders: any ray
+that meets a back-facing facet has entered the solid through a front-facing
+facet higher up.
+
+Shadows are the same construction along the light, in light-oblique
+coordinates ``(a, b) = (p.x - p.z Lx/Lz, p.y)``: the lit part of a facet is
+the part seen "by the light". It depends only on the light, so it is computed
+once per sweep and stored as a region of the facet's plan footprint (its
+``(x, y)`` projection); each view maps it through the facet's plane into
+``(s, u)`` (an affine map) and intersects it with the facet's visible region.
+
+Conventions shared with the renderer (:mod:`roughlight.render.periodic`)
+------------------------------------------------------------------
+* Grazing views, ``e`` = 0 or 180 (``sweeps.is_grazing`` or
+  ``|sin e| < 1e-9``): the detector sees no area; every component and the
+  coverage are 0.
+* ``lighting.shadows`` true and the light in the plane (``Lz < 1e-9``, i.e.
+  incidence 0) on a non-flat surface: every point is shadowed (ambient only).
+  The plate casts no shadow; its ``N.L`` is then 0 and it is ambient-only
+  anyway.
+* ``lighting.shadows`` false: every point is lit; ``facet_components``
+  applies ``N.L > 0``.
+* A facet with ``N.L <= 0`` is wholly shadowed; so is a facet edge-on to the
+  light to floating point (``|N.L| * |n| / (|n_z| L_z) < 1e-12``, the
+  area ratio of its light projection): no light reaches it.
+* The plate (``t = 0`` or ``aspect = 0``) is one facet, visible everywhere.
+
+Accuracy
+--------
+Exact up to floating point: areas come from GEOS's overlay in double
+precision; overlaps smaller than 1e-13 (in units of the period squared;
+floating-point slivers along shared edges) are ignored. The resulting error
+of a component is below :data:`REFERENCE_ERROR` (0-255 scale), far below one
+8-bit step. Note that a renderer computing the same equation in single
+precision may round a facet's value to the other 8-bit integer when the
+exact value lies within ~1e-5 of a half-integer; that is a property of the
+renderer, not an error of the reference.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+import shapely.errors
+from shapely import affinity
+
+from ..surfaces.geometry import facet_polygons, period_triangles
+from ..surfaces.surface import Surface
+from . import views as sweeps
+from .shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
+
+__all__ = [
+    "REFERENCE_ERROR",
+    "AREA_TOLERANCE",
+    "reference_sweep",
+    "reference_views",
+    "visible_lit_areas",
+    "lit_footprints",
+    "is_grazing_view",
+]
+
+#: Bound on |reference - exact value| of each component, on the 0-255 scale,
+#: from floating-point area arithmetic (the method itself is exact). Per view
+#: the visible areas sum to 1 within :data:`AREA_TOLERANCE`; values are at
+#: most 255 per unit area; 255 * 1e-9 < 1e-6.
+REFERENCE_ERROR = 1e-6
+
+#: The visible areas of a view must sum to 1 within this (else RuntimeError).
+AREA_TOLERANCE = 1e-9
+
+#: Snap-rounding grid (periods) of the robust fallback: when an overlay in double precision
+#: fails (GEOS's topology errors, or areas not summing to 1, seen on random tiles whose thin
+#: facets project to near-collinear slivers), the view is recomputed with every overlay
+#: snap-rounded to this grid (GEOS OverlayNG, robust by construction). Moving vertices by at
+#: most this changes an area by about its perimeter times it.
+SNAP_GRID = 1e-10
+#: The visible areas of a snap-rounded view must sum to 1 within this.
+SNAPPED_AREA_TOLERANCE = 1e-7
+
+#: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
+_MIN_OVERLAP = 1e-13
+#: Facets whose projection has a smaller area ratio are edge-on: not seen / not lit.
+_EDGE_ON = 1e-12
+#: Light grazing the plane (matches the renderer's ``light_dir[2] < 1e-9``).
+_GRAZING_LIGHT = 1e-9
+#: Views with |sin e| below this are grazing.
+_GRAZING_SIN = 1e-9
+#: Refuse views that would need more lattice copies than this (near grazing).
+_MAX_COPIES = 200_000
+
+
+def is_grazing_view(elevation) -> np.ndarray:
+    """True where a view lies in the surface plane (``e`` = 0 or 180 degrees).
+
+    The union of :func:`roughlight.render.views.is_grazing` (within 1e-9 deg) and
+    ``|sin e| < 1e-9``.
+    """
+    e = np.asarray(elevation, float)
+    return np.asarray(sweeps.is_grazing(e)) | (np.abs(np.sin(np.radians(e))) < _GRAZING_SIN)
+
+
+# ---------------------------------------------------------------------------
+# one period's facets and the clipping engine
+
+
+@dataclass
+class _Facets:
+    names: list
+    verts: list  # (n, 3) arrays, one per facet
+    normals: np.ndarray  # (F, 3) unit normals (period_triangles', as the renderer uses)
+    alpha: np.ndarray  # facet plane z = alpha x + beta y + gamma
+    beta: np.ndarray
+    gamma: np.ndarray
+    height: float
+    plate: bool
+    footprints: list = field(default_factory=list)  # shapely polygons in (x, y)
+
+
+def _facets(surface: Surface) -> _Facets:
+    polys = facet_polygons(surface)
+    _, tri_normals, tri_names = period_triangles(surface)
+    names = [name for name, _ in polys]
+    verts = [np.asarray(v, float) for _, v in polys]
+    normals = np.array([tri_normals[tri_names.index(name)] for name in names], float)
+    alpha = -normals[:, 0] / normals[:, 2]
+    beta = -normals[:, 1] / normals[:, 2]
+    gamma = np.array([v[0, 2] - al * v[0, 0] - be * v[0, 1] for v, al, be in zip(verts, alpha, beta)])
+    plate = surface.is_plate
+    height = surface.height
+    footprints = [shapely.Polygon(v[:, :2]) for v in verts]
+    return _Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints)
+
+
+def _lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
+    """Offsets ``(m, n)`` of the period copies whose projection can overlap period 0's.
+
+    A point of a period at height ``z`` in ``[0, H]`` projects to
+    ``(x, y) - z d``, so the projection of the copy at ``(m, n)`` lies in the
+    unit square at ``(m, n)`` swept along ``[0, -H d]``; two such regions
+    overlap only if ``(m, n) - lam H d`` is in ``[-1, 1]^2`` for some
+    ``lam`` in ``[-1, 1]``. Returns an ``(K, 2)`` float array, ``(0, 0)`` first.
+    """
+    hd = height * np.asarray(d, float)
+    mx = int(math.ceil(1.0 + abs(hd[0]))) + 1
+    my = int(math.ceil(1.0 + abs(hd[1]))) + 1
+    if (2 * mx + 1) * (2 * my + 1) > 50 * _MAX_COPIES:
+        raise ValueError(
+            "view too close to grazing for the exact reference "
+            f"(surface top shifted by {hd} periods)"
+        )
+    m, n = np.meshgrid(np.arange(-mx, mx + 1), np.arange(-my, my + 1), indexing="ij")
+    m, n = m.ravel().astype(float), n.ravel().astype(float)
+    lo = np.full(m.shape, -1.0)
+    hi = np.full(m.shape, 1.0)
+    slack = 1.0 + 1e-9
+    for c, h in ((m, hd[0]), (n, hd[1])):
+        if abs(h) > 1e-15:
+            a_, b_ = (c - slack) / h, (c + slack) / h
+            lo = np.maximum(lo, np.minimum(a_, b_))
+            hi = np.minimum(hi, np.maximum(a_, b_))
+        else:
+            hi = np.where(np.abs(c) <= slack, hi, -2.0)
+    keep = lo <= hi
+    off = np.stack([m[keep], n[keep]], axis=1)
+    if len(off) > _MAX_COPIES:
+        raise ValueError(
+            f"view too close to grazing for the exact reference ({len(off)} lattice copies needed)"
+        )
+    centre = np.flatnonzero((off[:, 0] == 0) & (off[:, 1] == 0))
+    order = np.concatenate([centre, np.setdiff1d(np.arange(len(off)), centre)])
+    return off[order]
+
+
+def _polygonal(geometry, grid_size):
+    """The polygonal part of a geometry (or of each in an array), snapped to ``grid_size``: a
+    snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
+    if isinstance(geometry, np.ndarray):
+        return np.array([_polygonal(g, grid_size) for g in geometry], dtype=object)
+    # lines and points first: set_precision on a mixed collection can drop its polygons too
+    geometry = shapely.set_precision(_area_parts(geometry), grid_size)
+    return geometry if geometry.geom_type in ("Polygon", "MultiPolygon") else _area_parts(geometry)
+
+
+def _area_parts(geometry):
+    """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area)."""
+    geometry = shapely.make_valid(geometry)
+    if geometry.geom_type in ("Polygon", "MultiPolygon"):
+        return geometry
+    parts = [p for p in shapely.get_parts(geometry) if p.geom_type in ("Polygon", "MultiPolygon")]
+    return shapely.union_all(parts) if parts else shapely.Polygon()
+
+
+def _overlay(operation, *geometries, grid_size=None):
+    """A GEOS overlay: in double precision, or snap-rounded to ``grid_size`` (robust; see :data:`SNAP_GRID`)."""
+    if grid_size is None:
+        return operation(*geometries)
+    snapped = [_polygonal(g, grid_size) for g in geometries]
+    return _polygonal(operation(*snapped, grid_size=grid_size), grid_size)
+
+
+def _visible_regions(surf: _Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
+    """Visible region of each facet of period 0 along the direction with plan shift ``d``.
+
+    ``d = (Dx/Dz, Dy/Dz)`` for a direction ``D`` (toward the viewer or the
+    light) with ``Dz > 0``. Coordinates are the oblique ones
+    ``(x - z dx, y - z dy)``; a point is in front when its ``z`` is larger.
+
+    Returns
+    -------
+    list of shapely geometries (empty polygon for facets not facing ``D``),
+    one per facet, and the per-facet area ratio ``det`` of the projection.
+    """
+    d = np.asarray(d, float)
+    det = 1.0 - surf.alpha * d[0] - surf.beta * d[1]
+    front = np.flatnonzero(det > _EDGE_ON)
+    empty = shapely.Polygon()
+    out = [empty] * len(surf.names)
+    if len(front) == 0:
+        return out, det
+    offsets = _lattice_offsets(surf.height, d)
+    n_off = len(offsets)
+
+    # projected polygons of every front-facing facet of every copy
+    proj = {}
+    geoms, owner, bbox = [], [], []
+    for f in front:
+        v = surf.verts[f]
+        p = v[:, :2] - v[:, 2:3] * d  # (n, 2), period 0
+        proj[f] = p
+        coords = p[None, :, :] + offsets[:, None, :]  # (K, n, 2)
+        geoms.append(shapely.polygons(coords))
+        owner.append(np.full(n_off, f))
+        bbox.append(np.concatenate([coords.min(axis=1), coords.max(axis=1)], axis=1))
+    geoms = np.concatenate(geoms)
+    owner = np.concatenate(owner)
+    offs = np.tile(offsets, (len(front), 1))
+    bbox = np.concatenate(bbox)
+    is_self_copy = np.zeros(len(geoms), bool)
+
+    for j, f in enumerate(front):
+        pf = geoms[j * n_off]  # offset (0, 0) comes first
+        bf = bbox[j * n_off]
+        tol = 1e-12
+        cand = (
+            (bbox[:, 0] < bf[2] - tol)
+            & (bbox[:, 2] > bf[0] + tol)
+            & (bbox[:, 1] < bf[3] - tol)
+            & (bbox[:, 3] > bf[1] + tol)
+        )
+        is_self_copy[:] = False
+        is_self_copy[j * n_off] = True
+        cand &= ~is_self_copy
+        idx = np.flatnonzero(cand)
+        if len(idx) == 0:
+            out[f] = pf
+            continue
+        inter = _overlay(shapely.intersection, pf, geoms[idx], grid_size=grid_size)
+        area = shapely.area(inter)
+        ok = area > _MIN_OVERLAP
+        idx, inter = idx[ok], inter[ok]
+        if len(idx) == 0:
+            out[f] = pf
+            continue
+        c = shapely.get_coordinates(shapely.centroid(inter))  # (k, 2)
+        g = owner[idx]
+        mn = offs[idx]
+        z_g = (surf.alpha[g] * (c[:, 0] - mn[:, 0]) + surf.beta[g] * (c[:, 1] - mn[:, 1]) + surf.gamma[g]) / det[g]
+        z_f = (surf.alpha[f] * c[:, 0] + surf.beta[f] * c[:, 1] + surf.gamma[f]) / det[f]
+        occ = inter[z_g > z_f]
+        if len(occ) == 0:
+            out[f] = pf
+        else:
+            out[f] = _overlay(shapely.difference, pf, _overlay(shapely.union_all, occ, grid_size=grid_size),
+                              grid_size=grid_size)
+    return out, det
+
+
+def _to_oblique(surf: _Facets, f: int, d) -> list:
+    """Affine map (shapely's 6-list) from plan ``(x, y)`` on facet ``f``'s plane to oblique coords."""
+    al, be, ga = surf.alpha[f], surf.beta[f], surf.gamma[f]
+    dx, dy = d
+    # s = x - dx z, u = y - dy z, z = al x + be y + ga
+    return [1.0 - dx * al, -dx * be, -dy * al, 1.0 - dy * be, -dx * ga, -dy * ga]
+
+
+def _from_oblique(surf: _Facets, f: int, d) -> list:
+    """Inverse of :func:`_to_oblique` (the facet must not be edge-on)."""
+    a, b, c, e, xo, yo = _to_oblique(surf, f, d)
+    det = a * e - b * c
+    ia, ib, ic, ie = e / det, -b / det, -c / det, a / det
+    return [ia, ib, ic, ie, -(ia * xo + ib * yo), -(ic * xo + ie * yo)]
+
+
+def _check_sum(total: float, what: str, grid_size=None) -> None:
+    tolerance = AREA_TOLERANCE if grid_size is None else SNAPPED_AREA_TOLERANCE
+    if not abs(total - 1.0) <= tolerance:
+        raise RuntimeError(
+            f"reference clipping failed: the visible areas of the {what} sum to {total!r}, not 1"
+        )
+
+
+def _check_overlap(both: float, a: float, b: float, whole: float, what: str, grid_size=None) -> None:
+    """Inclusion-exclusion bounds of an intersection of two parts of one facet's projection (area ``whole``):
+    ``a + b - whole <= |A & B| <= min(a, b)``. GEOS can return an empty intersection of two valid polygons whose
+    edges nearly coincide (seen: a lit region and a visible region of 0.34 and 0.45 of a 0.45 facet meeting in
+    nothing), which these bounds catch; the caller then recomputes snap-rounded."""
+    tolerance = AREA_TOLERANCE if grid_size is None else SNAPPED_AREA_TOLERANCE
+    if both < a + b - whole - tolerance or both > min(a, b) + tolerance:
+        raise RuntimeError(f"reference clipping failed: the lit and visible parts of {what} meet in {both!r}, "
+                           f"outside [{a + b - whole!r}, {min(a, b)!r}]")
+
+
+def _with_fallback(compute, *args):
+    """``compute(*args, grid_size=None)`` in double precision; if GEOS fails or the areas do not
+    sum to 1, once more snap-rounded to :data:`SNAP_GRID` (OverlayNG's robust mode)."""
+    try:
+        return compute(*args, grid_size=None)
+    except (shapely.errors.GEOSException, RuntimeError):
+        return compute(*args, grid_size=SNAP_GRID)
+
+
+def _lit_regions(surf: _Facets, incidence: float, shadows: bool) -> list:
+    """Lit part of each facet's plan footprint (shapely geometries)."""
+    return _with_fallback(_lit_regions_at, surf, incidence, shadows)
+
+
+def _lit_regions_at(surf: _Facets, incidence: float, shadows: bool, grid_size=None) -> list:
+    L = light_direction(incidence)
+    ndotl = surf.normals @ L
+    if not shadows or surf.plate:
+        # every point with N.L > 0 is lit (nothing casts a shadow on the
+        # plate; its N.L is 0 at incidence 0)
+        return [fp if nl > 0 else shapely.Polygon() for fp, nl in zip(surf.footprints, ndotl)]
+    if L[2] < _GRAZING_LIGHT:
+        return [shapely.Polygon() for _ in surf.footprints]
+    d = np.array([L[0] / L[2], L[1] / L[2]])
+    regions, det = _visible_regions(surf, d, grid_size)
+    _check_sum(float(sum(shapely.area(r) for r in regions)), f"light view (incidence {incidence})", grid_size)
+    out = []
+    for f, region in enumerate(regions):
+        if det[f] <= _EDGE_ON or ndotl[f] <= 0 or region.is_empty:
+            out.append(shapely.Polygon())
+            continue
+        plan = affinity.affine_transform(region, _from_oblique(surf, f, d))
+        # the lit part lies on the facet: trim floating-point overhang
+        out.append(_area_parts(_overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size)))
+    # mapped back onto their facets, the lit parts still fill the light's view (areas scale by det)
+    _check_sum(float(sum(r.area * dt for r, dt in zip(out, det) if dt > _EDGE_ON)),
+               f"lit footprints (incidence {incidence})", grid_size)
+    return out
+
+
+class _Scene:
+    """Everything of a sweep that does not depend on the view."""
+
+    def __init__(self, surface: Surface, incidence, shadows):
+        self.surf = _facets(surface)
+        self.incidence = check_incidence(incidence)
+        self.lit = _lit_regions(self.surf, self.incidence, bool(shadows))
+        fp_area = np.array([fp.area for fp in self.surf.footprints])
+        self.fp_area = fp_area
+        lit_area = np.array([r.area for r in self.lit])
+        self.all_lit = np.abs(lit_area - fp_area) <= 1e-15 * np.maximum(fp_area, 1.0)
+        self.none_lit = lit_area <= 0.0
+
+    def areas(self, elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray]:
+        """Visible-lit and visible-shadowed area of each facet, one view (0 if grazing)."""
+        n = len(self.surf.names)
+        if is_grazing_view(elevation):
+            return np.zeros(n), np.zeros(n)
+        return _with_fallback(self._areas_at, elevation, azimuth)
+
+    def _areas_at(self, elevation: float, azimuth: float, grid_size=None) -> tuple[np.ndarray, np.ndarray]:
+        n = len(self.surf.names)
+        V = view_direction(elevation, azimuth)
+        d = np.array([V[0] / V[2], V[1] / V[2]])
+        regions, det = _visible_regions(self.surf, d, grid_size)
+        vis = np.array([r.area for r in regions])
+        _check_sum(float(vis.sum()), f"view (e={elevation}, phi={azimuth})", grid_size)
+        lit = np.zeros(n)
+        for f, region in enumerate(regions):
+            if vis[f] <= 0.0 or self.none_lit[f]:
+                continue
+            if self.all_lit[f]:
+                lit[f] = vis[f]
+                continue
+            lit_view = affinity.affine_transform(self.lit[f], _to_oblique(self.surf, f, d))
+            if vis[f] >= self.fp_area[f] * det[f] - AREA_TOLERANCE:
+                # wholly visible: no overlay (GEOS can misjudge a lit part with sliver spikes)
+                lit[f] = min(lit_view.area, vis[f])
+                continue
+            both = _overlay(shapely.intersection, region, lit_view, grid_size=grid_size).area
+            _check_overlap(both, vis[f], lit_view.area, self.fp_area[f] * det[f],
+                           f"facet {self.surf.names[f]}, view (e={elevation}, phi={azimuth})", grid_size)
+            lit[f] = min(both, vis[f])
+        return lit, vis - lit
+
+
+def _check_views(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
+    az = np.atleast_1d(np.asarray(azimuth, float))
+    el = np.atleast_1d(np.asarray(elevation, float))
+    az, el = np.broadcast_arrays(az, el)
+    az, el = az.ravel(), el.ravel()
+    if not np.all(np.isfinite(az)):
+        raise ValueError("azimuth must be finite (degrees)")
+    if not np.all(np.isfinite(el) & (el >= 0.0) & (el <= 180.0)):
+        raise ValueError("elevation must be within [0, 180] degrees")
+    return az, el
+
+
+# ---------------------------------------------------------------------------
+# public API
+
+
+def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
+    """Lit part of each facet of one period, as a region of its plan footprint.
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface (:mod:`roughlight.surfaces.surface`).
+    incidence : float
+        Light elevation above the plane, degrees in [0, 90]; the light is at
+        azimuth 0, ``L = (cos i, 0, sin i)``.
+    shadows : bool
+        Whether the surface casts shadows (``Lighting.shadows``). Without
+        shadows the whole footprint of every facet with ``N.L > 0`` is lit.
+
+    Returns
+    -------
+    dict name -> shapely geometry
+        In plan coordinates ``(x, y)`` of the cell ``[0, 1]^2``; empty where
+        the facet is wholly shadowed. The facet's true lit area is the plan
+        area divided by its normal's ``z``.
+    """
+    scene = _Scene(surface, incidence, shadows)
+    return dict(zip(scene.surf.names, scene.lit))
+
+
+def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=True) -> dict:
+    """Visible-and-lit and visible-and-shadowed area of each facet, one view.
+
+    Parameters
+    ----------
+    surface : Surface
+        The surface (:mod:`roughlight.surfaces.surface`).
+    incidence : float
+        Light elevation, degrees in [0, 90] (light at azimuth 0).
+    azimuth, elevation : float
+        The view, degrees: ``V = (cos e cos phi, cos e sin phi, sin e)``,
+        ``e`` in [0, 180].
+    shadows : bool
+        Whether shadows are cast.
+
+    Returns
+    -------
+    dict name -> (lit, shadowed)
+        Areas in the view's oblique base-plane coordinates, i.e. fractions of
+        the projected image (they sum to 1 for ``0 < e < 180``; all 0 for
+        grazing views). Facets are named as in
+        :data:`roughlight.surfaces.geometry.FACET_NAMES`; facets that do not exist (the
+        top of the full pyramid, the sides of the plate) are absent. "Lit"
+        means reached by the light with ``N.L > 0``.
+    """
+    scene = _Scene(surface, incidence, shadows)
+    az, el = _check_views(azimuth, elevation)
+    if len(az) != 1:
+        raise ValueError("visible_lit_areas takes one view; use reference_sweep for many")
+    lit, shadow = scene.areas(float(el[0]), float(az[0]))
+    return {name: (float(a), float(b)) for name, a, b in zip(scene.surf.names, lit, shadow)}
+
+
+def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, quantized=True) -> dict:
+    """Exact mean image value of each component for many views of one surface.
+
+    Parameters
+    ----------
+    surface : Surface
+        Truncation (fraction of the pyramid height kept, 0 = flat plate,
+        1 = full pyramid) and aspect (full pyramid height over the period).
+    incidence : float
+        Light elevation above the surface plane ``i``, degrees in [0, 90];
+        the light is at azimuth 0: ``L = (cos i, 0, sin i)``.
+    azimuth, elevation : array_like, degrees
+        The views (broadcast together, flattened to ``n_views``): view
+        azimuth ``phi`` (the study uses [0, 180)) and elevation ``e`` in
+        [0, 180]; ``V = (cos e cos phi, cos e sin phi, sin e)``, so ``e > 90``
+        looks from the far side of the zenith.
+    lighting : Lighting, optional
+        Light and material (default ``Lighting()``); ``lighting.shadows``
+        switches cast and self shadows.
+    quantized : bool
+        True (default): each facet's value is the 8-bit framebuffer value
+        ``quantize(component)`` (clamped to [0, 255], rounded to nearest),
+        as the renderer stores per pixel; False: the raw float.
+
+    Returns
+    -------
+    dict
+        ``'diffuse'``, ``'specular'``, ``'total'``: (n_views,) float64 arrays,
+        the mean over the projected image on the 0-255 scale (the area
+        weighted sum of the facets' values); ``'coverage'``: (n_views,), the
+        fraction of the image showing the surface: 1 (to 1e-9) for
+        ``0 < e < 180``, 0 for grazing views (where all components are 0).
+
+    Notes
+    -----
+    Exact up to floating point (see :data:`REFERENCE_ERROR`). Raises
+    RuntimeError if a view's visible areas do not sum to 1 (a clipping bug)
+    and ValueError for views so close to grazing that they need more than
+    200,000 lattice copies.
+    """
+    lighting = Lighting() if lighting is None else lighting
+    scene = _Scene(surface, incidence, lighting.shadows)
+    az, el = _check_views(azimuth, elevation)
+    n_views = len(az)
+    n_f = len(scene.surf.names)
+    lit = np.zeros((n_views, n_f))
+    shadow = np.zeros((n_views, n_f))
+    for k in range(n_views):
+        lit[k], shadow[k] = scene.areas(float(el[k]), float(az[k]))
+    grazing = is_grazing_view(el)
+    coverage = np.where(grazing, 0.0, (lit + shadow).sum(axis=1))
+
+    values = facet_sum(scene.surf.normals, light_direction(scene.incidence), view_direction(el, az), lit, shadow,
+                       lighting, quantized)
+    out = {name: np.where(grazing, 0.0, value).astype(np.float64) for name, value in values.items()}
+    out["coverage"] = coverage.astype(np.float64)
+    return out
+
+
+def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None):
+    """The exact reference on many views, leaving out the views it refuses instead of failing all of them.
+
+    :func:`reference_sweep` raises ``RuntimeError`` when a view's clipping fails its own checks (seen on random
+    tiles: GEOS areas off even after snap-rounding). A measurement that compares against the reference keeps the
+    other views: the sweep is computed whole and, only when it raises, again one view at a time.
+
+    Returns
+    -------
+    values : dict, ``diffuse``, ``specular``, ``total``: (n_views,) arrays, NaN at refused views
+    refused : (n_views,) bool array
+    """
+    from .shading import COMPONENTS
+
+    azimuth = np.atleast_1d(np.asarray(azimuth, float))
+    elevation = np.atleast_1d(np.asarray(elevation, float))
+    try:
+        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
+        return {c: np.asarray(exact[c], float) for c in COMPONENTS}, np.zeros(azimuth.size, bool)
+    except RuntimeError:
+        pass
+    values = {c: np.full(azimuth.size, np.nan) for c in COMPONENTS}
+    refused = np.zeros(azimuth.size, bool)
+    for k in range(azimuth.size):
+        try:
+            one = reference_sweep(surface, incidence, azimuth[k:k + 1], elevation[k:k + 1], lighting)
+        except RuntimeError:
+            refused[k] = True
+            continue
+        for c in COMPONENTS:
+            values[c][k] = one[c][0]
+    return values, refused

@@ -1,0 +1,266 @@
+"""How the fast renderer samples one period of the surface: its settings and the tile layout.
+
+Each view's tile in the framebuffer shows exactly one period of the projected
+image of the infinite periodic surface (see :mod:`roughlight.render.periodic`). The
+integer sampling matrix maps cell coordinates to window pixels; ``lattice``
+sampling rotates it so that no row of pixel centres runs along the facets'
+axis-aligned or diagonal edges. Pure numpy: no OpenGL is loaded here, so the
+settings can be built and recorded by code that never renders.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+#: Pixel sampling patterns of the fast renderer (``render.sampling``).
+SAMPLINGS = ("lattice", "grid", "adaptive")
+
+
+@dataclass(frozen=True)
+class RenderSettings:
+    """Knobs of the ``fast`` renderer that trade speed for accuracy.
+
+    Attributes
+    ----------
+    pixels_per_period : int
+        Sampling density: about this many pixels per period along each
+        direction (each view's tile holds one period of the projected
+        surface, about ``pixels_per_period ** 2`` pixels).
+    sampling : str
+        ``"adaptive"`` (the default): views where every facet faces the
+        detector are each region's exact projected area, unrendered; the others
+        are drawn on the lattice chosen for the view among six (on the three
+        best, averaged, where the best may be off by ``average_lattices_above``),
+        and each region's pixel count is corrected by its exact area
+        (:mod:`roughlight.render.shares`). ``"lattice"``: the tile is a rotated square
+        whose pixel centres sample the period on a rotated lattice (no row of
+        samples along the facets' axis-aligned or diagonal edges); ``"grid"``:
+        a plain square tile of ``pixels_per_period`` x ``pixels_per_period``
+        pixels.
+    shadow_map_size : int
+        Texels per period (along each direction) of the periodic shadow map.
+    shadow_bias : float
+        Height tolerance of the shadow test, as a fraction of the surface
+        height (the receiver-plane test needs only rounding slack).
+    max_framebuffer : int
+        Largest framebuffer side in pixels; views beyond one framebuffer are
+        drawn in further passes.
+    average_lattices_above : float
+        Adaptive sampling: a view whose best lattice's value discrepancy (close
+        to a bound on its error, :func:`roughlight.render.shares.value_discrepancy`)
+        is at least this many 8-bit levels is drawn on its three best lattices
+        (:data:`roughlight.render.shares.AVERAGED`) and the values averaged. ``inf``:
+        one lattice a view.
+    tile_sampling, tile_pixels_per_period : str, int
+        ``sampling`` and ``pixels_per_period`` (per cell) of random tiles
+        (:meth:`tile_settings`): adaptive sampling on a tile's hundreds of
+        facets costs 2-4.5 times lattice sampling.
+    jitter : (float, float)
+        Sub-pixel shift of the camera (equivalently of the surface) in pixels,
+        for measuring how a value moves when the pixels fall elsewhere on the
+        surface (the thesis's "flashing lines"). The mean over the infinite
+        periodic surface does not depend on it; a sampled mean does.
+    """
+
+    pixels_per_period: int = 28
+    sampling: str = "adaptive"
+    shadow_map_size: int = 512
+    shadow_bias: float = 1e-4
+    max_framebuffer: int = 4096
+    jitter: tuple = (0.0, 0.0)
+    tile_sampling: str = "lattice"
+    tile_pixels_per_period: int = 24
+    average_lattices_above: float = 1.6
+
+    def __post_init__(self):
+        if int(self.pixels_per_period) < 1:
+            raise ValueError(f"render.pixels_per_period must be >= 1, got {self.pixels_per_period!r}")
+        if int(self.shadow_map_size) < 1:
+            raise ValueError(f"render.shadow_map_size must be >= 1, got {self.shadow_map_size!r}")
+        if not (self.shadow_bias >= 0):
+            raise ValueError(f"render.shadow_bias must be >= 0, got {self.shadow_bias!r}")
+        if self.pixels_per_period > self.max_framebuffer // 2:
+            raise ValueError("render.pixels_per_period exceeds the largest framebuffer")
+        for key in ("sampling", "tile_sampling"):
+            if getattr(self, key) not in SAMPLINGS:
+                raise ValueError(f"render.{key} must be one of {SAMPLINGS}, got {getattr(self, key)!r}")
+        if not (float(self.average_lattices_above) >= 0):
+            raise ValueError(f"render.average_lattices_above must be >= 0, got {self.average_lattices_above!r}")
+        if int(self.tile_pixels_per_period) < 1:
+            raise ValueError(f"render.tile_pixels_per_period must be >= 1, got {self.tile_pixels_per_period!r}")
+
+    def tile_settings(self) -> RenderSettings:
+        """The settings a random tile is drawn with, densities per cell: ``tile_sampling`` and
+        ``tile_pixels_per_period`` in place of ``sampling`` and ``pixels_per_period``."""
+        return replace(self, sampling=self.tile_sampling, pixels_per_period=int(self.tile_pixels_per_period))
+
+    def for_tile(self, cells: int) -> RenderSettings:
+        """The settings for a random tile of ``cells x cells`` cells drawn as one period.
+
+        The configured densities are per cell (per pyramid, as on the regular
+        surface), so the tile gets ``cells`` times the pixels and shadow texels
+        a side: the same sampling of every facet, at ``cells^2`` times the pixels.
+        """
+        if int(cells) == 1:
+            return self
+        return replace(self, pixels_per_period=int(self.pixels_per_period) * int(cells),
+                       shadow_map_size=int(self.shadow_map_size) * int(cells))
+
+    def sampling_matrix(self) -> np.ndarray:
+        """Integer 2x2 matrix from cell coordinates to window pixels (see ``periodic.vert``)."""
+        return sampling_matrix(int(self.pixels_per_period), self.sampling)
+
+
+def lattice_copies(shifts, margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Lattice offsets of the period copies whose projection reaches the unit cell.
+
+    A copy at offset ``(k, l)`` occupies ``[k, k+1] x [l, l+1]`` in plan; the
+    oblique projection moves a point at height ``z`` by ``-z * shear``, so the
+    copy's projection is the unit square swept along the segment from
+    ``(k, l)`` to ``(k, l) - d`` with ``d = H * shear``. It reaches the open
+    unit cell iff that segment meets the open square ``(-1, 1)^2``.
+
+    Parameters
+    ----------
+    shifts : (n, 2) array
+        ``d`` for each of ``n`` views: the plan shift of the surface's top
+        (height ``H``) relative to its base, in periods.
+    margin : float
+        Widen the cell by this much on every side (periods), for a sampling
+        grid shifted by less than ``margin``.
+
+    Returns
+    -------
+    view : (m,) int array
+        Which view each copy belongs to (non-decreasing).
+    offsets : (m, 2) int array
+        ``(k, l)`` of each copy.
+    """
+    d = np.atleast_2d(np.asarray(shifts, float))
+    eps = -float(margin) if margin else 1e-9
+    # x: candidate columns k per view; the slab (-1, 1) in x bounds lambda
+    pad = 1 + int(math.ceil(max(float(margin), 0.0)))
+    k_lo = np.floor(np.minimum(0.0, d[:, 0])).astype(int) - pad
+    k_hi = np.ceil(np.maximum(0.0, d[:, 0])).astype(int) + pad
+    counts = k_hi - k_lo + 1
+    view = np.repeat(np.arange(len(d)), counts)
+    k = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(k_lo, counts)
+    dx, dy = d[view, 0], d[view, 1]
+    lam_lo = np.zeros(len(view))
+    lam_hi = np.ones(len(view))
+    moving = np.abs(dx) > 1e-15
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a = (k - (1.0 - eps)) / dx
+        b = (k + (1.0 - eps)) / dx
+    lam_lo = np.where(moving, np.maximum(lam_lo, np.minimum(a, b)), lam_lo)
+    lam_hi = np.where(moving, np.minimum(lam_hi, np.maximum(a, b)), lam_hi)
+    lam_hi = np.where(~moving & (np.abs(k) >= 1.0 - eps), -1.0, lam_hi)
+    keep = lam_lo <= lam_hi
+    view, k, dy, lam_lo, lam_hi = view[keep], k[keep], dy[keep], lam_lo[keep], lam_hi[keep]
+    # y: l - lam * dy must fall in (-1, 1) for some lam in [lam_lo, lam_hi]
+    y_lo = np.minimum(lam_lo * dy, lam_hi * dy) - (1.0 - eps)
+    y_hi = np.maximum(lam_lo * dy, lam_hi * dy) + (1.0 - eps)
+    l_lo = np.ceil(y_lo).astype(int)
+    l_hi = np.floor(y_hi).astype(int)
+    counts = np.maximum(l_hi - l_lo + 1, 0)
+    view_out = np.repeat(view, counts)
+    l_out = np.arange(counts.sum()) - np.repeat(np.cumsum(counts) - counts, counts) + np.repeat(l_lo, counts)
+    k_out = np.repeat(k, counts)
+    return view_out, np.stack([k_out, l_out], axis=1)
+
+
+def sampling_matrix(pixels_per_period: int, sampling: str = "lattice") -> np.ndarray:
+    """Integer matrix ``S`` mapping cell coordinates to window pixels.
+
+    ``grid``: ``P * I``. ``lattice``: ``[[p, q], [-q, p]]`` with ``p^2 + q^2``
+    within 10% of ``P^2`` (closest when none is), ``q / p`` closest to the golden ratio's conjugate
+    0.618 (a slope far from every ratio of small integers), ``p + q`` odd (so
+    that no pixel centre falls on a tile's edge) and ``gcd(p, q) = 1`` (so that
+    every line along a lattice axis or diagonal meets one sample per period).
+    """
+    P = int(pixels_per_period)
+    if sampling == "grid":
+        return np.array([[P, 0], [0, P]])
+    if sampling not in ("lattice", "adaptive"):  # adaptive: this lattice and others chosen per view (shares.py)
+        raise ValueError(f"render.sampling must be one of {SAMPLINGS}, got {sampling!r}")
+    best = None
+    for p in range(1, P + 2):
+        for q in range(0, p + 1):
+            if (p + q) % 2 == 0 or math.gcd(p, q) != 1:
+                continue
+            size_error = abs(p * p + q * q - P * P) / max(P * P, 1)
+            # within 10% of the asked density, the slope matters most
+            score = (max(size_error, 0.1), abs(q / p - 0.6180339887498949), size_error)
+            if best is None or score < best[0]:
+                best = (score, p, q)
+    _, p, q = best
+    return np.array([[p, q], [-q, p]])
+
+
+def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    """Slots for view tiles in one framebuffer, and which slot each pixel samples.
+
+    Parameters
+    ----------
+    matrix : (2, 2) int array
+        Cell coordinates to window pixels (:func:`sampling_matrix`).
+    n_views : int
+        Views wanted in one pass (fewer slots are returned if the largest
+        framebuffer cannot hold them all).
+    max_framebuffer : int
+        Largest framebuffer side, pixels.
+
+    Returns
+    -------
+    width, height : int
+        Framebuffer size.
+    slots : (m, 2) int array
+        Integer cell offset ``K`` of each tile; tile ``k`` covers the window
+        region ``matrix @ (K_k + [0, 1)^2)``, wholly inside the framebuffer.
+    pixel_order : (m * N,) int array
+        Flat pixel indices (row-major, bottom row first as OpenGL reads them)
+        grouped by slot: ``pixel_order.reshape(m, N)`` lists slot ``k``'s
+        ``N = |det matrix|`` pixels.
+    """
+    matrix = np.asarray(matrix, float)
+    per_tile = int(round(abs(np.linalg.det(matrix))))
+    reach = int(np.abs(matrix).sum(axis=0).max()) + 1
+    side = int(math.ceil(math.sqrt(n_views * per_tile * 1.03))) + 2 * reach
+    side = min(max(side, reach + 1), max_framebuffer)
+    inverse = np.linalg.inv(matrix)
+    while True:
+        width = height = side
+        corners = np.array([[0, 0], [width, 0], [0, height], [width, height]], float)
+        pre = corners @ inverse.T
+        lo = np.floor(pre.min(axis=0)).astype(int) - 1
+        hi = np.ceil(pre.max(axis=0)).astype(int) + 1
+        kx, ky = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
+        cand = np.stack([kx.ravel(), ky.ravel()], axis=1)
+        unit = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], float)
+        pts = (cand[:, None, :] + unit[None]) @ matrix.T
+        x, y = pts[..., 0], pts[..., 1]
+        inside = np.all((x >= 0) & (x <= width) & (y >= 0) & (y <= height), axis=1)
+        slots = cand[inside]
+        if len(slots) >= n_views or side >= max_framebuffer:
+            break
+        side = min(max_framebuffer, int(side * 1.05) + 1)
+    # keep the slots nearest the origin first (row-major in the window)
+    centre = (slots + 0.5) @ matrix.T
+    slots = slots[np.lexsort((centre[:, 0], np.floor(centre[:, 1] / reach)))][: max(n_views, 1)]
+    # the pixel centres of the slot at K = 0; every slot is that set moved by matrix @ K
+    box = np.abs(matrix).sum(axis=1).astype(int) + 1
+    lo_px = np.minimum(0, matrix.sum(axis=1).clip(max=0)).astype(int) - 1
+    ys, xs = np.mgrid[lo_px[1] - box[1]:box[1] + 1, lo_px[0] - box[0]:box[0] + 1]
+    centres = np.stack([xs.ravel() + 0.5, ys.ravel() + 0.5], axis=1)
+    home = np.all(np.floor(centres @ inverse.T) == 0, axis=1)
+    base = np.stack([xs.ravel()[home], ys.ravel()[home]], axis=1)
+    if len(base) != per_tile:
+        raise RuntimeError("tile layout: a tile does not hold exactly |det S| pixel centres")
+    shift = np.rint(slots @ matrix.T).astype(np.int64)
+    # flat indices (< 4096^2, so 32 bits): each slot's offset plus the home slot's pixels
+    offset = (shift[:, 1] * width + shift[:, 0]).astype(np.int32)
+    pixel_order = (offset[:, None] + (base[:, 1] * width + base[:, 0]).astype(np.int32)[None, :]).ravel()
+    return width, height, slots, pixel_order

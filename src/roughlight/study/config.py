@@ -1,0 +1,340 @@
+"""The study's configuration: validation with readable errors, and the settings it implies.
+
+The schema (``workflow/schemas/config.schema.yaml``) is the single source of
+allowed values and defaults; :func:`validate_config` fills the defaults (as
+``snakemake.utils.validate`` does) and turns every violation into one line
+that names the key, the value and what is allowed.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import yaml
+
+from ..render.shading import Lighting
+from ..surfaces.surface import label
+
+__all__ = [
+    "ConfigError",
+    "SCHEMA_PATH",
+    "load_schema",
+    "validate_config",
+    "lighting_from_config",
+    "render_settings_from_config",
+    "label",
+    "surfaces",
+    "kinds",
+    "seeds",
+    "random_surfaces",
+    "random_surface_settings",
+    "report_settings",
+    "FOLLOWS_GRID",
+    "follow_grid",
+]
+
+#: the schema, shipped with the package (workflow/schemas/config.schema.yaml links to it)
+SCHEMA_PATH = Path(__file__).resolve().parent / "config.schema.yaml"
+
+
+class ConfigError(ValueError):
+    """The configuration is invalid; the message lists every problem found."""
+
+
+def load_schema(path=None) -> dict:
+    with open(path or SCHEMA_PATH) as fh:
+        return yaml.safe_load(fh)
+
+
+def _key(path) -> str:
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out or "(top level)"
+
+
+def _describe(error, schema: dict) -> str:
+    """One readable line for a jsonschema error."""
+    key = _key(error.absolute_path)
+    # the description of the property the error is about (items inherit their array's)
+    sub = schema
+    for part in error.absolute_path:
+        if isinstance(part, int):
+            sub = sub.get("items", {}) if isinstance(sub, dict) else {}
+            continue
+        sub = sub.get("properties", {}).get(part, {}) if isinstance(sub, dict) else {}
+    desc = sub.get("description") if isinstance(sub, dict) else None
+    parent_desc = None
+    if error.absolute_path and isinstance(error.absolute_path[-1], int):
+        parent = schema
+        for part in list(error.absolute_path)[:-1]:
+            if isinstance(part, int):
+                parent = parent.get("items", {})
+            else:
+                parent = parent.get("properties", {}).get(part, {})
+        parent_desc = parent.get("description")
+    allowed = desc or parent_desc
+    if error.validator == "additionalProperties":
+        allowed_keys = sorted(error.schema.get("properties", {}))
+        return f"config: unknown key under {key}: {error.message}; allowed keys: {', '.join(allowed_keys)}"
+    value = error.instance
+    bound = error.validator_value
+    if error.validator == "enum":
+        what = f"must be one of {', '.join(map(str, bound))}"
+    elif error.validator == "oneOf":
+        what = "is not allowed"
+    elif error.validator == "minItems":
+        what = "must list at least one value"
+    else:
+        what = {
+            "type": f"must be of type {bound}",
+            "minimum": f"must be >= {bound}",
+            "maximum": f"must be <= {bound}",
+            "exclusiveMinimum": f"must be > {bound}",
+            "exclusiveMaximum": f"must be < {bound}",
+        }.get(error.validator, error.message)
+    line = f"config: {key} = {value!r} {what}"
+    if allowed:
+        line += f" ({key.split('[')[0]}: {allowed})"
+    return line
+
+
+def validate_config(config: dict, schema_path=None, notes: list | None = None) -> dict:
+    """Validate ``config`` in place against the schema, filling defaults; the keys that follow the grid
+    (:data:`FOLLOWS_GRID`), where unset, take the grid values nearest to their defaults.
+
+    Parameters
+    ----------
+    notes : list, optional
+        Receives one line a key that followed the grid (:func:`follow_grid`).
+
+    Raises
+    ------
+    ConfigError
+        Listing every invalid key, one per line, each with what is allowed.
+    """
+    import jsonschema
+
+    schema = load_schema(schema_path)
+    validator_cls = jsonschema.validators.validator_for(schema)
+
+    def set_defaults(validator, properties, instance, sub_schema):
+        if isinstance(instance, dict):
+            for name, prop in properties.items():
+                if isinstance(prop, dict) and "default" in prop:
+                    instance.setdefault(name, _copy(prop["default"]))
+        yield from validator_cls.VALIDATORS["properties"](validator, properties, instance, sub_schema)
+
+    def is_number(checker, instance):
+        # booleans are not numbers here (YAML's yes/no must not pass as 1/0)
+        return isinstance(instance, (int, float)) and not isinstance(instance, bool)
+
+    type_checker = validator_cls.TYPE_CHECKER.redefine("number", is_number).redefine(
+        "integer", lambda checker, x: is_number(checker, x) and float(x).is_integer()
+    )
+    extended = jsonschema.validators.extend(
+        validator_cls, {"properties": set_defaults}, type_checker=type_checker
+    )
+    if not isinstance(config, dict):
+        raise ConfigError("config: the configuration must be a mapping of keys (see config/README.md)")
+    errors = sorted(extended(schema).iter_errors(config), key=lambda e: list(map(str, e.absolute_path)))
+    problems = [_describe(e, schema) for e in errors]
+    problems += _semantic_problems(config) if not problems else []
+    if problems:
+        raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
+    followed = follow_grid(config)
+    if notes is not None:
+        notes.extend(followed)
+    return config
+
+
+def _copy(value):
+    return yaml.safe_load(yaml.safe_dump(value))
+
+
+def _semantic_problems(config: dict) -> list[str]:
+    problems = []
+    for key in ("truncation", "aspect", "incidence"):
+        values = config["grid"][key]
+        if any(not math.isfinite(float(v)) for v in values):
+            problems.append(f"config: grid.{key} must hold finite numbers, got {values!r}")
+            continue
+        labels = [label(v) for v in values]
+        dupes = sorted({lab for lab in labels if labels.count(lab) > 1})
+        if dupes:
+            problems.append(f"config: grid.{key} lists the same value twice: {', '.join(dupes)}")
+    return problems + _surface_problems(config)
+
+
+def _surface_problems(config: dict) -> list[str]:
+    surface = config.get("surface", {})
+    problems = []
+    spread = surface.get("spread", {})
+    if spread.get("apex", 0.5) + spread.get("corner", 0.3) >= 1:
+        problems.append(f"config: surface.spread.apex + surface.spread.corner = {spread.get('apex', 0.5)} + "
+                        f"{spread.get('corner', 0.3)} must be < 1 (else an apex can leave its cell's base: an "
+                        "overhanging or vertical side)")
+    if isinstance(surface.get("seeds"), list) and len(set(surface["seeds"])) != len(surface["seeds"]):
+        problems.append(f"config: surface.seeds lists the same seed twice: {surface['seeds']!r}")
+    return problems + _follower_problems(config)
+
+
+#: The keys that follow the grid when left unset: key path -> (the grid axis they take values of, the values
+#: they prefer). Unset, each takes the grid values nearest to its preferred ones (:func:`follow_grid`); set, each
+#: value must be a value of its grid axis.
+FOLLOWS_GRID = {
+    ("surface", "random_grid", "truncation"): ("truncation", [0.5, 1.0]),
+    ("surface", "random_grid", "aspect"): ("aspect", [0.5, 1.0]),
+    ("report", "table_aspects"): ("aspect", [1.0, math.sqrt(3.0) / 2.0]),
+    ("report", "table_incidence"): ("incidence", 30.0),
+}
+
+_WHY = {
+    "random_grid": "each random ensemble is compared with the regular surface at the same grid point",
+    "table_aspects": "Tables 1-2 are of the study's own surfaces",
+    "table_incidence": "Tables 1-2 are of the study's own sweeps",
+}
+
+
+def _get(config: dict, path):
+    """The value at ``path`` (a tuple of keys), or None where any key on the way is missing."""
+    for key in path:
+        if not isinstance(config, dict) or key not in config:
+            return None
+        config = config[key]
+    return config
+
+
+def _follower_problems(config: dict) -> list[str]:
+    """A key that follows the grid, set explicitly to a value outside it, stops the run (one line a key)."""
+    problems = []
+    for path, (axis, _) in FOLLOWS_GRID.items():
+        value = _get(config, path)
+        if value is None or (path[0] == "surface" and len(kinds(config)) == 1):  # no random kind: unused
+            continue
+        grid_labels = {label(v) for v in config["grid"][axis]}
+        listed = value if isinstance(value, list) else [value]
+        missing = [v for v in listed if label(v) not in grid_labels]
+        if missing:
+            key = ".".join(path)
+            why = _WHY[path[1] if path[0] == "surface" else path[-1]]
+            problems.append(f"config: {key} = {missing!r} must be values of grid.{axis} ({why}); leave {key} "
+                            f"unset to follow the grid")
+    return problems
+
+
+def _nearest(preferred: list[float], values: list[float]) -> list[float]:
+    """For each preferred value the nearest of ``values`` (the first of a tie), each listed once, in order."""
+    chosen = []
+    for want in preferred:
+        best = min(values, key=lambda v: abs(float(v) - want))
+        if float(best) not in chosen:
+            chosen.append(float(best))
+    return chosen
+
+
+def follow_grid(config: dict) -> list[str]:
+    """Fill, in place, every key of :data:`FOLLOWS_GRID` the config leaves unset with the grid values nearest to
+    its preferred values; the default grid gets exactly the preferred values.
+
+    Returns
+    -------
+    list of str: one line a filled key, naming the key, the values used and why (for the log and the report).
+    """
+    notes = []
+    for path, (axis, preferred) in FOLLOWS_GRID.items():
+        if _get(config, path) is not None:
+            continue
+        scalar = not isinstance(preferred, list)
+        grid = [float(v) for v in config["grid"][axis]]
+        chosen = _nearest([preferred] if scalar else preferred, grid)
+        value = chosen[0] if scalar else chosen
+        parent = config
+        for key in path[:-1]:
+            parent = parent.setdefault(key, {})
+        parent[path[-1]] = value
+        if path[0] == "surface" and len(kinds(config)) == 1:
+            continue  # no random kind is measured: nothing to say
+        wanted = [preferred] if scalar else preferred
+        how = ("as by default" if [label(v) for v in chosen] == [label(v) for v in wanted]
+               else "the grid values nearest to the default " + ", ".join(f"{v:g}" for v in wanted))
+        shown = ", ".join(f"{v:g}" for v in chosen)
+        notes.append(f"{'.'.join(path)} is not set: it follows grid.{axis}, {shown} ({how})")
+    return notes
+
+
+def kinds(config: dict) -> list[str]:
+    """The surface kinds measured (``surface.kind``, a name or a list), regular pyramids first: the regular grid
+    is always measured, listed or not."""
+    kind = config.get("surface", {}).get("kind", ["pyramids"])
+    listed = [kind] if isinstance(kind, str) else list(kind)
+    return sorted(set(listed) | {"pyramids"}, key=["pyramids", "random_pyramids", "random_heightfield"].index)
+
+
+def seeds(config: dict) -> list[int]:
+    """The seeds of every random ensemble (``surface.seeds``: a count n gives 1..n)."""
+    value = config.get("surface", {}).get("seeds", 1)
+    return list(range(1, int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
+
+
+def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
+    """Every random surface of the study: (kind, truncation, aspect, seed), grid values exactly as in grid:."""
+    random_kinds = [k for k in kinds(config) if k != "pyramids"]
+    if not random_kinds:
+        return []
+    wanted = config["surface"]["random_grid"]
+    points = [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
+              if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
+    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config)]
+
+
+def random_surface_settings(config: dict) -> dict:
+    """How random tiles are built (``surface.cells`` and ``surface.spread``), as plain types for params."""
+    surface = config["surface"]
+    return {"cells": int(surface["cells"]), "spread": {k: float(v) for k, v in surface["spread"].items()}}
+
+
+def report_settings(config: dict) -> dict:
+    """The ``report:`` section (validated, defaults filled, the grid's followers set), as plain types for params."""
+    settings = dict(config["report"])
+    settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
+    settings["table_incidence"] = float(settings["table_incidence"])
+    return settings
+
+
+def surfaces(config: dict) -> list[tuple[float, float]]:
+    """All (truncation, aspect) pairs of the grid, in config order."""
+    return [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]]
+
+
+def lighting_from_config(config: dict) -> Lighting:
+    light, material, render = config["light"], config["material"], config["render"]
+    return Lighting(
+        light=float(light["intensity"]),
+        ambient=float(light["ambient"]),
+        ambient_reflectance=float(material["ambient"]),
+        diffuse_reflectance=float(material["diffuse"]),
+        specular_reflectance=float(material["specular"]),
+        shininess=float(material["shininess"]),
+        specular_model=str(material["specular_model"]),
+        shadows=bool(render["shadows"]),
+        specular_shadows=bool(render.get("specular_shadows", True)),
+    )
+
+
+def render_settings_from_config(config: dict, random_tiles: bool = False) -> dict:
+    """The ``fast`` renderer's knobs (plain dict: it travels through Snakemake params); with ``random_tiles`` also
+    how random tiles are sampled (``render.random_tiles``), which only their jobs get, so that changing it reruns
+    only them."""
+    render = config["render"]
+    settings = {
+        "pixels_per_period": int(render["pixels_per_period"]),
+        "sampling": str(render["sampling"]),
+        "shadow_map_size": int(render["shadow_map_size"]),
+        "average_lattices_above": float(render["average_lattices_above"]),
+    }
+    if random_tiles:
+        settings["tile_sampling"] = str(render["random_tiles"]["sampling"])
+        settings["tile_pixels_per_period"] = int(render["random_tiles"]["pixels_per_period"])
+    return settings

@@ -1,0 +1,257 @@
+"""The study table: per-sweep Parquet files and their aggregate.
+
+Schema of ``results/study.parquet`` (one row per surface x view x component)
+-------------------------------------------------------------------------
+============== ======= =====================================================
+column         type    meaning
+============== ======= =====================================================
+kind           string  'pyramids' (the regular grid), 'random_pyramids' or 'random_heightfield'
+seed           int64   the random tile's seed (>= 1); 0 for the regular surface
+truncation     float64 fraction of the pyramid's height kept, [0, 1] (a random tile's grid point)
+aspect         float64 pyramid height / base width, >= 0
+incidence      float64 light elevation above the plane, degrees [0, 90]
+azimuth        float64 view azimuth, degrees [0, 180)
+elevation      float64 view elevation, degrees [0, 180]
+phase          float64 angle between light and view directions, degrees
+component      string  'diffuse', 'specular' or 'total'
+rough          float64 rough surface: mean 8-bit value of the view, 0-255
+control        float64 flat plate under the same light and view, 0-255
+coverage       float64 fraction of the capture window showing the surface
+light          float64 light intensity J, 0-255
+ambient        float64 ambient light level A, fraction of J
+shininess      float64 specular exponent
+specular_model string  'phong' or 'blinn'
+shadows        bool    inner shadows cast
+specular_shadows bool  the shadows take the specular too (false: the thesis's specular protocol)
+method         string  'fast', 'naive' or 'reference'
+pixels_per_period int64 pixels per period (naive: 10, its window's; reference: 0)
+sampling       string  'lattice' or 'grid' (fast), 'window' (naive), 'exact' (reference)
+shadow_map_size   int64 shadow texels per side (naive: pyrender's 2048; reference: 0)
+render_seconds float64 wall time of the sweep that produced the row
+============== ======= =====================================================
+
+Per-sweep files (``results/sweeps/i{incidence}/...``) hold the same columns
+but ``control`` (the rough sweep's ``value`` is renamed ``rough`` when the
+aggregate joins it to its control sweep).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..atomic import write_frame
+from ..render.shading import COMPONENTS, phase_angle
+from ..surfaces.surface import Surface
+
+__all__ = [
+    "STUDY_COLUMNS",
+    "sweep_table",
+    "read_sweep",
+    "aggregate",
+    "join_controls",
+    "regular",
+]
+
+KEY_COLUMNS = ["kind", "seed", "truncation", "aspect", "incidence", "azimuth", "elevation", "phase", "component"]
+SETTING_COLUMNS = [
+    "light",
+    "ambient",
+    "shininess",
+    "specular_model",
+    "shadows",
+    "specular_shadows",
+    "method",
+    "pixels_per_period",
+    "sampling",
+    "shadow_map_size",
+]
+STUDY_COLUMNS = KEY_COLUMNS + ["rough", "control", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
+SWEEP_COLUMNS = KEY_COLUMNS + ["value", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
+
+
+def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, lighting, method, render_settings):
+    """One sweep's measurements as a long ``pyarrow.Table`` (rows: view x component).
+
+    Parameters
+    ----------
+    result : dict
+        Output of :func:`roughlight.render.measure.measure_sweep`.
+    surface : Surface or RandomSurface
+    incidence : float
+    azimuth, elevation : (n_views,) arrays, degrees
+    lighting : roughlight.render.shading.Lighting
+    method : str
+    render_settings : dict
+        How the method sampled (:func:`roughlight.render.measure.recorded_settings`):
+        ``pixels_per_period``, ``sampling``, ``shadow_map_size``.
+    """
+    import pyarrow as pa
+
+    azimuth = np.asarray(azimuth, float)
+    elevation = np.asarray(elevation, float)
+    n = azimuth.size
+    k = len(COMPONENTS)
+    from ..surfaces.roughness import kind_and_seed
+
+    kind, seed = kind_and_seed(surface)
+    columns = {
+        "kind": pa.array([kind] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "seed": np.full(n * k, seed, np.int64),
+        "truncation": np.full(n * k, surface.truncation),
+        "aspect": np.full(n * k, surface.aspect),
+        "incidence": np.full(n * k, float(incidence)),
+        "azimuth": np.repeat(azimuth, k),
+        "elevation": np.repeat(elevation, k),
+        "phase": np.repeat(phase_angle(incidence, elevation, azimuth), k),
+        "component": pa.DictionaryArray.from_arrays(
+            np.tile(np.arange(k, dtype=np.int8), n), pa.array(COMPONENTS)
+        ),
+        "value": np.stack([np.asarray(result[c], float) for c in COMPONENTS], axis=1).ravel(),
+        "coverage": np.repeat(np.asarray(result["coverage"], float), k),
+        "light": np.full(n * k, float(lighting.light)),
+        "ambient": np.full(n * k, float(lighting.ambient)),
+        "shininess": np.full(n * k, float(lighting.shininess)),
+        "specular_model": pa.array([lighting.specular_model] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "shadows": np.full(n * k, bool(lighting.shadows)),
+        "specular_shadows": np.full(n * k, bool(lighting.specular_shadows)),
+        "method": pa.array([method] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]), np.int64),
+        "sampling": pa.array([render_settings["sampling"]] * (n * k), pa.dictionary(pa.int8(), pa.string())),
+        "shadow_map_size": np.full(n * k, int(render_settings["shadow_map_size"]), np.int64),
+        "render_seconds": np.full(n * k, float(result["seconds"])),
+    }
+    return pa.table(columns)
+
+
+def read_sweep(path):
+    """Read one sweep file as a DataFrame, with a clear error if it is not a readable sweep."""
+    import pandas as pd
+
+    try:
+        frame = pd.read_parquet(path)
+    except Exception as exc:  # pyarrow raises several types for a corrupt file
+        raise ValueError(
+            f"{path} is not a readable Parquet sweep ({exc}); delete it and rerun snakemake to rebuild it"
+        ) from exc
+    if "kind" not in frame.columns:  # written before random surfaces existed: the regular surface
+        frame.insert(0, "kind", "pyramids")
+        frame.insert(1, "seed", 0)
+    if "specular_shadows" not in frame.columns:  # written before the setting existed: the default
+        frame["specular_shadows"] = True
+    missing = [c for c in SWEEP_COLUMNS if c not in frame.columns]
+    if missing:
+        raise ValueError(f"{path} lacks columns {missing}; delete it and rerun snakemake to rebuild it")
+    return frame
+
+
+def aggregate(rough_paths, control_paths):
+    """Join rough sweeps to their control sweeps: the study table (see module docstring).
+
+    Parameters
+    ----------
+    rough_paths : list of paths to rough-surface sweep files (regular and random)
+    control_paths : list of paths to control sweep files (one per incidence)
+
+    Returns
+    -------
+    pandas.DataFrame with :data:`STUDY_COLUMNS`, sorted by surface, incidence,
+    azimuth, elevation and component.
+    """
+    import pandas as pd
+
+    rough = pd.concat([read_sweep(p) for p in rough_paths], ignore_index=True)
+    control = pd.concat([read_sweep(p) for p in control_paths], ignore_index=True)
+    return join_controls(rough, control)
+
+
+def join_controls(rough, control):
+    """The study table from sweep frames (:func:`sweep_table`'s columns): each rough view joined to the
+    control's same view (see :func:`aggregate`)."""
+    import pandas as pd
+
+    rough, control = rough.copy(), control.copy()
+    join = ["incidence", "azimuth", "elevation", "component"]
+    control = control[join + ["value"]].rename(columns={"value": "control"})
+    for frame in (rough, control):
+        frame["component"] = frame["component"].astype(str)
+    rough["kind"] = rough["kind"].astype(str)
+    study = rough.rename(columns={"value": "rough"}).merge(control, on=join, how="left", validate="many_to_one")
+    if study["control"].isna().any():
+        missing = study.loc[study["control"].isna(), ["incidence", "azimuth", "elevation"]].drop_duplicates()
+        raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
+    study["component"] = pd.Categorical(study["component"], categories=list(COMPONENTS))
+    kind_order = pd.Categorical(study["kind"], categories=["pyramids", "random_pyramids", "random_heightfield"])
+    study = study.assign(_kind=kind_order).sort_values(
+        ["_kind", "seed", "truncation", "aspect", "incidence", "azimuth", "elevation", "component"])
+    study = study[STUDY_COLUMNS].reset_index(drop=True)
+    study["component"] = study["component"].astype(str)
+    return study
+
+
+def regular(study):
+    """The regular surface's rows (kind ``pyramids``): what the thesis's analyses (Tables 1-2, lobes,
+    diffuse fits, GLMs, figures) are about. A table without a ``kind`` column is all regular."""
+    if "kind" not in study.columns:
+        return study
+    return study.loc[study["kind"].astype(str) == "pyramids"].reset_index(drop=True)
+
+
+def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render, log=None):
+    """Measure one sweep and write its table to ``path`` atomically.
+
+    Parameters
+    ----------
+    path : str
+        Output Parquet file.
+    surface : Surface
+    incidence : float
+        Light elevation, degrees.
+    sweep : dict with ``elevation_step`` and ``azimuth_step`` (degrees)
+    lighting : dict of :class:`roughlight.render.shading.Lighting` fields
+    method : str, ``fast``, ``naive`` or ``reference``
+    render : dict of :class:`roughlight.render.sampling.RenderSettings` fields (may be empty)
+    log : callable taking a message, optional
+    """
+    from ..render import shading
+    from ..render import views as sweeps
+    from ..render.measure import measure_sweep, recorded_settings
+    from ..render.sampling import RenderSettings
+
+    log = log or (lambda message: None)
+    lighting = shading.Lighting(**lighting)
+    settings = RenderSettings(**render)
+    azimuth, elevation = sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"])
+    log(
+        f"sweep {surface} incidence={incidence}: "
+        f"{azimuth.size} views, method={method}, {lighting}, {settings}"
+    )
+    result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
+    log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
+    table = sweep_table(result, surface, incidence, azimuth, elevation, lighting, method,
+                        recorded_settings(method, settings.tile_settings() if hasattr(surface, "cells") else settings))
+    write_frame(table, path)
+    log(f"wrote {table.num_rows} rows to {path}")
+    return result
+
+
+def study_summary(study) -> dict:
+    """What the report says about the study table (grid, views, settings)."""
+    from .selection import SURFACE_KEYS
+
+    keys = study[SURFACE_KEYS].drop_duplicates()
+    comp = study["component"].astype(str)
+    first = study.loc[comp == comp.iloc[0]]
+    per = first.groupby(SURFACE_KEYS).size()
+    row = study.iloc[0]
+    return {
+        "rows": int(len(study)),
+        "surfaces": int(len(keys)),
+        "views_per_surface": int(per.median()) if len(per) else 0,
+        "truncations": sorted(float(x) for x in keys["truncation"].unique()),
+        "aspects": sorted(float(x) for x in keys["aspect"].unique()),
+        "incidences": sorted(float(x) for x in keys["incidence"].unique()),
+        "light": float(row["light"]),
+        "shininess": float(row["shininess"]),
+        "shadows": bool(row["shadows"]),
+        "method": str(row["method"]),
+    }

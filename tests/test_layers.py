@@ -1,0 +1,91 @@
+"""The package's architecture is its tree: one subpackage a stage, each importing only the stages below it,
+no import circle between modules, and modules and functions short enough to read at once."""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "src" / "roughlight"
+#: the stages, bottom first, in the order the data flows
+LAYERS = ["surfaces", "render", "study", "analysis", "measurements", "report"]
+#: modules at the package's root that every stage may use (atomic writes)
+SHARED = {"atomic", "__init__"}
+MAX_MODULE_LINES = 600
+MAX_FUNCTION_LINES = 60
+
+
+def modules(root: Path = PACKAGE) -> dict[str, Path]:
+    """Dotted module name under roughlight (``render.periodic``) -> file."""
+    return {".".join(p.relative_to(root).with_suffix("").parts): p for p in sorted(root.rglob("*.py"))}
+
+
+def imported(name: str, path: Path, root: Path = PACKAGE) -> set[str]:
+    """The roughlight modules ``name`` imports, at its top or inside functions, as dotted names under roughlight."""
+    package = name.split(".")[:-1]
+    known = modules(root)
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package[: len(package) - node.level + 1]
+                target = base + (node.module.split(".") if node.module else [])
+            elif node.module and node.module.split(".")[0] == "roughlight":
+                target = node.module.split(".")[1:]
+            else:
+                continue
+            dotted = ".".join(target)
+            for alias in node.names:  # `from . import x` names a module
+                candidate = f"{dotted}.{alias.name}" if dotted else alias.name
+                out.add(candidate if candidate in known else dotted)
+        elif isinstance(node, ast.Import):
+            out |= {a.name.split(".", 1)[1] for a in node.names if a.name.startswith("roughlight.")}
+    return {m for m in out if m in known or f"{m}.__init__" in known} - {name}
+
+
+def stage(module: str) -> str:
+    return module.split(".")[0]
+
+
+def test_every_module_lives_in_a_stage():
+    loose = [m for m in modules() if "." not in m and m not in SHARED]
+    assert not loose, f"modules outside the stages: {loose}"
+    assert {stage(m) for m in modules() if "." in m} == set(LAYERS)
+
+
+@pytest.mark.parametrize("module", sorted(m for m in modules() if "." in m))
+def test_a_stage_imports_only_the_stages_below_it(module):
+    mine = LAYERS.index(stage(module))
+    upward = sorted(m for m in imported(module, modules()[module])
+                    if stage(m) in LAYERS and LAYERS.index(stage(m)) > mine)
+    assert not upward, f"{module} ({stage(module)}) imports stages above it: {upward}"
+
+
+def test_no_import_circle():
+    graph = {m: imported(m, p) for m, p in modules().items()}
+    state: dict[str, int] = {}
+
+    def visit(m, trail):
+        state[m] = 1
+        for n in sorted(graph.get(m, ())):
+            if state.get(n) == 1:
+                raise AssertionError("import circle: " + " -> ".join(trail[trail.index(n):] + [n]))
+            if n not in state:
+                visit(n, trail + [n])
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])
+
+
+def test_the_checker_sees_an_upward_import(tmp_path):
+    """The import reader finds an upward import at the top and one inside a function."""
+    fake = tmp_path / "render" / "fake.py"
+    for name in ("render/fake.py", "report/page.py", "study/config.py"):
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text("")
+    fake.write_text("from ..report import page\n\ndef f():\n    from ..study.config import label\n")
+    assert imported("render.fake", fake, root=tmp_path) == {"report.page", "study.config"}
