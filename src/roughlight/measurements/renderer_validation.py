@@ -189,6 +189,8 @@ def arc_smoothness(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float 
             & (curves["diffuse"]["incidence"] == i), "elevation"]), float)
         exact = reference_sweep(Surface(float(t), float(a)), float(i), np.zeros_like(elevation), elevation, lighting)
         seen = ~np.asarray(sweeps.is_grazing(elevation))
+        if not seen.any():  # every view of the arc grazes the surface (sweep.elevation_step 180): nothing to compare
+            continue
         for figure, component in figures:
             c = curves[component]
             curve = c[(c["truncation"] == t) & (c["aspect"] == a) & (c["incidence"] == i)].sort_values("elevation")
