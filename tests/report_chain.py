@@ -1,7 +1,8 @@
 """The whole report for a user's config, in one process: every sweep of the grid (the sweep rules' function),
 the study table, the analysis steps (:mod:`roughlight.analysis.steps`, what the analysis rules' scripts call), the drawn
 figures and the HTML page. The rendered pictures and the measurement sections (speed/accuracy, stability,
-implicit, the random-tile benchmark) do not depend on the grid: the workflow tests build those.
+implicit, the random-tile benchmark) do not depend on the grid, but for the renderer validation's arc curves,
+which are computed here too: the workflow tests build the rest.
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ from pathlib import Path
 import pandas as pd
 
 from roughlight.analysis import steps
+from roughlight.measurements.renderer_validation import arc_smoothness
+from roughlight.render.shading import Lighting
 from roughlight.report import figures as F
 from roughlight.report import page as R
 from roughlight.study import config as rl_config
@@ -67,6 +70,9 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
               "glm_diagnostics": glm["diagnostics"], "model_fits": models["fits"]}
     figures = {name: F.save_figure(fig, workdir / "figures" / f"{name}.png")
                for name, fig in F.drawn_figures(inputs, settings)}
+    # the renderer validation's arc curves (rule renderer_validation) follow the table aspects and the grid's arcs
+    smoothness = arc_smoothness(study, settings["table_aspects"], settings["table_incidence"], Lighting(**lighting))
+    assert set(smoothness["aspect"]) <= set(settings["table_aspects"])
     random_html = None
     if rl_config.random_surfaces(cfg):
         random = steps.analysis_random(study, settings, lighting)
