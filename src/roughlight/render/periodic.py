@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 
@@ -147,6 +148,26 @@ def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     return _LAYOUTS[key]
 
 
+class _Scene(NamedTuple):
+    """What every pass of one sweep draws with: the surface under its light, the context and the program."""
+
+    surface: Surface
+    #: the surface's height (periods), read once
+    height: float
+    #: (3,) unit vector towards the light
+    light_dir: np.ndarray
+    lighting: shading.Lighting
+    settings: RenderSettings
+    ctx: Context
+    program: object
+    #: 0 none, 1 periodic shadow map, 2 all in shadow (grazing light), as ``periodic.frag`` reads it
+    shadow_mode: int
+    #: 1 / the surface's height (slightly more), mapping heights to depths in [0, 1)
+    depth_scale: float
+    #: adaptive sampling's facet regions (:func:`roughlight.render.shares.facet_regions`), else None
+    regions: object
+
+
 def fast_sweep(
     surface: Surface,
     incidence: float,
@@ -184,54 +205,104 @@ def fast_sweep(
     """
     start = time.perf_counter()
     lighting = lighting or shading.Lighting()
-    settings = settings or RenderSettings()
-    if hasattr(surface, "cells"):  # a random tile
-        settings = settings.tile_settings().for_tile(surface.cells)
+    settings = _surface_settings(surface, settings or RenderSettings())
     incidence = shading.check_incidence(incidence)
+    azimuth, elevation = _view_angles(azimuth, elevation)
+    out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
+    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
+    if todo.size:
+        views = shading.view_direction(elevation[todo], azimuth[todo])
+        _render_views(out, surface, incidence, todo, views, lighting, settings)
+    out["seconds"] = time.perf_counter() - start
+    return out
+
+
+def _surface_settings(surface, settings: RenderSettings) -> RenderSettings:
+    """The settings ``surface`` is drawn with: a random tile's (it has ``cells``) are its tile settings, densities
+    per cell (:meth:`RenderSettings.tile_settings`, :meth:`RenderSettings.for_tile`); the regular surface's are
+    ``settings``."""
+    if hasattr(surface, "cells"):  # a random tile
+        return settings.tile_settings().for_tile(surface.cells)
+    return settings
+
+
+def _view_angles(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
+    """The views' azimuths and elevations (degrees) as (n_views,) float arrays of one shape."""
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
     if azimuth.shape != elevation.shape:
         raise ValueError("azimuth and elevation must have the same shape")
-    n = azimuth.size
-    out = {key: np.zeros(n) for key in ("diffuse", "specular", "total", "coverage")}
-    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
-    if todo.size == 0:
-        out["seconds"] = time.perf_counter() - start
-        return out
+    return azimuth, elevation
 
-    views = shading.view_direction(elevation[todo], azimuth[todo])
+
+def _render_views(out, surface, incidence, todo, views, lighting, settings) -> None:
+    """Fill ``out`` at the non-grazing views ``todo`` (their (V, 3) unit ``views``).
+
+    Adaptive sampling first takes the views where nothing is hidden from their exact areas and groups the
+    rest by lattice (:func:`_adaptive_groups`); lattice and grid sampling draw every view on the one
+    sampling matrix. Each group is then drawn in as many framebuffer passes as its layout needs.
+    """
     shears = views[:, :2] / views[:, 2:3]
     light_dir = shading.light_direction(incidence)
-    adaptive = settings.sampling == "adaptive"
     regions = None
-    if adaptive:
-        regions = shares.facet_regions(surface, incidence, lighting.shadows)
-        if len(regions.normals) > shares.MAX_FACETS:
-            raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
-                             f"this surface has {len(regions.normals)}; use lattice")
-        # where every facet faces the view nothing is hidden: each region's share is its exact area, unrendered
-        whole = shares.all_facing(regions, shears)
-        _exact_values(out, todo[whole], regions, shears[whole], views[whole], light_dir, lighting)
-        todo, views, shears = todo[~whole], views[~whole], shears[~whole]
+    if settings.sampling == "adaptive":
+        regions = _adaptive_regions(surface, incidence, lighting)
+        todo, views, shears, groups = _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting,
+                                                       settings)
         if todo.size == 0:
-            out["seconds"] = time.perf_counter() - start
-            return out
-        matrices = shares.candidate_lattices(int(settings.pixels_per_period))
-        shifts = [_surface_shift(m, settings.jitter) for m in matrices]
-        values = shares.region_values(regions, light_dir, views, lighting)
-        order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
-        # where even the best lattice may be off by the threshold, draw the next best too and average them all
-        many = score >= float(settings.average_lattices_above)
-        groups = [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
+            return
     else:
         groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int),
                                  np.zeros(todo.size, bool))]
     groups = [g for g in groups if g[1].size]
     layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
+    scene = _scene(ctx, surface, light_dir, lighting, settings, regions)
+    for group, layout in zip(groups, layouts):
+        _draw_group(out, scene, todo, views, shears, group, layout)
+
+
+def _adaptive_regions(surface, incidence: float, lighting):
+    """The surface's facet regions (:func:`roughlight.render.shares.facet_regions`) for adaptive sampling,
+    which takes at most :data:`roughlight.render.shares.MAX_FACETS` facets a period."""
+    regions = shares.facet_regions(surface, incidence, lighting.shadows)
+    if len(regions.normals) > shares.MAX_FACETS:
+        raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
+                         f"this surface has {len(regions.normals)}; use lattice")
+    return regions
+
+
+def _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting, settings):
+    """Adaptive sampling's plan: the views left to draw and, for each candidate lattice, its pass.
+
+    Where every facet faces the view nothing is hidden: each region's share is its exact area, added to
+    ``out`` unrendered. Each of the others is drawn on its best lattice
+    (:func:`roughlight.render.shares.choose_lattices`), and on the next best too, averaged, where even the best
+    may be off by ``settings.average_lattices_above`` levels.
+
+    Returns
+    -------
+    todo, views, shears : the views left to draw, (V,), (V, 3) and (V, 2)
+    groups : list of :func:`_lattice_group` passes, one a candidate lattice; empty when no view is left
+    """
+    whole = shares.all_facing(regions, shears)
+    _exact_values(out, todo[whole], regions, shears[whole], views[whole], light_dir, lighting)
+    todo, views, shears = todo[~whole], views[~whole], shears[~whole]
+    if todo.size == 0:
+        return todo, views, shears, []
+    matrices = shares.candidate_lattices(int(settings.pixels_per_period))
+    shifts = [_surface_shift(m, settings.jitter) for m in matrices]
+    values = shares.region_values(regions, light_dir, views, lighting)
+    order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
+    many = score >= float(settings.average_lattices_above)
+    return todo, views, shears, [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
+
+
+def _scene(ctx: Context, surface, light_dir, lighting, settings, regions) -> _Scene:
+    """Set up what every pass of the sweep draws with: the shadow map (drawn once, the light does not move)
+    and the program (with facet identities for adaptive sampling)."""
     height = surface.height
     depth_scale = 1.0 / max(height * 1.001, 1e-6)
-
     shadow_mode = 0
     if lighting.shadows and height > 0:
         if light_dir[2] < 1e-9:
@@ -239,49 +310,73 @@ def fast_sweep(
         else:
             shadow_mode = 1
             _shadow_pass(ctx, surface, light_dir, depth_scale)
-
-    defines = {**ATTRIBUTES, "FACET_IDS": 1} if adaptive else ATTRIBUTES
+    defines = {**ATTRIBUTES, "FACET_IDS": 1} if regions is not None else ATTRIBUTES
     program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
-    for (matrix, members, weights), (width, height_px, slots, pixel_order) in zip(groups, layouts):
-        per_tile = len(pixel_order) // len(slots)
-        shift_m = _surface_shift(matrix, settings.jitter)
-        for first in range(0, members.size, len(slots)):
-            idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
-            owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift_m).max()))
-            # nearest the detector first, so that the depth test rejects the copies behind before shading them
-            nearest = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
-            owner, copies = owner[nearest], copies[nearest]
-            copy_idx = idx[owner]
-            poses = _copy_poses(copies, shears[copy_idx], views[copy_idx], slots[: idx.size][owner])
-            _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
-            program._bind()
-            _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height)
-            program.set_uniform("sampling", matrix.astype(np.float32))
-            program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
-            program.set_uniform("surface_shift", shift_m.astype(np.float32))
-            gl.glActiveTexture(gl.GL_TEXTURE0)
-            gl.glBindTexture(gl.GL_TEXTURE_2D, ctx.shadow_tex)
-            program.set_uniform("shadow_map", 0)
-            _draw(ctx, _primitive(surface, poses), program)
-            program._unbind()
-            gl.glFinish()
+    return _Scene(surface, height, light_dir, lighting, settings, ctx, program, shadow_mode, depth_scale, regions)
 
-            raw = gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-            tiles_px = _tile_pixels(raw, pixel_order[: idx.size * per_tile], idx.size)
-            target = todo[idx]
-            if adaptive:
-                ids = tiles_px[..., 0].astype(np.int64) + 256 * tiles_px[..., 1].astype(np.int64)
-                _adaptive_values(out, target, weight, ids, regions, shears[idx], views[idx], matrix, shift_m,
-                                 light_dir, lighting)
-                continue
-            # integer sums (exact) over the tile's pixel count: the same float64 means as numpy's mean, faster
-            means = tiles_px.sum(axis=1, dtype=np.uint32) / float(per_tile)
-            out["diffuse"][target] = means[:, 0]
-            out["specular"][target] = means[:, 1]
-            out["total"][target] = means[:, 2]
-            out["coverage"][target] = means[:, 3] / 255.0
-    out["seconds"] = time.perf_counter() - start
-    return out
+
+def _draw_group(out, scene: _Scene, todo, views, shears, group, layout) -> None:
+    """Draw one lattice's views (``group``, a :func:`_lattice_group`) a framebuffer at a time and store their
+    values in ``out`` at ``todo`` of them. ``views`` (V, 3) and ``shears`` (V, 2) are all the drawn views';
+    ``layout`` is the lattice's :func:`roughlight.render.sampling.tile_layout`."""
+    matrix, members, weights = group
+    width, height_px, slots, pixel_order = layout
+    per_tile = len(pixel_order) // len(slots)
+    shift = _surface_shift(matrix, scene.settings.jitter)
+    for first in range(0, members.size, len(slots)):
+        idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
+        poses = _batch_poses(scene.height, views, shears, idx, slots, shift)
+        raw = _render_batch(scene, poses, matrix, shift, width, height_px)
+        tiles_px = _tile_pixels(raw, pixel_order[: idx.size * per_tile], idx.size)
+        target = todo[idx]
+        if scene.regions is not None:
+            ids = tiles_px[..., 0].astype(np.int64) + 256 * tiles_px[..., 1].astype(np.int64)
+            _adaptive_values(out, target, weight, ids, scene.regions, shears[idx], views[idx], matrix, shift,
+                             scene.light_dir, scene.lighting)
+        else:
+            _tile_means(out, target, tiles_px, per_tile)
+
+
+def _batch_poses(height: float, views, shears, idx, slots, shift) -> np.ndarray:
+    """Instance matrices of the copies drawn for the views ``idx`` (one framebuffer), the views in ``slots``
+    order, each view's copies nearest the detector first, so that the depth test rejects the copies behind
+    before shading them. ``shift`` (2,) is the surface's sub-pixel shift in periods."""
+    owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift).max()))
+    nearest = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
+    owner, copies = owner[nearest], copies[nearest]
+    copy_idx = idx[owner]
+    return _copy_poses(copies, shears[copy_idx], views[copy_idx], slots[: idx.size][owner])
+
+
+def _render_batch(scene: _Scene, poses, matrix, shift, width: int, height_px: int) -> bytes:
+    """Draw the copies ``poses`` into the ``width`` x ``height_px`` viewport with the sampling ``matrix`` and
+    the surface ``shift``; return the viewport's RGBA bytes."""
+    program = scene.program
+    _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+    program._bind()
+    _set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
+                           scene.depth_scale, scene.height)
+    program.set_uniform("sampling", matrix.astype(np.float32))
+    program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
+    program.set_uniform("surface_shift", shift.astype(np.float32))
+    gl.glActiveTexture(gl.GL_TEXTURE0)
+    gl.glBindTexture(gl.GL_TEXTURE_2D, scene.ctx.shadow_tex)
+    program.set_uniform("shadow_map", 0)
+    _draw(scene.ctx, _primitive(scene.surface, poses), program)
+    program._unbind()
+    gl.glFinish()
+    return gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+
+
+def _tile_means(out, target, tiles_px, per_tile: int) -> None:
+    """Store at ``target`` each tile's mean diffuse, specular and total (0-255) and coverage (0-1) from its
+    (n_tiles, per_tile, 4) uint8 pixels: integer sums (exact) over the tile's pixel count, the same float64
+    means as numpy's mean, faster."""
+    means = tiles_px.sum(axis=1, dtype=np.uint32) / float(per_tile)
+    out["diffuse"][target] = means[:, 0]
+    out["specular"][target] = means[:, 1]
+    out["total"][target] = means[:, 2]
+    out["coverage"][target] = means[:, 3] / 255.0
 
 
 def _lattice_group(k, matrix, order, many):
