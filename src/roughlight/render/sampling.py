@@ -228,29 +228,54 @@ def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     matrix = np.asarray(matrix, float)
     per_tile = int(round(abs(np.linalg.det(matrix))))
     reach = int(np.abs(matrix).sum(axis=0).max()) + 1
-    side = int(math.ceil(math.sqrt(n_views * per_tile * 1.03))) + 2 * reach
-    side = min(max(side, reach + 1), max_framebuffer)
     inverse = np.linalg.inv(matrix)
-    while True:
-        width = height = side
-        corners = np.array([[0, 0], [width, 0], [0, height], [width, height]], float)
-        pre = corners @ inverse.T
-        lo = np.floor(pre.min(axis=0)).astype(int) - 1
-        hi = np.ceil(pre.max(axis=0)).astype(int) + 1
-        kx, ky = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
-        cand = np.stack([kx.ravel(), ky.ravel()], axis=1)
-        unit = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], float)
-        pts = (cand[:, None, :] + unit[None]) @ matrix.T
-        x, y = pts[..., 0], pts[..., 1]
-        inside = np.all((x >= 0) & (x <= width) & (y >= 0) & (y <= height), axis=1)
-        slots = cand[inside]
-        if len(slots) >= n_views or side >= max_framebuffer:
-            break
-        side = min(max_framebuffer, int(side * 1.05) + 1)
+    side, slots = _square_framebuffer(matrix, inverse, n_views, per_tile, reach, max_framebuffer)
+    width = height = side
     # keep the slots nearest the origin first (row-major in the window)
     centre = (slots + 0.5) @ matrix.T
     slots = slots[np.lexsort((centre[:, 0], np.floor(centre[:, 1] / reach)))][: max(n_views, 1)]
-    # the pixel centres of the slot at K = 0; every slot is that set moved by matrix @ K
+    base = _home_pixels(matrix, inverse, per_tile)
+    shift = np.rint(slots @ matrix.T).astype(np.int64)
+    # flat indices (< 4096^2, so 32 bits): each slot's offset plus the home slot's pixels
+    offset = (shift[:, 1] * width + shift[:, 0]).astype(np.int32)
+    pixel_order = (offset[:, None] + (base[:, 1] * width + base[:, 0]).astype(np.int32)[None, :]).ravel()
+    return width, height, slots, pixel_order
+
+
+def _square_framebuffer(matrix, inverse, n_views: int, per_tile: int, reach: int, max_framebuffer: int):
+    """The smallest square framebuffer side (pixels, growing by 5% from an estimate) whose whole tiles number
+    at least ``n_views``, or ``max_framebuffer``; returns the side and those tiles' (m, 2) cell offsets.
+
+    ``per_tile`` is a tile's pixel count ``|det matrix|``, ``reach`` one more than a tile's widest extent in
+    pixels, ``inverse`` the inverse of ``matrix``."""
+    side = int(math.ceil(math.sqrt(n_views * per_tile * 1.03))) + 2 * reach
+    side = min(max(side, reach + 1), max_framebuffer)
+    while True:
+        slots = _whole_tiles(matrix, inverse, side, side)
+        if len(slots) >= n_views or side >= max_framebuffer:
+            return side, slots
+        side = min(max_framebuffer, int(side * 1.05) + 1)
+
+
+def _whole_tiles(matrix, inverse, width: int, height: int) -> np.ndarray:
+    """(m, 2) int cell offsets ``K`` of the tiles ``matrix @ (K + [0, 1]^2)`` lying wholly inside the
+    ``width`` x ``height`` pixel window, in the order of a scan of a box of candidates (x major)."""
+    corners = np.array([[0, 0], [width, 0], [0, height], [width, height]], float)
+    pre = corners @ inverse.T
+    lo = np.floor(pre.min(axis=0)).astype(int) - 1
+    hi = np.ceil(pre.max(axis=0)).astype(int) + 1
+    kx, ky = np.meshgrid(np.arange(lo[0], hi[0] + 1), np.arange(lo[1], hi[1] + 1), indexing="ij")
+    cand = np.stack([kx.ravel(), ky.ravel()], axis=1)
+    unit = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], float)
+    pts = (cand[:, None, :] + unit[None]) @ matrix.T
+    x, y = pts[..., 0], pts[..., 1]
+    inside = np.all((x >= 0) & (x <= width) & (y >= 0) & (y <= height), axis=1)
+    return cand[inside]
+
+
+def _home_pixels(matrix, inverse, per_tile: int) -> np.ndarray:
+    """(per_tile, 2) int (x, y) of the pixels whose centres fall in the slot at ``K = 0``, row-major bottom row
+    first; every slot's are these moved by ``matrix @ K``. Raises if they are not exactly ``per_tile``."""
     box = np.abs(matrix).sum(axis=1).astype(int) + 1
     lo_px = np.minimum(0, matrix.sum(axis=1).clip(max=0)).astype(int) - 1
     ys, xs = np.mgrid[lo_px[1] - box[1]:box[1] + 1, lo_px[0] - box[0]:box[0] + 1]
@@ -259,8 +284,4 @@ def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
     base = np.stack([xs.ravel()[home], ys.ravel()[home]], axis=1)
     if len(base) != per_tile:
         raise RuntimeError("tile layout: a tile does not hold exactly |det S| pixel centres")
-    shift = np.rint(slots @ matrix.T).astype(np.int64)
-    # flat indices (< 4096^2, so 32 bits): each slot's offset plus the home slot's pixels
-    offset = (shift[:, 1] * width + shift[:, 0]).astype(np.int32)
-    pixel_order = (offset[:, None] + (base[:, 1] * width + base[:, 0]).astype(np.int32)[None, :]).ravel()
-    return width, height, slots, pixel_order
+    return base
