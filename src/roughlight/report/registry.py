@@ -6,8 +6,9 @@ section) and whether it is drawn from the analysis tables or rendered. Its title
 and caption live in one place, ``workflow/report/{name}.rst`` (what Snakemake's
 ``report(caption=...)`` reads): a bold title line, then ``*Thesis:*`` (what the
 thesis saw) and ``*Ours:*`` (what we see); :func:`caption` reads them for the
-HTML page. The function that draws a figure is :mod:`roughlight.report.figures`'
-``{name}`` (``fig_{name}`` for names that do not start with ``fig``).
+HTML page. The function that draws a figure is ``{name}`` (``fig_{name}`` for names that do not start with
+``fig``) of its section's module of :mod:`roughlight.report.figures` (:data:`SECTION_MODULES`), and is
+importable from :mod:`roughlight.report.figures` itself too.
 """
 
 from __future__ import annotations
@@ -54,10 +55,20 @@ class Figure:
         """Name of the function of :mod:`roughlight.report.figures` that draws it."""
         return self.name if self.name.startswith("fig") else f"fig_{self.name}"
 
+    @property
+    def module(self) -> str:
+        """The module that holds :attr:`draw`: its section's module of :mod:`roughlight.report.figures`."""
+        return f"roughlight.report.figures.{SECTION_MODULES[self.section]}"
+
 
 #: Snakemake report subcategory of each section of the HTML page.
 SUBCATEGORIES = {"specular": "Specular", "diffuse": "Diffuse", "pictures": "Pictures", "lobes": "Beyond the thesis",
                  "glm": "Beyond the thesis", "models": "Beyond the thesis", "provenance": "Provenance"}
+
+#: The module of :mod:`roughlight.report.figures` that draws each section's figures (the render times, shown
+#: under provenance, with the other speed charts).
+SECTION_MODULES = {"specular": "specular", "diffuse": "diffuse", "pictures": "pictures", "lobes": "lobes",
+                   "glm": "glm", "models": "models", "provenance": "speed"}
 
 #: Every figure, in the order the HTML page shows them within a section.
 FIGURES = (

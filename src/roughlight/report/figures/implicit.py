@@ -1,0 +1,79 @@
+"""An implicit rough surface: the implicit shader's error and frame time, and its hemisphere maps against the
+exact reference."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+import seaborn as sns
+
+from ...surfaces.surface import aspect_label
+from .common import hemisphere_frame, mirrored, save_figure, theme
+
+__all__ = ["plot_implicit", "plot_implicit_maps"]
+
+
+def plot_implicit(validation, frames, path, pictures=None) -> None:
+    """The implicit rough surface: per-surface MAE by method (left) and frame time against field size (right);
+    below, when given, ``pictures`` (method -> 2-D uint8 image) side by side."""
+    sns.set_theme(style="whitegrid")
+    pictures = pictures or {}
+    if pictures:
+        fig = plt.figure(figsize=(11, 8.4))
+        top = fig.add_gridspec(2, 1, height_ratios=[1, 1.05])
+        axes = top[0].subgridspec(1, 2).subplots()
+        for ax, (name, image) in zip(top[1].subgridspec(1, len(pictures)).subplots(squeeze=False)[0],
+                                     pictures.items()):
+            ax.imshow(image, cmap="gray", vmin=0, vmax=255)
+            ax.set_title(name.replace("_", " "), fontsize=9)
+            ax.axis("off")
+    else:
+        fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    d = validation[validation["component"] == "diffuse"].copy()
+    d["mae (0-255)"] = d["mae"].clip(lower=1e-3)
+    sns.stripplot(data=d, x="method", y="mae (0-255)", hue="kind", dodge=True, ax=axes[0], size=4)
+    axes[0].set(yscale="log", xlabel="", title="Error against the exact reference, diffuse, per surface")
+    axes[0].axhline(0.1, color="grey", lw=0.8, ls=":")
+    axes[0].tick_params(axis="x", labelrotation=15)
+    f = frames.groupby(["field", "method"], as_index=False)["frame_ms"].mean()
+    sns.lineplot(data=f, x="field", y="frame_ms", hue="method", marker="o", ax=axes[1])
+    axes[1].set(xscale="log", yscale="log", xlabel="field side N (periods)", ylabel="frame time (ms)",
+                title="N x N field: explicit mesh against one implicit quad")
+    fig.tight_layout()
+    save_figure(fig, path, dpi=120)
+
+
+def _map_panel(fig, ax, cur, ref, method, component, surface) -> None:
+    """The exact map of one surface, or an implicit model's difference from it on a symmetric scale."""
+    t, a, i = surface
+    value = cur[component].to_numpy() - (0 if method == "reference" else ref[component].to_numpy())
+    e, phi = np.radians(cur["elevation"].to_numpy()), np.radians(cur["azimuth"].to_numpy())
+    X, Y, Z = mirrored(np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi), value)
+    if method == "reference":
+        levels, cmap = np.linspace(0, max(float(Z.max()), 1.0), 16), "magma"
+        title = f"t {t:g}, aspect {aspect_label(a)}, i {i:g}: exact {component}"
+    else:
+        span = max(float(np.abs(Z).max()), 0.05)
+        levels, cmap = np.linspace(-span, span, 17), "RdBu_r"
+        title = f"{method.replace('_', ' ')} − exact (max |Δ| {span:.2f})"
+    mappable = ax.tricontourf(X, Y, Z, levels=levels, cmap=cmap)
+    fig.colorbar(mappable, ax=ax, shrink=0.8)
+    hemisphere_frame(ax, i)
+    ax.set_title(title, loc="left", fontsize=8)
+
+
+def plot_implicit_maps(maps, path, component: str = "total") -> None:
+    """Hemisphere maps (top-down, light on the right) of the exact reference and of each implicit model's
+    difference from it, one row per surface (:func:`roughlight.measurements.implicit_surface.hemisphere_maps`)."""
+    theme()
+    surfaces = maps[["truncation", "aspect", "incidence"]].drop_duplicates().to_numpy()
+    columns = ("reference", "implicit_exact", "implicit_correction")
+    fig, axes = plt.subplots(len(surfaces), 3, figsize=(11, 3.6 * len(surfaces)), squeeze=False)
+    for row, (t, a, i) in zip(axes, surfaces):
+        sel = maps[(maps.truncation == t) & (maps.aspect == a) & (maps.incidence == i)]
+        ref = sel[sel.method == "reference"].sort_values(["azimuth", "elevation"])
+        for ax, method in zip(row, columns):
+            cur = sel[sel.method == method].sort_values(["azimuth", "elevation"])
+            _map_panel(fig, ax, cur, ref, method, component, (t, a, i))
+    fig.tight_layout()
+    save_figure(fig, path, dpi=110)

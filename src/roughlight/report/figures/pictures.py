@@ -1,0 +1,27 @@
+"""Pictures of the surfaces as rendered: the thesis's Figs. 9, 10 and 13."""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+
+from .common import placeholder, theme
+
+__all__ = ["fig_pictures"]
+
+
+def fig_pictures(stem: str, pictures):
+    """A row of rendered pictures with their labels (Figs. 9, 10, 13)."""
+    theme()
+    from ...render.pictures import PICTURE_SETS
+
+    title = PICTURE_SETS[stem][0] if stem in PICTURE_SETS else stem
+    n = len(pictures)
+    if n == 0:
+        return placeholder(title, "no pictures")
+    fig, axes = plt.subplots(1, n, figsize=(3.2 * n, 2.9), squeeze=False)
+    for ax, (label, img) in zip(axes[0], pictures):
+        ax.imshow(img)
+        ax.set_title(label, fontsize=9)
+        ax.axis("off")
+    fig.suptitle(title, fontsize=10, y=1.02)
+    return fig

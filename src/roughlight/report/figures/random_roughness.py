@@ -1,0 +1,164 @@
+"""Random roughness: the random kinds' ensembles against the regular surface, their hemisphere maps, and the
+random tiles' benchmark (tile size, speed, pictures)."""
+
+from __future__ import annotations
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+
+from ...surfaces.surface import aspect_label
+from .common import hemisphere_frame, hemisphere_map_problem, mirrored, placeholder, save_figure, theme
+
+__all__ = ["RANDOM_CHART_STATISTICS", "KIND_COLOURS", "plot_random_ensembles", "plot_random_maps",
+           "plot_random_tiles"]
+
+#: The statistics the random-roughness chart shows, in reading order (see :data:`roughlight.analysis.ensembles.STATISTICS`).
+RANDOM_CHART_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "back_phase_shift",
+                           "forward_peak", "diffuse_level", "diffuse_level1", "diffuse_level3")
+#: Marker colour of each surface kind.
+KIND_COLOURS = {"pyramids": "k", "random_pyramids": "tab:orange", "random_heightfield": "tab:blue"}
+
+
+def _grid_points(frame) -> np.ndarray:
+    """The random grid points (truncation, aspect, incidence) of a frame, by incidence, aspect, truncation."""
+    return frame[["truncation", "aspect", "incidence"]].drop_duplicates().sort_values(
+        ["incidence", "aspect", "truncation"]).to_numpy()
+
+
+def _ensemble_panel(ax, sel, points, kinds) -> None:
+    """One statistic: at each grid point the regular value (cross) and each kind's mean with its 95% interval."""
+    for p, (t, a, i) in enumerate(points):
+        at = sel[(sel.truncation == t) & (sel.aspect == a) & (sel.incidence == i)]
+        if at.empty:
+            continue
+        ax.plot(p, at["regular"].iloc[0], marker="x", color="k", ms=8, ls="none",
+                label="regular pyramids" if p == 0 else None)
+        for k, kind in enumerate(kinds):
+            row = at[at["kind"] == kind]
+            if row.empty:
+                continue
+            r = row.iloc[0]
+            ax.errorbar(p + 0.18 * (k + 1), r["mean"], yerr=[[r["mean"] - r["ci_low"]], [r["ci_high"] - r["mean"]]],
+                        fmt="o", color=KIND_COLOURS[kind], ms=5, capsize=3,
+                        label=f"{kind.replace('_', ' ')} (mean, 95% CI)" if p == 0 else None)
+
+
+def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
+    """One panel per statistic: the regular surface (black cross) and each random kind's ensemble mean with
+    its 95% interval over seeds, at every random grid point (:func:`roughlight.analysis.ensembles.ensemble_summary`)."""
+    from ...analysis.ensembles import ELLIPSE_FILL
+
+    theme()
+    names = [s for s in RANDOM_CHART_STATISTICS if s in set(summary["statistic"])]
+    ncol = 4
+    nrow = max(1, math.ceil(len(names) / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(3.4 * ncol, 3.0 * nrow), squeeze=False)
+    points = _grid_points(summary)
+    labels = [f"t {t:g}\na {aspect_label(a)}\ni {i:g}" for t, a, i in points]
+    kinds = [k for k in KIND_COLOURS if k in set(summary["kind"])]
+    for ax, name in zip(axes.ravel(), names):
+        sel = summary[summary["statistic"] == name]
+        _ensemble_panel(ax, sel, points, kinds)
+        if name == "back_rectangularity":
+            ax.axhline(ELLIPSE_FILL, color="0.5", ls=":", lw=1)
+            ax.axhline(1.0, color="0.5", ls="--", lw=1)
+        unit = sel["unit"].iloc[0] if len(sel) else ""
+        ax.set_title(f"{name.replace('_', ' ')} ({unit})", fontsize=9)
+        ax.set_xticks(range(len(points)))
+        ax.set_xticklabels(labels, fontsize=7)
+    for ax in axes.ravel()[len(names):]:
+        ax.axis("off")
+    handles, texts = axes.ravel()[0].get_legend_handles_labels()
+    fig.legend(handles, texts, loc="lower center", ncol=3, fontsize=8, frameon=False)
+    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    save_figure(fig, path)
+
+
+def _random_map(fig, ax, sel, kind, surface) -> None:
+    """One kind's map (the regular surface, or one seed), on its own scale: the shapes are compared, not the levels."""
+    t, a, i = surface
+    e, phi = np.radians(sel["elevation"].to_numpy(float)), np.radians(sel["azimuth"].to_numpy(float))
+    X, Y, Z = mirrored(np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi), sel["rough"].to_numpy(float))
+    top = max(float(Z.max()), 1.0)
+    mappable = ax.tricontourf(X, Y, Z, levels=np.linspace(0, top, 16), cmap="magma")
+    fig.colorbar(mappable, ax=ax, shrink=0.7)
+    hemisphere_frame(ax, i)
+    seed_text = "" if kind == "pyramids" else f", seed {int(sel['seed'].iloc[0])}"
+    ax.set_title(f"{kind.replace('_', ' ')}{seed_text}\nt {t:g}, a {aspect_label(a)}, i {i:g}", fontsize=8,
+                 loc="left")
+
+
+def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", seed: int = 1) -> None:
+    """Top-down hemisphere maps (light on the right, star) of the regular surface and of one seed of each random
+    kind, one row per random grid point: the thesis's Fig. 19 view of the lobes' shapes."""
+    from ...analysis.ensembles import random_points
+
+    theme()
+    data = random_points(study)
+    data = data[data["component"].astype(str) == component]
+    problem = hemisphere_map_problem(data["azimuth"].nunique(), data["elevation"].nunique())
+    if problem:
+        save_figure(placeholder("Random roughness: maps of the hemisphere", problem), path)
+        return
+    kinds = [k for k in KIND_COLOURS if k in set(data["kind"].astype(str))]
+    points = _grid_points(data)
+    fig, axes = plt.subplots(max(1, len(points)), len(kinds), figsize=(3.6 * len(kinds), 3.4 * max(1, len(points))),
+                             squeeze=False)
+    for row, (t, a, i) in zip(axes, points):
+        at = data[(data.truncation == t) & (data.aspect == a) & (data.incidence == i)]
+        for ax, kind in zip(row, kinds):
+            sel = at[at["kind"].astype(str) == kind]
+            sel = sel[sel["seed"] == (0 if kind == "pyramids" else sel["seed"].min())]
+            _random_map(fig, ax, sel, kind, (t, a, i))
+    fig.suptitle(f"{component} (0-255), each map on its own scale", fontsize=9)
+    fig.tight_layout()
+    save_figure(fig, path)
+
+
+def _convergence_panel(ax, summary, name, first) -> None:
+    """One followed statistic (or the views per second) against tile size, per kind; the regular surface dashed."""
+    speed = name == "views_per_second"
+    for kind, g in summary.groupby("kind"):
+        g = g[g["statistic"] == (first if speed else name)].sort_values("cells")
+        y = g["views_per_second"] if speed else g["mean"]
+        err = None if speed else g["ci_half_width"]
+        ax.errorbar(g["cells"], y, yerr=err, marker="o", capsize=3, color=KIND_COLOURS.get(kind),
+                    label=kind.replace("_", " "))
+        if not speed and np.isfinite(g["regular"].iloc[0]):
+            ax.axhline(g["regular"].iloc[0], color="k", ls="--", lw=1)
+    if speed:
+        regular = summary["regular_views_per_second"].dropna()
+        if len(regular):
+            ax.axhline(float(regular.iloc[0]), color="k", ls="--", lw=1, label="regular surface")
+        ax.set_yscale("log")
+    ax.set_title(name.replace("_", " ") + (" (fast renderer)" if speed else ""), fontsize=9)
+    ax.set_xlabel("tile size (cells a side)", fontsize=8)
+
+
+def plot_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures, path) -> None:
+    """The random tiles' benchmark on one page: each followed statistic against tile size (ensemble mean and
+    95% interval over seeds, the regular surface dashed), the fast renderer's views per second against tile size,
+    and pictures of each kind as rendered at the thesis's telling views (kinds by rows)."""
+    theme()
+    names = list(dict.fromkeys(summary["statistic"]))
+    ncol = 3
+    n_pictures = len(pictures)
+    picture_rows = math.ceil(n_pictures / ncol) if n_pictures else 0
+    chart_rows = math.ceil((len(names) + 1) / ncol)
+    fig = plt.figure(figsize=(4.0 * ncol, 3.0 * (chart_rows + picture_rows)))
+    grid = fig.add_gridspec(chart_rows + picture_rows, ncol)
+    for k, name in enumerate(names + ["views_per_second"]):
+        ax = fig.add_subplot(grid[k // ncol, k % ncol])
+        _convergence_panel(ax, summary, name, names[0])
+        if k == 0:
+            ax.legend(fontsize=7)
+    for k, (label, image) in enumerate(pictures):
+        ax = fig.add_subplot(grid[chart_rows + k // ncol, k % ncol])
+        ax.imshow(image)
+        ax.set_title(label, fontsize=8)
+        ax.axis("off")
+    fig.tight_layout()
+    save_figure(fig, path)
