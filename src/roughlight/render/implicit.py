@@ -163,12 +163,34 @@ def cast_rays(surface: Surface, origins, directions, tau_end, cells=None, min_le
     """
     p0 = np.asarray(origins, float)
     d = np.asarray(directions, float)
-    n = len(p0)
-    tau_end = np.broadcast_to(np.asarray(tau_end, float), (n,))
+    tau_end = np.broadcast_to(np.asarray(tau_end, float), (len(p0),))
     grad, const, w_i, w_j = _half_spaces(surface)
     cell = np.floor(p0[:, :2]).astype(np.int64) if cells is None else np.array(cells, np.int64)
-    gp0 = p0 @ grad.T  # (n, 5)
-    gd = d @ grad.T
+    walk = _cell_walk(p0, d, cell)
+    # plane k along the ray: grad_k . (p0 + tau d) = gp0 + tau gd, offset by cell (i, j)'s const + w_i i + w_j j
+    planes = (p0 @ grad.T, d @ grad.T, const, w_i, w_j)
+    return _first_solid(planes, cell, walk, tau_end, min_length)
+
+
+def _cell_walk(p0, d, cell):
+    """The start of each ray's walk through the cells (one wall crossing a step).
+
+    Parameters
+    ----------
+    p0, d : (n, 3) arrays
+        Ray starts and directions.
+    cell : (n, 2) int array
+        The cell each ray starts in.
+
+    Returns
+    -------
+    step : (n, 2) int array
+        +1 or -1: the way each ray crosses the x and y cell walls.
+    t_wall : (n, 2) float array
+        Ray parameter of the next x and y wall (inf where the ray runs along it).
+    dt : (n, 2) float array
+        Ray parameter between two x walls and between two y walls.
+    """
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = np.where(d[:, :2] != 0, 1.0 / d[:, :2], np.inf)
     step = np.where(d[:, :2] > 0, 1, -1)
@@ -176,6 +198,19 @@ def cast_rays(surface: Surface, origins, directions, tau_end, cells=None, min_le
     nxt = np.where(d[:, :2] > 0, cell + 1, cell) - p0[:, :2]
     t_wall = np.where(np.isfinite(inv), nxt * inv, np.inf)
     dt = np.abs(inv)
+    return step, t_wall, dt
+
+
+def _first_solid(planes, cell, walk, tau_end, min_length):
+    """Walk every ray cell by cell until it meets the solid of a cell or passes ``tau_end``.
+
+    ``planes`` is ``(gp0, gd, const, w_i, w_j)``: the five facet planes' values at the ray starts and rates
+    along the rays, (n, 5) each, and their offsets (:func:`_half_spaces`); ``cell`` (n, 2) and ``walk``
+    (:func:`_cell_walk`) are updated in place as the rays step on. Returns :func:`cast_rays`'s four arrays.
+    """
+    gp0, gd, const, w_i, w_j = planes
+    step, t_wall, dt = walk
+    n = len(gp0)
     tau_in = np.zeros(n)
     hit = np.zeros(n, bool)
     tau = np.full(n, np.inf)
@@ -185,33 +220,60 @@ def cast_rays(surface: Surface, origins, directions, tau_end, cells=None, min_le
     while active.any():
         a = np.flatnonzero(active)
         g0 = gp0[a] - (const + np.outer(cell[a, 0], w_i) + np.outer(cell[a, 1], w_j))  # g(p0) per plane
-        ga = gd[a]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            cross = -g0 / ga
-        entering = np.where(ga < 0, cross, -np.inf)
-        leaving = np.where(ga > 0, cross, np.inf)
-        never = (ga == 0) & (g0 > 0)
-        enter = np.maximum(entering.max(axis=1), tau_in[a])
-        tau_out = np.minimum(t_wall[a].min(axis=1), tau_end[a])
-        leave = np.minimum(leaving.min(axis=1), tau_out)
-        found = (enter <= leave - min_length) & ~never.any(axis=1) & (enter <= tau_end[a])
-        if min_length > 0:
-            found &= leave > min_length
+        found, enter, entering = _enter_cell(g0, gd[a], tau_in[a], t_wall[a], tau_end[a], min_length)
         f = a[found]
         hit[f] = True
         tau[f] = enter[found]
         facet[f] = np.argmax(entering[found], axis=1)
         met[f] = cell[f]
         active[f] = False
-        # step to the next cell
         rest = a[~found]
-        x_first = t_wall[rest, 0] <= t_wall[rest, 1]
-        tau_in[rest] = np.where(x_first, t_wall[rest, 0], t_wall[rest, 1])
-        axis = np.where(x_first, 0, 1)
-        cell[rest, axis] += step[rest, axis]
-        t_wall[rest, axis] += dt[rest, axis]
+        _next_cell(rest, cell, t_wall, tau_in, step, dt)
         active[rest] = tau_in[rest] < tau_end[rest]
     return hit, tau, facet, met
+
+
+def _enter_cell(g0, gd, tau_in, t_wall, tau_end, min_length):
+    """Where rays meet the solid of their current cell (the intersection of the five half-spaces ``g <= 0``).
+
+    Parameters
+    ----------
+    g0, gd : (m, 5) arrays
+        Each plane's ``g`` at the ray start and its rate along the ray.
+    tau_in, t_wall, tau_end : (m,), (m, 2), (m,) arrays
+        Ray parameters: entry into the cell, the next x and y walls, the end of the search.
+    min_length : float
+        Least run inside the solid that counts as meeting it (see :func:`cast_rays`).
+
+    Returns
+    -------
+    found : (m,) bool
+    enter : (m,) float, ray parameter of entry into the solid (meaningful where found)
+    entering : (m, 5) float, each plane's entry parameter (-inf for planes the ray leaves); the largest
+        names the facet met
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross = -g0 / gd
+    entering = np.where(gd < 0, cross, -np.inf)
+    leaving = np.where(gd > 0, cross, np.inf)
+    never = (gd == 0) & (g0 > 0)
+    enter = np.maximum(entering.max(axis=1), tau_in)
+    tau_out = np.minimum(t_wall.min(axis=1), tau_end)
+    leave = np.minimum(leaving.min(axis=1), tau_out)
+    found = (enter <= leave - min_length) & ~never.any(axis=1) & (enter <= tau_end)
+    if min_length > 0:
+        found &= leave > min_length
+    return found, enter, entering
+
+
+def _next_cell(rest, cell, t_wall, tau_in, step, dt) -> None:
+    """Step the rays ``rest`` into their next cell across the nearer wall, in place: ``cell``, ``t_wall``
+    and ``tau_in`` (see :func:`_cell_walk`)."""
+    x_first = t_wall[rest, 0] <= t_wall[rest, 1]
+    tau_in[rest] = np.where(x_first, t_wall[rest, 0], t_wall[rest, 1])
+    axis = np.where(x_first, 0, 1)
+    cell[rest, axis] += step[rest, axis]
+    t_wall[rest, axis] += dt[rest, axis]
 
 
 def exact_shares(surface: Surface, incidence, azimuth, elevation, samples: int = DEFAULT_SAMPLES,
@@ -357,10 +419,41 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
     if surface.is_plate:
         (lit if L[2] > 0 else shadow)[seen, 0] = 1.0
         return lit, shadow
-    s = 2.0 * surface.aspect
     top = (1.0 - surface.truncation) ** 2
     side = (1.0 - top) / 4.0
     V = shading.view_direction(el[seen], az[seen])
+    seen_share, lit_side = _side_shares(surface, side, V, L, shadows, light_up)
+    lit[seen, 0] = top if light_up else 0.0
+    shadow[seen, 0] = top - lit[seen, 0]
+    lit[seen, 1:] = lit_side
+    shadow[seen, 1:] = seen_share - lit_side
+    return lit, shadow
+
+
+def _side_shares(surface: Surface, side: float, V, L, shadows: bool, light_up: bool):
+    """The four side facets' seen and lit shares by the first-order correction (see :func:`correction_shares`).
+
+    Parameters
+    ----------
+    surface : Surface
+        Not the plate.
+    side : float
+        A side facet's plan area ``P_s`` (periods^2).
+    V : (n, 3) array
+        Unit view directions (no grazing view).
+    L : (3,) array
+        Unit direction towards the light.
+    shadows : bool
+        Whether the surface casts shadows.
+    light_up : bool
+        Whether the light is above the surface plane (or shadows are off).
+
+    Returns
+    -------
+    seen_share, lit_side : (n, 4) arrays
+        Share of the image each side facet (east, west, north, south) fills, and its lit part.
+    """
+    s = 2.0 * surface.aspect
     x = s * (V[:, :2] @ _SIDE_DIRECTIONS.T) / V[:, 2:3]
     x_light = s * (_SIDE_DIRECTIONS @ L[:2]) / max(L[2], 1e-12)
     unmasked = np.maximum(1.0 + x, 0.0)
@@ -376,12 +469,7 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
         lit_side = np.where(faces_light, seen_share * np.minimum(1.0, g_light / np.maximum(g_eff, 1e-300)), 0.0)
     else:
         lit_side = np.where(faces_light, seen_share, 0.0)
-    lit_side = np.minimum(lit_side, seen_share)
-    lit[seen, 0] = top if light_up else 0.0
-    shadow[seen, 0] = top - lit[seen, 0]
-    lit[seen, 1:] = lit_side
-    shadow[seen, 1:] = seen_share - lit_side
-    return lit, shadow
+    return seen_share, np.minimum(lit_side, seen_share)
 
 
 def correction_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None) -> dict:
