@@ -117,30 +117,41 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
         views = shading.view_direction(elevation[todo], azimuth[todo])
         for first in range(0, todo.size, per_pass):
             idx = np.arange(first, min(first + per_pass, todo.size))
-            _begin(width, rows)
-            program._bind()
-            set_uniforms(program, uniforms)
-            program.set_uniform("camera", np.eye(4, dtype=np.float32))
-            program.set_uniform("field_size", 0.0)
-            program.set_uniform("fb_width", width)
-            program.set_uniform("n_views", int(idx.size))
-            views_width = min(idx.size, 4096)
-            program.set_uniform("views_width", views_width)
-            tex = _views_texture(views[idx], views_width)
-            program.set_uniform("views", 0)
-            _draw_quad(_quad(ndc=True))
-            program._unbind()
-            gl.glFinish()
-            gl.glDeleteTextures([tex])
-            raw = gl.glReadPixels(0, 0, width, rows, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-            image = np.frombuffer(raw, np.uint8).reshape(-1, 4)[: idx.size * samples]
-            means = image.reshape(idx.size, samples, 4).mean(axis=1, dtype=np.float64)
-            target = todo[idx]
-            for channel, name in enumerate(("diffuse", "specular", "total")):
-                out[name][target] = means[:, channel]
-            out["coverage"][target] = means[:, 3] / 255.0
+            raw = _draw_views(program, uniforms, views[idx], width, rows)
+            _store_view_means(out, todo[idx], raw, samples)
     out["seconds"] = time.perf_counter() - start
     return out
+
+
+def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: int) -> bytes:
+    """One pass of a sweep: the quad over a ``width`` x ``rows`` framebuffer, the (n, 3) unit ``views`` each
+    owning ``uniforms["samples"]`` consecutive pixels; returns the framebuffer's RGBA bytes."""
+    _begin(width, rows)
+    program._bind()
+    set_uniforms(program, uniforms)
+    program.set_uniform("camera", np.eye(4, dtype=np.float32))
+    program.set_uniform("field_size", 0.0)
+    program.set_uniform("fb_width", width)
+    program.set_uniform("n_views", int(len(views)))
+    views_width = min(len(views), 4096)
+    program.set_uniform("views_width", views_width)
+    tex = _views_texture(views, views_width)
+    program.set_uniform("views", 0)
+    _draw_quad(_quad(ndc=True))
+    program._unbind()
+    gl.glFinish()
+    gl.glDeleteTextures([tex])
+    return gl.glReadPixels(0, 0, width, rows, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+
+
+def _store_view_means(out: dict, target: np.ndarray, raw: bytes, samples: int) -> None:
+    """Store at ``target`` (n,) each view's mean 8-bit diffuse, specular and total (0-255) and coverage (0-1)
+    over its ``samples`` consecutive pixels of the framebuffer's bytes ``raw``."""
+    image = np.frombuffer(raw, np.uint8).reshape(-1, 4)[: target.size * samples]
+    means = image.reshape(target.size, samples, 4).mean(axis=1, dtype=np.float64)
+    for channel, name in enumerate(("diffuse", "specular", "total")):
+        out[name][target] = means[:, channel]
+    out["coverage"][target] = means[:, 3] / 255.0
 
 
 def field_camera(view, field_size: float, span: float) -> np.ndarray:
