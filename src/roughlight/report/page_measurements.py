@@ -1,0 +1,203 @@
+"""The page's sections on the measurements (:mod:`roughlight.measurements`): "Where methods fail" (the stability
+scans), "Accuracy at every view" (the renderer's validation), "An implicit rough surface" and "Random roughness".
+
+The workflow renders each of these sections apart (``stability_section``, ``implicit_section``,
+``random_section``) and hands the HTML to :func:`roughlight.report.page.build_report`. The functions here gather
+each section's data; ``templates/stability.html``, ``renderer_validation.html``, ``implicit.html`` and
+``random.html`` say it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .page_templates import caption_text, existing, frame_or_none, interval, plain_text, render, render_macro
+
+# ---------------------------------------------------------------------------
+# the renderer at every view
+
+
+def validation_line(validation: pd.DataFrame) -> dict:
+    """The data of ``macros.html``'s ``validation_line``: per sampling setting, each component's worst view."""
+    from ..measurements.renderer_validation import validation_summary
+
+    summary = validation_summary(validation)
+    if "setting" not in summary.columns:
+        summary["setting"] = "configured"
+    settings = []
+    for setting, rows in summary.groupby("setting", sort=False):
+        settings.append({"setting": setting, "views_per_second": rows["views_per_second"].iloc[0],
+                         "rows": [{"component": r.component, "worst": r.worst, "p99": r.p99,
+                                   "largest_mae": r.largest_mae} for r in rows.itertuples()]})
+    return {"n_surfaces": len(validation[["truncation", "aspect", "incidence"]].drop_duplicates()),
+            "views": int(validation["n_views"].max()), "settings": settings}
+
+
+def renderer_validation_line(validation: pd.DataFrame) -> str:
+    """One sentence (plain text): the default renderer's worst view, p99 and MAE against the exact reference."""
+    return plain_text(render_macro("macros.html", "validation_line", validation_line(validation)))
+
+
+def renderer_validation_data(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None) -> dict:
+    """The data of ``templates/renderer_validation.html``."""
+    smoothness = frame_or_none(smoothness)
+    worst = smoothness.sort_values("largest_deviation", ascending=False).iloc[0] if smoothness is not None else None
+    return {"line": validation_line(validation), "png": existing(png_path), "validation": validation,
+            "smoothness": smoothness, "worst": worst}
+
+
+def renderer_validation_html(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None) -> str:
+    """The default renderer at every view: the summary line, the per-surface table, the arc curves' largest
+    deviations (Figs. 21 and 28) and the chart of :func:`roughlight.report.figures.plot_renderer_validation`."""
+    return render("renderer_validation.html", s=renderer_validation_data(validation, smoothness, png_path))
+
+
+# ---------------------------------------------------------------------------
+# where methods fail
+
+
+def stability_section(tables: dict, figure_png_path, plan: str = "full", renderer_validation=None) -> str:
+    """HTML fragment for the report: the safe-domain table, the figure, what fails where (with the default
+    renderer's worst view at every view when ``renderer_validation``, the frame of
+    :func:`roughlight.measurements.renderer_validation.validate_renderer`, is given).
+
+    Parameters
+    ----------
+    tables : dict
+        ``"safe_domain"``: the frame of :func:`safe_domain`; optionally
+        ``"stability"``: the long frame (for the clipping numbers).
+    figure_png_path : path of the PNG from :func:`roughlight.report.figures.plot_stability`.
+    plan : the size the measurements ran at (:data:`roughlight.measurements.stability.PLANS`).
+    """
+    from ..measurements.stability import TOLERANCE, normals_table, plan_surfaces
+
+    surfaces_of = plan_surfaces(plan)
+    safe = tables["safe_domain"]
+    if not isinstance(safe, pd.DataFrame):
+        safe = pd.DataFrame(safe)
+    long = tables.get("stability")
+    clipped = None
+    if long is not None:
+        cf = long[(long["experiment"] == "clipping") & (long["metric"] == "clipped_fraction")]
+        clipped = list(zip(cf["setting"], cf["x"], cf["value"]))
+    nt = normals_table(long) if long is not None else pd.DataFrame()
+    normals = {"table": nt, "surfaces": [(s.truncation, s.aspect) for s, _ in surfaces_of["normals"]]} \
+        if len(nt) else None
+    line = validation_line(renderer_validation) \
+        if renderer_validation is not None and len(renderer_validation) else None
+    return render("stability.html", s={
+        "plan": plan, "n_fast": len(surfaces_of["fast"]), "n_naive": len(surfaces_of["naive"]),
+        "tolerance": TOLERANCE, "safe": safe, "png": figure_png_path, "clipped": clipped, "line": line,
+        "normals": normals})
+
+
+# ---------------------------------------------------------------------------
+# an implicit rough surface
+
+
+def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full",
+                     maps_png_path=None) -> str:
+    """HTML fragment: "An implicit rough surface: the thesis's goal" (validation and frame times)."""
+    from ..measurements.implicit_surface import summary
+
+    f = frames.groupby(["field", "method"], as_index=False).agg(
+        triangles=("triangles", "first"), frame_ms=("frame_ms", "mean"), error=("error", "max"))
+    explicit = f[f["method"] == "explicit"].set_index("field")["frame_ms"]
+    f["speedup_vs_explicit"] = f["frame_ms"].rdiv(f["field"].map(explicit))
+    png, maps_png = existing(figure_png_path), existing(maps_png_path)
+    return render("implicit.html", s={
+        "plan": plan, "n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
+        "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
+        "png": png, "caption": caption_text("implicit") if png else None,
+        "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f})
+
+
+# ---------------------------------------------------------------------------
+# random roughness
+
+#: The analytic models compared on random tiles, by component: (column, name in the text).
+RANDOM_MODELS = {
+    "diffuse": (("rmse_lambert", "Lambert (the plate)"), ("rmse_oren_nayar", "Oren–Nayar, geometric σ"),
+                ("rmse_oren_nayar_fitted", "Oren–Nayar, fitted σ"), ("rmse_facet_vcavity_diffuse", "V-cavity facets"),
+                ("rmse_regular_diffuse", "the regular surface (implicit exact form)")),
+    "specular": (("rmse_phong_plate", "Phong on the plate"), ("rmse_facet_nomask_specular", "facets, no masking"),
+                 ("rmse_facet_vcavity_specular", "V-cavity facets"),
+                 ("rmse_regular_specular", "the regular surface (implicit exact form)")),
+}
+
+
+def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
+    """The thesis's rectangular-lobe claim in numbers: back-lobe rectangularity and phase shift, regular against
+    each random kind's ensemble (mean and 95% interval over seeds, one-sample t-test against the regular value)."""
+    claim = ensembles[ensembles["statistic"].isin(["back_rectangularity", "back_phase_shift"])]
+    rows = []
+    for _, r in claim.iterrows():
+        rows.append({"kind": r["kind"], "truncation": r["truncation"], "aspect": r["aspect"],
+                     "incidence": r["incidence"], "statistic": r["statistic"], "regular": r["regular"],
+                     "random mean [95% CI]": interval(r), "seeds": int(r["seeds"]), "t": r["t"],
+                     "p_value": r["p_value"], "seed-averaged views": r.get("pooled", np.nan)})
+    return pd.DataFrame(rows)
+
+
+def _verdicts(ensembles: pd.DataFrame) -> list[dict]:
+    """Per kind and grid point with a regular back lobe: its rectangularity and phase shift rows."""
+    out = []
+    for (kind, t, a, i), g in ensembles.groupby(["kind", "truncation", "aspect", "incidence"], sort=True):
+        rect = g[g["statistic"] == "back_rectangularity"]
+        shift = g[g["statistic"] == "back_phase_shift"]
+        if rect.empty or not np.isfinite(rect["regular"].iloc[0]):
+            continue
+        r, sh = rect.iloc[0], shift.iloc[0]
+        out.append({"kind": kind, "t": t, "a": a, "i": i, "rect": r, "shift": sh,
+                    "rect_pooled": r.get("pooled", np.nan), "shift_pooled": sh.get("pooled", np.nan)})
+    return out
+
+
+def _best_models(fits: pd.DataFrame) -> list[dict]:
+    """Per kind and component: the analytic model with the lowest mean RMSE over its grid points, and every one's."""
+    items = []
+    for kind, g in fits.groupby("kind", sort=False):
+        for component, models in RANDOM_MODELS.items():
+            present = [(c, name) for c, name in models if c in g and not (kind == "pyramids" and "regular" in c)]
+            if not present:
+                continue
+            means = {name: float(g[c].mean()) for c, name in present}
+            items.append({"kind": kind, "component": component, "model": min(means, key=means.get),
+                          "means": sorted(means.items(), key=lambda kv: kv[1])})
+    return items
+
+
+def _random_tiles(accuracy, convergence, tiles_png) -> dict:
+    """The random tiles' benchmark: the fast renderer against the exact reference, tile-size convergence."""
+    from ..measurements.random_tiles import convergence_summary
+
+    convergence = frame_or_none(convergence)
+    tiles_png = existing(tiles_png)
+    return {"accuracy": frame_or_none(accuracy),
+            "convergence": convergence_summary(convergence) if convergence is not None else None,
+            "tiles_png": tiles_png, "tiles_caption": caption_text("random_tiles") if tiles_png else None}
+
+
+def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fits: pd.DataFrame,
+                   ensembles_png=None, maps_png=None, surface_settings: dict | None = None,
+                   accuracy: pd.DataFrame | None = None, convergence: pd.DataFrame | None = None,
+                   tiles_png=None, plan: str = "full") -> str:
+    """HTML fragment: "Random roughness" (ensembles against the regular surface, the rectangular-lobe claim,
+    the analytic models refitted, seeds needed)."""
+    from ..analysis.ensembles import ELLIPSE_FILL
+
+    charts = [(f"fig-{stem.replace('_', '-')}", png, alt, caption_text(stem))
+              for png, stem, alt in ((ensembles_png, "random_ensembles", "ensembles"), (maps_png, "random_maps", "maps"))
+              if existing(png)]
+    shown = ensembles[[c for c in ("kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean",
+                                   "ci_low", "ci_high", "regular", "difference", "p_value", "pooled") if c in ensembles]]
+    rmse = [c for c in model_fits.columns if c.startswith("rmse_")]
+    fits = model_fits.groupby(["kind", "truncation", "aspect", "incidence"], as_index=False)[rmse].mean()
+    needed = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
+    return render("random.html", s={
+        "settings": surface_settings or {}, "ellipse_fill": ELLIPSE_FILL, "verdicts": _verdicts(ensembles),
+        "claim": random_claim_rows(ensembles), "charts": charts, "shown": shown, "best": _best_models(fits),
+        "fits": fits, "seeds": seeds_needed[["kind", "truncation", "aspect", "incidence", "statistic", "mean", "sd"]
+                                            + needed],
+        "plan": plan, **_random_tiles(accuracy, convergence, tiles_png)})
