@@ -73,17 +73,14 @@ renderer, not an error of the reference.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass, field
-
 import numpy as np
 import shapely
 import shapely.errors
 from shapely import affinity
 
-from ..surfaces.geometry import facet_polygons, period_triangles
 from ..surfaces.surface import Surface
 from . import views as sweeps
+from .clipping import EDGE_ON, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
 from .shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
 
 __all__ = [
@@ -114,16 +111,10 @@ SNAP_GRID = 1e-10
 #: The visible areas of a snap-rounded view must sum to 1 within this.
 SNAPPED_AREA_TOLERANCE = 1e-7
 
-#: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
-_MIN_OVERLAP = 1e-13
-#: Facets whose projection has a smaller area ratio are edge-on: not seen / not lit.
-_EDGE_ON = 1e-12
 #: Light grazing the plane (matches the renderer's ``light_dir[2] < 1e-9``).
 _GRAZING_LIGHT = 1e-9
 #: Views with |sin e| below this are grazing.
 _GRAZING_SIN = 1e-9
-#: Refuse views that would need more lattice copies than this (near grazing).
-_MAX_COPIES = 200_000
 
 
 def is_grazing_view(elevation) -> np.ndarray:
@@ -134,198 +125,6 @@ def is_grazing_view(elevation) -> np.ndarray:
     """
     e = np.asarray(elevation, float)
     return np.asarray(sweeps.is_grazing(e)) | (np.abs(np.sin(np.radians(e))) < _GRAZING_SIN)
-
-
-# ---------------------------------------------------------------------------
-# one period's facets and the clipping engine
-
-
-@dataclass
-class _Facets:
-    names: list
-    verts: list  # (n, 3) arrays, one per facet
-    normals: np.ndarray  # (F, 3) unit normals (period_triangles', as the renderer uses)
-    alpha: np.ndarray  # facet plane z = alpha x + beta y + gamma
-    beta: np.ndarray
-    gamma: np.ndarray
-    height: float
-    plate: bool
-    footprints: list = field(default_factory=list)  # shapely polygons in (x, y)
-
-
-def _facets(surface: Surface) -> _Facets:
-    polys = facet_polygons(surface)
-    _, tri_normals, tri_names = period_triangles(surface)
-    names = [name for name, _ in polys]
-    verts = [np.asarray(v, float) for _, v in polys]
-    normals = np.array([tri_normals[tri_names.index(name)] for name in names], float)
-    alpha = -normals[:, 0] / normals[:, 2]
-    beta = -normals[:, 1] / normals[:, 2]
-    gamma = np.array([v[0, 2] - al * v[0, 0] - be * v[0, 1] for v, al, be in zip(verts, alpha, beta)])
-    plate = surface.is_plate
-    height = surface.height
-    footprints = [shapely.Polygon(v[:, :2]) for v in verts]
-    return _Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints)
-
-
-def _lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
-    """Offsets ``(m, n)`` of the period copies whose projection can overlap period 0's.
-
-    A point of a period at height ``z`` in ``[0, H]`` projects to
-    ``(x, y) - z d``, so the projection of the copy at ``(m, n)`` lies in the
-    unit square at ``(m, n)`` swept along ``[0, -H d]``; two such regions
-    overlap only if ``(m, n) - lam H d`` is in ``[-1, 1]^2`` for some
-    ``lam`` in ``[-1, 1]``. Returns an ``(K, 2)`` float array, ``(0, 0)`` first.
-    """
-    hd = height * np.asarray(d, float)
-    mx = int(math.ceil(1.0 + abs(hd[0]))) + 1
-    my = int(math.ceil(1.0 + abs(hd[1]))) + 1
-    if (2 * mx + 1) * (2 * my + 1) > 50 * _MAX_COPIES:
-        raise ValueError(
-            "view too close to grazing for the exact reference "
-            f"(surface top shifted by {hd} periods)"
-        )
-    m, n = np.meshgrid(np.arange(-mx, mx + 1), np.arange(-my, my + 1), indexing="ij")
-    m, n = m.ravel().astype(float), n.ravel().astype(float)
-    lo = np.full(m.shape, -1.0)
-    hi = np.full(m.shape, 1.0)
-    slack = 1.0 + 1e-9
-    for c, h in ((m, hd[0]), (n, hd[1])):
-        if abs(h) > 1e-15:
-            a_, b_ = (c - slack) / h, (c + slack) / h
-            lo = np.maximum(lo, np.minimum(a_, b_))
-            hi = np.minimum(hi, np.maximum(a_, b_))
-        else:
-            hi = np.where(np.abs(c) <= slack, hi, -2.0)
-    keep = lo <= hi
-    off = np.stack([m[keep], n[keep]], axis=1)
-    if len(off) > _MAX_COPIES:
-        raise ValueError(
-            f"view too close to grazing for the exact reference ({len(off)} lattice copies needed)"
-        )
-    centre = np.flatnonzero((off[:, 0] == 0) & (off[:, 1] == 0))
-    order = np.concatenate([centre, np.setdiff1d(np.arange(len(off)), centre)])
-    return off[order]
-
-
-def _polygonal(geometry, grid_size):
-    """The polygonal part of a geometry (or of each in an array), snapped to ``grid_size``: a
-    snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
-    if isinstance(geometry, np.ndarray):
-        return np.array([_polygonal(g, grid_size) for g in geometry], dtype=object)
-    # lines and points first: set_precision on a mixed collection can drop its polygons too
-    geometry = shapely.set_precision(_area_parts(geometry), grid_size)
-    return geometry if geometry.geom_type in ("Polygon", "MultiPolygon") else _area_parts(geometry)
-
-
-def _area_parts(geometry):
-    """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area)."""
-    geometry = shapely.make_valid(geometry)
-    if geometry.geom_type in ("Polygon", "MultiPolygon"):
-        return geometry
-    parts = [p for p in shapely.get_parts(geometry) if p.geom_type in ("Polygon", "MultiPolygon")]
-    return shapely.union_all(parts) if parts else shapely.Polygon()
-
-
-def _overlay(operation, *geometries, grid_size=None):
-    """A GEOS overlay: in double precision, or snap-rounded to ``grid_size`` (robust; see :data:`SNAP_GRID`)."""
-    if grid_size is None:
-        return operation(*geometries)
-    snapped = [_polygonal(g, grid_size) for g in geometries]
-    return _polygonal(operation(*snapped, grid_size=grid_size), grid_size)
-
-
-def _visible_regions(surf: _Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
-    """Visible region of each facet of period 0 along the direction with plan shift ``d``.
-
-    ``d = (Dx/Dz, Dy/Dz)`` for a direction ``D`` (toward the viewer or the
-    light) with ``Dz > 0``. Coordinates are the oblique ones
-    ``(x - z dx, y - z dy)``; a point is in front when its ``z`` is larger.
-
-    Returns
-    -------
-    list of shapely geometries (empty polygon for facets not facing ``D``),
-    one per facet, and the per-facet area ratio ``det`` of the projection.
-    """
-    d = np.asarray(d, float)
-    det = 1.0 - surf.alpha * d[0] - surf.beta * d[1]
-    front = np.flatnonzero(det > _EDGE_ON)
-    empty = shapely.Polygon()
-    out = [empty] * len(surf.names)
-    if len(front) == 0:
-        return out, det
-    offsets = _lattice_offsets(surf.height, d)
-    n_off = len(offsets)
-
-    # projected polygons of every front-facing facet of every copy
-    proj = {}
-    geoms, owner, bbox = [], [], []
-    for f in front:
-        v = surf.verts[f]
-        p = v[:, :2] - v[:, 2:3] * d  # (n, 2), period 0
-        proj[f] = p
-        coords = p[None, :, :] + offsets[:, None, :]  # (K, n, 2)
-        geoms.append(shapely.polygons(coords))
-        owner.append(np.full(n_off, f))
-        bbox.append(np.concatenate([coords.min(axis=1), coords.max(axis=1)], axis=1))
-    geoms = np.concatenate(geoms)
-    owner = np.concatenate(owner)
-    offs = np.tile(offsets, (len(front), 1))
-    bbox = np.concatenate(bbox)
-    is_self_copy = np.zeros(len(geoms), bool)
-
-    for j, f in enumerate(front):
-        pf = geoms[j * n_off]  # offset (0, 0) comes first
-        bf = bbox[j * n_off]
-        tol = 1e-12
-        cand = (
-            (bbox[:, 0] < bf[2] - tol)
-            & (bbox[:, 2] > bf[0] + tol)
-            & (bbox[:, 1] < bf[3] - tol)
-            & (bbox[:, 3] > bf[1] + tol)
-        )
-        is_self_copy[:] = False
-        is_self_copy[j * n_off] = True
-        cand &= ~is_self_copy
-        idx = np.flatnonzero(cand)
-        if len(idx) == 0:
-            out[f] = pf
-            continue
-        inter = _overlay(shapely.intersection, pf, geoms[idx], grid_size=grid_size)
-        area = shapely.area(inter)
-        ok = area > _MIN_OVERLAP
-        idx, inter = idx[ok], inter[ok]
-        if len(idx) == 0:
-            out[f] = pf
-            continue
-        c = shapely.get_coordinates(shapely.centroid(inter))  # (k, 2)
-        g = owner[idx]
-        mn = offs[idx]
-        z_g = (surf.alpha[g] * (c[:, 0] - mn[:, 0]) + surf.beta[g] * (c[:, 1] - mn[:, 1]) + surf.gamma[g]) / det[g]
-        z_f = (surf.alpha[f] * c[:, 0] + surf.beta[f] * c[:, 1] + surf.gamma[f]) / det[f]
-        occ = inter[z_g > z_f]
-        if len(occ) == 0:
-            out[f] = pf
-        else:
-            out[f] = _overlay(shapely.difference, pf, _overlay(shapely.union_all, occ, grid_size=grid_size),
-                              grid_size=grid_size)
-    return out, det
-
-
-def _to_oblique(surf: _Facets, f: int, d) -> list:
-    """Affine map (shapely's 6-list) from plan ``(x, y)`` on facet ``f``'s plane to oblique coords."""
-    al, be, ga = surf.alpha[f], surf.beta[f], surf.gamma[f]
-    dx, dy = d
-    # s = x - dx z, u = y - dy z, z = al x + be y + ga
-    return [1.0 - dx * al, -dx * be, -dy * al, 1.0 - dy * be, -dx * ga, -dy * ga]
-
-
-def _from_oblique(surf: _Facets, f: int, d) -> list:
-    """Inverse of :func:`_to_oblique` (the facet must not be edge-on)."""
-    a, b, c, e, xo, yo = _to_oblique(surf, f, d)
-    det = a * e - b * c
-    ia, ib, ic, ie = e / det, -b / det, -c / det, a / det
-    return [ia, ib, ic, ie, -(ia * xo + ib * yo), -(ic * xo + ie * yo)]
 
 
 def _check_sum(total: float, what: str, grid_size=None) -> None:
@@ -356,12 +155,12 @@ def _with_fallback(compute, *args):
         return compute(*args, grid_size=SNAP_GRID)
 
 
-def _lit_regions(surf: _Facets, incidence: float, shadows: bool) -> list:
+def _lit_regions(surf: Facets, incidence: float, shadows: bool) -> list:
     """Lit part of each facet's plan footprint (shapely geometries)."""
     return _with_fallback(_lit_regions_at, surf, incidence, shadows)
 
 
-def _lit_regions_at(surf: _Facets, incidence: float, shadows: bool, grid_size=None) -> list:
+def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, grid_size=None) -> list:
     L = light_direction(incidence)
     ndotl = surf.normals @ L
     if not shadows or surf.plate:
@@ -371,18 +170,18 @@ def _lit_regions_at(surf: _Facets, incidence: float, shadows: bool, grid_size=No
     if L[2] < _GRAZING_LIGHT:
         return [shapely.Polygon() for _ in surf.footprints]
     d = np.array([L[0] / L[2], L[1] / L[2]])
-    regions, det = _visible_regions(surf, d, grid_size)
+    regions, det = visible_regions(surf, d, grid_size)
     _check_sum(float(sum(shapely.area(r) for r in regions)), f"light view (incidence {incidence})", grid_size)
     out = []
     for f, region in enumerate(regions):
-        if det[f] <= _EDGE_ON or ndotl[f] <= 0 or region.is_empty:
+        if det[f] <= EDGE_ON or ndotl[f] <= 0 or region.is_empty:
             out.append(shapely.Polygon())
             continue
-        plan = affinity.affine_transform(region, _from_oblique(surf, f, d))
+        plan = affinity.affine_transform(region, from_oblique(surf, f, d))
         # the lit part lies on the facet: trim floating-point overhang
-        out.append(_area_parts(_overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size)))
+        out.append(area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size)))
     # mapped back onto their facets, the lit parts still fill the light's view (areas scale by det)
-    _check_sum(float(sum(r.area * dt for r, dt in zip(out, det) if dt > _EDGE_ON)),
+    _check_sum(float(sum(r.area * dt for r, dt in zip(out, det) if dt > EDGE_ON)),
                f"lit footprints (incidence {incidence})", grid_size)
     return out
 
@@ -391,7 +190,7 @@ class _Scene:
     """Everything of a sweep that does not depend on the view."""
 
     def __init__(self, surface: Surface, incidence, shadows):
-        self.surf = _facets(surface)
+        self.surf = period_facets(surface)
         self.incidence = check_incidence(incidence)
         self.lit = _lit_regions(self.surf, self.incidence, bool(shadows))
         fp_area = np.array([fp.area for fp in self.surf.footprints])
@@ -411,7 +210,7 @@ class _Scene:
         n = len(self.surf.names)
         V = view_direction(elevation, azimuth)
         d = np.array([V[0] / V[2], V[1] / V[2]])
-        regions, det = _visible_regions(self.surf, d, grid_size)
+        regions, det = visible_regions(self.surf, d, grid_size)
         vis = np.array([r.area for r in regions])
         _check_sum(float(vis.sum()), f"view (e={elevation}, phi={azimuth})", grid_size)
         lit = np.zeros(n)
@@ -421,12 +220,12 @@ class _Scene:
             if self.all_lit[f]:
                 lit[f] = vis[f]
                 continue
-            lit_view = affinity.affine_transform(self.lit[f], _to_oblique(self.surf, f, d))
+            lit_view = affinity.affine_transform(self.lit[f], to_oblique(self.surf, f, d))
             if vis[f] >= self.fp_area[f] * det[f] - AREA_TOLERANCE:
                 # wholly visible: no overlay (GEOS can misjudge a lit part with sliver spikes)
                 lit[f] = min(lit_view.area, vis[f])
                 continue
-            both = _overlay(shapely.intersection, region, lit_view, grid_size=grid_size).area
+            both = overlay(shapely.intersection, region, lit_view, grid_size=grid_size).area
             _check_overlap(both, vis[f], lit_view.area, self.fp_area[f] * det[f],
                            f"facet {self.surf.names[f]}, view (e={elevation}, phi={azimuth})", grid_size)
             lit[f] = min(both, vis[f])

@@ -79,14 +79,15 @@ def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
     import shapely
     from shapely.geometry.polygon import orient
 
-    from .reference import _area_parts, _Scene
+    from .clipping import area_parts
+    from .reference import _Scene
 
     scene = _Scene(surface, incidence, shadows)
     surf = scene.surf
     facet, lit_flag, rings = [], [], []
     for f in range(len(surf.names)):
         footprint, lit = surf.footprints[f], scene.lit[f]
-        shadowed = footprint if lit.is_empty else _area_parts(shapely.difference(footprint, lit))
+        shadowed = footprint if lit.is_empty else area_parts(shapely.difference(footprint, lit))
         for flag, region in ((True, lit), (False, shadowed)):
             region_rings = []
             for polygon in shapely.get_parts(region):

@@ -1,0 +1,249 @@
+"""The clipping engine of the exact reference (:mod:`roughlight.render.reference`): one period's facets, the
+lattice copies that can hide them, and each facet's visible region along a direction (toward the viewer or the
+light) in that direction's oblique base-plane coordinates, by GEOS overlays (shapely).
+
+The method is :mod:`roughlight.render.reference`'s ("Oblique coordinates"): the visible region of a facet is its
+projection minus the union of the projections, on their overlap, of the facet copies in front of it. Overlays run
+in double precision, or snap-rounded to a grid (``grid_size``) where the reference falls back to that.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+import shapely
+
+from ..surfaces.geometry import facet_polygons, period_triangles
+from ..surfaces.surface import Surface
+
+__all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "overlay", "visible_regions", "to_oblique",
+           "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
+
+#: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
+MIN_OVERLAP = 1e-13
+#: Facets whose projection has a smaller area ratio are edge-on: not seen / not lit.
+EDGE_ON = 1e-12
+#: Refuse views that would need more lattice copies than this (near grazing).
+MAX_COPIES = 200_000
+
+
+@dataclass
+class Facets:
+    """The facets of one period (:func:`roughlight.surfaces.geometry.facet_polygons`), with their planes."""
+
+    names: list
+    verts: list  # (n, 3) arrays, one per facet
+    normals: np.ndarray  # (F, 3) unit normals (period_triangles', as the renderer uses)
+    alpha: np.ndarray  # facet plane z = alpha x + beta y + gamma
+    beta: np.ndarray
+    gamma: np.ndarray
+    height: float
+    plate: bool
+    footprints: list = field(default_factory=list)  # shapely polygons in (x, y)
+
+
+def period_facets(surface: Surface) -> Facets:
+    """One period's facets of ``surface`` (a regular surface or a random tile): polygons, the renderer's unit
+    normals, planes ``z = alpha x + beta y + gamma`` and plan footprints."""
+    polys = facet_polygons(surface)
+    _, tri_normals, tri_names = period_triangles(surface)
+    names = [name for name, _ in polys]
+    verts = [np.asarray(v, float) for _, v in polys]
+    normals = np.array([tri_normals[tri_names.index(name)] for name in names], float)
+    alpha = -normals[:, 0] / normals[:, 2]
+    beta = -normals[:, 1] / normals[:, 2]
+    gamma = np.array([v[0, 2] - al * v[0, 0] - be * v[0, 1] for v, al, be in zip(verts, alpha, beta)])
+    plate = surface.is_plate
+    height = surface.height
+    footprints = [shapely.Polygon(v[:, :2]) for v in verts]
+    return Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints)
+
+
+def lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
+    """Offsets ``(m, n)`` of the period copies whose projection can overlap period 0's.
+
+    A point of a period at height ``z`` in ``[0, H]`` projects to
+    ``(x, y) - z d``, so the projection of the copy at ``(m, n)`` lies in the
+    unit square at ``(m, n)`` swept along ``[0, -H d]``; two such regions
+    overlap only if ``(m, n) - lam H d`` is in ``[-1, 1]^2`` for some
+    ``lam`` in ``[-1, 1]``. Returns an ``(K, 2)`` float array, ``(0, 0)`` first.
+    """
+    hd = height * np.asarray(d, float)
+    mx = int(math.ceil(1.0 + abs(hd[0]))) + 1
+    my = int(math.ceil(1.0 + abs(hd[1]))) + 1
+    if (2 * mx + 1) * (2 * my + 1) > 50 * MAX_COPIES:
+        raise ValueError(
+            "view too close to grazing for the exact reference "
+            f"(surface top shifted by {hd} periods)"
+        )
+    m, n = np.meshgrid(np.arange(-mx, mx + 1), np.arange(-my, my + 1), indexing="ij")
+    m, n = m.ravel().astype(float), n.ravel().astype(float)
+    lo = np.full(m.shape, -1.0)
+    hi = np.full(m.shape, 1.0)
+    slack = 1.0 + 1e-9
+    for c, h in ((m, hd[0]), (n, hd[1])):
+        if abs(h) > 1e-15:
+            a_, b_ = (c - slack) / h, (c + slack) / h
+            lo = np.maximum(lo, np.minimum(a_, b_))
+            hi = np.minimum(hi, np.maximum(a_, b_))
+        else:
+            hi = np.where(np.abs(c) <= slack, hi, -2.0)
+    keep = lo <= hi
+    off = np.stack([m[keep], n[keep]], axis=1)
+    if len(off) > MAX_COPIES:
+        raise ValueError(
+            f"view too close to grazing for the exact reference ({len(off)} lattice copies needed)"
+        )
+    centre = np.flatnonzero((off[:, 0] == 0) & (off[:, 1] == 0))
+    order = np.concatenate([centre, np.setdiff1d(np.arange(len(off)), centre)])
+    return off[order]
+
+
+def _polygonal(geometry, grid_size):
+    """The polygonal part of a geometry (or of each in an array), snapped to ``grid_size``: a
+    snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
+    if isinstance(geometry, np.ndarray):
+        return np.array([_polygonal(g, grid_size) for g in geometry], dtype=object)
+    # lines and points first: set_precision on a mixed collection can drop its polygons too
+    geometry = shapely.set_precision(area_parts(geometry), grid_size)
+    return geometry if geometry.geom_type in ("Polygon", "MultiPolygon") else area_parts(geometry)
+
+
+def area_parts(geometry):
+    """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area)."""
+    geometry = shapely.make_valid(geometry)
+    if geometry.geom_type in ("Polygon", "MultiPolygon"):
+        return geometry
+    parts = [p for p in shapely.get_parts(geometry) if p.geom_type in ("Polygon", "MultiPolygon")]
+    return shapely.union_all(parts) if parts else shapely.Polygon()
+
+
+def overlay(operation, *geometries, grid_size=None):
+    """A GEOS overlay: in double precision, or snap-rounded to ``grid_size`` (robust; see
+    :data:`roughlight.render.reference.SNAP_GRID`)."""
+    if grid_size is None:
+        return operation(*geometries)
+    snapped = [_polygonal(g, grid_size) for g in geometries]
+    return _polygonal(operation(*snapped, grid_size=grid_size), grid_size)
+
+
+def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
+    """Visible region of each facet of period 0 along the direction with plan shift ``d``.
+
+    ``d = (Dx/Dz, Dy/Dz)`` for a direction ``D`` (toward the viewer or the
+    light) with ``Dz > 0``. Coordinates are the oblique ones
+    ``(x - z dx, y - z dy)``; a point is in front when its ``z`` is larger.
+    A facet's visible region is its projection minus the overlaps with the
+    projections of the facet copies in front of it (:func:`_visible_part`).
+
+    Returns
+    -------
+    list of shapely geometries (empty polygon for facets not facing ``D``),
+    one per facet, and the per-facet area ratio ``det`` of the projection.
+    """
+    d = np.asarray(d, float)
+    det = 1.0 - surf.alpha * d[0] - surf.beta * d[1]
+    front = np.flatnonzero(det > EDGE_ON)
+    empty = shapely.Polygon()
+    out = [empty] * len(surf.names)
+    if len(front) == 0:
+        return out, det
+    offsets = lattice_offsets(surf.height, d)
+    copies = _projected_copies(surf, front, d, offsets)
+    for j, f in enumerate(front):
+        out[f] = _visible_part(surf, f, det, copies, j * len(offsets), grid_size)
+    return out, det
+
+
+class _Copies(NamedTuple):
+    """The projections of every front-facing facet of every lattice copy along one direction, facet-major:
+    facet ``front[j]``'s copies are rows ``j K .. (j + 1) K - 1``, offset ``(0, 0)`` first (``K`` offsets)."""
+
+    #: (F' K,) shapely polygons in oblique coordinates
+    geoms: np.ndarray
+    #: (F' K,) int, the facet each copy is of
+    owner: np.ndarray
+    #: (F' K, 2) float, each copy's lattice offset (periods)
+    offs: np.ndarray
+    #: (F' K, 4) float, each copy's bounding box (xmin, ymin, xmax, ymax)
+    bbox: np.ndarray
+
+
+def _projected_copies(surf: Facets, front, d, offsets) -> _Copies:
+    """Project the facets ``front`` of every lattice copy at ``offsets`` ((K, 2), ``(0, 0)`` first) along the
+    direction with plan shift ``d`` into oblique coordinates."""
+    n_off = len(offsets)
+    geoms, owner, bbox = [], [], []
+    for f in front:
+        v = surf.verts[f]
+        p = v[:, :2] - v[:, 2:3] * d  # (n, 2), period 0
+        coords = p[None, :, :] + offsets[:, None, :]  # (K, n, 2)
+        geoms.append(shapely.polygons(coords))
+        owner.append(np.full(n_off, f))
+        bbox.append(np.concatenate([coords.min(axis=1), coords.max(axis=1)], axis=1))
+    return _Copies(np.concatenate(geoms), np.concatenate(owner), np.tile(offsets, (len(front), 1)),
+                   np.concatenate(bbox))
+
+
+def _visible_part(surf: Facets, f: int, det, copies: _Copies, home: int, grid_size=None):
+    """Facet ``f``'s visible region: its period-0 projection (``copies`` row ``home``) minus its overlaps, of
+    more than :data:`MIN_OVERLAP`, with the copies in front of it there (:func:`_in_front`)."""
+    pf = copies.geoms[home]
+    idx = _overlapping(copies.bbox, home)
+    if len(idx) == 0:
+        return pf
+    inter = overlay(shapely.intersection, pf, copies.geoms[idx], grid_size=grid_size)
+    area = shapely.area(inter)
+    ok = area > MIN_OVERLAP
+    idx, inter = idx[ok], inter[ok]
+    if len(idx) == 0:
+        return pf
+    occ = inter[_in_front(surf, f, det, inter, copies.owner[idx], copies.offs[idx])]
+    if len(occ) == 0:
+        return pf
+    return overlay(shapely.difference, pf, overlay(shapely.union_all, occ, grid_size=grid_size), grid_size=grid_size)
+
+
+def _overlapping(bbox: np.ndarray, home: int) -> np.ndarray:
+    """Rows of the (m, 4) bounding boxes ``bbox`` that overlap row ``home``'s by more than 1e-12 (periods) both
+    ways, ``home`` itself left out."""
+    bf = bbox[home]
+    tol = 1e-12
+    cand = (
+        (bbox[:, 0] < bf[2] - tol)
+        & (bbox[:, 2] > bf[0] + tol)
+        & (bbox[:, 1] < bf[3] - tol)
+        & (bbox[:, 3] > bf[1] + tol)
+    )
+    cand[home] = False
+    return np.flatnonzero(cand)
+
+
+def _in_front(surf: Facets, f: int, det, inter, owner, offs) -> np.ndarray:
+    """(k,) bool: where the copy of facet ``owner`` at lattice offset ``offs`` ((k,) and (k, 2)) is higher than
+    facet ``f`` of period 0 at the centroid of their overlap ``inter`` (oblique coordinates): there it is in
+    front throughout (facets meet only at edges)."""
+    c = shapely.get_coordinates(shapely.centroid(inter))  # (k, 2)
+    z_g = (surf.alpha[owner] * (c[:, 0] - offs[:, 0]) + surf.beta[owner] * (c[:, 1] - offs[:, 1])
+           + surf.gamma[owner]) / det[owner]
+    z_f = (surf.alpha[f] * c[:, 0] + surf.beta[f] * c[:, 1] + surf.gamma[f]) / det[f]
+    return z_g > z_f
+
+
+def to_oblique(surf: Facets, f: int, d) -> list:
+    """Affine map (shapely's 6-list) from plan ``(x, y)`` on facet ``f``'s plane to oblique coords."""
+    al, be, ga = surf.alpha[f], surf.beta[f], surf.gamma[f]
+    dx, dy = d
+    # s = x - dx z, u = y - dy z, z = al x + be y + ga
+    return [1.0 - dx * al, -dx * be, -dy * al, 1.0 - dy * be, -dx * ga, -dy * ga]
+
+
+def from_oblique(surf: Facets, f: int, d) -> list:
+    """Inverse of :func:`to_oblique` (the facet must not be edge-on)."""
+    a, b, c, e, xo, yo = to_oblique(surf, f, d)
+    det = a * e - b * c
+    ia, ib, ic, ie = e / det, -b / det, -c / det, a / det
+    return [ia, ib, ic, ie, -(ia * xo + ib * yo), -(ic * xo + ie * yo)]
