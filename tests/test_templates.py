@@ -1,0 +1,293 @@
+"""The report page's Jinja2 templates: each renders from small data, shows that data, and escapes its text.
+
+Every template of ``src/roughlight/report/templates/`` has a case here (a new template without one fails
+``test_every_template_has_a_case``). A case is the data the template reads, with a ``<`` in its strings, and the
+escaped text that must appear on the rendered HTML; the raw markup must not.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import jinja2
+import numpy as np
+import pandas as pd
+import pytest
+
+from roughlight.report import page
+from roughlight.report import page_templates as T
+
+TEMPLATES = Path(T.__file__).resolve().parent / "templates"
+NAN = float("nan")
+
+
+@pytest.fixture
+def png(tmp_path) -> str:
+    """A file png_data_uri takes for a PNG (the signature is all it checks)."""
+    path = tmp_path / "chart.png"
+    path.write_bytes(b"\x89PNG\r\n\x1a\n" + b"\x00" * 16)
+    return str(path)
+
+
+def figure(title: str, path=None) -> dict:
+    return {"stem": "fig99_test", "title": title, "thesis": "thesis <saw>", "ours": "ours <see>", "path": path,
+            "exists": path is not None}
+
+
+def line() -> dict:
+    """macros.html's validation_line data: one sampling setting, one component."""
+    return {"n_surfaces": 2, "views": 12345, "settings": [
+        {"setting": "configured", "views_per_second": 4321.0,
+         "rows": [{"component": "total <c>", "worst": 0.61, "p99": 0.4, "largest_mae": 0.0213}]}]}
+
+
+def thesis_table(model="Square <Area>") -> dict:
+    return {"table": 1, "id": "table1-aspect-1", "label": "1", "title": "Forward <lobe>", "incidence": 30.0,
+            "metrics": ["Mean Abs Error", "b0"], "digits": {"Mean Abs Error": 2, "b0": 3},
+            "blocks": [{"model": model, "rows": [{"cls": "ours", "source": "ours", "cells": [1.234, -0.0001]},
+                                                 {"cls": "thesis", "source": "thesis 2001", "cells": [4.1, NAN]}]}]}
+
+
+# ---------------------------------------------------------------------------
+# one case a template: (the template's data, the escaped text it must show, the raw text it must not)
+
+
+def case_study(png):
+    s = {"study": {"surfaces": 4, "aspects": [1.0, math.sqrt(3) / 2], "truncations": [0.0, 0.5],
+                   "incidences": [30.0], "light": 127.0, "shininess": 64.0, "method": "fast <m>"},
+         "followed": ["grid <follows>"], "missing": [0.5], "messages": ["left out <why>"]}
+    return {"s": s}, ["fast &lt;m&gt;", "grid &lt;follows&gt;", "left out &lt;why&gt;", "Aspects: 1, √3/2",
+                      "The table aspects 0.5", "shadows None"], ["<m>", "<why>"]
+
+
+def case_tables(png):
+    scales = pd.DataFrame({"table": [1.0], "model": ["Square <Area>"], "s_min_mae": [10.0], "s_max_mae": [20.0],
+                           "s_min_sd": [11.0], "s_max_sd": [19.0], "stated_scale": [127.0], "stated_possible": [False],
+                           "mean_error_at_stated": [-4.149], "mae": [4.1]})
+    s = {"incidence": 30.0, "k": [("<1>", 0.5), ("0", NAN)], "printed": [thesis_table()],
+         "findings": [{"label": "<a>", "forward_area": 1.0, "forward_regressed": 2.0, "back_area": NAN,
+                       "back_regressed": 1.0}],
+         "exact_error": {"max": 0.5, "mean": 0.25, "worst": 1e-12},
+         "sd": {"n": 11, "broken": [{"table": 1, "model": "Model <1>", "rss": 122.4, "bound": 94.9}]},
+         "implied": {"scales": scales, "at_scale": None, "area_wins": False},
+         "bootstrap": {"wide": pd.DataFrame({"model": ["<boot>"], "b0": ["[1, 2]"]}), "n_boot": 200, "n_trunc": "11",
+                       "unresampled": True},
+         "sine": None, "exact": None}
+    return {"s": s}, ["k from geometry (&lt;1&gt;: 0.5, 0: none, no side facets)", "Aspect &lt;a&gt;: the forward lobe is "
+                      "fitted best by the square area function (MAE 1.00 against 2.00", "the back lobe could not be "
+                      "compared", "they are the law of these lobe peaks.", "Table 1 Model &lt;1&gt;: RSS 122.4 > 94.9",
+                      "is impossible: the mean error would be -4.15", "(200 resamples of the 11 truncations, seeded). – :",
+                      'id="bootstrap-tables"', "<td>&lt;boot&gt;</td><td>[1, 2]</td>",
+                      "The ranking of the models is reversed", 'class="thesis-table"'], ["<boot>", "<a>", "<1>"]
+
+
+def case_thesis_table(png):
+    return {"t": thesis_table()}, ['data-table="1" data-aspect="1"', "Forward &lt;lobe&gt; (aspect 1, incidence 30)",
+                                   '<td rowspan="2"><b>Square &lt;Area&gt;</b></td>', "<td>1.23</td>",
+                                   "<td>0.000</td>", "<td>–</td>"], ["<Area>", "-0.000"]
+
+
+def case_figures(png):
+    s = {"section": "specular", "figures": [figure("Fig. <1>", png), figure("Fig. <2>")]}
+    return {"s": s}, ['<h2 id="specular">The specular component', 'id="fig-fig99_test"', 'alt="Fig. &lt;1&gt;"',
+                      "<b>Fig. &lt;1&gt;.</b>", "thesis &lt;saw&gt;", "Figure Fig. &lt;2&gt; is missing (not produced)",
+                      "data:image/png;base64,"], ["<saw>", "<see>"]
+
+
+def case_diffuse_parts(png):
+    return {"s": {"table": pd.DataFrame({"truncation": [0.5], "note": ["fit <failed>"]})}}, [
+        'id="diffuse-parts"', "<td>0.500</td>", "fit &lt;failed&gt;"], ["<failed>"]
+
+
+def case_lobes(png):
+    arc = pd.DataFrame({"lobe": ["<forward>"], "peak": [NAN]})
+    s = {"figures": [figure("Lobes <g>")], "arc": arc, "protocols": True, "hemisphere": arc.head(0)}
+    return {"s": s}, ['id="arc-lobes"', "&lt;forward&gt;", "<td>–</td>", "the exact reference's FWHM",
+                      "<details><summary>Lobes over the whole hemisphere</summary>", ": no rows."], ["<forward>", "<g>"]
+
+
+def case_glm(png):
+    laws = pd.DataFrame({"lobe": ["back"], "incidence": [30.0], "model": ["share <k>"], "rmse_held_out": [1.234],
+                         "rmse": [1.0], "parameters": [2.0]})
+    s = {"messages": ["term <dropped>"], "summary": pd.DataFrame({"status": ["<ok>"]}), "coefficients": None,
+         "laws": laws, "best_laws": laws, "figures": []}
+    return {"s": s}, ["term &lt;dropped&gt;", "&lt;ok&gt;", 'id="glm-summary"', "95% intervals computed as if the "
+                      "residuals were noise: the data are deterministic, the residuals are lack of fit, so these measure "
+                      "sensitivity, not sampling uncertainty.: no rows.",
+                      "back lobe, incidence 30: best held out <b>share &lt;k&gt;</b> (RMSE 1.23 held out, 1.00 in-sample, "
+                      "2 parameters)", 'id="share-laws"'], ["<dropped>", "<k>"]
+
+
+def case_models(png):
+    summary = pd.DataFrame({"band": ["all"], "model": ["<lambert>"], "median_rmse": [1.0]})
+    s = {"hapke_max_phase": 45.0, "hapke": {"n": 3, "by_aic": 2, "held": 1}, "sigma_bound": {"n_bound": 1, "n_rough": 2},
+         "findings": [{"component": "<diffuse>", "bands": [{"band": "low", "model": "<on>", "rmse": 1.5},
+                                                          {"band": "high", "model": "x", "rmse": NAN}]}],
+         "summary_all": summary, "summary_bands": summary.head(0), "figures": []}
+    return {"s": s}, ["within 45° of zero phase", "on the 3 rough surfaces: preferred by AIC on 2, lower held-out "
+                      "RMSE on 1", "on 1 of 2 rough surfaces", "<b>&lt;diffuse&gt;</b>: low: &lt;on&gt; (median RMSE "
+                      "1.50); high: no model could be fitted", "<td>1.00</td>", 'id="model-summary"'], ["<on>"]
+
+
+def case_regressions(png):
+    s = {"summary": pd.DataFrame({"response": ["back_peak"], "status": ["not <fitted>"]}), "messages": ["why <not>"],
+         "noted": pd.DataFrame(), "bootstrap": False}
+    return {"s": s}, ['<h3 id="stability-regressions">', 'id="regression-status"', "not &lt;fitted&gt;",
+                      "why &lt;not&gt;", "Every Tables 1–2 regression line was fitted and converged.",
+                      "No bootstrap intervals were available"], ["<fitted>", "<not>", 'id="regression-notes"']
+
+
+def case_provenance(png):
+    s = {"timings_summary": {"sweeps": 2, "views": 10, "total_seconds": 1.26, "median_seconds": 0.5,
+                             "max_seconds": 0.75, "slowest": "t <1>", "views_per_second": 7.9, "methods": "fast"},
+         "timings": None, "figures": [],
+         "benchmarks": {"png": png, "table": pd.DataFrame({"label": ["<l>"]}), "validation": None},
+         "settings": "hapke_max_phase: 60\nnote: a <b>\n", "config": None,
+         "versions": pd.DataFrame({"package": ["numpy"], "version": ["<2>"]}), "inputs": None}
+    return {"s": s}, ["2 sweeps, 10 views, 1.3 s in all (median 0.50 s, max 0.75 s for t &lt;1&gt;); 8 views/s",
+                      'id="fig-speed-accuracy"', f"Speed against accuracy of the renderer ({png}).", "&lt;l&gt;",
+                      "<pre>hapke_max_phase: 60\nnote: a &lt;b&gt;\n</pre>", "&lt;2&gt;", 'id="versions"'], ["<b>", "<1>"]
+
+
+def case_renderer_validation(png):
+    smooth = pd.DataFrame({"figure": ["fig <21>"], "truncation": [0.5], "aspect": [0.8660254], "at_elevation": [150.0],
+                           "largest_deviation": [0.456]})
+    s = {"line": line(), "png": None, "validation": pd.DataFrame({"component": ["<d>"]}), "smoothness": smooth,
+         "worst": smooth.iloc[0]}
+    return {"s": s}, ["(2 surfaces x 12,345 views", "the configured renderer: worst view total &lt;c&gt; 0.61 (p99 "
+                      "0.40, MAE up to 0.021), 4,321 views/s.", "&lt;d&gt;", "is 0.46 (fig &lt;21&gt;, truncation 0.5, "
+                      "aspect 0.866, e = 150)", 'id="arc-smoothness"'], ["<d>", "<21>", "fig-renderer-validation"]
+
+
+def case_stability(png):
+    safe = pd.DataFrame({"method": ["<fast>"], "min_pixels": [8.0], "max_shininess": [NAN]})
+    normals = pd.DataFrame({"mae total": [1.5]}, index=["<gouraud>"])
+    s = {"plan": "<quick>", "n_fast": 3, "n_naive": 2, "tolerance": 0.5, "safe": safe, "png": png,
+         "clipped": [("<src>", 255.0, 0.25)], "line": line(), "normals": {"table": normals, "surfaces": [(0.5, 1.0)]}}
+    return {"s": s}, ["(&lt;quick&gt; plan): the fast method on 3 surfaces, the naive one (one render a view) on 2",
+                      "<td>&lt;fast&gt;</td><td>8</td><td>never</td>", "total clipped: &lt;src&gt; at 255: 25%.",
+                      'id="stability-every-view">The fast renderer at every view', "surfaces t=0.5 a=1, incidence 30",
+                      "<tr><td>&lt;gouraud&gt;</td><td>1.5</td></tr>"], ["<fast>", "<gouraud>", "<quick>"]
+
+
+def case_implicit(png):
+    s = {"plan": "<quick>", "n_surfaces": 4, "n_views": 2000, "summary": pd.DataFrame({"method": ["<exact>"]}),
+         "png": png, "caption": "caption <text>", "maps_png": None, "maps_caption": None,
+         "frames": pd.DataFrame({"field": [4], "frame_ms": [1.5]})}
+    return {"s": s}, ["Measured at the <code>&lt;quick&gt;</code> plan", "Validation: 4 surfaces, 2,000 views each",
+                      "&lt;exact&gt;", 'id="fig-implicit"', "caption &lt;text&gt;",
+                      "<td>4.000</td><td>1.500</td>",  # a row of numbers only is floats, as iterrows gives it
+                      "x<sub>2</sub> the second-largest view shear"], ["<exact>", "<text>", "fig-implicit-maps"]
+
+
+def case_random(png):
+    row = pd.Series({"regular": 0.81234, "mean": 0.7, "ci_low": 0.6, "ci_high": 0.8, "p_value": 0.0123})
+    one = pd.Series({"regular": 1.5, "mean": 2.0, "ci_low": NAN, "ci_high": NAN, "p_value": NAN})
+    frame = pd.DataFrame({"kind": ["random_<x>"], "mean": [0.7]})
+    s = {"settings": {"cells": 4, "spread": {"truncation": "<0.2>"}}, "ellipse_fill": math.pi / 4,
+         "verdicts": [{"kind": "random_<x>", "t": 0.5, "a": 1.0, "i": 30.0, "rect": row, "shift": one,
+                       "rect_pooled": 0.75, "shift_pooled": 1.25}],
+         "claim": frame, "charts": [("fig-random-maps", png, "maps", "maps <caption>")], "shown": frame,
+         "best": [{"kind": "random_<x>", "component": "diffuse", "model": "<lambert>",
+                   "means": [("<lambert>", 1.0), ("facets", 2.5)]}],
+         "fits": frame, "seeds": frame, "plan": "quick", "accuracy": None, "convergence": None, "tiles_png": None,
+         "tiles_caption": None}
+    return {"s": s}, ["a tile of 4 × 4 cells", "truncation t ± &lt;0.2&gt;, aspect a·(1 ± ?)", "π/4 = 0.785",
+                      "t 0.5, a 1, i 30, random &lt;x&gt;: rectangularity 0.812 regular against 0.7 [0.6, 0.8] random "
+                      "(p = 0.012; seed-averaged 0.750); phase shift 1.50° regular against 2 (one seed: no interval)° "
+                      "random (p = nan; seed-averaged 1.25°)", 'id="fig-random-maps"', "maps &lt;caption&gt;",
+                      "random &lt;x&gt;, diffuse: best <b>&lt;lambert&gt;</b> (mean RMSE over its grid points: "
+                      "&lt;lambert&gt; 1.00; facets 2.50)", 'id="random-seeds"'], ["<x>", "<lambert>", "random-accuracy"]
+
+
+CASES = {"study.html": case_study, "tables.html": case_tables, "thesis_table.html": case_thesis_table,
+         "figures.html": case_figures, "diffuse_parts.html": case_diffuse_parts, "lobes.html": case_lobes,
+         "glm.html": case_glm, "models.html": case_models, "regressions.html": case_regressions,
+         "provenance.html": case_provenance, "renderer_validation.html": case_renderer_validation,
+         "stability.html": case_stability, "implicit.html": case_implicit, "random.html": case_random}
+#: Templates tested apart: the page (base.html), the pieces the others use (macros.html) and the static text
+#: tables.html includes (why_different.html, in case_tables).
+APART = {"base.html", "macros.html", "why_different.html"}
+
+
+def test_every_template_has_a_case():
+    assert {p.name for p in TEMPLATES.glob("*.html")} == set(CASES) | APART
+    assert (TEMPLATES / "report.css").exists()
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_a_template_renders_its_data_escaped(name, png):
+    context, shown, hidden = CASES[name](png)
+    html = T.render(name, **context)
+    for text in shown:
+        assert text in html, (name, text)
+    for text in hidden:
+        assert text not in html, (name, text)
+    assert "{{" not in html and "{%" not in html and "{#" not in html, name
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_a_template_names_what_it_lacks(name, png):
+    """Undefined data is an error, not an empty string on the page."""
+    context, _, _ = CASES[name](png)
+    key = next(iter(context))
+    data = dict(context[key])
+    data.pop(sorted(data)[0])
+    with pytest.raises(jinja2.UndefinedError):
+        T.render(name, **{key: data})
+
+
+def test_the_page_inlines_the_stylesheet_and_escapes_its_title():
+    html = page.build_report({}, {}, messages=["a note <with> markup"], title="roughlight <test>",
+                             followed=["report.table_aspects <follows>"])
+    assert html.startswith("<!DOCTYPE html>") and html.rstrip().endswith("</html>")
+    assert "<title>roughlight &lt;test&gt;</title>" in html and "<h1>roughlight &lt;test&gt;</h1>" in html
+    assert '<p class="note">a note &lt;with&gt; markup</p>' in html and "<with>" not in html
+    assert "report.table_aspects &lt;follows&gt;" in html
+    css = (TEMPLATES / "report.css").read_text(encoding="utf-8").strip()
+    assert css and css in html and html.count("<style>") == 1
+    for anchor in ("study", "tables", "specular", "diffuse", "pictures", "lobes", "glm", "models", "implicit", "random",
+                   "stability", "provenance"):  # every section is on the page, and in the contents
+        assert f'<h2 id="{anchor}">' in html and f'<a href="#{anchor}">' in html, anchor
+
+
+def test_the_page_places_the_sections_rendered_apart_as_they_are():
+    """stability_section, implicit_section and random_section give HTML: the page shows it, not escaped."""
+    html = page.build_report({}, {}, stability_html='<section id="stability"><h2>Where methods fail</h2></section>',
+                             implicit_html='<h2 id="implicit">x</h2>', random_html='<h2 id="random">y</h2>')
+    assert '<section id="stability"><h2>Where methods fail</h2></section>' in html
+    assert '<h2 id="implicit">x</h2>' in html and '<h2 id="random">y</h2>' in html
+    assert "switched off" not in html.split('id="stability"')[1].split("</section>")[0]
+
+
+def test_the_table_macro_formats_and_escapes_cells():
+    frame = pd.DataFrame({"a <1>": [1.23456, -0.0001], "n": [np.int64(3), np.int64(4)], "s": ["x < y", None]})
+    html = T.render_macro("macros.html", "table", frame, "caption <c>", 2, "t-id")
+    assert html.startswith('<table id="t-id"><caption>caption &lt;c&gt;</caption>')
+    assert "<th>a &lt;1&gt;</th>" in html and "<td>1.23</td>" in html and "<td>0.00</td>" in html
+    assert "<td>x &lt; y</td>" in html and "<td>3</td>" in html and "<td>–</td>" in html  # None: missing
+    assert T.render_macro("macros.html", "table", frame.head(0), "empty <e>") == \
+        '<p class="note">empty &lt;e&gt;: no rows.</p>'
+
+
+def test_the_filters_format_numbers_as_the_page_did():
+    assert [T.cell(v) for v in (1.0, -0.0001, NAN, math.inf, True, np.int64(7), None, "a")] == \
+        ["1.000", "0.000", "–", "∞", "yes", "7", "", "a"]
+    assert [T.domain(v) for v in (0.12345, NAN, None, "flat")] == ["0.123", "never", "never", "flat"]
+    assert T.interval({"mean": 1.0, "ci_low": 0.5, "ci_high": 1.5}) == "1 [0.5, 1.5]"
+    assert T.interval({"mean": NAN, "ci_low": NAN, "ci_high": NAN}) == "– (no lobe)"
+
+
+def test_the_validation_line_is_plain_text():
+    """renderer_validation_line renders the template's sentence and returns it unescaped, as before."""
+    text = T.plain_text(T.render_macro("macros.html", "validation_line", line()))
+    assert text == ("The fast renderer at every view (2 surfaces x 12,345 views against the exact reference; the goal is "
+                    "a worst view within one 8-bit level): the configured renderer: worst view total <c> 0.61 (p99 0.40, "
+                    "MAE up to 0.021), 4,321 views/s.")
+
+
+def test_the_templates_load_from_the_package():
+    env = T.environment()
+    assert isinstance(env.loader, jinja2.PackageLoader) and env.autoescape is True
+    assert set(env.list_templates()) >= set(CASES) | APART | {"report.css"}
