@@ -161,15 +161,7 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     with 4 and 2 parameters: lower is better, and it charges the surge for its
     two extra parameters), ``n`` (phase bins), ``note``.
     """
-    g = np.asarray(phase, float)
-    v = np.asarray(values, float)
-    ok = (g <= max_phase) & np.isfinite(v) & np.isfinite(g)
-    g, v = g[ok], v[ok]
-    if len(g):
-        idx = np.floor(g / bin_width).astype(int)
-        uniq, inv = np.unique(idx, return_inverse=True)
-        v = np.bincount(inv, weights=v) / np.bincount(inv)
-        g = np.bincount(inv, weights=g) / np.bincount(inv)
+    g, v = _phase_curve(phase, values, max_phase, bin_width)
     out = {"c": np.nan, "d": np.nan, "S": np.nan, "B0": np.nan, "h": np.nan, "rmse": np.nan,
            "rmse_constant": np.nan, "rmse_heldout": np.nan, "rmse_constant_heldout": np.nan, "aic": np.nan,
            "aic_constant": np.nan, "n": int(len(v)), "note": ""}
@@ -187,18 +179,47 @@ def fit_hapke(phase, values, max_phase: float = 60.0, bin_width: float = 1.0, h_
     out.update(c=float(c), d=float(d), S=float(S), B0=float(S / c) if c > 0 else np.nan, h=math.exp(log_h),
                rmse=float(math.sqrt(r / len(v))))
     out.update(_held_out(g, v, h_range))
-    n = len(v)
-    rss0 = float(np.sum((v - base @ coef0) ** 2))
-    # Gaussian AIC, n ln(RSS/n) + 2k: the background has 2 parameters, the surge 4 (c, d, S, h)
-    out["aic"] = n * math.log(max(r, 1e-300) / n) + 2 * 4
-    out["aic_constant"] = n * math.log(max(rss0, 1e-300) / n) + 2 * 2
+    # the background has 2 parameters, the surge 4 (c, d, S, h)
+    out["aic"] = _aic(r, len(v), 4)
+    out["aic_constant"] = _aic(float(np.sum((v - base @ coef0) ** 2)), len(v), 2)
     if S <= 0:
-        out.update(h=np.nan, note="no surge: the background alone fits best")
-    elif abs(log_h - math.log(h_range[0])) < 1e-3 or abs(log_h - math.log(h_range[1])) < 1e-3:
-        out["note"] = f"h at the edge of its range ({h_range[0]:g}..{h_range[1]:g}): no distinct surge width"
-    if S > 0 and not c > 0:
-        out["note"] = (out["note"] + "; " if out["note"] else "") + "background intercept <= 0: B0 undefined"
+        out["h"] = np.nan
+    out["note"] = _surge_note(c, S, log_h, h_range)
     return out
+
+
+def _phase_curve(phase, values, max_phase: float, bin_width: float):
+    """The phase curve of :func:`fit_hapke`: the finite views with phase ``g <= max_phase`` (degrees) averaged
+    in bins of ``bin_width`` degrees. Returns each bin's mean phase and mean value, (n_bins,) each, in bin order.
+    """
+    g = np.asarray(phase, float)
+    v = np.asarray(values, float)
+    ok = (g <= max_phase) & np.isfinite(v) & np.isfinite(g)
+    g, v = g[ok], v[ok]
+    if len(g):
+        idx = np.floor(g / bin_width).astype(int)
+        uniq, inv = np.unique(idx, return_inverse=True)
+        v = np.bincount(inv, weights=v) / np.bincount(inv)
+        g = np.bincount(inv, weights=g) / np.bincount(inv)
+    return g, v
+
+
+def _aic(rss: float, n: int, k: int) -> float:
+    """Gaussian AIC ``n ln(RSS / n) + 2 k`` of a least-squares fit with ``k`` parameters to ``n`` points."""
+    return n * math.log(max(rss, 1e-300) / n) + 2 * k
+
+
+def _surge_note(c: float, S: float, log_h: float, h_range) -> str:
+    """What a fitted surge (:func:`fit_hapke`) cannot tell: no surge at all (``S <= 0``), a width ``h`` on the
+    edge of ``h_range``, or no ``B0`` because the background's intercept ``c`` is not positive."""
+    note = ""
+    if S <= 0:
+        note = "no surge: the background alone fits best"
+    elif abs(log_h - math.log(h_range[0])) < 1e-3 or abs(log_h - math.log(h_range[1])) < 1e-3:
+        note = f"h at the edge of its range ({h_range[0]:g}..{h_range[1]:g}): no distinct surge width"
+    if S > 0 and not c > 0:
+        note = (note + "; " if note else "") + "background intercept <= 0: B0 undefined"
+    return note
 
 
 def _surge_curve(g, c, d, S, log_h):
