@@ -328,16 +328,7 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
     8-bit predictions),
     ``hapke_B0``, ``hapke_h``, ``best_diffuse``, ``best_specular``.
     """
-    from scipy.optimize import minimize_scalar
-
-    lighting = dict(lighting or {})
-    st = recorded_lighting(study)
-    J = st["light"]
-    zeta = st["shininess"]
-    amb = st["ambient"]
-    md = float(lighting.get("diffuse_reflectance", 1.0))
-    ms = float(lighting.get("specular_reflectance", 1.0))
-    ma = float(lighting.get("ambient_reflectance", 1.0))
+    light = _model_lighting(study, lighting)
     comp = study["component"].astype(str)
     cols = SURFACE_KEYS + ["azimuth", "elevation", "phase", "rough", "control", "coverage"]
     diff = study.loc[comp == "diffuse", cols]
@@ -345,64 +336,103 @@ def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
     tot = study.loc[comp == "total", cols]
     spec_groups = dict(list(spec.groupby(SURFACE_KEYS, sort=True)))
     tot_groups = dict(list(tot.groupby(SURFACE_KEYS, sort=True)))
-    rows = []
-    for key, gd in diff.groupby(SURFACE_KEYS, sort=True):
-        t, a, i = (float(k) for k in key)
-        gs, gt = spec_groups[key], tot_groups[key]
-        m = gd["coverage"].to_numpy(float) > 0
-        e, phi = gd["elevation"].to_numpy(float), gd["azimuth"].to_numpy(float)
-        yd = gd["rough"].to_numpy(float)
-        row = {"truncation": t, "aspect": a, "incidence": i}
-        row["rmse_lambert"] = _rmse(yd, gd["control"].to_numpy(float), m)
-        sig = oren_nayar_sigma(t, a)
-        row["sigma_geometric"] = sig
-        row["rmse_oren_nayar"] = _rmse(yd, quantize(oren_nayar(i, e, phi, sig, J, md, amb, ma)), m)
-
-        def score(s, yd=yd, i=i, e=e, phi=phi, m=m):
-            return _rmse(yd, oren_nayar(i, e, phi, s, J, md, amb, ma), m)
-
-        res = minimize_scalar(score, bounds=SIGMA_BOUNDS, method="bounded", options={"xatol": 1e-4})
-        # scored as every other model: on the 8-bit values the framebuffer would store; the geometric sigma
-        # is a candidate the fit must beat (the fit minimises the smooth unquantized error)
-        fitted = _rmse(yd, quantize(oren_nayar(i, e, phi, float(res.x), J, md, amb, ma)), m)
-        if fitted <= row["rmse_oren_nayar"]:
-            row["sigma_fitted"], row["rmse_oren_nayar_fitted"] = float(res.x), fitted
-        else:
-            row["sigma_fitted"], row["rmse_oren_nayar_fitted"] = sig, row["rmse_oren_nayar"]
-        row["sigma_fitted_at_bound"] = bool(min(abs(row["sigma_fitted"] - b) for b in SIGMA_BOUNDS) < 1e-3
-                                            and row["sigma_fitted"] != sig)
-        kw = dict(light=J, shininess=zeta, diffuse_reflectance=md, specular_reflectance=ms, ambient=amb,
-                  ambient_reflectance=ma)
-        es, ps = gs["elevation"].to_numpy(float), gs["azimuth"].to_numpy(float)
-        ys = gs["rough"].to_numpy(float)
-        ms_ = gs["coverage"].to_numpy(float) > 0
-        fm = facet_model(t, a, i, e, phi, masking="v-cavity", **kw)
-        row["rmse_facet_vcavity_diffuse"] = _rmse(yd, fm["diffuse"], m)
-        fs = facet_model(t, a, i, es, ps, masking="v-cavity", **kw)["specular"]
-        fs0 = facet_model(t, a, i, es, ps, masking="none", **kw)["specular"]
-        row["rmse_phong_plate"] = _rmse(ys, gs["control"].to_numpy(float), ms_)
-        row["rmse_facet_nomask_specular"] = _rmse(ys, fs0, ms_)
-        row["rmse_facet_vcavity_specular"] = _rmse(ys, fs, ms_)
-        mt = gt["coverage"].to_numpy(float) > 0
-        hp = fit_hapke(gt["phase"].to_numpy(float)[mt], gt["rough"].to_numpy(float)[mt], hapke_max_phase)
-        row.update(rmse_hapke=hp["rmse"], rmse_constant_near_opposition=hp["rmse_constant"],
-                   rmse_hapke_heldout=hp["rmse_heldout"], rmse_constant_heldout=hp["rmse_constant_heldout"],
-                   hapke_aic=hp["aic"], hapke_aic_constant=hp["aic_constant"],
-                   hapke_c=hp["c"], hapke_d=hp["d"], hapke_S=hp["S"], hapke_B0=hp["B0"], hapke_h=hp["h"],
-                   hapke_note=hp["note"])
-        hd = fit_hapke(gd["phase"].to_numpy(float)[m], yd[m], hapke_max_phase)
-        row.update(rmse_hapke_diffuse=hd["rmse"], rmse_constant_diffuse_near_opposition=hd["rmse_constant"],
-                   hapke_diffuse_B0=hd["B0"], hapke_diffuse_h=hd["h"])
-        dcols = {"Lambert (plate)": row["rmse_lambert"], "Oren-Nayar (geometric sigma)": row["rmse_oren_nayar"],
-                 "Oren-Nayar (fitted sigma)": row["rmse_oren_nayar_fitted"],
-                 "Torrance-Sparrow V-cavity facets": row["rmse_facet_vcavity_diffuse"]}
-        scols = {"Phong (plate)": row["rmse_phong_plate"], "facets, no masking": row["rmse_facet_nomask_specular"],
-                 "Torrance-Sparrow V-cavity facets": row["rmse_facet_vcavity_specular"]}
-        row["best_diffuse"] = _best(dcols)
-        row["best_specular"] = _best(scols)
-        row["plate"] = is_plate(t, a)
-        rows.append(row)
+    rows = [_surface_fits(key, gd, spec_groups[key], tot_groups[key], light, hapke_max_phase)
+            for key, gd in diff.groupby(SURFACE_KEYS, sort=True)]
     return pd.DataFrame(rows)
+
+
+def _model_lighting(study: pd.DataFrame, lighting: dict | None) -> dict:
+    """The models' lighting as :func:`facet_model`'s keywords: the light level (0-255), shininess and ambient
+    the study recorded (:func:`roughlight.study.selection.recorded_lighting`), the reflectances of
+    ``lighting`` (default 1)."""
+    lighting = dict(lighting or {})
+    st = recorded_lighting(study)
+    return dict(light=st["light"], shininess=st["shininess"],
+                diffuse_reflectance=float(lighting.get("diffuse_reflectance", 1.0)),
+                specular_reflectance=float(lighting.get("specular_reflectance", 1.0)), ambient=st["ambient"],
+                ambient_reflectance=float(lighting.get("ambient_reflectance", 1.0)))
+
+
+def _surface_fits(key, gd: pd.DataFrame, gs: pd.DataFrame, gt: pd.DataFrame, light: dict,
+                  hapke_max_phase: float) -> dict:
+    """One row of :func:`analytic_model_fits`: the surface ``key`` (truncation, aspect, incidence), its diffuse,
+    specular and total views ``gd``, ``gs``, ``gt``, and ``light`` (:func:`_model_lighting`)."""
+    t, a, i = (float(k) for k in key)
+    seen = gd["coverage"].to_numpy(float) > 0
+    row = {"truncation": t, "aspect": a, "incidence": i}
+    row.update(_diffuse_fits(t, a, i, gd, seen, light))
+    row.update(_specular_fits(t, a, i, gs, light))
+    row.update(_opposition_fits(gd, gt, seen, hapke_max_phase))
+    for component in ("diffuse", "specular"):
+        row[f"best_{component}"] = _best({name: row[col] for col, name in MODEL_COLUMNS[component].items()})
+    row["plate"] = is_plate(t, a)
+    return row
+
+
+def _diffuse_fits(t: float, a: float, i: float, gd: pd.DataFrame, seen, light: dict) -> dict:
+    """RMSEs (0-255) of the diffuse models on the seen views ``seen`` of one surface: Lambert (the plate's
+    ``control`` values), Oren-Nayar with the geometric and the fitted sigma (:func:`_oren_nayar_fits`) and the
+    V-cavity facet model."""
+    e, phi = gd["elevation"].to_numpy(float), gd["azimuth"].to_numpy(float)
+    yd = gd["rough"].to_numpy(float)
+    row = {"rmse_lambert": _rmse(yd, gd["control"].to_numpy(float), seen)}
+    sig = oren_nayar_sigma(t, a)
+    row["sigma_geometric"] = sig
+    row.update(_oren_nayar_fits(yd, seen, i, e, phi, sig, light))
+    fm = facet_model(t, a, i, e, phi, masking="v-cavity", **light)
+    row["rmse_facet_vcavity_diffuse"] = _rmse(yd, fm["diffuse"], seen)
+    return row
+
+
+def _oren_nayar_fits(yd, seen, i: float, e, phi, sig: float, light: dict) -> dict:
+    """Oren-Nayar against the diffuse values ``yd`` at the views (elevation ``e``, azimuth ``phi``, degrees):
+    with the geometric sigma ``sig`` (radians) and with sigma fitted within :data:`SIGMA_BOUNDS`.
+
+    The fit minimises the smooth unquantized error, but both are scored as every other model, on the 8-bit
+    values the framebuffer would store, and the geometric sigma is a candidate the fit must beat.
+    Returns ``rmse_oren_nayar``, ``sigma_fitted``, ``rmse_oren_nayar_fitted``, ``sigma_fitted_at_bound``.
+    """
+    from scipy.optimize import minimize_scalar
+
+    J, md, amb, ma = light["light"], light["diffuse_reflectance"], light["ambient"], light["ambient_reflectance"]
+    geometric = _rmse(yd, quantize(oren_nayar(i, e, phi, sig, J, md, amb, ma)), seen)
+
+    def score(s):
+        return _rmse(yd, oren_nayar(i, e, phi, s, J, md, amb, ma), seen)
+
+    res = minimize_scalar(score, bounds=SIGMA_BOUNDS, method="bounded", options={"xatol": 1e-4})
+    fitted = _rmse(yd, quantize(oren_nayar(i, e, phi, float(res.x), J, md, amb, ma)), seen)
+    sigma, rmse = (float(res.x), fitted) if fitted <= geometric else (sig, geometric)
+    return {"rmse_oren_nayar": geometric, "sigma_fitted": sigma, "rmse_oren_nayar_fitted": rmse,
+            "sigma_fitted_at_bound": bool(min(abs(sigma - b) for b in SIGMA_BOUNDS) < 1e-3 and sigma != sig)}
+
+
+def _specular_fits(t: float, a: float, i: float, gs: pd.DataFrame, light: dict) -> dict:
+    """RMSEs (0-255) of the specular models on one surface's seen specular views ``gs``: Phong on the plate
+    (``control``), the facet model without masking and with V-cavity masking-shadowing."""
+    es, ps = gs["elevation"].to_numpy(float), gs["azimuth"].to_numpy(float)
+    ys = gs["rough"].to_numpy(float)
+    seen = gs["coverage"].to_numpy(float) > 0
+    fs = facet_model(t, a, i, es, ps, masking="v-cavity", **light)["specular"]
+    fs0 = facet_model(t, a, i, es, ps, masking="none", **light)["specular"]
+    return {"rmse_phong_plate": _rmse(ys, gs["control"].to_numpy(float), seen),
+            "rmse_facet_nomask_specular": _rmse(ys, fs0, seen), "rmse_facet_vcavity_specular": _rmse(ys, fs, seen)}
+
+
+def _opposition_fits(gd: pd.DataFrame, gt: pd.DataFrame, seen, hapke_max_phase: float) -> dict:
+    """Hapke's surge (:func:`fit_hapke`) near opposition on one surface's seen total views ``gt`` and on its
+    diffuse views ``gd`` at ``seen``: the ``rmse_hapke*``, ``hapke_*`` and background columns."""
+    mt = gt["coverage"].to_numpy(float) > 0
+    hp = fit_hapke(gt["phase"].to_numpy(float)[mt], gt["rough"].to_numpy(float)[mt], hapke_max_phase)
+    row = dict(rmse_hapke=hp["rmse"], rmse_constant_near_opposition=hp["rmse_constant"],
+               rmse_hapke_heldout=hp["rmse_heldout"], rmse_constant_heldout=hp["rmse_constant_heldout"],
+               hapke_aic=hp["aic"], hapke_aic_constant=hp["aic_constant"],
+               hapke_c=hp["c"], hapke_d=hp["d"], hapke_S=hp["S"], hapke_B0=hp["B0"], hapke_h=hp["h"],
+               hapke_note=hp["note"])
+    hd = fit_hapke(gd["phase"].to_numpy(float)[seen], gd["rough"].to_numpy(float)[seen], hapke_max_phase)
+    row.update(rmse_hapke_diffuse=hd["rmse"], rmse_constant_diffuse_near_opposition=hd["rmse_constant"],
+               hapke_diffuse_B0=hd["B0"], hapke_diffuse_h=hd["h"])
+    return row
 
 
 #: Model columns of :func:`analytic_model_fits` and their readable names.
