@@ -71,58 +71,73 @@ def diffuse_three_part(study: pd.DataFrame, azimuth: float = 0.0) -> pd.DataFram
     ``rmse_continuous``, ``rmse_part2_continuous`` (the continuous form);
     ``n_part1``, ``n_part2``, ``n_part3``, ``note``.
     """
+    frame = arc(study, "diffuse", azimuth)
+    return pd.DataFrame([_three_part_row(key, g[g["coverage"] > 0]) for key, g in frame.groupby(SURFACE_KEYS, sort=True)])
+
+
+def _three_part_row(key, g: pd.DataFrame) -> dict:
+    """One row of :func:`diffuse_three_part`: the surface ``key`` (truncation, aspect, incidence) and its arc's
+    seen diffuse views ``g`` (elevation in degrees, ``rough`` 0-255)."""
+    t, a, i = (float(k) for k in key)
+    e = g["elevation"].to_numpy(float)
+    v = g["rough"].to_numpy(float)
+    e1, e2 = diffuse_breakpoints(i, a)
+    p1, p3 = (e > 0) & (e <= e1), (e >= e2) & (e < 180)
+    p2 = (e > e1) & (e < e2)
+    row = {"truncation": t, "aspect": a, "incidence": i, "e1": e1, "e2": e2,
+           "n_part1": int(p1.sum()), "n_part2": int(p2.sum()), "n_part3": int(p3.sum()),
+           "level1": float(v[p1].mean()) if p1.any() else np.nan,
+           "level3": float(v[p3].mean()) if p3.any() else np.nan,
+           "rate": np.nan, "decay_length": np.nan, "rmse": np.nan, "rmse_part2": np.nan, "jump_at_e2": np.nan,
+           "rate_continuous": np.nan, "rmse_continuous": np.nan, "rmse_part2_continuous": np.nan, "note": ""}
+    if is_plate(t, a):
+        row["note"] = "plate: one constant level, no decay"
+        pred = np.full_like(v, float(v.mean())) if len(v) else v
+        row["rmse"] = float(np.sqrt(np.mean((v - pred) ** 2))) if len(v) else np.nan
+        return row
+    if not (p1.any() and p3.any()) or p2.sum() < 3:
+        row["note"] = "too few views in a part to fit"
+        return row
+    L1, L3 = row["level1"], row["level3"]
+    row.update(_thesis_decay(e, v, p2, L1, L3, e1))
+    row.update(_thesis_errors(e, v, (p1, p2, p3), L1, L3, e1, e2, row["rate"]))
+    if abs(L1 - L3) >= 1e-9:
+        row.update(_continuous_fit(e, v, p1, p2, p3, L1, L3, e1, e2))
+    return row
+
+
+def _thesis_decay(e, v, p2, L1: float, L3: float, e1: float) -> dict:
+    """The rate ``k`` (1/degree, in [0, 10]) of the thesis's part two (:func:`exponential_part`) fitted by least
+    squares to the views ``p2`` (elevations ``e``, values ``v``), and its ``decay_length`` 1/k (degrees); or a
+    ``note`` saying why there is none (equal levels, a failed fit)."""
     from scipy.optimize import curve_fit
 
-    frame = arc(study, "diffuse", azimuth)
-    rows = []
-    for key, g in frame.groupby(SURFACE_KEYS, sort=True):
-        t, a, i = (float(k) for k in key)
-        g = g[g["coverage"] > 0]
-        e = g["elevation"].to_numpy(float)
-        v = g["rough"].to_numpy(float)
-        e1, e2 = diffuse_breakpoints(i, a)
-        p1, p3 = (e > 0) & (e <= e1), (e >= e2) & (e < 180)
-        p2 = (e > e1) & (e < e2)
-        row = {"truncation": t, "aspect": a, "incidence": i, "e1": e1, "e2": e2,
-               "n_part1": int(p1.sum()), "n_part2": int(p2.sum()), "n_part3": int(p3.sum()),
-               "level1": float(v[p1].mean()) if p1.any() else np.nan,
-               "level3": float(v[p3].mean()) if p3.any() else np.nan,
-               "rate": np.nan, "decay_length": np.nan, "rmse": np.nan, "rmse_part2": np.nan, "jump_at_e2": np.nan,
-               "rate_continuous": np.nan, "rmse_continuous": np.nan, "rmse_part2_continuous": np.nan, "note": ""}
-        if is_plate(t, a):
-            row["note"] = "plate: one constant level, no decay"
-            pred = np.full_like(v, float(v.mean())) if len(v) else v
-            row["rmse"] = float(np.sqrt(np.mean((v - pred) ** 2))) if len(v) else np.nan
-            rows.append(row)
-            continue
-        if not (p1.any() and p3.any()) or p2.sum() < 3:
-            row["note"] = "too few views in a part to fit"
-            rows.append(row)
-            continue
-        L1, L3 = row["level1"], row["level3"]
-        if abs(L1 - L3) < 1e-9:
-            row["note"] = "levels one and three equal: no decay to fit"
-        else:
-            try:
-                def decay(x, k, L1=L1, L3=L3, e1=e1):
-                    return exponential_part(x, L1, L3, k, e1)
+    if abs(L1 - L3) < 1e-9:
+        return {"note": "levels one and three equal: no decay to fit"}
+    try:
+        def decay(x, k, L1=L1, L3=L3, e1=e1):
+            return exponential_part(x, L1, L3, k, e1)
 
-                (rate,), _ = curve_fit(decay, e[p2], v[p2], p0=[0.05], bounds=([0.0], [10.0]))
-                row["rate"] = float(rate)
-                row["decay_length"] = float(1.0 / rate) if rate > 0 else np.inf
-            except (RuntimeError, ValueError) as exc:
-                row["note"] = f"decay fit failed: {exc}"
-        decay = exponential_part(e, L1, L3, row["rate"], e1) if np.isfinite(row["rate"]) else np.nan
-        pred = np.where(p1, L1, np.where(p3, L3, decay))
-        ok = np.isfinite(pred)
-        row["rmse"] = float(np.sqrt(np.mean((v[ok] - pred[ok]) ** 2)))
-        row["rmse_part2"] = float(np.sqrt(np.mean((v[p2] - pred[p2]) ** 2))) if np.isfinite(row["rate"]) else np.nan
-        if np.isfinite(row["rate"]):
-            row["jump_at_e2"] = float(exponential_part(e2, L1, L3, row["rate"], e1) - L3)
-        if abs(L1 - L3) >= 1e-9:
-            row.update(_continuous_fit(e, v, p1, p2, p3, L1, L3, e1, e2))
-        rows.append(row)
-    return pd.DataFrame(rows)
+        (rate,), _ = curve_fit(decay, e[p2], v[p2], p0=[0.05], bounds=([0.0], [10.0]))
+        return {"rate": float(rate), "decay_length": float(1.0 / rate) if rate > 0 else np.inf}
+    except (RuntimeError, ValueError) as exc:
+        return {"note": f"decay fit failed: {exc}"}
+
+
+def _thesis_errors(e, v, parts, L1: float, L3: float, e1: float, e2: float, rate: float) -> dict:
+    """Errors (0-255) of the thesis's three-part model with part two's ``rate`` (NaN: none fitted): ``rmse``
+    over the arc's views with a prediction, ``rmse_part2``, and ``jump_at_e2``, its part two at e2 minus L3.
+    ``parts`` are the three parts' masks of the views (elevations ``e``, values ``v``)."""
+    p1, p2, p3 = parts
+    out = {}
+    decay = exponential_part(e, L1, L3, rate, e1) if np.isfinite(rate) else np.nan
+    pred = np.where(p1, L1, np.where(p3, L3, decay))
+    ok = np.isfinite(pred)
+    out["rmse"] = float(np.sqrt(np.mean((v[ok] - pred[ok]) ** 2)))
+    out["rmse_part2"] = float(np.sqrt(np.mean((v[p2] - pred[p2]) ** 2))) if np.isfinite(rate) else np.nan
+    if np.isfinite(rate):
+        out["jump_at_e2"] = float(exponential_part(e2, L1, L3, rate, e1) - L3)
+    return out
 
 
 def _continuous_fit(e, v, p1, p2, p3, L1, L3, e1, e2) -> dict:
