@@ -175,48 +175,64 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
     summary = {"response": response, "n": 0, "terms": "", "dropped": "", "converged": False, "iterations": np.nan,
                "deviance": np.nan, "aic": np.nan, "pseudo_r2": np.nan, "condition_raw": np.nan,
                "condition_scaled": np.nan, "status": "not fitted"}
-
-    def unfitted():
-        return GLMResult(response, summary, pd.DataFrame(), pd.DataFrame(), messages)
-
-    if response not in data:
-        messages.append(f"{response}: no such column")
-        return unfitted()
-    d = fitted_surfaces(data, response, messages)
-    terms = candidate_terms(d, response, messages)
-    summary["dropped"] = ", ".join(collinearity(d, terms, response, collinearity_limit, messages))
-    summary["n"] = int(len(d))
-    if not terms:
-        messages.append(f"{response}: no predictor varies: nothing to fit")
-        return unfitted()
-    X = design(d, terms)
-    if len(d) <= X.shape[1]:
-        messages.append(f"{response}: {len(d)} surfaces for {X.shape[1]} coefficients: not fitted")
-        return unfitted()
-    y = d[response].to_numpy(float)
-    if np.ptp(y) < 1e-12:
-        messages.append(f"{response}: takes the one value {y[0]:g} on all {len(y)} surfaces: nothing to fit")
-        return unfitted()
+    prepared = _fit_inputs(data, response, collinearity_limit, summary, messages)
+    if prepared is None:
+        return _unfitted(response, summary, messages)
+    d, terms, X, y = prepared
     summary["terms"] = " + ".join(terms)
     summary["condition_raw"] = float(np.linalg.cond(X))
     summary["condition_scaled"] = _scaled_condition(X)
     res = fit(X, y, response, messages)
     if res is None:
         summary["status"] = "failed"
-        return unfitted()
+        return _unfitted(response, summary, messages)
     summary["converged"] = bool(res.converged)
     summary["iterations"] = int(res.fit_history.get("iteration", np.nan))
     if not res.converged:
         messages.append(f"{response}: IRLS did not converge: coefficients not reported")
         summary["status"] = "not converged"
-        return unfitted()
-    summary["deviance"] = float(res.deviance)
-    summary["aic"] = float(res.aic)
-    null = float(np.sum((y - y.mean()) ** 2))
-    summary["pseudo_r2"] = float(1.0 - res.deviance / null) if null > 0 else np.nan
-    summary["status"] = "ok"
+        return _unfitted(response, summary, messages)
+    summary.update(goodness_of_fit(res, y))
     coefs = coefficients(res, ["const"] + terms, response)
     return GLMResult(response, summary, coefs, diagnostics(res, d, y, response), messages)
+
+
+def _unfitted(response: str, summary: dict, messages: list) -> GLMResult:
+    """A response's result without a fit: its summary and messages, no coefficients, no diagnostics."""
+    return GLMResult(response, summary, pd.DataFrame(), pd.DataFrame(), messages)
+
+
+def _fit_inputs(data: pd.DataFrame, response: str, collinearity_limit: float, summary: dict, messages: list):
+    """What :func:`grid_glm` fits: the surfaces ``d``, the terms, the design ``X`` (surfaces, 1 + terms) and the
+    response ``y`` (surfaces,); or None when there is nothing to fit, with a message saying why. Records the
+    dropped terms and the number of surfaces in ``summary``."""
+    if response not in data:
+        messages.append(f"{response}: no such column")
+        return None
+    d = fitted_surfaces(data, response, messages)
+    terms = candidate_terms(d, response, messages)
+    summary["dropped"] = ", ".join(collinearity(d, terms, response, collinearity_limit, messages))
+    summary["n"] = int(len(d))
+    if not terms:
+        messages.append(f"{response}: no predictor varies: nothing to fit")
+        return None
+    X = design(d, terms)
+    if len(d) <= X.shape[1]:
+        messages.append(f"{response}: {len(d)} surfaces for {X.shape[1]} coefficients: not fitted")
+        return None
+    y = d[response].to_numpy(float)
+    if np.ptp(y) < 1e-12:
+        messages.append(f"{response}: takes the one value {y[0]:g} on all {len(y)} surfaces: nothing to fit")
+        return None
+    return d, terms, X, y
+
+
+def goodness_of_fit(res, y: np.ndarray) -> dict:
+    """A converged fit's ``deviance``, ``aic``, ``pseudo_r2`` (1 - deviance / the null model's, NaN when ``y``
+    does not vary) and ``status`` ok."""
+    null = float(np.sum((y - y.mean()) ** 2))
+    return {"deviance": float(res.deviance), "aic": float(res.aic),
+            "pseudo_r2": float(1.0 - res.deviance / null) if null > 0 else np.nan, "status": "ok"}
 
 
 def grid_glms(lobes: pd.DataFrame, levels: pd.DataFrame, collinearity_limit: float = 100.0):
