@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 import seaborn as sns  # noqa: E402
+from matplotlib.transforms import Bbox, offset_copy  # noqa: E402
 
 from ...analysis.thesis import THESIS_INCIDENCE  # noqa: E402
 from ...atomic import atomic_path  # noqa: E402
@@ -66,18 +67,89 @@ def heatmap(ax, p: pd.DataFrame, cmap="viridis", vmin=None, vmax=None, annot=Fal
     ax.set_ylabel(p.index.name or "")
     ax.grid(False)
     if annot:
-        lo, hi = np.nanmin(z) if np.isfinite(z).any() else 0, np.nanmax(z) if np.isfinite(z).any() else 1
-        mid = (lo + hi) / 2
         for (i, j), v in np.ndenumerate(z):
             if np.isfinite(v):
                 ax.text(j, i, format(v, fmt), ha="center", va="center", fontsize=6,
-                        color="white" if v < mid else "black")
+                        color=_ink(im.cmap(im.norm(v))))
     ax.figure.colorbar(im, ax=ax, shrink=0.8, label=label)
     return im
 
 
+def _ink(rgba) -> str:
+    """Black on a light cell, white on a dark one (relative luminance of the cell's colour)."""
+    r, g, b = rgba[:3]
+    return "black" if 0.2126 * r + 0.7152 * g + 0.0722 * b > 0.45 else "white"
+
+
 def _tick(value) -> str:
     return f"{value:g}" if isinstance(value, (int, float, np.floating)) else str(value)
+
+
+def legend_beside(ax, handles=None, labels=None, **kwargs):
+    """``ax``'s legend to the right of it, outside the axes, so that it covers no data (none when nothing is
+    labelled, e.g. a panel without data)."""
+    if handles is None:
+        handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return None
+    return ax.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0.0, **kwargs)
+
+
+def legend_below(ax, ncol: int = 1, below: float = 38.0, **kwargs):
+    """``ax``'s legend under it, ``below`` points under the axes' bottom edge (clear of the tick labels and the x
+    label), so that it covers no data (none when nothing is labelled)."""
+    handles, labels = ax.get_legend_handles_labels()
+    if not handles:
+        return None
+    anchor = offset_copy(ax.transAxes, fig=ax.figure, y=-below, units="points")
+    return ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0), bbox_transform=anchor,
+                     ncol=ncol, borderaxespad=0.0, **kwargs)
+
+
+def panels_legend(axes, **kwargs):
+    """One legend for panels that share their colours, beside the last panel: every label of every panel once (the
+    first panel's handle); the panels' own legends are removed."""
+    seen = {}
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            seen.setdefault(label, handle)
+        if ax.get_legend() is not None:
+            ax.get_legend().remove()
+    return legend_beside(axes[-1], list(seen.values()), list(seen), **kwargs)
+
+
+#: Where :func:`label_points` tries a label, in points from its point: upper right, lower right, upper left, lower left.
+LABEL_SPOTS = ((3, 3), (3, -9), (-3, 3), (-3, -9))
+
+
+def label_points(ax, points, fontsize: float = 7, marker: float = 5.0) -> None:
+    """Name points of ``ax`` (``[(x, y, text), ...]``, data coordinates), each at the first of :data:`LABEL_SPOTS`
+    where the label stays inside the axes and covers no marker of the axes (``marker``: half a marker's width, in
+    points) and no label placed before it; at the first spot when none is free. Call it once the layout is final."""
+    ax.get_xlim(), ax.get_ylim()  # the limits autoscaling gives, before reading positions
+    renderer = ax.figure.canvas.get_renderer()
+    half = marker * ax.figure.dpi / 72.0
+    centres = [xy for c in ax.collections for xy in c.get_offset_transform().transform(c.get_offsets())]
+    frame, taken = ax.get_window_extent(renderer), []
+
+    def annotate(text, x, y, dx, dy):
+        label = ax.annotate(text, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=fontsize,
+                            ha="left" if dx > 0 else "right")
+        return label, label.get_window_extent(renderer)
+
+    for x, y, text in points:
+        own = ax.transData.transform((x, y))
+        covered = taken + [Bbox.from_bounds(cx - half, cy - half, 2 * half, 2 * half) for cx, cy in centres
+                           if np.hypot(cx - own[0], cy - own[1]) > 1.0]
+        for dx, dy in LABEL_SPOTS:
+            label, box = annotate(text, x, y, dx, dy)
+            inside = frame.contains(box.x0, box.y0) and frame.contains(box.x1, box.y1)
+            if inside and not any(box.overlaps(other) for other in covered):
+                break
+            label.remove()
+        else:
+            label, box = annotate(text, x, y, *LABEL_SPOTS[0])
+        taken.append(box)
 
 
 def aspects_present(frame, wanted) -> list:

@@ -13,7 +13,17 @@ from ...analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE
 from ...study.selection import ASPECT_TOL, arc
 from ...surfaces.surface import aspect_label
 from ..registry import title as figure_title
-from .common import arc_panels, heatmap, hue_palette, pick_incidence, placeholder, select, theme
+from .common import (
+    arc_panels,
+    heatmap,
+    hue_palette,
+    legend_beside,
+    panels_legend,
+    pick_incidence,
+    placeholder,
+    select,
+    theme,
+)
 
 __all__ = ["fig27_diffuse_plate", "fig28_diffuse_truncation", "fig29_diffuse_aspect", "fig_diffuse_parts"]
 
@@ -40,7 +50,7 @@ def fig27_diffuse_plate(study: pd.DataFrame, incidence: float = THESIS_INCIDENCE
     ax.set_xlabel("view elevation (deg), azimuth 0")
     ax.set_ylabel("diffuse (0-255)")
     ax.set_title(f"Diffuse on a smooth surface, incidence {inc:g}", loc="left")
-    ax.legend(fontsize=8, loc="lower center")
+    legend_beside(ax, fontsize=8)
     return fig
 
 
@@ -91,7 +101,8 @@ def fig28_diffuse_truncation(study: pd.DataFrame, diffuse_parts: pd.DataFrame, a
         ax.set_xlabel(f"view elevation (deg), azimuth 0; breaks at {e1:g} and {e2:.1f}")
         ax.set_ylabel("diffuse (0-255)")
         ax.set_title(f"aspect {aspect_label(a)}, incidence {inc:g} (dashed: three-part fit)", loc="left")
-        ax.legend(title="truncation", ncol=2, fontsize=7, title_fontsize=8, loc="upper right")
+    if panels:
+        panels_legend([ax for ax, _ in panels], title="truncation", fontsize=7, title_fontsize=8)
     return fig
 
 
@@ -118,7 +129,7 @@ def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0, incidence
     ax.set_xlabel("view elevation (deg), azimuth 0; ▼: front facet edge-on (180 - atan(2·aspect))")
     ax.set_ylabel("diffuse (0-255)")
     ax.set_title(f"Diffuse against aspect, truncation {t:g}, incidence {inc:g}", loc="left")
-    ax.legend(title="aspect", ncol=2, fontsize=7, title_fontsize=8, loc="upper right")
+    legend_beside(ax, title="aspect", fontsize=7, title_fontsize=8)
     return fig
 
 
@@ -140,4 +151,5 @@ def fig_diffuse_parts(diffuse_parts: pd.DataFrame, incidence: float = THESIS_INC
         p = d.pivot_table(index="aspect", columns="truncation", values=col).sort_index(ascending=False)
         heatmap(ax, p, cmap="viridis", annot=p.size <= 150, fmt=fmt)
         ax.set_title(label, loc="left", fontsize=9)
+    fig.tight_layout()  # each colour bar's ticks clear of the next panel's y label
     return fig

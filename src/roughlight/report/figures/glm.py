@@ -8,7 +8,7 @@ import seaborn as sns
 
 from ...surfaces.surface import aspect_label
 from ..registry import title as figure_title
-from .common import placeholder, theme
+from .common import legend_beside, placeholder, theme
 
 __all__ = ["fig_glm_diagnostics"]
 
@@ -24,6 +24,8 @@ def _residual_panel(ax, d, srow, response, legend: bool) -> None:
                f"pseudo-R² {s['pseudo_r2']:.3f}")
     ax.set_title(f"{response}{sub}", loc="left", fontsize=9)
     ax.set_ylabel("residual (0-255)")
+    if legend:
+        legend_beside(ax, title="truncation", fontsize=8, title_fontsize=8)
 
 
 def _influence_panel(ax, d, srow) -> None:
@@ -36,8 +38,9 @@ def _influence_panel(ax, d, srow) -> None:
     ax.axhline(0, color="k", lw=0.8)
     top = d.nlargest(3, "cooks_distance")
     for _, row in top.iterrows():
-        ax.annotate(f"t{row['truncation']:g},a{aspect_label(row['aspect'])}",
-                    (row["leverage"], row["pearson_residual"]), fontsize=7)
+        ax.annotate(f"t{row['truncation']:g},a{aspect_label(row['aspect'])}",  # beside the largest bubble
+                    (row["leverage"], row["pearson_residual"]), xytext=(12, 0), textcoords="offset points",
+                    va="center", fontsize=7)
     ax.set_xlabel("leverage (hat); dotted 2p/n")
     ax.set_ylabel("Pearson residual")
     ax.set_title("influence: size ∝ Cook's distance, colour = aspect", loc="left", fontsize=9)

@@ -8,7 +8,7 @@ import numpy as np
 import seaborn as sns
 
 from ...surfaces.surface import aspect_label
-from .common import hemisphere_frame, mirrored, save_figure, theme
+from .common import hemisphere_frame, legend_below, mirrored, save_figure, theme
 
 __all__ = ["plot_implicit", "plot_implicit_maps"]
 
@@ -21,7 +21,7 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
     if pictures:
         fig = plt.figure(figsize=(11, 8.4))
         top = fig.add_gridspec(2, 1, height_ratios=[1, 1.05])
-        axes = top[0].subgridspec(1, 2).subplots()
+        axes = top[0].subgridspec(1, 2, wspace=0.3).subplots()  # tight_layout leaves a subgrid's spacing alone
         for ax, (name, image) in zip(top[1].subgridspec(1, len(pictures)).subplots(squeeze=False)[0],
                                      pictures.items()):
             ax.imshow(image, cmap="gray", vmin=0, vmax=255)
@@ -35,10 +35,12 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
     axes[0].set(yscale="log", xlabel="", title="Error against the exact reference, diffuse, per surface")
     axes[0].axhline(0.1, color="grey", lw=0.8, ls=":")
     axes[0].tick_params(axis="x", labelrotation=15)
+    legend_below(axes[0], ncol=2, below=62.0, title="kind", fontsize=8, title_fontsize=8)  # under the slanted names
     f = frames.groupby(["field", "method"], as_index=False)["frame_ms"].mean()
     sns.lineplot(data=f, x="field", y="frame_ms", hue="method", marker="o", ax=axes[1])
     axes[1].set(xscale="log", yscale="log", xlabel="field side N (periods)", ylabel="frame time (ms)",
                 title="N x N field: explicit mesh against one implicit quad")
+    legend_below(axes[1], ncol=3, below=42.0, title="method", fontsize=8, title_fontsize=8)
     fig.tight_layout()
     save_figure(fig, path, dpi=120)
 

@@ -10,7 +10,7 @@ import seaborn as sns
 from ...analysis.thesis import THESIS_INCIDENCE
 from ...surfaces.geometry import lobe_centres
 from ..registry import title as figure_title
-from .common import pick_incidence, placeholder, theme
+from .common import legend_below, pick_incidence, placeholder, theme
 
 __all__ = ["fig_lobe_geometry"]
 
@@ -34,14 +34,16 @@ def fig_lobe_geometry(lobes: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     ax.set_xlabel("aspect")
     ax.set_ylabel("elevation of the lobe peak (deg)")
     ax.set_title("Lobe centres, phi = 0 arc", loc="left")
-    ax.legend(fontsize=7)
+    legend_below(ax, ncol=2, fontsize=7)
     ax = axes[1]
     sns.scatterplot(data=d[d["peak"] >= 4], x="truncation", y="fwhm", hue="lobe", style="lobe", ax=ax, s=22)
     ax.set_ylabel("FWHM on the arc (deg); peaks >= 4 only")
     ax.set_title("Lobe widths: truncation changes height, not width", loc="left")
+    legend_below(ax, ncol=3, fontsize=7)
     ax = axes[2]
     sns.scatterplot(data=d, x="aspect", y="offset", hue="lobe", style="lobe", ax=ax, s=22)
     ax.axhline(0, color="k", lw=0.8)
     ax.set_ylabel("peak minus predicted (deg)")
     ax.set_title("Offset from the mirror direction", loc="left")
+    legend_below(ax, ncol=3, fontsize=7)
     return fig

@@ -13,7 +13,7 @@ from ...analysis.thesis import THESIS_INCIDENCE
 from ...study.selection import ASPECT_TOL
 from ...surfaces.surface import SQRT3_2, aspect_label
 from ..registry import title as figure_title
-from .common import heatmap, pick_incidence, placeholder, theme
+from .common import heatmap, legend_below, pick_incidence, placeholder, theme
 
 __all__ = ["fig_model_fits", "fig_hapke"]
 
@@ -89,7 +89,7 @@ def fig_hapke(study: pd.DataFrame, model_fits: pd.DataFrame, hapke_max_phase: fl
         _hapke_curves(ax, r, max_phase)
         ax.set_xlabel("phase angle g (deg)")
         ax.set_ylabel("total (0-255)")
-        ax.set_title(f"t {t:g}, aspect {aspect_label(a)}: RMSE {r['rmse_hapke']:.1f} (a background-only fit, "
+        ax.set_title(f"t {t:g}, aspect {aspect_label(a)}: RMSE {r['rmse_hapke']:.1f}\n(a background-only fit, "
                      f"not drawn: {r['rmse_constant_near_opposition']:.1f})", loc="left", fontsize=8)
-        ax.legend(fontsize=7)
+        legend_below(ax, fontsize=7)
     return fig

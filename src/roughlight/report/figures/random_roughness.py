@@ -10,7 +10,15 @@ import numpy as np
 import pandas as pd
 
 from ...surfaces.surface import aspect_label
-from .common import hemisphere_frame, hemisphere_map_problem, mirrored, placeholder, save_figure, theme
+from .common import (
+    hemisphere_frame,
+    hemisphere_map_problem,
+    legend_below,
+    mirrored,
+    placeholder,
+    save_figure,
+    theme,
+)
 
 __all__ = ["RANDOM_CHART_STATISTICS", "KIND_COLOURS", "plot_random_ensembles", "plot_random_maps",
            "plot_random_tiles"]
@@ -153,8 +161,7 @@ def plot_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures, p
     for k, name in enumerate(names + ["views_per_second"]):
         ax = fig.add_subplot(grid[k // ncol, k % ncol])
         _convergence_panel(ax, summary, name, names[0])
-        if k == 0:
-            ax.legend(fontsize=7)
+    legend_below(ax, ncol=2, fontsize=7)  # the last chart's: the kinds and the regular surface (dashed everywhere)
     for k, (label, image) in enumerate(pictures):
         ax = fig.add_subplot(grid[chart_rows + k // ncol, k % ncol])
         ax.imshow(image)

@@ -24,8 +24,11 @@ from .common import (
     hemisphere_frame,
     hemisphere_map_problem,
     hue_palette,
+    legend_below,
+    legend_beside,
     mirrored,
     no_table_aspect,
+    panels_legend,
     pick_incidence,
     placeholder,
     select,
@@ -71,7 +74,7 @@ def fig20_plate_incidence(plates: pd.DataFrame):
     ax.set_xlabel("view elevation (deg), azimuth 0 (mirror direction at 180 - incidence)")
     ax.set_ylabel("specular (0-255)")
     ax.set_title(f"Specular reflection on a smooth surface, source J = {d['light'].iloc[0]:g}", loc="left")
-    ax.legend(title="incidence", ncol=2, fontsize=8, title_fontsize=8, loc="upper left")
+    legend_beside(ax, title="incidence", fontsize=8, title_fontsize=8)
     return fig
 
 
@@ -84,18 +87,26 @@ def fig21_specular_truncation(study: pd.DataFrame, aspects=TABLE_ASPECTS, incide
         d["truncation"] = d["truncation"].map(lambda t: f"{t:g}")
         n = d["truncation"].nunique()
         sns.lineplot(data=d, x="elevation", y="rough", hue="truncation", palette=hue_palette(n), ax=ax, lw=1.2)
-        c = lobe_centres(inc, a)
-        for name, e in (("back", c["back"]), ("forward", c["forward"])):
-            if e is not None:
-                ax.axvline(e, color="0.4", ls="--", lw=0.8)
-                ax.text(e + 1, ax.get_ylim()[1] * 0.95, f"{name} mirror {e:.1f}°", fontsize=8, va="top")
+        _mirror_marks(ax, lobe_centres(inc, a))
         ax.axvline(inc, color="orange", ls=":", lw=1)
         ax.set_xlim(0, 180)
         ax.set_xlabel("view elevation (deg), azimuth 0; dotted: zero phase")
         ax.set_ylabel("specular (0-255)")
         ax.set_title(f"aspect {aspect_label(a)}, incidence {inc:g}", loc="left")
-        ax.legend(title="truncation", ncol=2, fontsize=7, title_fontsize=8)
+    if panels:
+        panels_legend([ax for ax, _ in panels], title="truncation", fontsize=7, title_fontsize=8)
     return fig
+
+
+def _mirror_marks(ax, centres) -> None:
+    """The back and forward mirror directions: dashed lines, named on a scale above the axes (not over the lobes)."""
+    marks = [(e, f"{name} mirror\n{e:.1f}°") for name, e in (("back", centres["back"]), ("forward", centres["forward"]))
+             if e is not None]
+    for e, _ in marks:
+        ax.axvline(e, color="0.4", ls="--", lw=0.8)
+    top = ax.secondary_xaxis("top")
+    top.set_xticks([e for e, _ in marks], [label for _, label in marks], fontsize=8)
+    top.tick_params(length=3, pad=1)
 
 
 def _model_curves(ax, lobe, tt, m, k):
@@ -116,7 +127,7 @@ def _sine_refit(ax, sine, aspect, lobe, tt):
         A = float(s.loc[s["parameter"] == "A", "estimate"].iloc[0])
         w = float(s.loc[s["parameter"] == "omega", "estimate"].iloc[0])
         y = A * (1 - np.sin(w * tt)) if lobe == "forward" else A * np.sin(w * tt)
-        outside = "; ω > π/2: turns down before t = 1, outside the physical range" if w > np.pi / 2 else ""
+        outside = ";\nω > π/2: turns down before t = 1, outside the physical range" if w > np.pi / 2 else ""
         ax.plot(tt, y, color="#2ca02c", ls="--", label=f"refit  A={A:.1f}, ω={w:.3f}{outside}")
 
 
@@ -141,7 +152,7 @@ def _model_panel(ax, lobes, sine, aspect, lobe, m, k, inc, exact=None):
     ax.set_xlabel("truncation t")
     ax.set_ylabel(f"{lobe} lobe peak (0-255)")
     ax.set_title(f"aspect {aspect_label(aspect)}, incidence {inc:g}", loc="left")
-    ax.legend(fontsize=7)
+    legend_below(ax, fontsize=7)
 
 
 def _models_figure(lobes, sine, lobe, m, k, key, exact, aspects, incidence):
@@ -196,7 +207,7 @@ def fig24_reflecting_areas(reflecting_areas: pd.DataFrame):
         ax.set_xlabel("truncation t")
         ax.set_ylabel("visible lit share of the image")
         ax.set_title(f"aspect {aspect_label(a)}", loc="left")
-        ax.legend(fontsize=7)
+        legend_below(ax, fontsize=7)
     return fig
 
 
@@ -218,7 +229,7 @@ def fig26_specular_aspect(study: pd.DataFrame, truncations=(0.2, 1.0), incidence
         ax.set_xlabel("view elevation (deg), azimuth 0")
         ax.set_ylabel("specular (0-255)")
         ax.set_title(f"truncation {t:g}, incidence {inc:g}", loc="left")
-        ax.legend(title="aspect", ncol=2, fontsize=7, title_fontsize=8)
+    panels_legend(list(axes[0]), title="aspect", fontsize=7, title_fontsize=8)
     return fig
 
 
@@ -286,7 +297,7 @@ def _track_panels(ax1, ax2, track_rows) -> None:
     ax2.set_xlabel("azimuth of the brightest view near the back mirror direction (deg)")
     ax1.set_ylabel("back-lobe maximum on the arc (0-255)")
     ax2.set_ylabel("phase angle at that maximum (deg)")
-    ax1.legend(fontsize=7)
+    ax1.get_legend().remove()
 
 
 def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, incidence: float = THESIS_INCIDENCE):
@@ -322,8 +333,13 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, i
             ax.plot([r["x"] for r in track], [r["y"] for r in track], ".", color="white", ms=3.5)
             ax.plot([r["x"] for r in track], [-r["y"] for r in track], ".", color="white", ms=3.5)
         track_rows += track
-    _track_panels(fig.add_subplot(gs[1, :n]), fig.add_subplot(gs[1, n:]), track_rows)
+    ax1, ax2 = fig.add_subplot(gs[1, :n]), fig.add_subplot(gs[1, n:])
+    _track_panels(ax1, ax2, track_rows)
     fig.suptitle(f"Specular from above (light ★ at azimuth 0, elevation {inc:g}) and the back lobe's track",
                  y=0.995)
     fig.tight_layout()
+    if track_rows:  # under both track panels (they share the colours), not over them
+        handles, labels = ax1.get_legend_handles_labels()
+        fig.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, 0.0), ncol=len(labels), fontsize=8,
+                   title="surface", title_fontsize=8)
     return fig

@@ -9,21 +9,22 @@ import pandas as pd
 import seaborn as sns
 
 from ..registry import title as figure_title
-from .common import heatmap, placeholder, save_figure, theme
+from .common import heatmap, label_points, legend_beside, placeholder, save_figure, theme
 
 __all__ = ["plot_speed_accuracy", "plot_renderer_validation", "fig_timings"]
 
 
-def _label_fast_points(ax, sub, label) -> None:
-    """Name the fast renderer's lattice and adaptive points (default bias, 512 shadow map) by pixels per period."""
+def _fast_point_labels(sub, label) -> list:
+    """The fast renderer's lattice and adaptive points (default bias, 512 shadow map), named by pixels per period."""
     from ...render.sampling import RenderSettings
 
+    out = []
     for _, row in sub.iterrows():
         default_bias = np.isclose(row["shadow_bias"], RenderSettings().shadow_bias)
         labelled = row["sampling"] in ("lattice", "adaptive") and row["shadow_map_size"] == 512
         if row["method"] == "fast" and labelled and default_bias:
-            ax.annotate(f"P={row['pixels_per_period']}", (row["ms per view"], row[label]),
-                        fontsize=7, xytext=(3, 3), textcoords="offset points")
+            out.append((row["ms per view"], row[label], f"P={row['pixels_per_period']}"))
+    return out
 
 
 def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
@@ -39,6 +40,7 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
     components = list(dict.fromkeys(data["component"]))
     fig, axes = plt.subplots(2, len(components), figsize=(5.2 * len(components), 8.4), squeeze=False)
     rows = (("mae", "mean abs error (0-255)", 0.5), ("max_error", "worst view, abs error (0-255)", 1.0))
+    labels = {}
     for r, (column, label, line_at) in enumerate(rows):
         for ax, component in zip(axes[r], components):
             sub = data[data["component"] == component].copy()
@@ -48,7 +50,7 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
             if r == 0:
                 front = sub[sub["pareto"]].sort_values("ms per view")
                 ax.plot(front["ms per view"], front[label], color="black", lw=1, ls="--", label="Pareto front")
-            _label_fast_points(ax, sub, label)
+            labels[ax] = _fast_point_labels(sub, label)
             ax.axhline(line_at, color="grey", lw=0.8, ls=":")
             ax.set(xscale="log", yscale="log", title=f"{component}: {'mean error' if r == 0 else 'worst view'}")
     if axes[0, -1].get_legend() is not None:
@@ -56,6 +58,8 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
     fig.suptitle("Speed against accuracy: error against the exact reference vs time per view "
                  "(dotted: the 0.5 tolerance of the mean, one 8-bit level at the worst view)", y=1.01)
     fig.tight_layout()
+    for ax, points in labels.items():  # once the layout is final: each label clear of the markers
+        label_points(ax, points)
     save_figure(fig, path, dpi=120)
 
 
@@ -78,9 +82,11 @@ def plot_renderer_validation(validation, smoothness, path) -> None:
     axes[0].axhline(1.0, color="grey", lw=0.8, ls=":")
     axes[0].tick_params(axis="x", rotation=70, labelsize=7)
     axes[0].set_title("every view of each sweep (diffuse, specular, total)")
+    legend_beside(axes[0], title="setting, statistic", fontsize=8, title_fontsize=8)
     if len(smoothness):
         sns.lineplot(data=smoothness, x="truncation", y="largest_deviation", hue="figure", style="aspect",
                      marker="o", ax=axes[1])
+        legend_beside(axes[1], fontsize=8)
     else:
         axes[1].text(0.5, 0.5, "no table aspect in the study", ha="center", transform=axes[1].transAxes)
     axes[1].axhline(1.0, color="grey", lw=0.8, ls=":")
@@ -106,4 +112,5 @@ def fig_timings(render_timings: pd.DataFrame):
         heatmap(ax, p.sort_index(ascending=False), cmap="rocket_r", annot=p.size <= 150, fmt=".1f",
                 label="seconds per sweep")
         ax.set_title(f"incidence {inc:g}: render wall time per sweep", loc="left", fontsize=9)
+    fig.tight_layout()
     return fig

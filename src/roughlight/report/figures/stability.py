@@ -7,8 +7,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import seaborn as sns
+from matplotlib.ticker import NullFormatter
 
-from .common import save_figure
+from .common import legend_below, save_figure
 
 __all__ = ["plot_stability"]
 
@@ -30,6 +31,18 @@ def _log_panel(ax, data, hue, xlabel, ylabel, title, tolerance):
     sns.lineplot(data=data, x="x", y="value", hue=hue, marker="o", ax=ax)
     ax.set(xscale="log", yscale="log", xlabel=xlabel, ylabel=ylabel, title=title)
     ax.axhline(tolerance, ls=":", c="k", lw=1)
+    _measured_ticks(ax, data["x"])
+    if ax.get_legend() is not None:
+        legend_below(ax, ncol=3, below=42.0, fontsize=8, title=hue, title_fontsize=8)
+
+
+def _measured_ticks(ax, xs, most: int = 8) -> None:
+    """Tick a log x axis at the measured values (when there are few), instead of minor-tick labels that run into
+    each other over less than a decade."""
+    values = np.unique(np.asarray(xs, float)[np.isfinite(np.asarray(xs, float))])
+    if 0 < len(values) <= most:
+        ax.set_xticks(values, [f"{v:g}" for v in values])
+        ax.xaxis.set_minor_formatter(NullFormatter())
 
 
 def _scan_panels(axes, frame, tolerance) -> None:
@@ -50,7 +63,7 @@ def _scan_panels(axes, frame, tolerance) -> None:
     twin.set(ylabel="coverage (dashed)", ylim=(0, 1.05))
     twin.grid(False)
     _log_panel(ax_bias, _worst(frame, "shadow_bias"), "setting", "incidence (deg)", MAE,
-               "shadow acne / peter-panning (fast by bias; naive)", tolerance)
+               "shadow acne / peter-panning\n(fast by bias; naive)", tolerance)
     _log_panel(ax_map, _worst(frame, "shadow_map"), "setting", "fast shadow map (texels per period)", MAE,
                "shadow-map resolution by incidence", tolerance)
     _log_panel(ax_shininess, _worst(frame, "shininess"), "method", "shininess", MAE, "specular exponent", tolerance)
@@ -62,10 +75,12 @@ def _clipping_panels(ax_curve, ax_shift, frame) -> None:
     d["surface"] = d["setting"].str.split(" ").str[0]
     d["source"] = d["setting"].str.split(" ").str[1]
     sns.lineplot(data=d, x="x", y="value", hue="surface", style="source", ax=ax_curve)
+    legend_below(ax_curve, ncol=2, below=42.0, fontsize=8)
     ax_curve.axhline(255, c="r", lw=1)
     ax_curve.set(xlabel="view elevation at azimuth 0 (deg)", ylabel="total (0-255)", title="clipping at 255 (Fig. 17)")
     d = frame[(frame["experiment"] == "clipping") & frame["metric"].isin(["peak_shift", "centre_shift"])].copy()
     sns.barplot(data=d, y="setting", x="value", hue="metric", orient="h", ax=ax_shift)
+    legend_below(ax_shift, ncol=2, below=42.0, fontsize=8, title="metric", title_fontsize=8)
     ax_shift.set(xlabel="lobe shift, source 127 -> 255 (deg elevation)", ylabel="",
                  title="how far clipping moves the lobes")
 
@@ -78,7 +93,7 @@ def _normals_panel(ax, frame, tolerance) -> None:
     d["what"] = d["setting"] + np.where(d["metric"] == "mae", " vs reference", " vs flat")
     if len(d):
         sns.barplot(data=d, x="component", y="value", hue="what", ax=ax)
-        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2, title=None)
+        legend_below(ax, ncol=2, below=42.0, fontsize=8)
     ax.set(yscale="log", ylabel="MAE (0-255)", title="averaged vertex normals (naive)")
     ax.axhline(tolerance, ls=":", c="k", lw=1)
 
