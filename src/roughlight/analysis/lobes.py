@@ -70,34 +70,47 @@ def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) 
     at = np.flatnonzero(vw == peak)
     # a maximum on the window's edge, where the arc goes on, is the tail of a neighbouring lobe rising out of
     # the window, not a peak of this one: no value enters a fit or a table
-    edge = [ew[j] for j in (at[0], at[-1]) if (j == 0 and ew[0] > e.min()) or (j == len(vw) - 1 and ew[-1] < e.max())]
+    edge = _edge_maxima(e, ew, at)
     if edge:
         out["peak"] = np.nan
         out["note"] = f"no lobe: the maximum ({peak:.3g}) is on the window's edge at {edge[0]:g} deg, another lobe's tail"
         return out
     out["peak_elevation"] = float(ew[at].mean())
     half = peak / 2.0
-    k = int(at[0])
-    # walk outwards from the peak to the half-maximum crossings
-    left = k
-    while left > 0 and vw[left - 1] >= half:
-        left -= 1
-    k2 = int(at[-1])
-    right = k2
-    while right < len(vw) - 1 and vw[right + 1] >= half:
-        right += 1
+    left, right = _above_half(vw, at, half)
     above = slice(left, right + 1)
     out["centroid"] = float(np.sum(ew[above] * vw[above]) / np.sum(vw[above]))
     if left == 0 or right == len(vw) - 1:
         out["note"] = "half maximum not reached inside the window"
         return out
-
-    def cross(i_out, i_in):
-        e0, e1, v0, v1 = ew[i_out], ew[i_in], vw[i_out], vw[i_in]
-        return float(e0 + (half - v0) * (e1 - e0) / (v1 - v0))
-
-    out["fwhm"] = cross(right + 1, right) - cross(left - 1, left)
+    out["fwhm"] = _crossing(ew, vw, right + 1, right, half) - _crossing(ew, vw, left - 1, left, half)
     return out
+
+
+def _edge_maxima(e, ew, at) -> list:
+    """The elevations (degrees) among the first and last maximum ``at`` (indices into the window's elevations
+    ``ew``) that lie on an edge of the window past which the whole arc ``e`` goes on."""
+    last = len(ew) - 1
+    return [ew[j] for j in (at[0], at[-1]) if (j == 0 and ew[0] > e.min()) or (j == last and ew[-1] < e.max())]
+
+
+def _above_half(vw, at, half: float) -> tuple[int, int]:
+    """The first and last index of the run of values ``vw`` at or above ``half`` around the maxima ``at``,
+    walking outwards from the first maximum to the left and from the last to the right."""
+    left = int(at[0])
+    while left > 0 and vw[left - 1] >= half:
+        left -= 1
+    right = int(at[-1])
+    while right < len(vw) - 1 and vw[right + 1] >= half:
+        right += 1
+    return left, right
+
+
+def _crossing(ew, vw, i_out: int, i_in: int, half: float) -> float:
+    """The elevation (degrees) where the profile crosses ``half``, linear between the views ``i_out`` (below
+    it) and ``i_in`` (at or above it)."""
+    e0, e1, v0, v1 = ew[i_out], ew[i_in], vw[i_out], vw[i_in]
+    return float(e0 + (half - v0) * (e1 - e0) / (v1 - v0))
 
 
 def _arc_windows(centres: dict, max_halfwidth: float) -> dict:
@@ -143,32 +156,7 @@ def arc_lobes(study: pd.DataFrame, azimuth: float = 0.0, max_halfwidth: float = 
     spec = arc(study, "specular", azimuth)
     rows = []
     for key, group in spec.groupby(SURFACE_KEYS, sort=True):
-        t, a, i = (float(k) for k in key)
-        centres = lobe_centres(i, a)
-        windows = _arc_windows(centres, max_halfwidth)
-        e = group["elevation"].to_numpy(float)
-        v = group["rough"].to_numpy(float)
-        for lobe in ("forward", "back", "west"):
-            c = centres[lobe]
-            row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe, "plate": is_plate(t, a)}
-            if c is None:
-                if lobe == "west":
-                    continue  # not on the arc: nothing to report
-                row.update(predicted=np.nan, window_lo=np.nan, window_hi=np.nan, peak=np.nan,
-                           peak_elevation=np.nan, centroid=np.nan, fwhm=np.nan,
-                           note="aspect 0: no side facets" if a <= 0 else "mirror direction below the horizon")
-                rows.append(row)
-                continue
-            if lobe == "back" and abs(c - centres["forward"]) < 1e-9:
-                row.update(predicted=c, window_lo=np.nan, window_hi=np.nan, peak=np.nan,
-                           peak_elevation=np.nan, centroid=np.nan, fwhm=np.nan,
-                           note="back lobe coincides with the forward lobe")
-                rows.append(row)
-                continue
-            lo, hi = windows[lobe]
-            prof = profile_lobe(e, v, c, (lo, hi))
-            row.update(predicted=c, window_lo=lo, window_hi=hi, **prof)
-            rows.append(row)
+        rows += _surface_arc_lobes(key, group, max_halfwidth)
     out = pd.DataFrame(rows)
     out["phase_at_peak"] = np.where(
         np.isfinite(out["peak_elevation"]),
@@ -179,6 +167,39 @@ def arc_lobes(study: pd.DataFrame, azimuth: float = 0.0, max_halfwidth: float = 
     cols = SURFACE_KEYS + ["lobe", "plate", "predicted", "window_lo", "window_hi", "peak", "peak_elevation",
                            "centroid", "fwhm", "phase_at_peak", "offset", "note"]
     return out[cols]
+
+
+def _surface_arc_lobes(key, group: pd.DataFrame, max_halfwidth: float) -> list[dict]:
+    """:func:`arc_lobes`' rows of one surface ``key`` (truncation, aspect, incidence) from its arc's specular
+    views ``group``: forward and back always, west where its mirror direction is on the arc."""
+    t, a, i = (float(k) for k in key)
+    centres = lobe_centres(i, a)
+    windows = _arc_windows(centres, max_halfwidth)
+    e = group["elevation"].to_numpy(float)
+    v = group["rough"].to_numpy(float)
+    rows = []
+    for lobe in ("forward", "back", "west"):
+        if centres[lobe] is None and lobe == "west":
+            continue  # not on the arc: nothing to report
+        row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe, "plate": is_plate(t, a)}
+        row.update(_arc_lobe(lobe, centres, windows, a, e, v))
+        rows.append(row)
+    return rows
+
+
+def _arc_lobe(lobe: str, centres: dict, windows: dict, aspect: float, e, v) -> dict:
+    """One lobe on the arc (elevations ``e``, degrees; values ``v``, 0-255): its predicted centre, window and
+    :func:`profile_lobe`, or NaNs and a note where there is no lobe to measure."""
+    c = centres[lobe]
+    missing = dict(window_lo=np.nan, window_hi=np.nan, peak=np.nan, peak_elevation=np.nan, centroid=np.nan,
+                   fwhm=np.nan)
+    if c is None:
+        return dict(predicted=np.nan, **missing,
+                    note="aspect 0: no side facets" if aspect <= 0 else "mirror direction below the horizon")
+    if lobe == "back" and abs(c - centres["forward"]) < 1e-9:
+        return dict(predicted=c, **missing, note="back lobe coincides with the forward lobe")
+    lo, hi = windows[lobe]
+    return dict(predicted=c, window_lo=lo, window_hi=hi, **profile_lobe(e, v, c, (lo, hi)))
 
 
 def _mirror(normal, incidence) -> np.ndarray | None:
@@ -219,45 +240,7 @@ def hemisphere_lobes(study: pd.DataFrame, max_angle: float = 40.0) -> pd.DataFra
     """
     rows = []
     for (t, a, i), az, el, vals in surface_grids(study, "specular"):
-        dirs = lobe_directions(t, a, i)
-        A, E = np.meshgrid(az, el, indexing="ij")
-        V = view_direction(E, A)  # (A, E, 3)
-        w = solid_angle_weights(az, el)
-        names = list(dirs)  # empty where no mirror direction is above the horizon (incidence 0 on the plate)
-        cosang = np.stack([V @ dirs[n] for n in names] or [np.full(A.shape, -1.0)], axis=-1)  # (A, E, K)
-        nearest = np.argmax(cosang, axis=-1)
-        best = np.max(cosang, axis=-1)
-        for lobe in ("forward", "back"):
-            row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe}
-            if lobe not in dirs:
-                row.update(peak=np.nan, note="no mirror direction above the horizon")
-                rows.append(row)
-                continue
-            k = names.index(lobe)
-            region = (nearest == k) & (best >= math.cos(math.radians(max_angle))) & np.isfinite(vals)
-            if (lobe == "back" and "forward" in dirs
-                    and np.degrees(np.arccos(np.clip(dirs["back"] @ dirs["forward"], -1, 1))) < 1e-6):
-                row.update(peak=np.nan, note="back lobe coincides with the forward lobe")
-                rows.append(row)
-                continue
-            if not region.any():
-                row.update(peak=np.nan, note="no views near the mirror direction")
-                rows.append(row)
-                continue
-            rv = np.where(region, vals, -np.inf)
-            peak = float(rv.max())
-            ia, ie = np.unravel_index(int(np.argmax(rv)), rv.shape)
-            row.update(peak=peak, peak_azimuth=float(az[ia]), peak_elevation=float(el[ie]))
-            row["phase_at_peak"] = float(phase_angle(i, el[ie], az[ia]))
-            row["angle_from_mirror"] = float(np.degrees(np.arccos(np.clip(V[ia, ie] @ dirs[lobe], -1, 1))))
-            if peak < MIN_LOBE_PEAK:
-                row.update(solid_angle=np.nan, cone_fwhm=np.nan, note="no lobe (peak below one 8-bit step)")
-            else:
-                omega = float(np.sum(w[region & (vals >= peak / 2.0)]))
-                row["solid_angle"] = omega
-                row["cone_fwhm"] = float(2.0 * np.degrees(np.arccos(max(-1.0, 1.0 - omega / (2.0 * math.pi)))))
-                row["note"] = ""
-            rows.append(row)
+        rows += _surface_hemisphere_lobes(t, a, i, az, el, vals, max_angle)
     out = pd.DataFrame(rows)
     for col in ("peak_azimuth", "peak_elevation", "phase_at_peak", "angle_from_mirror", "solid_angle", "cone_fwhm"):
         if col not in out:
@@ -266,6 +249,64 @@ def hemisphere_lobes(study: pd.DataFrame, max_angle: float = 40.0) -> pd.DataFra
     cols = SURFACE_KEYS + ["lobe", "peak", "peak_azimuth", "peak_elevation", "phase_at_peak",
                            "angle_from_mirror", "solid_angle", "cone_fwhm", "note"]
     return out[cols]
+
+
+def _surface_hemisphere_lobes(t: float, a: float, i: float, az, el, vals, max_angle: float) -> list[dict]:
+    """:func:`hemisphere_lobes`' forward and back rows of one surface from its specular values ``vals`` (A, E)
+    at azimuths ``az`` (A,) and elevations ``el`` (E,), degrees."""
+    dirs = lobe_directions(t, a, i)
+    A, E = np.meshgrid(az, el, indexing="ij")
+    V = view_direction(E, A)  # (A, E, 3)
+    w = solid_angle_weights(az, el)
+    names = list(dirs)  # empty where no mirror direction is above the horizon (incidence 0 on the plate)
+    cosang = np.stack([V @ dirs[n] for n in names] or [np.full(A.shape, -1.0)], axis=-1)  # (A, E, K)
+    nearest = np.argmax(cosang, axis=-1)
+    best = np.max(cosang, axis=-1)
+    rows = []
+    for lobe in ("forward", "back"):
+        row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe}
+        missing = _missing_lobe(lobe, dirs)
+        region = None
+        if not missing:
+            region = (nearest == names.index(lobe)) & (best >= math.cos(math.radians(max_angle))) & np.isfinite(vals)
+            missing = "" if region.any() else "no views near the mirror direction"
+        if missing:
+            row.update(peak=np.nan, note=missing)
+        else:
+            row.update(_hemisphere_peak(region, vals, V, w, az, el, i, dirs[lobe]))
+        rows.append(row)
+    return rows
+
+
+def _missing_lobe(lobe: str, dirs: dict) -> str:
+    """Why the hemisphere has no ``lobe`` among the mirror directions ``dirs`` (:func:`lobe_directions`): none
+    above the horizon, or a back lobe on the forward one; '' when it has one."""
+    if lobe not in dirs:
+        return "no mirror direction above the horizon"
+    if (lobe == "back" and "forward" in dirs
+            and np.degrees(np.arccos(np.clip(dirs["back"] @ dirs["forward"], -1, 1))) < 1e-6):
+        return "back lobe coincides with the forward lobe"
+    return ""
+
+
+def _hemisphere_peak(region, vals, V, w, az, el, i: float, mirror) -> dict:
+    """A lobe over its views ``region`` (A, E) bool: the peak (0-255), where it is (degrees), its phase and
+    angle from the unit ``mirror`` direction, and the solid angle above half maximum (sr, the views' weights
+    ``w``) with the apex angle of the cone that has it."""
+    rv = np.where(region, vals, -np.inf)
+    peak = float(rv.max())
+    ia, ie = np.unravel_index(int(np.argmax(rv)), rv.shape)
+    row = dict(peak=peak, peak_azimuth=float(az[ia]), peak_elevation=float(el[ie]))
+    row["phase_at_peak"] = float(phase_angle(i, el[ie], az[ia]))
+    row["angle_from_mirror"] = float(np.degrees(np.arccos(np.clip(V[ia, ie] @ mirror, -1, 1))))
+    if peak < MIN_LOBE_PEAK:
+        row.update(solid_angle=np.nan, cone_fwhm=np.nan, note="no lobe (peak below one 8-bit step)")
+    else:
+        omega = float(np.sum(w[region & (vals >= peak / 2.0)]))
+        row["solid_angle"] = omega
+        row["cone_fwhm"] = float(2.0 * np.degrees(np.arccos(max(-1.0, 1.0 - omega / (2.0 * math.pi)))))
+        row["note"] = ""
+    return row
 
 
 def lobe_track(azimuth, elevation, values, centre_elevation: float, halfwidth: float = 40.0) -> pd.DataFrame:
