@@ -98,10 +98,28 @@ def lobe_shape(azimuth, elevation, values, centre_elevation: float, max_angle: f
     principal axes; 1 rectangle, 0.785 ellipse), ``elongation`` (long over
     short side, >= 1); NaN when the lobe has no value above one 8-bit step.
     """
-    from scipy import ndimage
-    from scipy.interpolate import griddata
-
     nan = {"peak": np.nan, "area": np.nan, "rectangularity": np.nan, "elongation": np.nan}
+    samples = _tangent_samples(azimuth, elevation, values, centre_elevation, max_angle)
+    if samples is None:
+        return nan
+    gridded = _tangent_grid(*samples, max_angle, resolution)
+    if gridded is None:
+        return nan
+    X, Y, grid = gridded
+    inside = np.isfinite(grid) & (np.hypot(X, Y) <= max_angle)
+    if not inside.any():
+        return nan
+    peak = float(np.nanmax(np.where(inside, grid, -np.inf)))
+    if peak < 1.0:
+        return nan
+    region = _peak_region(grid, inside, peak)
+    return {"peak": peak, **_region_shape(X, Y, region, resolution)}
+
+
+def _tangent_samples(azimuth, elevation, values, centre_elevation: float, max_angle: float):
+    """The views within 1.5 ``max_angle`` of the lobe's direction (elevation ``centre_elevation`` on the plane
+    phi = 0) in its tangent plane: (x, y) in degrees and their values, mirrored across the plane. None when no
+    view there has a value of at least 1 (0-255)."""
     az, el = np.asarray(azimuth, float), np.asarray(elevation, float)
     A, E = np.meshgrid(az, el, indexing="ij")
     V = view_direction(E, A).reshape(-1, 3)
@@ -110,37 +128,51 @@ def lobe_shape(azimuth, elevation, values, centre_elevation: float, max_angle: f
     cos_d = V @ D
     near = np.isfinite(v) & (cos_d > math.cos(math.radians(max_angle * 1.5)))
     if not near.any() or np.nanmax(v[near]) < 1.0:
-        return nan
+        return None
     u1, u2 = _tangent_basis(D)
     x = np.degrees((V[near] @ u1) / cos_d[near])
     y = np.degrees((V[near] @ u2) / cos_d[near])
     # the plane phi = 0 folds at azimuth 0: mirror the half hemisphere (the surface and the light are symmetric in y)
-    x, y, w = np.concatenate([x, x]), np.concatenate([y, -y]), np.concatenate([v[near], v[near]])
+    return np.concatenate([x, x]), np.concatenate([y, -y]), np.concatenate([v[near], v[near]])
+
+
+def _tangent_grid(x, y, w, max_angle: float, resolution: float):
+    """The values ``w`` at the tangent-plane points (``x``, ``y``) interpolated linearly onto a square grid of
+    step ``resolution`` over [-max_angle, max_angle]^2 (degrees): X, Y and the values (NaN outside the points'
+    hull), each (G, G); None when the points are too few to triangulate."""
+    from scipy.interpolate import griddata
+
     axis = np.arange(-max_angle, max_angle + resolution / 2, resolution)
     X, Y = np.meshgrid(axis, axis, indexing="ij")
     try:
         grid = griddata((x, y), w, (X, Y), method="linear")
     except (ValueError, RuntimeError):  # too few views near the lobe to triangulate (a coarse sweep: QhullError)
-        return nan
-    inside = np.isfinite(grid) & (np.hypot(X, Y) <= max_angle)
-    if not inside.any():
-        return nan
-    peak = float(np.nanmax(np.where(inside, grid, -np.inf)))
-    if peak < 1.0:
-        return nan
+        return None
+    return X, Y, grid
+
+
+def _peak_region(grid, inside, peak: float) -> np.ndarray:
+    """(G, G) bool: the connected part of the grid at or above half of ``peak`` that holds the peak."""
+    from scipy import ndimage
+
     above = inside & (grid >= peak / 2.0)
     labels, _ = ndimage.label(above)
     ip, jp = np.unravel_index(int(np.argmax(np.where(inside, grid, -np.inf))), grid.shape)
-    region = labels == labels[ip, jp]
+    return labels == labels[ip, jp]
+
+
+def _region_shape(X, Y, region, resolution: float) -> dict:
+    """``area`` (deg^2), ``rectangularity`` and ``elongation`` of the grid ``region`` (see :func:`lobe_shape`):
+    the bounding rectangle is along the region's principal axes, each side one grid step wider than its points."""
     pts = np.stack([X[region], Y[region]], axis=1)
     area = float(region.sum()) * resolution**2
     if len(pts) < 3:
-        return {"peak": peak, "area": area, "rectangularity": np.nan, "elongation": np.nan}
+        return {"area": area, "rectangularity": np.nan, "elongation": np.nan}
     centred = pts - pts.mean(axis=0)
     _, vectors = np.linalg.eigh(np.cov(centred.T))
     along = centred @ vectors
     extent = along.max(axis=0) - along.min(axis=0) + resolution
-    return {"peak": peak, "area": area, "rectangularity": float(area / (extent[0] * extent[1])),
+    return {"area": area, "rectangularity": float(area / (extent[0] * extent[1])),
             "elongation": float(extent.max() / extent.min())}
 
 
