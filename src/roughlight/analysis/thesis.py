@@ -423,9 +423,6 @@ def sine_refits(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = T
     (rad per unit truncation)), ``estimate``, ``ci_low``, ``ci_high``,
     ``thesis_value``, ``thesis_inside`` (bool), ``rss``, ``n``, ``note``.
     """
-    from scipy import stats
-    from scipy.optimize import curve_fit
-
     models = {
         "forward": (lambda t, A, w: A * (1.0 - np.sin(w * t)), m),
         "back": (lambda t, A, w: A * np.sin(w * t), m / 2.0),
@@ -441,34 +438,56 @@ def sine_refits(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float = T
             base = {"aspect": found, "aspect_label": aspect_label(found), "lobe": lobe}
             y = data[lobe].to_numpy(float) if lobe in data else np.array([])
             ok = np.isfinite(y)
-            tt, yy = t[ok], y[ok]
-            note, est, ci, rss = "", [np.nan, np.nan], [(np.nan, np.nan)] * 2, np.nan
-            if len(yy) < 3:
-                note = f"only {len(yy)} points: no fit"
-            else:
-                try:
-                    with warnings.catch_warnings():
-                        warnings.simplefilter("ignore")
-                        popt, pcov = curve_fit(f, tt, yy, p0=[A0, np.pi / 2], maxfev=20000)
-                    est = list(map(float, popt))
-                    rss = float(np.sum((yy - f(tt, *popt)) ** 2))
-                    dof = len(yy) - 2
-                    if dof > 0 and np.all(np.isfinite(pcov)):
-                        q = stats.t.ppf(0.975, dof)
-                        se = np.sqrt(np.diag(pcov))
-                        ci = [(p - q * s, p + q * s) for p, s in zip(popt, se)]
-                    else:
-                        note = "no confidence interval (no residual degrees of freedom or singular covariance)"
-                except (RuntimeError, ValueError) as exc:
-                    note = f"fit failed: {exc}"
-            for j, (param, thesis_value) in enumerate((("A", A0), ("omega", np.pi / 2))):
-                lo, hi = ci[j]
-                rows.append({**base, "parameter": param, "estimate": est[j], "ci_low": lo, "ci_high": hi,
-                             "thesis_value": thesis_value,
-                             "thesis_inside": bool(np.isfinite(lo) and lo <= thesis_value <= hi),
-                             "rss": rss, "n": int(len(yy)), "note": note})
+            rows += _sine_rows(base, A0, len(y[ok]), *_sine_fit(f, A0, t[ok], y[ok]))
     return pd.DataFrame(rows, columns=["aspect", "aspect_label", "lobe", "parameter", "estimate", "ci_low",
                                        "ci_high", "thesis_value", "thesis_inside", "rss", "n", "note"])
+
+
+def _sine_fit(f, A0: float, tt, yy):
+    """One sine model ``f(t, A, w)`` fitted to the peaks ``yy`` (0-255) against truncation ``tt``, from the
+    thesis's ``A0`` and ``w = pi/2``.
+
+    Returns
+    -------
+    est : [A, w], NaN without a fit
+    ci : [(lo, hi), (lo, hi)], the 95% intervals ``estimate +- t_{0.975, n-2} se``; NaN without them
+    rss : float, the residual sum of squares (NaN without a fit)
+    note : str, why there is no fit or no interval ('' otherwise)
+    """
+    from scipy import stats
+    from scipy.optimize import curve_fit
+
+    note, est, ci, rss = "", [np.nan, np.nan], [(np.nan, np.nan)] * 2, np.nan
+    if len(yy) < 3:
+        return est, ci, rss, f"only {len(yy)} points: no fit"
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            popt, pcov = curve_fit(f, tt, yy, p0=[A0, np.pi / 2], maxfev=20000)
+        est = list(map(float, popt))
+        rss = float(np.sum((yy - f(tt, *popt)) ** 2))
+        dof = len(yy) - 2
+        if dof > 0 and np.all(np.isfinite(pcov)):
+            q = stats.t.ppf(0.975, dof)
+            se = np.sqrt(np.diag(pcov))
+            ci = [(p - q * s, p + q * s) for p, s in zip(popt, se)]
+        else:
+            note = "no confidence interval (no residual degrees of freedom or singular covariance)"
+    except (RuntimeError, ValueError) as exc:
+        note = f"fit failed: {exc}"
+    return est, ci, rss, note
+
+
+def _sine_rows(base: dict, A0: float, n: int, est, ci, rss, note: str) -> list[dict]:
+    """:func:`sine_refits`' two rows of one aspect and lobe (``base``): ``A`` against the thesis's ``A0`` and
+    ``omega`` against pi/2, each with the fit (:func:`_sine_fit`) over ``n`` points."""
+    rows = []
+    for j, (param, thesis_value) in enumerate((("A", A0), ("omega", np.pi / 2))):
+        lo, hi = ci[j]
+        rows.append({**base, "parameter": param, "estimate": est[j], "ci_low": lo, "ci_high": hi,
+                     "thesis_value": thesis_value, "thesis_inside": bool(np.isfinite(lo) and lo <= thesis_value <= hi),
+                     "rss": rss, "n": int(n), "note": note})
+    return rows
 
 
 #: The area functions the thesis tabulates (Tables 1-2), as shares of the image against truncation, and the
