@@ -160,43 +160,67 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
     exact = [
         reference.reference_sweep(surface, i, azimuth, elevation, lighting) for (surface, i) in surfaces
     ]
+    n_views = len(surfaces) * azimuth.size
     rows = []
     for config in configs:
-        _measure(config, surfaces[0], azimuth, elevation, lighting)  # warm up: context, layout, shaders
-        runs = []
-        for _ in range(repeats if config.method == "fast" else 1):
-            seconds = 0.0
-            errors = {c: [] for c in COMPONENTS}
-            for surface, truth in zip(surfaces, exact):
-                start = time.perf_counter()
-                out = _measure(config, surface, azimuth, elevation, lighting)
-                seconds += time.perf_counter() - start
-                for c in COMPONENTS:
-                    errors[c].append(np.abs(np.asarray(out[c]) - truth[c]))
-            runs.append(seconds)
-        seconds = min(runs)
-        n_views = len(surfaces) * azimuth.size
+        seconds, errors = _timed_errors(config, surfaces, exact, azimuth, elevation, lighting, repeats)
         log(f"{config.label}: {n_views / seconds:.0f} views/s")
-        recorded = recorded_settings(config.method, _settings(config))
-        for c in COMPONENTS:
-            err = np.concatenate(errors[c])
-            rows.append(
-                {
-                    "method": config.method,
-                    "label": config.label,
-                    **recorded,
-                    "shadow_bias": config.settings.get(
-                        "shadow_bias", RenderSettings().shadow_bias if config.method == "fast" else np.nan),
-                    "component": c,
-                    "n_views": n_views,
-                    "seconds": seconds,
-                    "views_per_second": n_views / seconds,
-                    "ms_per_view": 1000.0 * seconds / n_views,
-                    "mae": float(err.mean()),
-                    "max_error": float(err.max()),
-                }
-            )
-    table = pd.DataFrame(rows)
+        rows += _config_rows(config, seconds, errors, n_views)
+    return _with_comparisons(pd.DataFrame(rows))
+
+
+def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting, repeats: int):
+    """Time ``config`` on every surface (after a warm-up run: context, layout, shaders), ``repeats`` times for
+    the fast method and once for the others.
+
+    Returns
+    -------
+    seconds : float, the fastest run's wall time over all surfaces
+    errors : dict component -> list of (n_views,) arrays, ``|value - exact|`` (0-255) per surface
+    """
+    _measure(config, surfaces[0], azimuth, elevation, lighting)  # warm up: context, layout, shaders
+    runs = []
+    for _ in range(repeats if config.method == "fast" else 1):
+        seconds = 0.0
+        errors = {c: [] for c in COMPONENTS}
+        for surface, truth in zip(surfaces, exact):
+            start = time.perf_counter()
+            out = _measure(config, surface, azimuth, elevation, lighting)
+            seconds += time.perf_counter() - start
+            for c in COMPONENTS:
+                errors[c].append(np.abs(np.asarray(out[c]) - truth[c]))
+        runs.append(seconds)
+    return min(runs), errors
+
+
+def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> list[dict]:
+    """:func:`run_benchmark`'s rows of one config, one a component: its recorded settings, speed and errors."""
+    recorded = recorded_settings(config.method, _settings(config))
+    rows = []
+    for c in COMPONENTS:
+        err = np.concatenate(errors[c])
+        rows.append(
+            {
+                "method": config.method,
+                "label": config.label,
+                **recorded,
+                "shadow_bias": config.settings.get(
+                    "shadow_bias", RenderSettings().shadow_bias if config.method == "fast" else np.nan),
+                "component": c,
+                "n_views": n_views,
+                "seconds": seconds,
+                "views_per_second": n_views / seconds,
+                "ms_per_view": 1000.0 * seconds / n_views,
+                "mae": float(err.mean()),
+                "max_error": float(err.max()),
+            }
+        )
+    return rows
+
+
+def _with_comparisons(table):
+    """Add to the benchmark's table ``speedup_vs_naive``, ``default`` (the fast method's default settings) and
+    ``pareto`` (on each component's front of error against time per view)."""
     defaults = RenderSettings()
     default = Config("fast", {"sampling": defaults.sampling, "pixels_per_period": defaults.pixels_per_period,
                               "shadow_map_size": defaults.shadow_map_size}).label
