@@ -489,56 +489,76 @@ def safe_domain(frames, tol=TOLERANCE) -> pd.DataFrame:
     frame = frames if isinstance(frames, pd.DataFrame) else pd.concat(list(frames), ignore_index=True)
     rows = []
     for method in ("naive", "fast"):
-        pix = _worst(frame, "pixels", method)
-        p_min = _safe_from(pix, tol)
-        jit = frame[(frame["experiment"] == "pixels") & (frame["method"] == method) & (frame["metric"] == "jitter_sd")]
-        jit = jit.set_index("x")["value"].sort_index()
-        row = {
-            "method": method,
-            "min_pixels_per_period": p_min,
-            "best_mae_pixels": float(pix.min()) if len(pix) else np.nan,
-            "jitter_sd_at_min_pixels": float(jit.get(p_min, np.nan)) if np.isfinite(p_min) else np.nan,
-            "min_elevation": _safe_from(_worst(frame, "elevation", method), tol),
-            "best_mae_elevation": float(_worst(frame, "elevation", method).min()),
-            "min_incidence": _safe_from(_worst(frame, "shadow_bias", method,
-                                               "naive" if method == "naive" else f"bias={RenderSettings().shadow_bias:g}"), tol),
-            "max_shininess": _safe_up_to(_worst(frame, "shininess", method), tol),
-            "best_mae_shininess": float(_worst(frame, "shininess", method).min()),
-        }
-        if method == "fast":
-            sb = frame[(frame["experiment"] == "shadow_bias") & (frame["method"] == "fast") & (frame["metric"] == "mae")]
-            worst = sb.groupby("setting")["value"].max()
-            row["shadow_bias_ok"] = ", ".join(s.split("=")[1] for s in worst.index[worst <= tol]) or "none"
-            sm = frame[(frame["experiment"] == "shadow_map") & (frame["metric"] == "mae")]
-            sm = sm.groupby(["setting", "x"])["value"].max().unstack("x").sort_index(axis=1)
-            # incidences where even the largest map is out of tolerance are not the map's fault
-            sm = sm[sm.iloc[:, -1] <= tol] if sm.shape[1] else sm
-            row["min_shadow_map_size"] = _safe_from(sm.max(axis=0), tol) if len(sm) else np.nan
-            row["shading_ok"] = "flat (true face normals, the only model)"
-        else:
-            row["shadow_bias_ok"] = "fixed (pyrender)"
-            row["min_shadow_map_size"] = np.nan
-            nt = normals_table(frame)
-            if len(nt):
-                worst = nt[[f"mae_vs_flat {c}" for c in COMPONENTS]].max(axis=1)
-                ok = [m for m, v in worst.items() if m != "flat" and v <= tol]
-                row["shading_ok"] = ", ".join(["flat"] + ok)
-            else:
-                row["shading_ok"] = "not measured"
-        fails = []
-        for experiment, label in (("pixels", "ppp"), ("elevation", "elevation"), ("shininess", "shininess")):
-            curve = _worst(frame, experiment, method)
-            bad = [f"{x:g}" for x, v in curve.items() if v > tol]
-            if bad:
-                fails.append(f"{label} {','.join(bad)}")
-        setting = "naive" if method == "naive" else f"bias={RenderSettings().shadow_bias:g}"
-        curve = _worst(frame, "shadow_bias", method, setting)
-        bad = [f"{x:g}" for x, v in curve.items() if v > tol]
-        if bad:
-            fails.append(f"incidence {','.join(bad)}")
-        row["outside_tolerance"] = "; ".join(fails) or "none"
+        row = _sampling_domain(frame, method, tol)
+        row.update(_fast_shadow_domain(frame, tol) if method == "fast" else _naive_shadow_domain(frame, tol))
+        row["outside_tolerance"] = _outside_tolerance(frame, method, tol)
         rows.append(row)
     return pd.DataFrame(rows)
+
+
+def _default_bias(method: str) -> str:
+    """The ``shadow_bias`` experiment's setting of a method at its default bias (naive: pyrender's, fixed)."""
+    return "naive" if method == "naive" else f"bias={RenderSettings().shadow_bias:g}"
+
+
+def _sampling_domain(frame: pd.DataFrame, method: str, tol: float) -> dict:
+    """:func:`safe_domain`'s limits of one method on the knobs both methods have: pixels per period (with the
+    jitter there), elevation, incidence at the default bias and shininess, and the best MAEs (0-255)."""
+    pix = _worst(frame, "pixels", method)
+    p_min = _safe_from(pix, tol)
+    jit = frame[(frame["experiment"] == "pixels") & (frame["method"] == method) & (frame["metric"] == "jitter_sd")]
+    jit = jit.set_index("x")["value"].sort_index()
+    return {
+        "method": method,
+        "min_pixels_per_period": p_min,
+        "best_mae_pixels": float(pix.min()) if len(pix) else np.nan,
+        "jitter_sd_at_min_pixels": float(jit.get(p_min, np.nan)) if np.isfinite(p_min) else np.nan,
+        "min_elevation": _safe_from(_worst(frame, "elevation", method), tol),
+        "best_mae_elevation": float(_worst(frame, "elevation", method).min()),
+        "min_incidence": _safe_from(_worst(frame, "shadow_bias", method, _default_bias(method)), tol),
+        "max_shininess": _safe_up_to(_worst(frame, "shininess", method), tol),
+        "best_mae_shininess": float(_worst(frame, "shininess", method).min()),
+    }
+
+
+def _fast_shadow_domain(frame: pd.DataFrame, tol: float) -> dict:
+    """The fast method's shadow knobs: the biases within ``tol`` at every tested incidence and the smallest
+    shadow map (texels a period) within it wherever the largest map is; its one shading model."""
+    sb = frame[(frame["experiment"] == "shadow_bias") & (frame["method"] == "fast") & (frame["metric"] == "mae")]
+    worst = sb.groupby("setting")["value"].max()
+    sm = frame[(frame["experiment"] == "shadow_map") & (frame["metric"] == "mae")]
+    sm = sm.groupby(["setting", "x"])["value"].max().unstack("x").sort_index(axis=1)
+    # incidences where even the largest map is out of tolerance are not the map's fault
+    sm = sm[sm.iloc[:, -1] <= tol] if sm.shape[1] else sm
+    return {"shadow_bias_ok": ", ".join(s.split("=")[1] for s in worst.index[worst <= tol]) or "none",
+            "min_shadow_map_size": _safe_from(sm.max(axis=0), tol) if len(sm) else np.nan,
+            "shading_ok": "flat (true face normals, the only model)"}
+
+
+def _naive_shadow_domain(frame: pd.DataFrame, tol: float) -> dict:
+    """The naive method's shadow knobs (pyrender's, fixed) and the shading models within ``tol`` of flat
+    normals on every component (:func:`normals_table`)."""
+    nt = normals_table(frame)
+    if len(nt):
+        worst = nt[[f"mae_vs_flat {c}" for c in COMPONENTS]].max(axis=1)
+        ok = [m for m, v in worst.items() if m != "flat" and v <= tol]
+        shading_ok = ", ".join(["flat"] + ok)
+    else:
+        shading_ok = "not measured"
+    return {"shadow_bias_ok": "fixed (pyrender)", "min_shadow_map_size": np.nan, "shading_ok": shading_ok}
+
+
+def _outside_tolerance(frame: pd.DataFrame, method: str, tol: float) -> str:
+    """The tested values, per knob, where the method's worst-component MAE exceeds ``tol`` ('none' if none)."""
+    fails = []
+    for experiment, label in (("pixels", "ppp"), ("elevation", "elevation"), ("shininess", "shininess"),
+                              ("shadow_bias", "incidence")):
+        setting = _default_bias(method) if experiment == "shadow_bias" else None
+        curve = _worst(frame, experiment, method, setting)
+        bad = [f"{x:g}" for x, v in curve.items() if v > tol]
+        if bad:
+            fails.append(f"{label} {','.join(bad)}")
+    return "; ".join(fails) or "none"
 
 
 def normals_table(frames) -> pd.DataFrame:
