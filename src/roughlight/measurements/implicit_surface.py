@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import time
+from functools import partial
 
 import numpy as np
 
@@ -220,8 +221,6 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     """
     import pandas as pd
 
-    from ..render.gl import release_contexts
-    from ..render.implicit_gl import render_field
     from ..render.reference import reference_sweep
 
     size_plan = _plan(plan)
@@ -231,37 +230,63 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     el = np.array([v[0] for v in views])
     az = np.array([v[1] for v in views])
     exact = reference_sweep(surface, incidence, az, el, lighting)["total"]
+    repeats = size_plan["repeats"]
     rows = []
     pictures = {} if pictures is None else pictures
     for n in size_plan["fields"]:
-        span = n / 2.0
-        field = _Field(surface, incidence, lighting, n, size, span)
-        for k, (e, phi) in enumerate(views):
-            view = shading.view_direction(e, phi)
-            field.render(view)  # warm up
-            times, color = [], None
-            for _ in range(size_plan["repeats"]):
-                color, seconds = field.render(view)
-                times.append(seconds)
-            rows.append(_frame_row(n, "explicit", field.triangles, e, phi, min(times), color[..., 2], exact[k]))
-            if n == size_plan["fields"][0] and k == 0:
-                pictures["explicit"] = color[..., 2].copy()
-        field.delete()
-        release_contexts()
+        kept = pictures if n == size_plan["fields"][0] else None
+        rows += _explicit_frames(surface, incidence, lighting, n, size, views, repeats, exact, kept)
         for model in ("exact", "correction"):
-            for k, (e, phi) in enumerate(views):
-                render_field(model, surface, incidence, e, phi, n, size, span, lighting)  # warm up
-                times, image = [], None
-                for _ in range(size_plan["repeats"]):
-                    image, seconds = render_field(model, surface, incidence, e, phi, n, size, span, lighting)
-                    times.append(seconds)
-                rows.append(_frame_row(n, f"implicit_{model}", 2, e, phi, min(times), image[..., 2], exact[k]))
-                if n == size_plan["fields"][0] and k == 0:
-                    pictures[f"implicit_{model}"] = image[..., 2].copy()
+            rows += _implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept)
         last = [r for r in rows if r["field"] == n]
         log(f"N={n}: explicit {np.mean([r['frame_ms'] for r in last if r['method'] == 'explicit']):.1f} ms, "
             f"implicit exact {np.mean([r['frame_ms'] for r in last if r['method'] == 'implicit_exact']):.1f} ms")
     return pd.DataFrame(rows)
+
+
+def _fastest(render, repeats: int):
+    """Call ``render()`` (-> picture, seconds) once to warm up, then ``repeats`` times: the last picture and the
+    fastest time (seconds)."""
+    render()  # warm up
+    times, picture = [], None
+    for _ in range(repeats):
+        picture, seconds = render()
+        times.append(seconds)
+    return picture, min(times)
+
+
+def _explicit_frames(surface, incidence, lighting, n: int, size: int, views, repeats: int, exact, pictures) -> list:
+    """:func:`frame_times`' rows of the explicit ``n`` x ``n`` field, one a view ((elevation, azimuth), degrees;
+    ``exact`` the reference's total at each). ``pictures`` (a dict or None) receives the first view's total.
+    The field's pyrender context is released after its frames."""
+    from ..render.gl import release_contexts
+
+    field = _Field(surface, incidence, lighting, n, size, n / 2.0)
+    rows = []
+    for k, (e, phi) in enumerate(views):
+        color, seconds = _fastest(partial(field.render, shading.view_direction(e, phi)), repeats)
+        rows.append(_frame_row(n, "explicit", field.triangles, e, phi, seconds, color[..., 2], exact[k]))
+        if pictures is not None and k == 0:
+            pictures["explicit"] = color[..., 2].copy()
+    field.delete()
+    release_contexts()
+    return rows
+
+
+def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int, views, repeats: int, exact,
+                     pictures) -> list:
+    """:func:`frame_times`' rows of the ``n`` x ``n`` field drawn as one implicit quad with ``model`` (see
+    :func:`_explicit_frames`)."""
+    from ..render.implicit_gl import render_field
+
+    rows = []
+    for k, (e, phi) in enumerate(views):
+        draw = partial(render_field, model, surface, incidence, e, phi, n, size, n / 2.0, lighting)
+        image, seconds = _fastest(draw, repeats)
+        rows.append(_frame_row(n, f"implicit_{model}", 2, e, phi, seconds, image[..., 2], exact[k]))
+        if pictures is not None and k == 0:
+            pictures[f"implicit_{model}"] = image[..., 2].copy()
+    return rows
 
 
 def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact):
