@@ -89,3 +89,11 @@ def test_the_checker_sees_an_upward_import(tmp_path):
         (tmp_path / name).write_text("")
     fake.write_text("from ..report import page\n\ndef f():\n    from ..study.config import label\n")
     assert imported("render.fake", fake, root=tmp_path) == {"report.page", "study.config"}
+@pytest.mark.parametrize("module", sorted(modules()))
+def test_modules_and_functions_are_short(module):
+    path = modules()[module]
+    text = path.read_text()
+    assert len(text.splitlines()) <= MAX_MODULE_LINES, f"{module}: {len(text.splitlines())} lines"
+    long = [(n.name, n.end_lineno - n.lineno + 1) for n in ast.walk(ast.parse(text))
+            if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)) and n.end_lineno - n.lineno + 1 > MAX_FUNCTION_LINES]
+    assert not long, f"{module}: functions over {MAX_FUNCTION_LINES} lines: {long}"

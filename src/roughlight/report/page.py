@@ -142,23 +142,40 @@ def build_report(
     str (UTF-8 HTML document)
     """
     tables = tables or {}
-    provenance = provenance or {}
-    study = tables.get("study_summary", {}) or {}
-    versions = provenance.get("versions") or package_versions()
+    page = _thesis_sections(tables, figures, list(messages or []), table_aspects, table_incidence, followed)
+    page.update(_study_sections(tables, figures, config, provenance or {}, benchmarks))
     return render(
-        "base.html", title=title, now=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
-        study=sections.study_section(study, list(messages or []), table_aspects, followed),
-        thesis=tables_section(tables, tables.get("thesis_tables"), tables.get("exact_peaks"), table_incidence),
-        specular=sections.figure_section("specular", figures), diffuse=sections.figure_section("diffuse", figures),
-        diffuse_parts=sections.diffuse_parts_section(tables, table_aspects),
-        pictures=sections.figure_section("pictures", figures),
-        lobes=sections.lobes_section(tables, figures, table_aspects), glm=sections.glm_section(tables, figures),
-        models=sections.models_section(tables, figures, provenance),
+        "base.html", title=title, now=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"), **page,
         # the sections the workflow renders apart (stability_section, implicit_section, random_section)
         implicit_html=safe(implicit_html), random_html=safe(random_html), stability_html=safe(stability_html),
-        regressions=sections.regressions_section(tables),
-        provenance=sections.provenance_section(tables, figures, config, provenance, benchmarks, versions),
     )
+
+
+def _thesis_sections(tables: dict, figures: dict, messages: list, table_aspects, table_incidence: float,
+                     followed) -> dict:
+    """The page's data for the sections that follow the table aspects: the study, Tables 1-2, the figure sections,
+    the diffuse parts and the lobes."""
+    study = tables.get("study_summary", {}) or {}
+    return {
+        "study": sections.study_section(study, messages, table_aspects, followed),
+        "thesis": tables_section(tables, tables.get("thesis_tables"), tables.get("exact_peaks"), table_incidence),
+        "specular": sections.figure_section("specular", figures),
+        "diffuse": sections.figure_section("diffuse", figures),
+        "diffuse_parts": sections.diffuse_parts_section(tables, table_aspects),
+        "pictures": sections.figure_section("pictures", figures),
+        "lobes": sections.lobes_section(tables, figures, table_aspects),
+    }
+
+
+def _study_sections(tables: dict, figures: dict, config, provenance: dict, benchmarks) -> dict:
+    """The page's data for the grid-wide sections: GLMs, models, the regressions and provenance."""
+    versions = provenance.get("versions") or package_versions()
+    return {
+        "glm": sections.glm_section(tables, figures),
+        "models": sections.models_section(tables, figures, provenance),
+        "regressions": sections.regressions_section(tables),
+        "provenance": sections.provenance_section(tables, figures, config, provenance, benchmarks, versions),
+    }
 
 
 def write_report(path, html_text: str) -> str:
