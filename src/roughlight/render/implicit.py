@@ -55,7 +55,7 @@ __all__ = [
 #: Fibonacci numbers usable as lattice sizes ``M`` (the generator is the one before).
 FIBONACCI = (233, 377, 610, 987, 1597, 2584, 4181, 6765, 10946, 17711, 28657, 46368)
 
-#: Samples a view (pixels) of the exact form's sweep: see the README's accuracy table.
+#: Samples a view (pixels) of the exact form's sweep: see docs/implicit-surface.md.
 DEFAULT_SAMPLES = 28657
 
 #: The two implicit models: the exact form (ray casting) and the first-order correction (closed form).
@@ -377,7 +377,7 @@ _SIDE_DIRECTIONS = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]])
 #: The correction's fitted constant: how fast the shares of two masked
 #: facets move from the V-groove split to the split of their unmasked
 #: projections, against the second-largest view shear (fitted on the exact
-#: reference, 10 surfaces x 1,080 views; README "An implicit rough surface").
+#: reference, 10 surfaces x 1,080 views; docs/implicit-surface.md).
 BLEND_SCALE = 3.0
 
 

@@ -1,6 +1,6 @@
 """Geometry of the rough surface: one period of a grid of truncated square pyramids.
 
-Conventions (the study's; see README "Conventions")
+Conventions (the study's; see docs/conventions.md)
 ---------------------------------------------------
 * The period (pyramid base width) is ``w = 1``. One period is the cell
   ``[0, 1] x [0, 1]`` of the ``z = 0`` plane; the surface repeats with the

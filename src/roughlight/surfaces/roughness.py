@@ -60,7 +60,7 @@ __all__ = [
 KINDS = ("pyramids", "random_pyramids", "random_heightfield")
 #: The random kinds, each measured as an ensemble of seeds.
 RANDOM_KINDS = KINDS[1:]
-#: Default tile size, cells a side (chosen from the tile-size convergence measurement; README).
+#: Default tile size, cells a side (chosen from the tile-size convergence measurement; docs/random-roughness.md).
 DEFAULT_CELLS = 4
 #: Vertices of the random heightfield per cell width.
 VERTICES_PER_CELL = 4
