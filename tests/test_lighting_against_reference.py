@@ -130,3 +130,65 @@ def test_ambient_light_is_all_a_shadow_keeps():
         assert floor_level <= out["diffuse"][0] < floor_level + 30
     without = periodic.fast_sweep(Surface(1.0, 1.0), 5.0, az, el, Lighting(light=127.0, specular_reflectance=0.0))
     assert out["diffuse"][0] - without["diffuse"][0] == pytest.approx(floor_level, abs=1.0)
+
+
+# The paths that take their values from periodic.frag's lighting equation, not from the exact shares in numpy:
+# lattice and grid sampling of the regular surface, and random tiles (render.random_tiles: lattice). Measured on
+# the views above (2026-11-24, /tmp/measure_paths.py in issue 24's notes): MAE and worst view per lighting and
+# component, 0-255 scale.
+SHADER_MEASURED = {
+    "lattice": {"phong-scaled": {"diffuse": (0.196, 2.71), "specular": (0.051, 1.41), "total": (0.237, 3.30)},
+                "blinn-sharp": {"diffuse": (0.101, 1.41), "specular": (0.010, 0.76), "total": (0.110, 1.51)},
+                "blinn-broad": {"diffuse": (0.089, 1.23), "specular": (0.094, 0.98), "total": (0.175, 2.08)}},
+    "grid": {"phong-scaled": {"diffuse": (0.505, 2.50), "specular": (0.176, 2.92), "total": (0.639, 4.02)},
+             "blinn-sharp": {"diffuse": (0.261, 1.30), "specular": (0.039, 1.50), "total": (0.295, 2.16)},
+             "blinn-broad": {"diffuse": (0.230, 1.15), "specular": (0.235, 1.38), "total": (0.451, 2.30)}},
+}
+
+
+@pytest.mark.parametrize("sampling", list(SHADER_MEASURED))
+@pytest.mark.parametrize("name", list(LIGHTINGS))
+def test_the_shaders_lighting_equation_matches_the_reference(sampling, name):
+    """Every term of periodic.frag's equation (m_a A in shadow and light, m_d, m_s, Phong and Blinn with its
+    normalised half vector, the shininess) is held to the exact reference: dropping any of them moves these views
+    by several levels."""
+    lighting = LIGHTINGS[name]
+    errors = {c: [] for c in COMPONENTS}
+    for surface in SURFACES:
+        for incidence in INCIDENCES:
+            exact = reference.reference_sweep(surface, incidence, AZ, EL, lighting)
+            fast = periodic.fast_sweep(surface, incidence, AZ, EL, lighting, RenderSettings(sampling=sampling))
+            for c in COMPONENTS:
+                errors[c].append(np.abs(fast[c] - exact[c]))
+    for c in COMPONENTS:
+        err = np.concatenate(errors[c])
+        mae, worst = SHADER_MEASURED[sampling][name][c]
+        assert err.mean() <= 2 * mae + 0.02, (sampling, name, c, err.mean())
+        assert err.max() <= 2 * worst, (sampling, name, c, err.max())
+
+
+# random tiles of 2 cells, seed 1, t 1, a 1, incidence 45, 24 views: (MAE, worst) measured as above
+TILE_MEASURED = {
+    ("random_pyramids", "phong-scaled"): {"diffuse": (0.151, 0.55), "specular": (0.024, 0.29), "total": (0.168, 0.56)},
+    ("random_pyramids", "blinn-sharp"): {"diffuse": (0.078, 0.28), "specular": (0.006, 0.10), "total": (0.083, 0.28)},
+    ("random_heightfield", "phong-scaled"): {"diffuse": (0.104, 0.23), "specular": (0.046, 0.19),
+                                             "total": (0.127, 0.33)},
+    ("random_heightfield", "blinn-sharp"): {"diffuse": (0.053, 0.12), "specular": (0.013, 0.10),
+                                            "total": (0.059, 0.17)},
+}
+
+
+@pytest.mark.parametrize("kind, name", list(TILE_MEASURED))
+def test_random_tiles_lighting_matches_the_reference(kind, name):
+    from roughlight.surfaces.roughness import RandomSurface
+
+    lighting = LIGHTINGS[name]
+    tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
+    az, el = np.meshgrid(np.arange(0.0, 180.0, 45.0), np.arange(15.0, 166.0, 30.0), indexing="ij")
+    exact = reference.reference_sweep(tile, 45.0, az.ravel(), el.ravel(), lighting)
+    fast = periodic.fast_sweep(tile, 45.0, az.ravel(), el.ravel(), lighting)  # random tiles: lattice sampling
+    for c in COMPONENTS:
+        err = np.abs(fast[c] - exact[c])
+        mae, worst = TILE_MEASURED[(kind, name)][c]
+        assert err.mean() <= 2 * mae + 0.02, (kind, name, c, err.mean())
+        assert err.max() <= 2 * worst + 0.2, (kind, name, c, err.max())
