@@ -221,11 +221,11 @@ def fast_tile_render_params(wildcards):
 
 def table_aspects_param(wildcards):
     """The aspects of Tables 1-2 and of the arc figures (report.table_aspects)."""
-    return [float(a) for a in config["report"]["table_aspects"]]
+    return rl_config.report_settings(config)["table_aspects"]
 
 
 def table_incidence_param(wildcards):
-    return float(config["report"]["table_incidence"])
+    return rl_config.report_settings(config)["table_incidence"]
 
 
 def grid_params(wildcards):

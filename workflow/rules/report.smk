@@ -174,7 +174,7 @@ rule render_figures:
         lighting=lighting_params,
         render=render_params,
         elevation_step=float(config["sweep"]["elevation_step"]),
-        incidence=float(config["report"]["table_incidence"]),
+        incidence=table_incidence_param,
         incidences=config["report"]["figure_incidences"],
         lights=config["report"]["figure_lights"],
     script:

@@ -259,9 +259,9 @@ def _surface_hemisphere_lobes(t: float, a: float, i: float, az, el, vals, max_an
     V = view_direction(E, A)  # (A, E, 3)
     w = solid_angle_weights(az, el)
     names = list(dirs)  # empty where no mirror direction is above the horizon (incidence 0 on the plate)
-    cosang = np.stack([V @ dirs[n] for n in names] or [np.full(A.shape, -1.0)], axis=-1)  # (A, E, K)
-    nearest = np.argmax(cosang, axis=-1)
-    best = np.max(cosang, axis=-1)
+    if names:  # each view's nearest mirror direction, and its cosine
+        cosang = np.stack([V @ dirs[n] for n in names], axis=-1)  # (A, E, K)
+        nearest, best = np.argmax(cosang, axis=-1), np.max(cosang, axis=-1)
     rows = []
     for lobe in ("forward", "back"):
         row = {"truncation": t, "aspect": a, "incidence": i, "lobe": lobe}

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 import yaml
 
@@ -180,20 +181,26 @@ def _surface_problems(config: dict) -> list[str]:
     return problems + _follower_problems(config)
 
 
-#: The keys that follow the grid when left unset: key path -> (the grid axis they take values of, the values
-#: they prefer). Unset, each takes the grid values nearest to its preferred ones (:func:`follow_grid`); set, each
-#: value must be a value of its grid axis.
-FOLLOWS_GRID = {
-    ("surface", "random_grid", "truncation"): ("truncation", [0.5, 1.0]),
-    ("surface", "random_grid", "aspect"): ("aspect", [0.5, 1.0]),
-    ("report", "table_aspects"): ("aspect", [1.0, math.sqrt(3.0) / 2.0]),
-    ("report", "table_incidence"): ("incidence", 30.0),
-}
+class Follower(NamedTuple):
+    """A key that follows the grid: the grid axis it takes values of, the values it prefers (its old default),
+    whether it holds one value rather than a list, and why its values must be the grid's."""
 
-_WHY = {
-    "random_grid": "each random ensemble is compared with the regular surface at the same grid point",
-    "table_aspects": "Tables 1-2 are of the study's own surfaces",
-    "table_incidence": "Tables 1-2 are of the study's own sweeps",
+    axis: str
+    preferred: list
+    scalar: bool
+    why: str
+
+
+_RANDOM_WHY = "each random ensemble is compared with the regular surface at the same grid point"
+
+#: The keys that follow the grid when left unset, by key path. Unset, each takes the grid values nearest to its
+#: preferred ones (:func:`follow_grid`); set, each value must be a value of its grid axis.
+FOLLOWS_GRID = {
+    ("surface", "random_grid", "truncation"): Follower("truncation", [0.5, 1.0], False, _RANDOM_WHY),
+    ("surface", "random_grid", "aspect"): Follower("aspect", [0.5, 1.0], False, _RANDOM_WHY),
+    ("report", "table_aspects"): Follower("aspect", [1.0, math.sqrt(3.0) / 2.0], False,
+                                          "Tables 1-2 are of the study's own surfaces"),
+    ("report", "table_incidence"): Follower("incidence", [30.0], True, "Tables 1-2 are of the study's own sweeps"),
 }
 
 
@@ -206,21 +213,24 @@ def _get(config: dict, path):
     return config
 
 
+def _unused(config: dict, path) -> bool:
+    """The random grid is not used where no random kind is measured."""
+    return path[0] == "surface" and len(kinds(config)) == 1
+
+
 def _follower_problems(config: dict) -> list[str]:
     """A key that follows the grid, set explicitly to a value outside it, stops the run (one line a key)."""
     problems = []
-    for path, (axis, _) in FOLLOWS_GRID.items():
+    for path, follower in FOLLOWS_GRID.items():
         value = _get(config, path)
-        if value is None or (path[0] == "surface" and len(kinds(config)) == 1):  # no random kind: unused
+        if value is None or _unused(config, path):
             continue
-        grid_labels = {label(v) for v in config["grid"][axis]}
-        listed = value if isinstance(value, list) else [value]
-        missing = [v for v in listed if label(v) not in grid_labels]
+        grid_labels = {label(v) for v in config["grid"][follower.axis]}
+        missing = [v for v in (value if isinstance(value, list) else [value]) if label(v) not in grid_labels]
         if missing:
             key = ".".join(path)
-            why = _WHY[path[1] if path[0] == "surface" else path[-1]]
-            problems.append(f"config: {key} = {missing!r} must be values of grid.{axis} ({why}); leave {key} "
-                            f"unset to follow the grid")
+            problems.append(f"config: {key} = {missing!r} must be values of grid.{follower.axis} ({follower.why}); "
+                            f"leave {key} unset to follow the grid")
     return problems
 
 
@@ -243,24 +253,20 @@ def follow_grid(config: dict) -> list[str]:
     list of str: one line a filled key, naming the key, the values used and why (for the log and the report).
     """
     notes = []
-    for path, (axis, preferred) in FOLLOWS_GRID.items():
+    for path, follower in FOLLOWS_GRID.items():
         if _get(config, path) is not None:
             continue
-        scalar = not isinstance(preferred, list)
-        grid = [float(v) for v in config["grid"][axis]]
-        chosen = _nearest([preferred] if scalar else preferred, grid)
-        value = chosen[0] if scalar else chosen
+        chosen = _nearest(follower.preferred, [float(v) for v in config["grid"][follower.axis]])
         parent = config
         for key in path[:-1]:
             parent = parent.setdefault(key, {})
-        parent[path[-1]] = value
-        if path[0] == "surface" and len(kinds(config)) == 1:
+        parent[path[-1]] = chosen[0] if follower.scalar else chosen
+        if _unused(config, path):
             continue  # no random kind is measured: nothing to say
-        wanted = [preferred] if scalar else preferred
-        how = ("as by default" if [label(v) for v in chosen] == [label(v) for v in wanted]
-               else "the grid values nearest to the default " + ", ".join(f"{v:g}" for v in wanted))
+        how = ("as by default" if [label(v) for v in chosen] == [label(v) for v in follower.preferred]
+               else "the grid values nearest to the default " + ", ".join(f"{v:g}" for v in follower.preferred))
         shown = ", ".join(f"{v:g}" for v in chosen)
-        notes.append(f"{'.'.join(path)} is not set: it follows grid.{axis}, {shown} ({how})")
+        notes.append(f"{'.'.join(path)} is not set: it follows grid.{follower.axis}, {shown} ({how})")
     return notes
 
 
