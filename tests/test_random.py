@@ -136,10 +136,10 @@ def test_fast_renderer_matches_the_reference_on_a_small_random_tile(kind):
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
     azimuth, elevation = sweeps.view_grid(15, 30)
     exact = reference_sweep(tile, 30, azimuth, elevation)
-    fast = fast_sweep(tile, 30, azimuth, elevation)
+    fast = fast_sweep(tile, 30, azimuth, elevation)  # the default: adaptive, counted on the GL side
     for component in ("diffuse", "specular", "total"):
         error = np.abs(fast[component] - exact[component])
-        assert error.mean() <= 0.5, (component, error.mean())
+        assert error.max() <= 1.0 and error.mean() <= 0.1, (component, error.max(), error.mean())
     assert np.array_equal(fast["coverage"] > 0, exact["coverage"] > 0)
 
 

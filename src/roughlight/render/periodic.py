@@ -33,141 +33,30 @@ the shader programs (:mod:`roughlight.render.gl`); its stock shader
 
 from __future__ import annotations
 
-import math
 import time
-from typing import NamedTuple
 
 import numpy as np
 
-from ..surfaces import geometry
 from ..surfaces.surface import Surface
 from . import shading, shares
 from . import views as sweeps
-from .gl import GLTF, Context, Primitive, context, gl, set_material_uniforms
-from .sampling import RenderSettings, lattice_copies, tile_layout
+from .gl import context, gl
+from .passes import (
+    Scene,
+    batch_poses,
+    begin_pass,
+    cached_layout,
+    draw,
+    make_scene,
+    primitive,
+    set_lighting_uniforms,
+    surface_shift,
+)
+from .sampling import RenderSettings
+
 
 #: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
 #: texcoord_0 = the facet's index, then the instance matrix).
-ATTRIBUTES = {"NORMAL_LOC": 1, "FACET_LOC": 2, "INST_M_LOC": 3}
-
-
-def _primitive(surface: Surface, poses: np.ndarray):
-    tris, normals, names = geometry.period_triangles(surface)
-    order = list(dict.fromkeys(names))  # facets in facet_polygons' order, as the reference numbers them
-    facet = np.array([order.index(name) for name in names], np.float32)
-    return Primitive(
-        positions=tris.reshape(-1, 3).astype(np.float32),
-        normals=np.repeat(normals, 3, axis=0).astype(np.float32),
-        texcoord_0=np.repeat(np.stack([facet, np.zeros_like(facet)], axis=1), 3, axis=0),
-        mode=GLTF.TRIANGLES,
-        poses=poses,
-    )
-
-
-def _draw(ctx: Context, primitive, program):
-    primitive._add_to_context()
-    try:
-        primitive._bind()
-        gl.glDrawArraysInstanced(gl.GL_TRIANGLES, 0, len(primitive.positions), len(primitive.poses))
-        primitive._unbind()
-    finally:
-        primitive.delete()
-
-
-def _copy_poses(copies: np.ndarray, shear, view, tile) -> np.ndarray:
-    """Instance matrices (see ``shaders/periodic.vert``), one per copy.
-
-    ``shear``, ``view`` and ``tile`` (the slot's integer cell offset) are per
-    copy ((m, 2), (m, 3), (m, 2)) or broadcast from one view.
-    """
-    n = len(copies)
-    poses = np.zeros((n, 4, 4), np.float32)
-    poses[:, 0, 0] = copies[:, 0]
-    poses[:, 1, 0] = copies[:, 1]
-    poses[:, 0, 1] = shear[..., 0]
-    poses[:, 1, 1] = shear[..., 1]
-    poses[:, 0:3, 2] = view
-    poses[:, 0:2, 3] = tile
-    return poses
-
-
-def _begin_pass(framebuffer, width: int, height: int, clear_bits) -> None:
-    """Bind a framebuffer and set the state both passes draw with: depth test
-    keeping the highest surface, back faces culled, copies clipped to their tile."""
-    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, framebuffer)
-    gl.glViewport(0, 0, width, height)
-    gl.glClearColor(0.0, 0.0, 0.0, 0.0)
-    gl.glClearDepth(1.0)
-    gl.glEnable(gl.GL_DEPTH_TEST)
-    gl.glDepthMask(gl.GL_TRUE)
-    gl.glDepthFunc(gl.GL_LESS)
-    gl.glDisable(gl.GL_BLEND)
-    gl.glEnable(gl.GL_CULL_FACE)
-    gl.glCullFace(gl.GL_BACK)
-    gl.glFrontFace(gl.GL_CCW)
-    for plane in range(4):
-        gl.glEnable(gl.GL_CLIP_DISTANCE0 + plane)
-    # clear only the viewport: the context's framebuffer may be larger
-    gl.glEnable(gl.GL_SCISSOR_TEST)
-    gl.glScissor(0, 0, width, height)
-    gl.glClear(clear_bits)
-    gl.glDisable(gl.GL_SCISSOR_TEST)
-
-
-def _shadow_pass(ctx: Context, surface: Surface, light_dir, depth_scale):
-    height = surface.height
-    shear = light_dir[:2] / light_dir[2]
-    _, copies = lattice_copies(height * shear[None, :])
-    poses = _copy_poses(copies, shear, light_dir, np.zeros(2))
-    _begin_pass(ctx.shadow_fbo, ctx.shadow_size, ctx.shadow_size, gl.GL_DEPTH_BUFFER_BIT)
-    primitive = _primitive(surface, poses)
-    program = ctx.programs.get_program("periodic.vert", "periodic_depth.frag", defines=ATTRIBUTES)
-    program._bind()
-    program.set_uniform("depth_scale", float(depth_scale))
-    program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
-    program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
-    program.set_uniform("surface_shift", np.zeros(2, np.float32))
-    _draw(ctx, primitive, program)
-    program._unbind()
-    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
-
-
-_LAYOUTS: dict = {}
-
-
-def _cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
-    """:func:`roughlight.render.sampling.tile_layout` for at least ``n_views``: the count is rounded up to a step of
-    2^(1/4) (at most 19% spare slots), so that sweeps drawing slightly different numbers of views with one
-    lattice (adaptive sampling) share a layout; the caller uses the first slots."""
-    n_views = int(math.ceil(2.0 ** (math.ceil(4.0 * math.log2(max(int(n_views), 1))) / 4.0)))
-    key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
-    if key not in _LAYOUTS:
-        if len(_LAYOUTS) >= 64:
-            _LAYOUTS.clear()
-        _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
-    return _LAYOUTS[key]
-
-
-class _Scene(NamedTuple):
-    """What every pass of one sweep draws with: the surface under its light, the context and the program."""
-
-    surface: Surface
-    #: the surface's height (periods), read once
-    height: float
-    #: (3,) unit vector towards the light
-    light_dir: np.ndarray
-    lighting: shading.Lighting
-    settings: RenderSettings
-    ctx: Context
-    program: object
-    #: 0 none, 1 periodic shadow map, 2 all in shadow (grazing light), as ``periodic.frag`` reads it
-    shadow_mode: int
-    #: 1 / the surface's height (slightly more), mapping heights to depths in [0, 1)
-    depth_scale: float
-    #: adaptive sampling's facet regions (:func:`roughlight.render.shares.facet_regions`), else None
-    regions: object
-
-
 def fast_sweep(
     surface: Surface,
     incidence: float,
@@ -212,7 +101,10 @@ def fast_sweep(
     todo = np.flatnonzero(~sweeps.is_grazing(elevation))
     if todo.size:
         views = shading.view_direction(elevation[todo], azimuth[todo])
-        _render_views(out, surface, incidence, todo, views, lighting, settings)
+        if hasattr(surface, "cells") and settings.sampling == "adaptive":  # a random tile: counted on the GL side
+            _counted_views(out, surface, incidence, todo, views, lighting, settings)
+        else:
+            _render_views(out, surface, incidence, todo, views, lighting, settings)
     out["seconds"] = time.perf_counter() - start
     return out
 
@@ -235,6 +127,16 @@ def _view_angles(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
     return azimuth, elevation
 
 
+def _counted_views(out, surface, incidence, todo, views, lighting, settings) -> None:
+    """Fill ``out`` at the non-grazing views ``todo`` of a random tile with adaptive sampling: each region's share
+    counted on the GL side (:func:`roughlight.render.counting.counted_shares`), weighted by its 8-bit values."""
+    from .counting import counted_shares
+
+    regions = _adaptive_regions(surface, incidence, lighting)
+    lit, shadow, _ = counted_shares(surface, incidence, views, lighting, settings, regions)
+    _add_from_shares(out, todo, 1.0, regions, views, lit, shadow, shading.light_direction(incidence), lighting, 1.0)
+
+
 def _render_views(out, surface, incidence, todo, views, lighting, settings) -> None:
     """Fill ``out`` at the non-grazing views ``todo`` (their (V, 3) unit ``views``).
 
@@ -255,9 +157,9 @@ def _render_views(out, surface, incidence, todo, views, lighting, settings) -> N
         groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int),
                                  np.zeros(todo.size, bool))]
     groups = [g for g in groups if g[1].size]
-    layouts = [_cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
+    layouts = [cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
     ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
-    scene = _scene(ctx, surface, light_dir, lighting, settings, regions)
+    scene = make_scene(ctx, surface, light_dir, lighting, settings, regions)
     for group, layout in zip(groups, layouts):
         _draw_group(out, scene, todo, views, shears, group, layout)
 
@@ -291,41 +193,24 @@ def _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting, set
     if todo.size == 0:
         return todo, views, shears, []
     matrices = shares.candidate_lattices(int(settings.pixels_per_period))
-    shifts = [_surface_shift(m, settings.jitter) for m in matrices]
+    shifts = [surface_shift(m, settings.jitter) for m in matrices]
     values = shares.region_values(regions, light_dir, views, lighting)
     order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
     many = score >= float(settings.average_lattices_above)
     return todo, views, shears, [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
 
 
-def _scene(ctx: Context, surface, light_dir, lighting, settings, regions) -> _Scene:
-    """Set up what every pass of the sweep draws with: the shadow map (drawn once, the light does not move)
-    and the program (with facet identities for adaptive sampling)."""
-    height = surface.height
-    depth_scale = 1.0 / max(height * 1.001, 1e-6)
-    shadow_mode = 0
-    if lighting.shadows and height > 0:
-        if light_dir[2] < 1e-9:
-            shadow_mode = 2
-        else:
-            shadow_mode = 1
-            _shadow_pass(ctx, surface, light_dir, depth_scale)
-    defines = {**ATTRIBUTES, "FACET_IDS": 1} if regions is not None else ATTRIBUTES
-    program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
-    return _Scene(surface, height, light_dir, lighting, settings, ctx, program, shadow_mode, depth_scale, regions)
-
-
-def _draw_group(out, scene: _Scene, todo, views, shears, group, layout) -> None:
+def _draw_group(out, scene: Scene, todo, views, shears, group, layout) -> None:
     """Draw one lattice's views (``group``, a :func:`_lattice_group`) a framebuffer at a time and store their
     values in ``out`` at ``todo`` of them. ``views`` (V, 3) and ``shears`` (V, 2) are all the drawn views';
     ``layout`` is the lattice's :func:`roughlight.render.sampling.tile_layout`."""
     matrix, members, weights = group
     width, height_px, slots, pixel_order = layout
     per_tile = len(pixel_order) // len(slots)
-    shift = _surface_shift(matrix, scene.settings.jitter)
+    shift = surface_shift(matrix, scene.settings.jitter)
     for first in range(0, members.size, len(slots)):
         idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
-        poses = _batch_poses(scene.height, views, shears, idx, slots, shift)
+        poses = batch_poses(scene.height, views, shears, idx, slots, shift)
         raw = _render_batch(scene, poses, matrix, shift, width, height_px)
         tiles_px = _tile_pixels(raw, pixel_order[: idx.size * per_tile], idx.size)
         target = todo[idx]
@@ -337,24 +222,13 @@ def _draw_group(out, scene: _Scene, todo, views, shears, group, layout) -> None:
             _tile_means(out, target, tiles_px, per_tile)
 
 
-def _batch_poses(height: float, views, shears, idx, slots, shift) -> np.ndarray:
-    """Instance matrices of the copies drawn for the views ``idx`` (one framebuffer), the views in ``slots``
-    order, each view's copies nearest the detector first, so that the depth test rejects the copies behind
-    before shading them. ``shift`` (2,) is the surface's sub-pixel shift in periods."""
-    owner, copies = lattice_copies(height * shears[idx], margin=float(np.abs(shift).max()))
-    nearest = np.lexsort((-(copies * shears[idx][owner]).sum(axis=1), owner))
-    owner, copies = owner[nearest], copies[nearest]
-    copy_idx = idx[owner]
-    return _copy_poses(copies, shears[copy_idx], views[copy_idx], slots[: idx.size][owner])
-
-
-def _render_batch(scene: _Scene, poses, matrix, shift, width: int, height_px: int) -> bytes:
+def _render_batch(scene: Scene, poses, matrix, shift, width: int, height_px: int) -> bytes:
     """Draw the copies ``poses`` into the ``width`` x ``height_px`` viewport with the sampling ``matrix`` and
     the surface ``shift``; return the viewport's RGBA bytes."""
     program = scene.program
-    _begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+    begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
     program._bind()
-    _set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
+    set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
                            scene.depth_scale, scene.height)
     program.set_uniform("sampling", matrix.astype(np.float32))
     program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
@@ -362,7 +236,7 @@ def _render_batch(scene: _Scene, poses, matrix, shift, width: int, height_px: in
     gl.glActiveTexture(gl.GL_TEXTURE0)
     gl.glBindTexture(gl.GL_TEXTURE_2D, scene.ctx.shadow_tex)
     program.set_uniform("shadow_map", 0)
-    _draw(scene.ctx, _primitive(scene.surface, poses), program)
+    draw(scene.ctx, primitive(scene.surface, poses), program)
     program._unbind()
     gl.glFinish()
     return gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
@@ -388,11 +262,6 @@ def _lattice_group(k, matrix, order, many):
     drawn = (order[0] == k) | (many & np.any(order[1:] == k, axis=0))
     members = np.flatnonzero(drawn)
     return matrix, members, np.where(many[members], 1.0 / len(order), 1.0)
-
-
-def _surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:
-    """(2,) the surface's shift in periods that a camera shift by ``jitter`` pixels is, drawn with ``matrix``."""
-    return -np.linalg.solve(np.asarray(matrix, float), np.asarray(jitter, float))
 
 
 def _tile_pixels(raw: bytes, pixel_order: np.ndarray, n_tiles: int) -> np.ndarray:
@@ -428,13 +297,3 @@ def _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir
     for component in shading.COMPONENTS:
         out[component][target] += weight * values[component]
     out["coverage"][target] += weight * coverage
-
-
-def _set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):
-    set_material_uniforms(program, lighting, light_dir)
-    program.set_uniform("shadow_mode", int(shadow_mode))
-    program.set_uniform("shadow_size", int(ctx.shadow_size))
-    lz = max(float(light_dir[2]), 1e-12)
-    program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
-    program.set_uniform("depth_scale", float(depth_scale))
-    program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))

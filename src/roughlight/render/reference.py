@@ -80,7 +80,7 @@ from shapely import affinity
 
 from ..surfaces.surface import Surface
 from . import views as sweeps
-from .clipping import EDGE_ON, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
+from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
 from .shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
 
 __all__ = [
@@ -102,14 +102,21 @@ REFERENCE_ERROR = 1e-6
 #: The visible areas of a view must sum to 1 within this (else RuntimeError).
 AREA_TOLERANCE = 1e-9
 
-#: Snap-rounding grid (periods) of the robust fallback: when an overlay in double precision
-#: fails (GEOS's topology errors, or areas not summing to 1, seen on random tiles whose thin
-#: facets project to near-collinear slivers), the view is recomputed with every overlay
-#: snap-rounded to this grid (GEOS OverlayNG, robust by construction). Moving vertices by at
-#: most this changes an area by about its perimeter times it.
-SNAP_GRID = 1e-10
-#: The visible areas of a snap-rounded view must sum to 1 within this.
-SNAPPED_AREA_TOLERANCE = 1e-7
+#: Snap-rounding grids (periods) of the robust fallbacks, finest first: when an overlay in double precision
+#: fails (GEOS's topology errors, or areas not summing to 1, seen on random tiles whose thin facets project to
+#: near-collinear slivers), the view is recomputed with every overlay snap-rounded to the first grid (GEOS
+#: OverlayNG in fixed precision, robust by construction), and if its checks still fail, to the next. Moving
+#: vertices by at most a grid step changes an area by about its perimeter times it: at most
+#: :func:`snapped_tolerance` (1e-5 for the coarsest, 0.003 of an 8-bit level).
+SNAP_GRIDS = (1e-10, 1e-9, 1e-8)
+#: The finest snap-rounding grid (the first fallback).
+SNAP_GRID = SNAP_GRIDS[0]
+
+
+def snapped_tolerance(grid_size: float) -> float:
+    """How far from 1 the visible areas of a view snap-rounded to ``grid_size`` may sum (1000 grid steps)."""
+    return 1e3 * float(grid_size)
+
 
 #: Light grazing the plane (matches the renderer's ``light_dir[2] < 1e-9``).
 _GRAZING_LIGHT = 1e-9
@@ -128,7 +135,7 @@ def is_grazing_view(elevation) -> np.ndarray:
 
 
 def _check_sum(total: float, what: str, grid_size=None) -> None:
-    tolerance = AREA_TOLERANCE if grid_size is None else SNAPPED_AREA_TOLERANCE
+    tolerance = AREA_TOLERANCE if grid_size is None else snapped_tolerance(grid_size)
     if not abs(total - 1.0) <= tolerance:
         raise RuntimeError(
             f"reference clipping failed: the visible areas of the {what} sum to {total!r}, not 1"
@@ -140,19 +147,26 @@ def _check_overlap(both: float, a: float, b: float, whole: float, what: str, gri
     ``a + b - whole <= |A & B| <= min(a, b)``. GEOS can return an empty intersection of two valid polygons whose
     edges nearly coincide (seen: a lit region and a visible region of 0.34 and 0.45 of a 0.45 facet meeting in
     nothing), which these bounds catch; the caller then recomputes snap-rounded."""
-    tolerance = AREA_TOLERANCE if grid_size is None else SNAPPED_AREA_TOLERANCE
+    tolerance = AREA_TOLERANCE if grid_size is None else snapped_tolerance(grid_size)
     if both < a + b - whole - tolerance or both > min(a, b) + tolerance:
         raise RuntimeError(f"reference clipping failed: the lit and visible parts of {what} meet in {both!r}, "
                            f"outside [{a + b - whole!r}, {min(a, b)!r}]")
 
 
 def _with_fallback(compute, *args):
-    """``compute(*args, grid_size=None)`` in double precision; if GEOS fails or the areas do not
-    sum to 1, once more snap-rounded to :data:`SNAP_GRID` (OverlayNG's robust mode)."""
+    """``compute(*args, grid_size=None)`` in double precision; if GEOS fails or the checks do not hold, again
+    snap-rounded to each of :data:`SNAP_GRIDS` in turn (OverlayNG's fixed precision); the last one's error is
+    raised if every grid fails."""
     try:
         return compute(*args, grid_size=None)
-    except (shapely.errors.GEOSException, RuntimeError):
-        return compute(*args, grid_size=SNAP_GRID)
+    except (shapely.errors.GEOSException, RuntimeError) as exc:
+        error = exc
+    for grid_size in SNAP_GRIDS:
+        try:
+            return compute(*args, grid_size=grid_size)
+        except (shapely.errors.GEOSException, RuntimeError) as exc:
+            error = exc
+    raise error
 
 
 def _lit_regions(surf: Facets, incidence: float, shadows: bool) -> list:
@@ -186,13 +200,23 @@ def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, grid_size=Non
     return out
 
 
+def _without_slivers(region):
+    """``region`` without its parts of no area (zero-width spikes and bow-ties that polygon clipping of random
+    tiles leaves; mapped into a view they can turn invalid and count twice, as in random pyramids, seed 2,
+    t 1, a 1, i 30, e 45, phi 15)."""
+    parts = [p for p in shapely.get_parts(region) if p.area > MIN_OVERLAP]
+    if len(parts) == len(shapely.get_parts(region)):
+        return region
+    return area_parts(shapely.union_all(parts)) if parts else shapely.Polygon()
+
+
 class _Scene:
     """Everything of a sweep that does not depend on the view."""
 
     def __init__(self, surface: Surface, incidence, shadows):
         self.surf = period_facets(surface)
         self.incidence = check_incidence(incidence)
-        self.lit = _lit_regions(self.surf, self.incidence, bool(shadows))
+        self.lit = [_without_slivers(region) for region in _lit_regions(self.surf, self.incidence, bool(shadows))]
         fp_area = np.array([fp.area for fp in self.surf.footprints])
         self.fp_area = fp_area
         lit_area = np.array([r.area for r in self.lit])
@@ -221,6 +245,9 @@ class _Scene:
                 lit[f] = vis[f]
                 continue
             lit_view = affinity.affine_transform(self.lit[f], to_oblique(self.surf, f, d))
+            if not lit_view.is_valid:
+                # parts that touched in plan can overlap after the map, by rounding: their area would count twice
+                lit_view = area_parts(lit_view)
             if vis[f] >= self.fp_area[f] * det[f] - AREA_TOLERANCE:
                 # wholly visible: no overlay (GEOS can misjudge a lit part with sliver spikes)
                 lit[f] = min(lit_view.area, vis[f])

@@ -56,8 +56,10 @@ class RenderSettings:
         one lattice a view.
     tile_sampling, tile_pixels_per_period : str, int
         ``sampling`` and ``pixels_per_period`` (per cell) of random tiles
-        (:meth:`tile_settings`): adaptive sampling on a tile's hundreds of
-        facets costs 2-4.5 times lattice sampling.
+        (:meth:`tile_settings`). ``"adaptive"`` (the default) counts each
+        region's visible and hidden pixels on the GL side and corrects them by
+        its exact area (:mod:`roughlight.render.counting`); lattice and grid
+        sampling take the tile mean of the shader's values.
     jitter : (float, float)
         Sub-pixel shift of the camera (equivalently of the surface) in pixels,
         for measuring how a value moves when the pixels fall elsewhere on the
@@ -71,8 +73,8 @@ class RenderSettings:
     shadow_bias: float = 1e-4
     max_framebuffer: int = 4096
     jitter: tuple = (0.0, 0.0)
-    tile_sampling: str = "lattice"
-    tile_pixels_per_period: int = 24
+    tile_sampling: str = "adaptive"
+    tile_pixels_per_period: int = 16
     average_lattices_above: float = 1.6
 
     def __post_init__(self):

@@ -17,10 +17,11 @@
 //   inst_m[1].xy : shear (D.x / D.z, D.y / D.z)
 //   inst_m[2].xyz: unit vector toward the detector, V
 //   inst_m[3].xy : the view's tile: integer cell offset K of its slot
+//   inst_m[3].z  : the view's slot number in the batch (counting passes)
 
 layout(location = 0) in vec3 position;
 layout(location = NORMAL_LOC) in vec3 normal;
-layout(location = FACET_LOC) in vec2 facet;  // x: the facet's index in the period
+layout(location = FACET_LOC) in vec2 facet;  // x: the facet's index in the period, y: its lit state
 layout(location = INST_M_LOC) in mat4 inst_m;
 
 uniform float depth_scale;   // 1 / (height range of the surface)
@@ -34,6 +35,8 @@ out vec3 frag_normal;        // true face normal (never averaged)
 out vec2 frag_cell;          // oblique cell coordinates: kept only inside [0,1)^2
 flat out vec3 frag_view;
 flat out float frag_facet;
+flat out float frag_slot;       // the view's slot number in the batch
+flat out float frag_lit_state;  // 0: test the shadow map, 1: the facet is wholly lit, 2: wholly in shadow
 
 void main()
 {
@@ -47,6 +50,8 @@ void main()
     frag_cell = cell;
     frag_view = inst_m[2].xyz;
     frag_facet = facet.x;
+    frag_slot = inst_m[3].z;
+    frag_lit_state = facet.y;
     // clip each copy to its own tile, before rasterization
     gl_ClipDistance[0] = cell.x;
     gl_ClipDistance[1] = 1.0 - cell.x;

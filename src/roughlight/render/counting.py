@@ -1,0 +1,188 @@
+"""Adaptive sampling of random tiles: each region's visible share from pixel counts made on the GL side.
+
+A random tile (:mod:`roughlight.surfaces.roughness`) has hundreds of facets. Its views are measured as the regular
+surface's adaptive sampling measures them (:mod:`roughlight.render.shares`), each region (the lit or the shadowed
+part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.shading.facet_sum`):
+
+* **Nothing hidden.** Where every facet faces the view, each region's share is its exact projected area: its plan
+  area times its facet's area ratio ``det = 1 - alpha d_x - beta d_y`` (the projection along the view is affine on
+  a facet). No rendering.
+* **Something hidden.** The other views are drawn, a framebuffer of tiles at a time, in three passes of the same
+  copies (:mod:`roughlight.render.passes`): depth only; then ``shaders/periodic_count.frag`` with the depth test
+  ``GL_LEQUAL``, each visible fragment adding one to its view's count of its region (an atomic counter on the GL
+  side: no pixel is read back); then with ``GL_GREATER``, counting the hidden fragments. The two tests are
+  complementary, so every fragment of a region's projection is counted once: ``visible + hidden`` is exactly the
+  number of pixel centres in the region's projection, the count :func:`roughlight.render.shares.counts_and_areas`
+  computes from polygons, and ``visible / (visible + hidden)`` is the region's visible fraction with the pixel
+  errors along its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it
+  is the region's share; what remains is the error along the edges of whatever hides it.
+
+The shadow test is the shader's (``shaders/periodic_shadow.glsl``), the same for visible and hidden fragments;
+facets wholly lit or wholly in shadow (from the exact lit regions) skip it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import shading, shares
+from .gl import context, gl
+from .passes import ATTRIBUTES, batch_poses, begin_pass, cached_layout, draw, make_scene, primitive, set_lighting_uniforms
+
+__all__ = ["region_plan_areas", "projected_areas", "counted_shares"]
+
+#: Facets with an area ratio below this face away from the view (as :func:`roughlight.render.shares.all_facing`).
+FACING = 1e-9
+
+
+def region_plan_areas(regions: shares.Regions) -> np.ndarray:
+    """(R,) each region's plan area (periods^2): its rings' shoelace sums, holes (clockwise) subtracted."""
+    out = np.zeros(len(regions.rings))
+    for r, rings in enumerate(regions.rings):
+        for ring in rings:
+            x, y = ring[:, 0], ring[:, 1]
+            out[r] += 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return out
+
+
+def projected_areas(regions: shares.Regions, plan_areas, shears) -> tuple[np.ndarray, np.ndarray]:
+    """Each region's projected area along each view, and which views see every facet.
+
+    Parameters
+    ----------
+    regions : Regions
+    plan_areas : (R,) array
+        :func:`region_plan_areas`.
+    shears : (V, 2) array
+        Each view's plan shift ``d = (V_x / V_z, V_y / V_z)``.
+
+    Returns
+    -------
+    areas : (V, R) array
+        Plan area times the facet's area ratio ``1 - alpha d_x - beta d_y``, 0 where the facet faces away
+        (periods^2; a view's areas sum to 1 where nothing is hidden).
+    whole : (V,) bool array
+        True where every facet faces the view: nothing is hidden.
+    """
+    det = 1.0 - regions.alpha[None, :] * shears[:, 0:1] - regions.beta[None, :] * shears[:, 1:2]
+    facing = det > FACING
+    areas = plan_areas[None, :] * np.where(facing, det, 0.0)[:, regions.facet]
+    return areas, np.all(facing, axis=1)
+
+
+def _lit_state(regions: shares.Regions, plan_areas) -> np.ndarray:
+    """(F,) float32 per facet: 1 wholly lit, 2 wholly in shadow, 0 partly (the shader tests its shadow map)."""
+    lit, shadow = plan_areas[0::2], plan_areas[1::2]
+    return np.where(shadow <= 1e-15, 1.0, np.where(lit <= 1e-15, 2.0, 0.0)).astype(np.float32)
+
+
+def counted_shares(surface, incidence: float, views, lighting, settings, regions=None):
+    """Each region's share of each view's image, for a random tile (see the module's description).
+
+    Parameters
+    ----------
+    surface : RandomSurface
+        Drawn as one period.
+    incidence : float
+        Light elevation, degrees in [0, 90] (light at azimuth 0).
+    views : (V, 3) array
+        Unit vectors toward the detector, none grazing (``V_z > 0``).
+    lighting : Lighting
+    settings : RenderSettings
+        The tile's own (:meth:`RenderSettings.tile_settings` then :meth:`RenderSettings.for_tile`): its
+        ``pixels_per_period`` is per tile.
+    regions : Regions, optional
+        :func:`roughlight.render.shares.facet_regions` of the tile under this light (computed when not given).
+
+    Returns
+    -------
+    lit, shadow : (V, F) arrays
+        Each facet's lit and shadowed share (summing to 1 a view).
+    regions : Regions
+    """
+    regions = regions if regions is not None else shares.facet_regions(surface, incidence, lighting.shadows)
+    views = np.atleast_2d(np.asarray(views, float))
+    shears = views[:, :2] / views[:, 2:3]
+    plan = region_plan_areas(regions)
+    areas, whole = projected_areas(regions, plan, shears)
+    share = np.where(whole[:, None], areas, 0.0)
+    hidden = np.flatnonzero(~whole)
+    if hidden.size:
+        visible, total, per_tile = _count(surface, incidence, views, shears, hidden, lighting, settings,
+                                          _lit_state(regions, plan))
+        ratio = np.where(total > 0.5, areas[hidden] * visible / np.maximum(total, 1.0), visible / per_tile)
+        sums = ratio.sum(axis=1, keepdims=True)
+        share[hidden] = np.where(sums > 0, ratio / np.where(sums > 0, sums, 1.0), 0.0)
+    return share[:, 0::2], share[:, 1::2], regions
+
+
+def _count(surface, incidence, views, shears, hidden, lighting, settings, lit_state):
+    """Visible and total pixel counts (H, R) of each region in each of the views ``hidden`` (indices into
+    ``views``), and a tile's pixel count."""
+    light_dir = shading.light_direction(incidence)
+    matrix = settings.sampling_matrix()
+    width, height_px, slots, pixel_order = cached_layout(matrix, hidden.size, int(settings.max_framebuffer))
+    ctx = context(width, height_px, int(settings.shadow_map_size))
+    scene = make_scene(ctx, surface, light_dir, lighting, settings, None)
+    n_regions = 2 * len(lit_state)
+    visible = np.zeros((hidden.size, n_regions))
+    total = np.zeros((hidden.size, n_regions))
+    buffer = gl.glGenBuffers(1)
+    try:
+        for first in range(0, hidden.size, len(slots)):
+            idx = hidden[first:first + len(slots)]
+            poses = batch_poses(scene.height, views, shears, idx, slots, np.zeros(2))
+            seen, behind = _count_batch(scene, poses, matrix, width, height_px, buffer, idx.size, lit_state)
+            visible[first:first + idx.size] = seen
+            total[first:first + idx.size] = seen + behind
+    finally:
+        gl.glDeleteBuffers(1, [buffer])
+    return visible, total, len(pixel_order) // len(slots)
+
+
+def _count_batch(scene, poses, matrix, width, height_px, buffer, n_views, lit_state):
+    """One framebuffer of views: the depth pass, then the visible and the hidden fragments' counts, (n, R) each."""
+    ctx, n_regions = scene.ctx, 2 * len(lit_state)
+    uniforms = {"sampling": matrix.astype(np.float32), "ndc_scale": np.array([2.0 / width, 2.0 / height_px],
+                np.float32), "surface_shift": np.zeros(2, np.float32), "depth_scale": float(scene.depth_scale)}
+    begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+    gl.glColorMask(gl.GL_FALSE, gl.GL_FALSE, gl.GL_FALSE, gl.GL_FALSE)
+    try:
+        depth = ctx.programs.get_program("periodic.vert", "periodic_depth.frag", defines=ATTRIBUTES)
+        depth._bind()
+        for name, value in uniforms.items():
+            depth.set_uniform(name, value)
+        draw(ctx, primitive(scene.surface, poses), depth)
+        depth._unbind()
+        gl.glDepthMask(gl.GL_FALSE)
+        program = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
+        counts = []
+        for test in (gl.GL_LEQUAL, gl.GL_GREATER):
+            gl.glDepthFunc(test)
+            counts.append(_counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state))
+    finally:
+        gl.glColorMask(gl.GL_TRUE, gl.GL_TRUE, gl.GL_TRUE, gl.GL_TRUE)
+        gl.glDepthMask(gl.GL_TRUE)
+    return counts
+
+
+def _counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state) -> np.ndarray:
+    """Draw the copies with the counting shader into zeroed counters; return them, (n_views, n_regions)."""
+    size = n_views * n_regions
+    gl.glBindBuffer(gl.GL_SHADER_STORAGE_BUFFER, buffer)
+    gl.glBufferData(gl.GL_SHADER_STORAGE_BUFFER, size * 4, np.zeros(size, np.uint32), gl.GL_DYNAMIC_READ)
+    gl.glBindBufferBase(gl.GL_SHADER_STORAGE_BUFFER, 0, buffer)
+    program._bind()
+    set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
+                          scene.depth_scale, scene.height)
+    for name, value in uniforms.items():
+        program.set_uniform(name, value)
+    program.set_uniform("n_regions", int(n_regions))
+    gl.glActiveTexture(gl.GL_TEXTURE0)
+    gl.glBindTexture(gl.GL_TEXTURE_2D, scene.ctx.shadow_tex)
+    program.set_uniform("shadow_map", 0)
+    draw(scene.ctx, primitive(scene.surface, poses, lit_state), program)
+    program._unbind()
+    gl.glMemoryBarrier(gl.GL_BUFFER_UPDATE_BARRIER_BIT)
+    data = gl.glGetBufferSubData(gl.GL_SHADER_STORAGE_BUFFER, 0, size * 4)
+    return np.frombuffer(data, np.uint32).reshape(n_views, n_regions).astype(float)

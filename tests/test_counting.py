@@ -1,0 +1,87 @@
+"""Random tiles' adaptive sampling (roughlight.render.counting) and the exact reference on random tiles."""
+
+import numpy as np
+import pytest
+
+from roughlight.render import counting, reference, shading, shares
+from roughlight.render.sampling import RenderSettings
+from roughlight.render.shading import Lighting
+from roughlight.surfaces.roughness import RandomSurface
+
+KINDS = ("random_pyramids", "random_heightfield")
+
+
+def _views(elevation, azimuth):
+    return shading.view_direction(np.asarray(elevation, float), np.asarray(azimuth, float))
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind):
+    """Without shadows a region is a facet's whole footprint (or nothing), so the GL side's visible + hidden count
+    of each region must be the pixel centres inside its projected polygon counted from the polygon
+    (shares.counts_and_areas): equal but where a centre lies within float32 rounding of an edge (about 1% of the
+    regions here, one pixel each)."""
+    tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
+    lighting = Lighting(shadows=False)
+    settings = RenderSettings().tile_settings().for_tile(tile.cells)
+    regions = shares.facet_regions(tile, 30.0, False)
+    views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
+    shears = views[:, :2] / views[:, 2:3]
+    plan = counting.region_plan_areas(regions)
+    visible, total, per_tile = counting._count(tile, 30.0, views, shears, np.arange(len(views)), lighting, settings,
+                                               counting._lit_state(regions, plan))
+    expected, areas = shares.counts_and_areas(regions, shears, settings.sampling_matrix())
+    assert per_tile == abs(round(np.linalg.det(settings.sampling_matrix())))
+    difference = np.abs(total - expected)
+    assert difference.max() <= 1 and (difference > 0).mean() < 0.02, (difference.max(), (difference > 0).mean())
+    assert np.corrcoef(total.ravel(), expected.ravel())[0, 1] > 0.9999
+    assert np.all(visible <= total) and np.all(visible.sum(axis=1) == per_tile)
+    # the exact projected areas are the polygons' (shoelace over the projected rings)
+    np.testing.assert_allclose(counting.projected_areas(regions, plan, shears)[0], areas, atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_shares_are_the_exact_areas_where_nothing_is_hidden(kind):
+    tile = RandomSurface(kind, 0.5, 0.5, seed=2, cells=2)
+    views = _views([90.0, 80.0], [0.0, 45.0])
+    lit, shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(), RenderSettings().tile_settings()
+                                                   .for_tile(tile.cells))
+    np.testing.assert_allclose((lit + shadow).sum(axis=1), 1.0, atol=1e-12)
+    exact_lit, exact_shadow = shares.area_shares(regions, views[:, :2] / views[:, 2:3])
+    np.testing.assert_allclose(lit, exact_lit, atol=1e-12)
+    np.testing.assert_allclose(shadow, exact_shadow, atol=1e-12)
+
+
+def test_the_reference_computes_the_view_it_once_refused():
+    """Random pyramids, 4 cells, seed 2, t 1, a 1, incidence 30, e 45, phi 15: GEOS left a lit region with
+    zero-area parts that overlapped once mapped into the view, and the reference refused the view."""
+    tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=4)
+    exact = reference.reference_sweep(tile, 30.0, [15.0], [45.0])
+    assert exact["coverage"][0] == pytest.approx(1.0, abs=1e-7)
+    values, refused = reference.reference_views(tile, 30.0, [15.0], [45.0])
+    assert not refused.any()
+    from roughlight.render.periodic import fast_sweep
+
+    fast = fast_sweep(tile, 30.0, [15.0], [45.0])
+    for component in shading.COMPONENTS:
+        assert abs(fast[component][0] - exact[component][0]) <= 1.0, component
+
+
+def test_the_reference_falls_back_to_coarser_grids_until_one_holds(monkeypatch):
+    """Each snap-rounding grid is tried in turn; the error of the last is raised only when all fail."""
+    tried = []
+
+    def compute(grid_size=None):
+        tried.append(grid_size)
+        if grid_size != reference.SNAP_GRIDS[-1]:
+            raise RuntimeError("areas do not sum to 1")
+        return "ok"
+
+    assert reference._with_fallback(compute) == "ok"
+    assert tried == [None, *reference.SNAP_GRIDS]
+
+    def never(grid_size=None):
+        raise RuntimeError(f"failed at {grid_size}")
+
+    with pytest.raises(RuntimeError, match=f"failed at {reference.SNAP_GRIDS[-1]}"):
+        reference._with_fallback(never)
