@@ -6,7 +6,8 @@ Plans (``measurements.plan``, the folder ``results/benchmarks/{plan}/``):
 * ``quick``: tiles of 1, 2 and 4 cells, 3 seeds, the study's views (1 x 5 degrees) at t = 1, a = 1,
   i = 30; accuracy on one 2-cell tile of each kind at coarse views (15 x 30 degrees).
 * ``full`` (``make bench``): tiles of 1, 2, 3, 4 and 6 cells, 6 seeds; accuracy on 2 seeds of
-  4-cell tiles (the study's default) of each kind at 5 x 15 degrees (444 views).
+  4-cell tiles (the study's default) of each kind at the corners of the default random grid (t 0.5 and 1 x
+  a 0.5 and 1: 16 tiles) at 5 x 15 degrees (444 views).
 """
 
 from __future__ import annotations
@@ -23,9 +24,11 @@ __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy"
 
 PLANS = {
     "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (2.0, 10.0),
-              "accuracy_cells": 2, "accuracy_seeds": 1, "accuracy_views": (15.0, 30.0)},
+              "accuracy_cells": 2, "accuracy_seeds": 1, "accuracy_views": (15.0, 30.0),
+              "accuracy_points": ((1.0, 1.0),)},
     "full": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 3, 4, 6), "seeds": 6, "views": (1.0, 5.0),
-             "accuracy_cells": 4, "accuracy_seeds": 2, "accuracy_views": (5.0, 15.0)},
+             "accuracy_cells": 4, "accuracy_seeds": 2, "accuracy_views": (5.0, 15.0),
+             "accuracy_points": ((0.5, 0.5), (0.5, 1.0), (1.0, 0.5), (1.0, 1.0))},
 }
 #: The statistics followed against tile size.
 CONVERGENCE_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "diffuse_level", "diffuse_level3")
@@ -105,7 +108,8 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
 
     Returns
     -------
-    DataFrame, one row per surface x component: ``kind``, ``cells``, ``seed``, ``component``, ``views``
+    DataFrame, one row per surface x component: ``kind``, ``truncation``, ``aspect``, ``cells``, ``seed``,
+    ``component``, ``views``
     (compared), ``reference_refused`` (views the reference's own checks refused, left out), ``mae``, ``p99``,
     ``worst`` (0-255), ``fast_views_per_second``, ``reference_seconds``.
     """
@@ -117,13 +121,14 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
     settings = settings or RenderSettings()
-    t, a, i = p["point"]
+    i = p["point"][2]
     azimuth, elevation = view_grid(*p["accuracy_views"])
     seen = np.sin(np.radians(elevation)) > 1e-9
-    runs = [("pyramids", 1, 0)] + [(kind, p["accuracy_cells"], seed) for kind in RANDOM_KINDS
-                                   for seed in range(1, p["accuracy_seeds"] + 1)]
+    runs = [("pyramids", t, a, 1, 0) for t, a in p["accuracy_points"]]
+    runs += [(kind, t, a, p["accuracy_cells"], seed) for kind in RANDOM_KINDS for t, a in p["accuracy_points"]
+             for seed in range(1, p["accuracy_seeds"] + 1)]
     rows = []
-    for kind, cells, seed in runs:
+    for kind, t, a, cells, seed in runs:
         surface = make_surface(kind, t, a, seed, cells=cells)
         start = time.perf_counter()
         # a view the reference's own checks refuse is left out and counted
@@ -135,13 +140,14 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
         compared = seen & ~refused
         for component in ("diffuse", "specular", "total"):
             error = np.abs(fast[component] - exact[component])[compared]
-            rows.append({"kind": kind, "cells": cells if kind != "pyramids" else 0, "seed": seed,
+            rows.append({"kind": kind, "truncation": t, "aspect": a, "cells": cells if kind != "pyramids" else 0,
+                         "seed": seed,
                          "component": component, "views": int(compared.sum()),
                          "reference_refused": int((seen & refused).sum()), "mae": float(error.mean()),
                          "p99": float(np.quantile(error, 0.99)), "worst": float(error.max()),
                          "fast_views_per_second": azimuth.size / fast["seconds"],
                          "reference_seconds": reference_seconds})
-        log(f"accuracy {kind} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
+        log(f"accuracy {kind} t={t} a={a} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
             f"worst {rows[-1]['worst']:.2f}; reference {reference_seconds:.1f} s")
     return pd.DataFrame(rows)
 
