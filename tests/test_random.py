@@ -235,7 +235,10 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     assert '<h2 id="random">Random roughness</h2>' in html
     assert 'id="random-claim"' in html and 'id="random-seeds"' in html and "best <b>" in html
     rect = summary[(summary.statistic == "back_rectangularity")].iloc[0]
-    assert f"{rect['regular']:.3f} regular against" in html
+    # the claim table's row: the regular value, the bootstrap interval, and a decision with its reason
+    assert f"<td>{rect['regular']:.3f}</td>" in html
+    assert f"{rect['mean']:.3g} [{rect['boot_low']:.3g}, {rect['boot_high']:.3g}]" in html
+    assert 0.0 <= rect["boot_low"] <= rect["mean"] <= rect["boot_high"] <= 1.0
 
 
 @pytest.mark.slow
@@ -310,3 +313,35 @@ def test_random_accuracy_leaves_out_and_counts_the_views_the_reference_refuses(m
     refused = table["reference_refused"]
     assert (refused > 0).all() and np.isfinite(table["mae"]).all()
     assert ((table["views"] + refused) == table["views"].iloc[0] + refused.iloc[0]).all()
+
+
+def test_bootstrap_intervals_stay_within_the_statistics_range():
+    """A ratio's Student-t interval can leave [0, 1] (rectangularity [-0.046, 1.17] was printed); the bootstrap
+    interval of the mean cannot leave the values' range, and it is the same every run."""
+    values = np.array([0.02, 0.97, 0.99])
+    low, high = E.bootstrap_interval(values)
+    assert 0.02 <= low < high <= 0.99
+    assert (low, high) == E.bootstrap_interval(values)
+    assert np.isnan(E.bootstrap_interval([0.5])[0])
+
+
+def test_the_claim_table_decides_each_test_or_says_why():
+    def row(statistic, regular, values):
+        v = np.asarray(values, float)
+        low, high = E.bootstrap_interval(v)
+        return {"kind": "random_pyramids", "truncation": 1.0, "aspect": 1.0, "incidence": 30.0,
+                "statistic": statistic, "regular": regular, "mean": v.mean() if len(v) else np.nan,
+                "sd": v.std(ddof=1) if len(v) > 1 else np.nan, "seeds": len(v), "boot_low": low, "boot_high": high}
+
+    summary = pd.DataFrame([
+        row("back_rectangularity", 0.95, [0.80, 0.82, 0.79, 0.81]),      # below the regular value: decided
+        row("back_rectangularity", 0.80, [0.79, 0.80, 0.81, 0.80]),      # within 10%: decided, no difference
+        row("back_phase_shift", 10.0, [-20.0, 30.0, 5.0, 40.0]),         # wide: not decided
+        row("back_phase_shift", np.nan, [1.0, 2.0]),                     # no regular lobe: a reason
+        row("back_phase_shift", 3.0, [1.0]),                             # one seed: a reason
+    ])
+    claims = E.claim_table(summary)
+    assert list(claims["decided"]) == ["yes", "yes", "no", "–", "–"]
+    assert "below" in claims["why"][0] and "no difference" in claims["why"][1]
+    assert "more seeds" in claims["why"][2] and claims["seeds_to_decide"][2] > 4
+    assert "no back lobe" in claims["why"][3] and "2 or more" in claims["why"][4]

@@ -182,21 +182,21 @@ def case_implicit(png):
 
 
 def case_random(png):
-    row = pd.Series({"regular": 0.81234, "mean": 0.7, "ci_low": 0.6, "ci_high": 0.8, "p_value": 0.0123})
-    one = pd.Series({"regular": 1.5, "mean": 2.0, "ci_low": NAN, "ci_high": NAN, "p_value": NAN})
     frame = pd.DataFrame({"kind": ["random_<x>"], "mean": [0.7]})
+    claim = pd.DataFrame({"kind": ["random <x>"], "test": ["rectangularity"], "decided": ["no"],
+                          "why": ["<more seeds>"]})
     s = {"settings": {"cells": 4, "spread": {"truncation": "<0.2>"}}, "ellipse_fill": math.pi / 4,
-         "verdicts": [{"kind": "random_<x>", "t": 0.5, "a": 1.0, "i": 30.0, "rect": row, "shift": one,
-                       "rect_pooled": 0.75, "shift_pooled": 1.25}],
-         "claim": frame, "charts": [("fig-random-maps", png, "maps", "maps <caption>")], "shown": frame,
+         "tests": [{"test": "phase <shift>", "claim": "random lobes <peak>", "shows": "mean <distance>",
+                    "tolerance": "±2°"}],
+         "claim": claim, "charts": [("fig-random-maps", png, "maps", "maps <caption>")], "shown": frame,
          "best": [{"kind": "random_<x>", "component": "diffuse", "model": "<lambert>",
                    "means": [("<lambert>", 1.0), ("facets", 2.5)]}],
          "fits": frame, "seeds": frame, "plan": "quick", "accuracy": None, "convergence": None, "tiles_png": None,
          "tiles_caption": None}
     return {"s": s}, ["a tile of 4 × 4 cells", "truncation t ± &lt;0.2&gt;, aspect a·(1 ± ?)", "π/4 = 0.785",
-                      "t 0.5, a 1, i 30, random &lt;x&gt;: rectangularity 0.812 regular against 0.7 [0.6, 0.8] random "
-                      "(p = 0.012; seed-averaged 0.750); phase shift 1.50° regular against 2 (one seed: no interval)° "
-                      "random (p = nan; seed-averaged 1.25°)", 'id="fig-random-maps"', "maps &lt;caption&gt;",
+                      "<b>phase &lt;shift&gt;</b>: the claim is that random lobes &lt;peak&gt;; the statistic is the "
+                      "mean &lt;distance&gt;; no difference within ±2°.", 'id="random-claim"',
+                      "&lt;more seeds&gt;", 'id="fig-random-maps"', "maps &lt;caption&gt;",
                       "random &lt;x&gt;, diffuse: best <b>&lt;lambert&gt;</b> (mean RMSE over its grid points: "
                       "&lt;lambert&gt; 1.00; facets 2.50)", 'id="random-seeds"'], ["<x>", "<lambert>", "random-accuracy"]
 
@@ -275,8 +275,6 @@ def test_the_filters_format_numbers_as_the_page_did():
     assert [T.cell(v) for v in (1.0, -0.0001, NAN, math.inf, True, np.int64(7), None, "a")] == \
         ["1.000", "0.000", "–", "∞", "yes", "7", "", "a"]
     assert [T.domain(v) for v in (0.12345, NAN, None, "flat")] == ["0.123", "never", "never", "flat"]
-    assert T.interval({"mean": 1.0, "ci_low": 0.5, "ci_high": 1.5}) == "1 [0.5, 1.5]"
-    assert T.interval({"mean": NAN, "ci_low": NAN, "ci_high": NAN}) == "– (no lobe)"
 
 
 def test_the_validation_line_is_plain_text():

@@ -41,6 +41,8 @@ __all__ = [
     "pooled_statistics",
     "ensemble_summary",
     "seeds_needed",
+    "bootstrap_interval",
+    "claim_table",
     "ensemble_model_fits",
     "random_points",
 ]
@@ -293,7 +295,9 @@ def ensemble_summary(stats: pd.DataFrame, level: float = 0.95, pooled: pd.DataFr
     (mean - regular), ``t`` and ``p_value`` (two-sided one-sample t-test of
     the seeds against the regular value; NaN with fewer than 2 seeds or no
     spread), ``pooled`` (the statistic of the seed-averaged views,
-    :func:`pooled_statistics`, when ``pooled`` is given).
+    :func:`pooled_statistics`, when ``pooled`` is given), ``boot_low``,
+    ``boot_high`` (the percentile bootstrap interval of the mean over seeds,
+    :func:`bootstrap_interval`: within the range the statistic takes).
     """
     from scipy import stats as sps
 
@@ -314,12 +318,106 @@ def ensemble_summary(stats: pd.DataFrame, level: float = 0.95, pooled: pd.DataFr
             t_value, p_value = float(test.statistic), float(test.pvalue)
         else:
             t_value = p_value = np.nan
+        boot_low, boot_high = bootstrap_interval(values, level)
         rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "statistic": name,
                      "unit": STATISTICS.get(name, ""), "seeds": n, "mean": mean, "sd": sd,
                      "ci_low": mean - half, "ci_high": mean + half, "regular": reg, "difference": mean - reg,
                      "t": t_value, "p_value": p_value,
-                     "pooled": float(pooled_values.get((kind, t, a, i, name), np.nan))})
+                     "pooled": float(pooled_values.get((kind, t, a, i, name), np.nan)),
+                     "boot_low": boot_low, "boot_high": boot_high})
     return pd.DataFrame(rows)
+
+
+#: Bootstrap resamples of each ensemble's mean, and the generator's seed (fixed: the same interval every run).
+BOOTSTRAP_RESAMPLES = 4000
+BOOTSTRAP_SEED = 20011
+
+
+def bootstrap_interval(values, level: float = 0.95) -> tuple[float, float]:
+    """Percentile bootstrap interval of the mean of ``values`` (one per seed): the ``level`` central range of the
+    means of :data:`BOOTSTRAP_RESAMPLES` resamples with replacement. Every resampled mean lies within the values'
+    range, so a ratio's interval stays within [0, 1] where a Student-t interval can leave it. NaN with fewer
+    than 2 values."""
+    values = np.asarray(values, float)
+    values = values[np.isfinite(values)]
+    if len(values) < 2:
+        return np.nan, np.nan
+    rng = np.random.default_rng(BOOTSTRAP_SEED)
+    means = values[rng.integers(0, len(values), (BOOTSTRAP_RESAMPLES, len(values)))].mean(axis=1)
+    tail = 50.0 * (1.0 - level)
+    low, high = np.percentile(means, [tail, 100.0 - tail])
+    return float(low), float(high)
+
+
+#: The thesis's claim, one test a statistic: what a random surface should show against the regular one, and how
+#: close an interval must be to decide "no difference" (relative to the regular value, or absolute).
+CLAIMS = {
+    "back_rectangularity": {"claim": "random lobes are rounder: less rectangular than the regular surface's",
+                            "shows": "fill of the back lobe's half-maximum region in its bounding rectangle "
+                                     "(1 rectangle, π/4 ellipse)", "relative": 0.10, "absolute": None},
+    "back_phase_shift": {"claim": "random lobes peak where a circular lobe would: less phase shift off the "
+                                  "light's plane", "shows": "mean distance of the off-plane arcs' peaks from a "
+                                                            "circular lobe's (deg)", "relative": None,
+                         "absolute": 2.0},
+}
+
+
+def _decision(row, rule) -> tuple[str, str]:
+    """(decided, why) for one claim row: decided when the bootstrap interval excludes the regular value, or lies
+    within the tolerance of it (``rule``: relative to the regular value or absolute)."""
+    if not np.isfinite(row["regular"]):
+        return "–", "the regular surface has no back lobe here (its maximum is below one 8-bit step or on the " \
+                    "window's edge), so there is nothing to compare"
+    if row["seeds"] < 2 or not np.isfinite(row["boot_low"]):
+        return "–", f"{int(row['seeds'])} seed(s) with a back lobe: an interval needs 2 or more (surface.seeds)"
+    tolerance = rule["absolute"] if rule["absolute"] is not None else rule["relative"] * abs(row["regular"])
+    if row["boot_low"] > row["regular"] or row["boot_high"] < row["regular"]:
+        side = "above" if row["boot_low"] > row["regular"] else "below"
+        return "yes", f"the interval lies {side} the regular value"
+    if row["regular"] - tolerance <= row["boot_low"] and row["boot_high"] <= row["regular"] + tolerance:
+        return "yes", f"no difference: the interval lies within ±{tolerance:.3g} of the regular value"
+    return "no", "the interval holds the regular value and is wider than the tolerance: more seeds"
+
+
+def claim_table(summary: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
+    """The thesis's rectangular-lobe claim as one table: per random kind, grid point and test (:data:`CLAIMS`),
+    the regular value, the ensemble's mean with its bootstrap interval, whether the test is decided and why, and
+    the seeds that would decide it (from the seed-to-seed SD: the fewest whose t-interval excludes the regular
+    value or fits the tolerance).
+
+    Parameters
+    ----------
+    summary : DataFrame from :func:`ensemble_summary`.
+
+    Returns
+    -------
+    DataFrame: ``kind``, surface keys, ``test``, ``claim``, ``shows``, ``regular``, ``mean``, ``boot_low``,
+    ``boot_high``, ``seeds``, ``decided`` ("yes", "no" or "–"), ``why``, ``seeds_to_decide`` (Int64, <NA> where
+    it cannot be estimated).
+    """
+    from scipy import stats as sps
+
+    rows = []
+    part = summary[summary["statistic"].isin(list(CLAIMS))]
+    for _, r in part.iterrows():
+        rule = CLAIMS[r["statistic"]]
+        decided, why = _decision(r, rule)
+        need = pd.NA
+        if np.isfinite(r["sd"]) and r["sd"] > 0 and np.isfinite(r["regular"]):
+            tolerance = rule["absolute"] if rule["absolute"] is not None else rule["relative"] * abs(r["regular"])
+            target = max(abs(r["mean"] - r["regular"]), tolerance / 2.0)
+            n = np.arange(2, 10_001)
+            ok = np.flatnonzero(sps.t.ppf(0.5 + level / 2, n - 1) * r["sd"] / np.sqrt(n) <= target)
+            need = int(n[ok[0]]) if len(ok) else 10_000
+        rows.append({"kind": r["kind"], "truncation": r["truncation"], "aspect": r["aspect"],
+                     "incidence": r["incidence"], "test": r["statistic"], "claim": rule["claim"],
+                     "shows": rule["shows"], "regular": r["regular"], "mean": r["mean"], "boot_low": r["boot_low"],
+                     "boot_high": r["boot_high"], "seeds": int(r["seeds"]), "decided": decided, "why": why,
+                     "seeds_to_decide": need})
+    out = pd.DataFrame(rows)
+    if len(out):
+        out["seeds_to_decide"] = pd.array(out["seeds_to_decide"], dtype="Int64")
+    return out
 
 
 def seeds_needed(summary: pd.DataFrame, relative_widths=(0.1, 0.05, 0.02), level: float = 0.95,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .page_templates import caption_text, existing, frame_or_none, interval, plain_text, render, render_macro
+from .page_templates import caption_text, existing, frame_or_none, plain_text, render, render_macro
 
 # ---------------------------------------------------------------------------
 # the renderer at every view
@@ -128,30 +128,35 @@ RANDOM_MODELS = {
 
 
 def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
-    """The thesis's rectangular-lobe claim in numbers: back-lobe rectangularity and phase shift, regular against
-    each random kind's ensemble (mean and 95% interval over seeds, one-sample t-test against the regular value)."""
-    claim = ensembles[ensembles["statistic"].isin(["back_rectangularity", "back_phase_shift"])]
+    """The thesis's rectangular-lobe claim as the page shows it: one row per random kind, grid point and test
+    (:func:`roughlight.analysis.ensembles.claim_table`), the ensemble's mean with its 95% bootstrap interval over
+    seeds, whether the test is decided and why, and the seeds that would decide it."""
+    from ..analysis.ensembles import claim_table
+
+    if "boot_low" not in ensembles:  # an ensembles table written before the bootstrap intervals
+        ensembles = ensembles.assign(boot_low=np.nan, boot_high=np.nan)
+    claims = claim_table(ensembles)
     rows = []
-    for _, r in claim.iterrows():
-        rows.append({"kind": r["kind"], "truncation": r["truncation"], "aspect": r["aspect"],
-                     "incidence": r["incidence"], "statistic": r["statistic"], "regular": r["regular"],
-                     "random mean [95% CI]": interval(r), "seeds": int(r["seeds"]), "t": r["t"],
-                     "p_value": r["p_value"], "seed-averaged views": r.get("pooled", np.nan)})
+    for _, r in claims.iterrows():
+        if np.isfinite(r["boot_low"]):
+            value = f"{r['mean']:.3g} [{r['boot_low']:.3g}, {r['boot_high']:.3g}]"
+        else:
+            value = f"{r['mean']:.3g}" if np.isfinite(r["mean"]) else "–"
+        rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
+                     "incidence": r["incidence"], "test": r["test"].replace("back_", "").replace("_", " "),
+                     "regular": r["regular"], "random mean [95% bootstrap]": value, "seeds": r["seeds"],
+                     "decided": r["decided"], "why": r["why"], "seeds to decide": r["seeds_to_decide"]})
     return pd.DataFrame(rows)
 
 
-def _verdicts(ensembles: pd.DataFrame) -> list[dict]:
-    """Per kind and grid point with a regular back lobe: its rectangularity and phase shift rows."""
-    out = []
-    for (kind, t, a, i), g in ensembles.groupby(["kind", "truncation", "aspect", "incidence"], sort=True):
-        rect = g[g["statistic"] == "back_rectangularity"]
-        shift = g[g["statistic"] == "back_phase_shift"]
-        if rect.empty or not np.isfinite(rect["regular"].iloc[0]):
-            continue
-        r, sh = rect.iloc[0], shift.iloc[0]
-        out.append({"kind": kind, "t": t, "a": a, "i": i, "rect": r, "shift": sh,
-                    "rect_pooled": r.get("pooled", np.nan), "shift_pooled": sh.get("pooled", np.nan)})
-    return out
+def _claim_tests() -> list[dict]:
+    """Each test of the claim: its name, the claim it puts and what its statistic shows."""
+    from ..analysis.ensembles import CLAIMS
+
+    return [{"test": name.replace("back_", "").replace("_", " "), "claim": rule["claim"], "shows": rule["shows"],
+             "tolerance": (f"±{rule['absolute']:g}°" if rule["absolute"] is not None
+                           else f"±{100 * rule['relative']:g}% of the regular value")}
+            for name, rule in CLAIMS.items()]
 
 
 def _best_models(fits: pd.DataFrame) -> list[dict]:
@@ -191,12 +196,12 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
               for png, stem, alt in ((ensembles_png, "random_ensembles", "ensembles"), (maps_png, "random_maps", "maps"))
               if existing(png)]
     shown = ensembles[[c for c in ("kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean",
-                                   "ci_low", "ci_high", "regular", "difference", "p_value", "pooled") if c in ensembles]]
+                                   "boot_low", "boot_high", "regular", "difference", "pooled") if c in ensembles]]
     rmse = [c for c in model_fits.columns if c.startswith("rmse_")]
     fits = model_fits.groupby(["kind", "truncation", "aspect", "incidence"], as_index=False)[rmse].mean()
     needed = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
     return render("random.html", s={
-        "settings": surface_settings or {}, "ellipse_fill": ELLIPSE_FILL, "verdicts": _verdicts(ensembles),
+        "settings": surface_settings or {}, "ellipse_fill": ELLIPSE_FILL, "tests": _claim_tests(),
         "claim": random_claim_rows(ensembles), "charts": charts, "shown": shown, "best": _best_models(fits),
         "fits": fits, "seeds": seeds_needed[["kind", "truncation", "aspect", "incidence", "statistic", "mean", "sd"]
                                             + needed],

@@ -3,7 +3,7 @@ the helpers every section's module shares.
 
 The templates hold the page's layout and sentences; Python hands them data frames, numbers and plain strings.
 Numbers are formatted by the filters registered here (``cell`` for a table cell, ``fmt`` for a format spec,
-``domain`` for a safe-domain bound, ``aspect`` for an aspect's label, ``interval`` for a mean and its interval),
+``domain`` for a safe-domain bound, ``aspect`` for an aspect's label),
 figures are inlined by ``png_data_uri``. Autoescape is on: every string a template prints is escaped.
 """
 
@@ -88,15 +88,6 @@ def domain(v) -> str:
     return f"{v:.3g}"
 
 
-def interval(row) -> str:
-    """A random ensemble's mean with its 95% interval over seeds (``mean``, ``ci_low``, ``ci_high``)."""
-    if not np.isfinite(row["mean"]):
-        return "– (no lobe)"
-    if not np.isfinite(row["ci_low"]):
-        return f"{row['mean']:.3g} (one seed: no interval)"
-    return f"{row['mean']:.3g} [{row['ci_low']:.3g}, {row['ci_high']:.3g}]"
-
-
 def rows(df: pd.DataFrame) -> list[list]:
     """A frame's rows as lists of values, as ``iterrows`` gives them (a row of numbers only is all floats)."""
     return [list(row.to_numpy()) for _, row in df.iterrows()]
@@ -116,7 +107,7 @@ def environment() -> jinja2.Environment:
     """The templates' environment (autoescape on, undefined names an error), loaded from the installed package."""
     env = jinja2.Environment(loader=jinja2.PackageLoader("roughlight.report", "templates"), autoescape=True,
                              undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
-    env.filters.update(cell=cell, fmt=fmt, domain=domain, interval=interval, rows=rows, aspect=aspect_label,
+    env.filters.update(cell=cell, fmt=fmt, domain=domain, rows=rows, aspect=aspect_label,
                        png_data_uri=png_data_uri)
     env.tests["finite"] = finite
     env.globals["table_captions"] = TABLE_CAPTIONS
