@@ -84,6 +84,9 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
     render_settings : dict
         How the method sampled (:func:`roughlight.render.measure.recorded_settings`):
         ``pixels_per_period``, ``sampling``, ``shadow_map_size``.
+
+    The columns are built from their buffers (:func:`_column`, :func:`_labels`): ``pyarrow.array`` imports pandas
+    on its first call, 0.15 s of every sweep job, which needs none of it.
     """
     import pyarrow as pa
 
@@ -94,33 +97,57 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
     from ..surfaces.roughness import kind_and_seed
 
     kind, seed = kind_and_seed(surface)
+    rows = n * k
     columns = {
-        "kind": pa.array([kind] * (n * k), pa.dictionary(pa.int8(), pa.string())),
-        "seed": np.full(n * k, seed, np.int64),
-        "truncation": np.full(n * k, surface.truncation),
-        "aspect": np.full(n * k, surface.aspect),
-        "incidence": np.full(n * k, float(incidence)),
+        "kind": _labels([kind], np.zeros(rows, np.int8)),
+        "seed": np.full(rows, seed, np.int64),
+        "truncation": np.full(rows, surface.truncation),
+        "aspect": np.full(rows, surface.aspect),
+        "incidence": np.full(rows, float(incidence)),
         "azimuth": np.repeat(azimuth, k),
         "elevation": np.repeat(elevation, k),
         "phase": np.repeat(phase_angle(incidence, elevation, azimuth), k),
-        "component": pa.DictionaryArray.from_arrays(
-            np.tile(np.arange(k, dtype=np.int8), n), pa.array(COMPONENTS)
-        ),
+        "component": _labels(COMPONENTS, np.tile(np.arange(k, dtype=np.int8), n)),
         "value": np.stack([np.asarray(result[c], float) for c in COMPONENTS], axis=1).ravel(),
         "coverage": np.repeat(np.asarray(result["coverage"], float), k),
-        "light": np.full(n * k, float(lighting.light)),
-        "ambient": np.full(n * k, float(lighting.ambient)),
-        "shininess": np.full(n * k, float(lighting.shininess)),
-        "specular_model": pa.array([lighting.specular_model] * (n * k), pa.dictionary(pa.int8(), pa.string())),
-        "shadows": np.full(n * k, bool(lighting.shadows)),
-        "specular_shadows": np.full(n * k, bool(lighting.specular_shadows)),
-        "method": pa.array([method] * (n * k), pa.dictionary(pa.int8(), pa.string())),
-        "pixels_per_period": np.full(n * k, int(render_settings["pixels_per_period"]), np.int64),
-        "sampling": pa.array([render_settings["sampling"]] * (n * k), pa.dictionary(pa.int8(), pa.string())),
-        "shadow_map_size": np.full(n * k, int(render_settings["shadow_map_size"]), np.int64),
-        "render_seconds": np.full(n * k, float(result["seconds"])),
+        "light": np.full(rows, float(lighting.light)),
+        "ambient": np.full(rows, float(lighting.ambient)),
+        "shininess": np.full(rows, float(lighting.shininess)),
+        "specular_model": _labels([lighting.specular_model], np.zeros(rows, np.int8)),
+        "shadows": np.full(rows, bool(lighting.shadows)),
+        "specular_shadows": np.full(rows, bool(lighting.specular_shadows)),
+        "method": _labels([method], np.zeros(rows, np.int8)),
+        "pixels_per_period": np.full(rows, int(render_settings["pixels_per_period"]), np.int64),
+        "sampling": _labels([render_settings["sampling"]], np.zeros(rows, np.int8)),
+        "shadow_map_size": np.full(rows, int(render_settings["shadow_map_size"]), np.int64),
+        "render_seconds": np.full(rows, float(result["seconds"])),
     }
-    return pa.table(columns)
+    names = list(columns)
+    return pa.Table.from_arrays([c if isinstance(c, pa.Array) else _column(c) for c in columns.values()],
+                                names=names)
+
+
+def _column(values: np.ndarray):
+    """A pyarrow array of a 1-D numpy array of float64, int64 or bool, from its buffer (no pandas)."""
+    import pyarrow as pa
+
+    values = np.ascontiguousarray(values)
+    if values.dtype == bool:
+        bits = np.packbits(values, bitorder="little")
+        return pa.Array.from_buffers(pa.bool_(), len(values), [None, pa.py_buffer(bits)])
+    kinds = {np.dtype(np.float64): pa.float64(), np.dtype(np.int64): pa.int64()}
+    return pa.Array.from_buffers(kinds[values.dtype], len(values), [None, pa.py_buffer(values)])
+
+
+def _labels(labels, codes: np.ndarray):
+    """A dictionary array (int8 codes into ``labels``, strings) from its buffers (no pandas)."""
+    import pyarrow as pa
+
+    data = [str(label).encode() for label in labels]
+    offsets = np.concatenate([[0], np.cumsum([len(d) for d in data])]).astype(np.int32)
+    strings = pa.StringArray.from_buffers(len(data), pa.py_buffer(offsets), pa.py_buffer(b"".join(data)))
+    indices = pa.Array.from_buffers(pa.int8(), len(codes), [None, pa.py_buffer(np.ascontiguousarray(codes, np.int8))])
+    return pa.DictionaryArray.from_arrays(indices, strings)
 
 
 def read_sweep(path):
