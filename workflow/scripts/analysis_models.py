@@ -5,14 +5,13 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
-import pandas as pd  # noqa: E402
 
 from roughlight.analysis.steps import analysis_models  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.study.tables import regular  # noqa: E402
+from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
-study = regular(pd.read_parquet(snakemake.input.study))  # the random ensembles: analysis_random.py
+study = read_study(snakemake.input.study, regular_only=True)  # the random ensembles: analysis_random.py
 tables = analysis_models(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])

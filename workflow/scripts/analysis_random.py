@@ -6,15 +6,15 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
-import pandas as pd  # noqa: E402
 
 from roughlight.analysis.steps import analysis_random  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
+from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output
-study = pd.read_parquet(snakemake.input.study)
+study = read_study(snakemake.input.study)
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, out[name])

@@ -14,7 +14,7 @@ import pandas as pd  # noqa: E402
 
 from roughlight.atomic import read_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
-from roughlight.study.tables import regular  # noqa: E402
+from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 
@@ -27,9 +27,10 @@ class Inputs(dict):
 
     def __missing__(self, name):
         path = snakemake.input[name]
-        frame = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
         if name == "study":  # the thesis's figures are of the regular surface; the random ones: analysis_random.py
-            frame = regular(frame)
+            frame = read_study(path, regular_only=True)
+        else:
+            frame = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
         self[name] = frame
         return frame
 

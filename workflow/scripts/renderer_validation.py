@@ -8,13 +8,13 @@ os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
-import pandas as pd  # noqa: E402
 
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import renderer_validation  # noqa: E402
 from roughlight.render import shading  # noqa: E402
 from roughlight.render.sampling import RenderSettings  # noqa: E402
 from roughlight.report import figures  # noqa: E402
+from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
@@ -22,7 +22,7 @@ settings = RenderSettings(**snakemake.params.render)
 validation = renderer_validation.validate_renderer(snakemake.wildcards.plan, lighting=lighting, settings=settings,
                                                    log=log)
 write_frame(validation, snakemake.output.validation)
-smoothness = renderer_validation.arc_smoothness(pd.read_parquet(snakemake.input.study),
+smoothness = renderer_validation.arc_smoothness(read_study(snakemake.input.study, regular_only=True),
                                                 aspects=snakemake.params.table_aspects,
                                                 incidence=snakemake.params.table_incidence, lighting=lighting)
 write_frame(smoothness, snakemake.output.smoothness)
