@@ -53,8 +53,10 @@ slurm:
 study: setup
 	$(BIN)/snakemake --cores $(CORES)
 
+# the suite on both cores (pytest-xdist): each worker its own OSMesa contexts and temporary workflow copies
+TEST_WORKERS ?= 2
 test: setup chromium slurm style
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS)
 
 # the study on a single-node SLURM brought up here, through profiles/slurm, against a local run (a few minutes)
 cluster-test: setup slurm
