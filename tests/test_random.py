@@ -237,7 +237,7 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     rect = summary[(summary.statistic == "back_rectangularity")].iloc[0]
     # the claim table's row: the regular value, the bootstrap interval, and a decision with its reason
     assert f"<td>{rect['regular']:.3f}</td>" in html
-    assert f"{rect['mean']:.3g} [{rect['boot_low']:.3g}, {rect['boot_high']:.3g}]" in html
+    assert f"{rect['mean']:.3g} [" in html and "decided" in html
     assert 0.0 <= rect["boot_low"] <= rect["mean"] <= rect["boot_high"] <= 1.0
 
 
@@ -329,9 +329,11 @@ def test_the_claim_table_decides_each_test_or_says_why():
     def row(statistic, regular, values):
         v = np.asarray(values, float)
         low, high = E.bootstrap_interval(v)
+        half = 2.0 * v.std(ddof=1) / np.sqrt(len(v)) if len(v) > 1 else np.nan  # about a t-interval's
         return {"kind": "random_pyramids", "truncation": 1.0, "aspect": 1.0, "incidence": 30.0,
                 "statistic": statistic, "regular": regular, "mean": v.mean() if len(v) else np.nan,
-                "sd": v.std(ddof=1) if len(v) > 1 else np.nan, "seeds": len(v), "boot_low": low, "boot_high": high}
+                "sd": v.std(ddof=1) if len(v) > 1 else np.nan, "seeds": len(v), "boot_low": low, "boot_high": high,
+                "ci_low": v.mean() - half, "ci_high": v.mean() + half}
 
     summary = pd.DataFrame([
         row("back_rectangularity", 0.95, [0.80, 0.82, 0.79, 0.81]),      # below the regular value: decided
@@ -345,3 +347,23 @@ def test_the_claim_table_decides_each_test_or_says_why():
     assert "below" in claims["why"][0] and "no difference" in claims["why"][1]
     assert "more seeds" in claims["why"][2] and claims["seeds_to_decide"][2] > 4
     assert "no back lobe" in claims["why"][3] and "2 or more" in claims["why"][4]
+    # the decision interval is the wider of Student-t and bootstrap, within the statistic's range
+    assert claims["low"][0] <= summary["boot_low"][0] and claims["low"][0] <= summary["ci_low"][0]
+    wide = E.claim_table(pd.DataFrame([row("back_rectangularity", 0.5, [0.02, 0.97, 0.99])]))
+    assert 0.0 <= wide["low"][0] and wide["high"][0] <= 1.0 and wide["decided"][0] == "no"
+
+
+def test_two_seeds_decide_nothing_the_bootstrap_alone_would():
+    """Two seeds of 0.60 and 0.66: their bootstrap interval [0.60, 0.66] would call them certainly below a regular
+    0.70; the Student-t interval (t(1) = 12.7) holds 0.70, so the test is not decided, and the interval is cut
+    to rectangularity's range [0, 1]."""
+    values = np.array([0.60, 0.66])
+    low, high = E.bootstrap_interval(values)
+    assert high < 0.70
+    half = 12.706 * values.std(ddof=1) / np.sqrt(2)
+    summary = pd.DataFrame([{"kind": "random_pyramids", "truncation": 0.5, "aspect": 0.5, "incidence": 30.0,
+                             "statistic": "back_rectangularity", "regular": 0.70, "mean": values.mean(),
+                             "sd": values.std(ddof=1), "seeds": 2, "boot_low": low, "boot_high": high,
+                             "ci_low": values.mean() - half, "ci_high": values.mean() + half}])
+    claims = E.claim_table(summary)
+    assert claims["decided"][0] == "no" and claims["low"][0] < 0.70 < claims["high"][0] == 1.0

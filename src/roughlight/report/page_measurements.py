@@ -129,8 +129,9 @@ RANDOM_MODELS = {
 
 def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
     """The thesis's rectangular-lobe claim as the page shows it: one row per random kind, grid point and test
-    (:func:`roughlight.analysis.ensembles.claim_table`), the ensemble's mean with its 95% bootstrap interval over
-    seeds, whether the test is decided and why, and the seeds that would decide it."""
+    (:func:`roughlight.analysis.ensembles.claim_table`), the ensemble's mean with its 95% interval over seeds
+    (:func:`roughlight.analysis.ensembles.claim_interval`), whether the test is decided and why, and the seeds that
+    would decide it."""
     from ..analysis.ensembles import claim_table
 
     if "boot_low" not in ensembles:  # an ensembles table written before the bootstrap intervals
@@ -138,13 +139,13 @@ def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
     claims = claim_table(ensembles)
     rows = []
     for _, r in claims.iterrows():
-        if np.isfinite(r["boot_low"]):
-            value = f"{r['mean']:.3g} [{r['boot_low']:.3g}, {r['boot_high']:.3g}]"
+        if np.isfinite(r["low"]):
+            value = f"{r['mean']:.3g} [{r['low']:.3g}, {r['high']:.3g}]"
         else:
             value = f"{r['mean']:.3g}" if np.isfinite(r["mean"]) else "–"
         rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
                      "incidence": r["incidence"], "test": r["test"].replace("back_", "").replace("_", " "),
-                     "regular": r["regular"], "random mean [95% bootstrap]": value, "seeds": r["seeds"],
+                     "regular": r["regular"], "random mean [95% interval]": value, "seeds": r["seeds"],
                      "decided": r["decided"], "why": r["why"], "seeds to decide": r["seeds_to_decide"]})
     return pd.DataFrame(rows)
 
