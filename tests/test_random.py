@@ -367,3 +367,27 @@ def test_two_seeds_decide_nothing_the_bootstrap_alone_would():
                              "ci_low": values.mean() - half, "ci_high": values.mean() + half}])
     claims = E.claim_table(summary)
     assert claims["decided"][0] == "no" and claims["low"][0] < 0.70 < claims["high"][0] == 1.0
+
+
+def test_read_study_keeps_exactly_the_rows_each_analysis_reads(tmp_path):
+    """The study table read a column at a time equals pandas' read of the rows each analysis keeps: the regular
+    surface's (the thesis's analyses) and the random grid points' (analysis_random), dtypes and order included."""
+    from roughlight.study.tables import read_study, regular
+
+    rng = np.random.default_rng(3)
+    points = [("pyramids", 0, 0.5, 1.0), ("pyramids", 0, 1.0, 1.0), ("random_pyramids", 1, 1.0, 1.0),
+              ("random_heightfield", 2, 1.0, 1.0), ("pyramids", 0, 1.0, 0.5)]
+    frames = [pd.DataFrame({"kind": kind, "seed": seed, "truncation": t, "aspect": a,
+                            "component": ["diffuse", "specular", "total"] * 4, "rough": rng.uniform(0, 255, 12),
+                            "shadows": True}) for kind, seed, t, a in points]
+    path = tmp_path / "study.parquet"
+    pd.concat(frames, ignore_index=True).to_parquet(path)
+    whole = pd.read_parquet(path)
+    pd.testing.assert_frame_equal(read_study(path), whole, check_exact=True)
+    pd.testing.assert_frame_equal(read_study(path, rows="regular"), regular(whole), check_exact=True)
+    kept = read_study(path, rows="random_points")
+    assert set(zip(kept["kind"], kept["truncation"], kept["aspect"])) == {
+        ("pyramids", 1.0, 1.0), ("random_pyramids", 1.0, 1.0), ("random_heightfield", 1.0, 1.0)}
+    pd.testing.assert_frame_equal(E.random_points(kept), E.random_points(whole), check_exact=True)
+    with pytest.raises(ValueError, match="rows must be one of"):
+        read_study(path, rows="random")

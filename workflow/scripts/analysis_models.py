@@ -11,7 +11,7 @@ from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
-study = read_study(snakemake.input.study, regular_only=True)  # the random ensembles: analysis_random.py
+study = read_study(snakemake.input.study, rows="regular")  # the random ensembles: analysis_random.py
 tables = analysis_models(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])

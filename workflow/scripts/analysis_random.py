@@ -14,7 +14,7 @@ from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output
-study = read_study(snakemake.input.study)
+study = read_study(snakemake.input.study, rows="random_points")  # all that analysis_random reads
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, out[name])

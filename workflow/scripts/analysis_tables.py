@@ -12,7 +12,7 @@ from roughlight.atomic import write_frame, write_text_atomic  # noqa: E402
 from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
-study = read_study(snakemake.input.study, regular_only=True)  # the random ensembles: analysis_random.py
+study = read_study(snakemake.input.study, rows="regular")  # the random ensembles: analysis_random.py
 log(f"study: {len(study)} rows from {snakemake.input.study}")
 tables, summary = analysis_tables(study, snakemake.params.settings, snakemake.params.lighting, log=log)
 for name, frame in tables.items():

@@ -28,7 +28,7 @@ class Inputs(dict):
     def __missing__(self, name):
         path = snakemake.input[name]
         if name == "study":  # the thesis's figures are of the regular surface; the random ones: analysis_random.py
-            frame = read_study(path, regular_only=True)
+            frame = read_study(path, rows="regular")
         else:
             frame = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
         self[name] = frame

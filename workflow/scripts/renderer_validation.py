@@ -22,7 +22,7 @@ settings = RenderSettings(**snakemake.params.render)
 validation = renderer_validation.validate_renderer(snakemake.wildcards.plan, lighting=lighting, settings=settings,
                                                    log=log)
 write_frame(validation, snakemake.output.validation)
-smoothness = renderer_validation.arc_smoothness(read_study(snakemake.input.study, regular_only=True),
+smoothness = renderer_validation.arc_smoothness(read_study(snakemake.input.study, rows="regular"),
                                                 aspects=snakemake.params.table_aspects,
                                                 incidence=snakemake.params.table_incidence, lighting=lighting)
 write_frame(smoothness, snakemake.output.smoothness)

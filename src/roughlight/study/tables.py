@@ -216,29 +216,61 @@ def join_controls(rough, control):
     return study
 
 
-def read_study(path, regular_only: bool = False):
-    """Read the study table (``results/study.parquet``), or only its regular surface's rows.
+#: Which rows :func:`read_study` keeps.
+STUDY_ROWS = ("all", "regular", "random_points")
 
-    The file is read a column at a time, each converted to pandas and its Arrow memory dropped before the next,
-    and the frame is assembled without copying the columns: the read peaks near the frame's own size (the
-    regular rows of the default study, a 0.42 GB frame: 0.52 GB over the interpreter's own, where reading the
-    table whole and converting it took 0.87 GB). With ``regular_only`` the random tiles' rows are left out of every column
-    as it is read. The frame equals ``regular(pd.read_parquet(path))`` (or ``pd.read_parquet(path)``) exactly.
+
+def read_study(path, rows: str = "all"):
+    """Read the study table (``results/study.parquet``), or part of its rows.
+
+    Parameters
+    ----------
+    path : str
+    rows : str
+        ``"all"``; ``"regular"``: the regular surface's rows (what :func:`regular` keeps); ``"random_points"``:
+        the random tiles' rows and the regular surface's at their grid points (what
+        :func:`roughlight.analysis.ensembles.random_points` keeps; all rows when there is no random tile).
+
+    The file is read a column at a time, each converted to pandas, cut to the rows kept, and its Arrow memory
+    dropped before the next; the frame is assembled without copying the columns. The read peaks near the
+    frame's own size (the regular rows of the default study, a 0.42 GB frame: 0.52 GB over the interpreter's
+    own, where reading the table whole and converting it took 0.87 GB). The frame equals the rows of
+    ``pd.read_parquet(path)`` kept, in their order, with a fresh index.
     """
     import pandas as pd
-    import pyarrow.compute as pc
     import pyarrow.parquet as pq
 
+    if rows not in STUDY_ROWS:
+        raise ValueError(f"rows must be one of {STUDY_ROWS}, got {rows!r}")
     names = pq.read_schema(path).names
-    keep = None
-    if regular_only and "kind" in names:
-        keep = pc.equal(pq.read_table(path, columns=["kind"]).column(0), "pyramids")
+    keep = _kept_rows(path, rows) if "kind" in names else None
     columns = {}
     for name in names:
         column = pq.read_table(path, columns=[name]).column(0)
         columns[name] = (column if keep is None else column.filter(keep)).to_pandas()
         del column
     return pd.DataFrame(columns, copy=False)
+
+
+def _kept_rows(path, rows: str):
+    """The boolean mask (a pyarrow array, or None for every row) of the rows :func:`read_study` keeps."""
+    import pyarrow.compute as pc
+    import pyarrow.parquet as pq
+
+    if rows == "all":
+        return None
+    kind = pq.read_table(path, columns=["kind"]).column(0)
+    is_regular = pc.equal(kind, "pyramids")
+    if rows == "regular":
+        return is_regular
+    if pc.all(is_regular).as_py():
+        return None
+    grid = pq.read_table(path, columns=["truncation", "aspect"])
+    points = grid.filter(pc.invert(is_regular)).group_by(["truncation", "aspect"]).aggregate([])
+    keep = pc.invert(is_regular)
+    for t, a in zip(points.column("truncation").to_pylist(), points.column("aspect").to_pylist()):
+        keep = pc.or_(keep, pc.and_(pc.equal(grid.column("truncation"), t), pc.equal(grid.column("aspect"), a)))
+    return keep
 
 
 def regular(study):
