@@ -153,11 +153,14 @@ def case_provenance(png):
 def case_renderer_validation(png):
     smooth = pd.DataFrame({"figure": ["fig <21>"], "truncation": [0.5], "aspect": [0.8660254], "at_elevation": [150.0],
                            "largest_deviation": [0.456]})
+    tiles = {"table": pd.DataFrame({"kind": ["random_<x>"], "worst": [0.78]}), "worst": 0.78, "largest_mae": 0.085}
     s = {"line": line(), "png": None, "validation": pd.DataFrame({"component": ["<d>"]}), "smoothness": smooth,
-         "worst": smooth.iloc[0]}
+         "worst": smooth.iloc[0], "tiles": tiles}
     return {"s": s}, ["(2 surfaces x 12,345 views", "the configured renderer: worst view total &lt;c&gt; 0.61 (p99 "
                       "0.40, MAE up to 0.021), 4,321 views/s.", "&lt;d&gt;", "is 0.46 (fig &lt;21&gt;, truncation 0.5, "
-                      "aspect 0.866, e = 150)", 'id="arc-smoothness"'], ["<d>", "<21>", "fig-renderer-validation"]
+                      "aspect 0.866, e = 150)", 'id="arc-smoothness"', "the worst view of any tile is 0.78 of an 8-bit "
+                      "level", "largest MAE of a tile's component 0.085", 'id="renderer-validation-tiles"',
+                      "random_&lt;x&gt;"], ["<d>", "<21>", "fig-renderer-validation", "<x>"]
 
 
 def case_stability(png):

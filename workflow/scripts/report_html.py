@@ -57,10 +57,13 @@ if "implicit_chart" in inp.keys():  # report.implicit
                                        maps_png_path=inp.implicit_maps_chart)
 random_html = None
 if "random_ensembles" in inp.keys():  # surface.kind lists a random kind
+    tile_accuracy = pd.read_parquet(inp.random_accuracy)
+    if benchmarks:  # "Accuracy at every view" lists the random tiles too
+        benchmarks["tiles"] = tile_accuracy
     random_html = R.random_section(read_frame(inp.random_ensembles), read_frame(inp.random_seeds_needed),
                                    pd.read_parquet(inp.random_model_fits), inp.random_ensembles_chart,
                                    inp.random_maps_chart, surface_settings=snakemake.params.surface,
-                                   accuracy=pd.read_parquet(inp.random_accuracy),
+                                   accuracy=tile_accuracy,
                                    convergence=pd.read_parquet(inp.tile_convergence),
                                    tiles_png=inp.random_tiles_chart, plan=snakemake.params.plan)
 provenance = {

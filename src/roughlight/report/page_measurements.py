@@ -39,12 +39,30 @@ def renderer_validation_line(validation: pd.DataFrame) -> str:
     return plain_text(render_macro("macros.html", "validation_line", validation_line(validation)))
 
 
-def renderer_validation_data(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None) -> dict:
-    """The data of ``templates/renderer_validation.html``."""
+def renderer_validation_data(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None,
+                             tiles: pd.DataFrame | None = None) -> dict:
+    """The data of ``templates/renderer_validation.html``; ``tiles``: the random tiles against the exact reference
+    (rule ``random_tiles``'s ``random_accuracy``), or None when no random kind is measured."""
     smoothness = frame_or_none(smoothness)
     worst = smoothness.sort_values("largest_deviation", ascending=False).iloc[0] if smoothness is not None else None
     return {"line": validation_line(validation), "png": existing(png_path), "validation": validation,
-            "smoothness": smoothness, "worst": worst}
+            "smoothness": smoothness, "worst": worst, "tiles": _tile_accuracy(frame_or_none(tiles))}
+
+
+def _tile_accuracy(accuracy: pd.DataFrame | None) -> dict | None:
+    """Per random kind: the tiles compared, their views, the worst view and the largest MAE over components."""
+    if accuracy is None or "kind" not in accuracy:
+        return None
+    tiles = accuracy[accuracy["kind"] != "pyramids"]
+    if tiles.empty:
+        return None
+    keys = [c for c in ("truncation", "aspect", "cells", "seed") if c in tiles]
+    table = tiles.groupby("kind", sort=True).agg(
+        tiles=("seed", lambda s: len(tiles.loc[s.index, keys].drop_duplicates())), views=("views", "sum"),
+        refused=("reference_refused", "sum"), worst=("worst", "max"), largest_mae=("mae", "max")).reset_index()
+    table["views"] = table["views"] // 3  # one row a component
+    table["refused"] = table["refused"] // 3
+    return {"table": table, "worst": float(tiles["worst"].max()), "largest_mae": float(tiles["mae"].max())}
 
 
 def renderer_validation_html(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None) -> str:

@@ -173,7 +173,7 @@ def _benchmarks(benchmarks: dict | None) -> dict | None:
     validation = benchmarks.get("validation")
     return {"png": existing(benchmarks.get("png")), "table": benchmarks.get("table"),
             "validation": None if validation is None else renderer_validation_data(
-                validation, benchmarks.get("smoothness"), benchmarks.get("validation_png"))}
+                validation, benchmarks.get("smoothness"), benchmarks.get("validation_png"), benchmarks.get("tiles"))}
 
 
 def provenance_section(tables: dict, figures: dict, config, provenance: dict, benchmarks, versions: dict) -> dict:
