@@ -110,41 +110,59 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     views = np.atleast_2d(np.asarray(views, float))
     shears = views[:, :2] / views[:, 2:3]
     plan = region_plan_areas(regions)
-    areas, whole = projected_areas(regions, plan, shears)
-    share = np.where(whole[:, None], areas, 0.0)
-    hidden = np.flatnonzero(~whole)
+    n_views, n_facets = len(views), len(regions.normals)
+    lit, shadow = np.zeros((n_views, n_facets)), np.zeros((n_views, n_facets))
+    det = 1.0 - regions.alpha[None, :] * shears[:, 0:1] - regions.beta[None, :] * shears[:, 1:2]
+    whole = np.flatnonzero(np.all(det > FACING, axis=1))
+    del det
+    # (views, regions) arrays a batch at a time: whole, they take gigabytes on large tiles
+    for first in range(0, whole.size, 1024):
+        idx = whole[first:first + 1024]
+        _store(lit, shadow, idx, projected_areas(regions, plan, shears[idx])[0])
+    hidden = np.setdiff1d(np.arange(n_views), whole)
     if hidden.size:
-        visible, total, per_tile = _count(surface, incidence, views, shears, hidden, lighting, settings,
-                                          _lit_state(regions, plan))
-        ratio = np.where(total > 0.5, areas[hidden] * visible / np.maximum(total, 1.0), visible / per_tile)
-        sums = ratio.sum(axis=1, keepdims=True)
-        share[hidden] = np.where(sums > 0, ratio / np.where(sums > 0, sums, 1.0), 0.0)
-    return share[:, 0::2], share[:, 1::2], regions
+        for idx, visible, total, per_tile in _counted_batches(surface, incidence, views, shears, hidden, lighting,
+                                                              settings, _lit_state(regions, plan)):
+            areas = projected_areas(regions, plan, shears[idx])[0]
+            ratio = np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile)
+            sums = ratio.sum(axis=1, keepdims=True)
+            _store(lit, shadow, idx, np.where(sums > 0, ratio / np.where(sums > 0, sums, 1.0), 0.0))
+    return lit, shadow, regions
+
+
+def _store(lit, shadow, idx, share) -> None:
+    """Put the (n, R) region shares ``share`` of the views ``idx`` into the (V, F) ``lit`` and ``shadow``."""
+    lit[idx] = share[:, 0::2]
+    shadow[idx] = share[:, 1::2]
 
 
 def _count(surface, incidence, views, shears, hidden, lighting, settings, lit_state):
     """Visible and total pixel counts (H, R) of each region in each of the views ``hidden`` (indices into
-    ``views``), and a tile's pixel count."""
+    ``views``, in order), and a tile's pixel count: :func:`_counted_batches` gathered."""
+    batches = list(_counted_batches(surface, incidence, views, shears, hidden, lighting, settings, lit_state))
+    per_tile = batches[0][3]
+    return (np.concatenate([b[1] for b in batches]), np.concatenate([b[2] for b in batches]), per_tile)
+
+
+def _counted_batches(surface, incidence, views, shears, hidden, lighting, settings, lit_state):
+    """For each framebuffer of the views ``hidden`` (indices into ``views``): those views' indices, their visible
+    and total pixel counts (n, R) of each region, and a tile's pixel count."""
     light_dir = shading.light_direction(incidence)
     matrix = settings.sampling_matrix()
     side = min(int(settings.max_framebuffer), FRAMEBUFFER)
     width, height_px, slots, pixel_order = cached_layout(matrix, hidden.size, side)
     ctx = context(width, height_px, int(settings.shadow_map_size))
     scene = make_scene(ctx, surface, light_dir, lighting, settings, None)
-    n_regions = 2 * len(lit_state)
-    visible = np.zeros((hidden.size, n_regions))
-    total = np.zeros((hidden.size, n_regions))
+    per_tile = len(pixel_order) // len(slots)
     buffer = gl.glGenBuffers(1)
     try:
         for first in range(0, hidden.size, len(slots)):
             idx = hidden[first:first + len(slots)]
             poses = batch_poses(scene.height, views, shears, idx, slots, np.zeros(2))
             seen, behind = _count_batch(scene, poses, matrix, width, height_px, buffer, idx.size, lit_state)
-            visible[first:first + idx.size] = seen
-            total[first:first + idx.size] = seen + behind
+            yield idx, seen, seen + behind, per_tile
     finally:
         gl.glDeleteBuffers(1, [buffer])
-    return visible, total, len(pixel_order) // len(slots)
 
 
 def _count_batch(scene, poses, matrix, width, height_px, buffer, n_views, lit_state):
