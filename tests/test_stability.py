@@ -36,13 +36,14 @@ def frames():
     clipping = stability.clipping_scan(((PLATE, 30.0), (Surface(1.0, 1.0), 30.0)), elevation_step=5.0)
     normals = stability.normals_scan([(Surface(0.5, 1.0), 30.0)], views=(np.array([0.0, 0.0, 45.0, 90.0]),
                                                                  np.array([60.0, 150.0, 120.0, 40.0])))
-    return pd.concat([pixels, elevation, shadows, shininess, clipping, normals], ignore_index=True)
+    tiles = stability.tile_pixel_scan(kinds=("random_pyramids",), pixels=(4, 16), views=(30.0, 60.0))
+    return pd.concat([pixels, elevation, shadows, shininess, clipping, normals, tiles], ignore_index=True)
 
 
 def test_long_format(frames):
     assert list(frames.columns) == ["experiment", "method", "variable", "x", "setting", "component", "metric", "value"]
     assert set(frames["experiment"]) == {"pixels", "elevation", "shadow_bias", "shadow_map", "shininess", "clipping",
-                                         "normals"}
+                                         "normals", "tile_pixels"}
 
 
 def test_fast_error_and_jitter_fall_with_pixels(frames):
@@ -80,7 +81,8 @@ def test_clipping_only_at_255(frames):
 
 def test_safe_domain_and_report(frames, tmp_path):
     safe = stability.safe_domain(frames)
-    assert list(safe["method"]) == ["naive", "fast"]
+    assert list(safe["method"]) == ["naive", "fast", "fast tiles (random pyramids, adaptive)",
+                                    "fast tiles (random pyramids, lattice)"]
     fast = safe.set_index("method").loc["fast"]
     for column in ("min_pixels_per_period", "min_elevation", "min_incidence", "max_shininess", "min_shadow_map_size"):
         assert np.isfinite(fast[column]), column
@@ -98,7 +100,7 @@ def test_safe_domain_and_report(frames, tmp_path):
     assert html.startswith('<section id="stability"><h2>Where methods fail</h2>')
     assert "data:image/png;base64," in html and html.endswith("</section>")
     assert html.count('<table class="stability">') == 1 and html.count('<table class="stability-normals">') == 1
-    assert html.count("<tr>") == 3 + 4  # safe domain: head + 2 methods; normals: head + 3 models
+    assert html.count("<tr>") == 5 + 4  # safe domain: head + 2 methods + 2 tile samplings; normals: head + 3 models
 
 
 def test_averaged_normals_change_every_lit_component(frames):
@@ -130,3 +132,18 @@ def test_every_plan_names_every_measurement():
     assert set(stability.PLANS) == {"full", "quick"}
     for plan in stability.PLANS.values():
         assert set(plan) == set(stability.MEASUREMENTS)
+
+
+def test_random_tiles_sampling_converges_and_adaptive_beats_lattice(frames):
+    """The random tiles' scan (pixels a cell): each sampling's error falls as the pixels grow, the default
+    (adaptive, counted on the GL side) is within tolerance at its 16 pixels a cell and below lattice sampling
+    there, and the safe domain says from how many pixels each is within tolerance."""
+    tiles = frames[(frames["experiment"] == "tile_pixels") & (frames["metric"] == "mae")]
+    worst = tiles.groupby(["method", "x"])["value"].max()
+    adaptive, lattice = "fast tiles (random pyramids, adaptive)", "fast tiles (random pyramids, lattice)"
+    for method in (adaptive, lattice):
+        assert worst[(method, 16.0)] < worst[(method, 4.0)]
+    assert worst[(adaptive, 16.0)] <= stability.TOLERANCE and worst[(adaptive, 16.0)] < worst[(lattice, 16.0)]
+    safe = stability.safe_domain(frames).set_index("method")
+    assert safe.loc[adaptive, "min_pixels_per_period"] in (4.0, 16.0)
+    assert np.isnan(safe.loc[adaptive, "min_elevation"])  # the tiles are scanned on pixels only

@@ -20,7 +20,8 @@ import pandas as pd
 from ..render.sampling import RenderSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 
-__all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures"]
+__all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures",
+           "tile_pixel_scan", "TILE_SAMPLINGS"]
 
 PLANS = {
     "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (2.0, 10.0),
@@ -177,3 +178,52 @@ def random_pictures(plan: str = "quick", lighting=None, cells: int = 4) -> list:
             image = render_picture(surface, i, e, phi, lighting=lighting, size=(240, 180), periods=periods)
             out.append((f"{kind.replace('_', ' ')}: {label}", np.asarray(image)))
     return out
+
+
+#: The samplings the tile scan compares: the default (adaptive: regions counted on the GL side) and the shader's
+#: tile mean (lattice), each at its own densities a cell.
+TILE_SAMPLINGS = ("adaptive", "lattice")
+
+
+def tile_method(kind: str, sampling: str) -> str:
+    """The ``method`` label of a tile scan's rows, e.g. ``fast tiles (random pyramids, adaptive)``."""
+    return f"fast tiles ({kind.replace('_', ' ')}, {sampling})"
+
+
+def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TILE_SAMPLINGS, point=(1.0, 1.0, 30.0),
+                    seed: int = 1, cells: int = 4, views=(15.0, 30.0), lighting=None) -> pd.DataFrame:
+    """Where the random tiles' sampling fails: the error against the exact reference against pixels a cell, for
+    each random kind and sampling (a row set of ``roughlight.measurements.stability``'s long frame, experiment
+    ``tile_pixels``, ``method`` :func:`tile_method`).
+
+    Parameters
+    ----------
+    kinds : random kinds measured, one tile each (``seed``, ``cells`` cells a side, at the grid point ``point``
+        (truncation, aspect, incidence))
+    pixels : pixels a cell (``render.random_tiles.pixels_per_period``)
+    views : (elevation step, azimuth step), degrees
+    """
+    from ..render.periodic import fast_sweep
+    from ..render.reference import reference_sweep
+    from ..render.shading import COMPONENTS, Lighting
+    from ..render.views import view_grid
+
+    lighting = lighting or Lighting()
+    t, a, i = point
+    azimuth, elevation = view_grid(*views)
+    seen = np.sin(np.radians(elevation)) > 1e-9
+    rows = []
+    for kind in kinds:
+        tile = make_surface(kind, t, a, seed, cells=cells)
+        exact = reference_sweep(tile, i, azimuth, elevation, lighting)
+        for sampling in samplings:
+            for p in pixels:
+                settings = RenderSettings(tile_sampling=sampling, tile_pixels_per_period=int(p))
+                fast = fast_sweep(tile, i, azimuth, elevation, lighting, settings)
+                for component in COMPONENTS:
+                    error = np.abs(fast[component] - exact[component])[seen]
+                    for metric, value in (("mae", error.mean()), ("max_error", error.max())):
+                        rows.append({"experiment": "tile_pixels", "method": tile_method(kind, sampling),
+                                     "variable": "pixels_per_cell", "x": float(p), "setting": "",
+                                     "component": component, "metric": metric, "value": float(value)})
+    return pd.DataFrame(rows)

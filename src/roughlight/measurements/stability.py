@@ -391,6 +391,13 @@ def clipping_scan(surfaces=((PLATE, 30.0),) + SURFACES, lights=(127.0, 255.0),
     return pd.DataFrame(rows)
 
 
+def tile_pixel_scan(lighting=None, **sizes) -> pd.DataFrame:
+    """The random tiles' sampling against pixels a cell (:func:`roughlight.measurements.random_tiles.tile_pixel_scan`)."""
+    from .random_tiles import tile_pixel_scan as scan
+
+    return scan(lighting=lighting, **sizes)
+
+
 #: The measurements, by name: each is one job of the workflow's stability rules.
 MEASUREMENTS = {
     "pixels": pixel_scan,
@@ -399,6 +406,7 @@ MEASUREMENTS = {
     "shininess": shininess_scan,
     "normals": normals_scan,
     "clipping": clipping_scan,
+    "tiles": tile_pixel_scan,
 }
 
 
@@ -420,6 +428,7 @@ PLANS = {
         "shininess": {"surfaces": QUICK_SURFACES, "shininess": (4.0, 64.0)},
         "normals": {"surfaces": NORMALS_SURFACES[1:2], "views": _views((30.0, 60.0, 90.0, 120.0, 150.0), (0.0, 90.0))},
         "clipping": {"surfaces": ((PLATE, 30.0),) + SURFACES[1:3], "elevation_step": 4.0},
+        "tiles": {"kinds": ("random_pyramids",), "pixels": (4, 8, 16, 24)},
     },
 }
 
@@ -476,7 +485,8 @@ def safe_domain(frames, tol=TOLERANCE) -> pd.DataFrame:
 
     Columns (NaN: no tested value is within tolerance, or not measured):
     ``min_pixels_per_period`` (and ``best_mae_pixels``, the lowest worst-component MAE
-    of that sweep), ``jitter_sd_at_min_pixels`` (0-255), ``min_elevation``
+    of that sweep; the random tiles' rows, one per kind and sampling, give only these,
+    per cell), ``jitter_sd_at_min_pixels`` (0-255), ``min_elevation``
     (degrees above the horizon, pooled with the mirror view),
     ``min_incidence`` (degrees; fast at its default bias 1e-4, naive with
     pyrender's map), ``shadow_bias_ok`` (fast: the biases within tolerance at
@@ -493,6 +503,12 @@ def safe_domain(frames, tol=TOLERANCE) -> pd.DataFrame:
         row.update(_fast_shadow_domain(frame, tol) if method == "fast" else _naive_shadow_domain(frame, tol))
         row["outside_tolerance"] = _outside_tolerance(frame, method, tol)
         rows.append(row)
+    tiles = frame[frame["experiment"] == "tile_pixels"]
+    for method in sorted(tiles["method"].unique()):  # the random tiles: pixels a cell only
+        curve = _worst(frame, "tile_pixels", method)
+        bad = [f"{x:g}" for x, v in curve.items() if v > tol]
+        rows.append({"method": method, "min_pixels_per_period": _safe_from(curve, tol),
+                     "best_mae_pixels": float(curve.min()), "outside_tolerance": f"ppc {','.join(bad)}" if bad else "none"})
     return pd.DataFrame(rows)
 
 

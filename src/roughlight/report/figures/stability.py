@@ -49,8 +49,9 @@ def _scan_panels(axes, frame, tolerance) -> None:
     """The scans: pixels per period (error and jitter spread), elevation (with coverage), shadow bias,
     shadow-map size and shininess; ``axes`` in that order."""
     ax_pixels, ax_jitter, ax_grazing, ax_bias, ax_map, ax_shininess = axes
-    _log_panel(ax_pixels, _worst(frame, "pixels"), "method", "pixels per period", MAE, "pixelation / aliasing",
-               tolerance)
+    pixels = pd.concat([_worst(frame, "pixels"), _worst(frame, "tile_pixels")], ignore_index=True)
+    _log_panel(ax_pixels, pixels, "method", "pixels per period (random tiles: per cell)", MAE,
+               "pixelation / aliasing", tolerance)
     d = frame[(frame["experiment"] == "pixels") & (frame["metric"] == "jitter_sd")].copy()
     d["value"] = d["value"].clip(lower=FLOOR)
     _log_panel(ax_jitter, d, "method", "pixels per period", "SD over sub-pixel jitter (0-255)",
