@@ -43,3 +43,23 @@ def test_plans_name_their_sizes():
     assert len(quick["configs"]()) < len(full["configs"]()) and len(quick["surfaces"]) < len(full["surfaces"])
     assert {c.method for c in quick["configs"]()} == {"naive", "reference", "fast", "implicit_exact",
                                                      "implicit_correction"}
+
+
+def test_random_tiles_samplings_are_charted_on_tiles_of_their_own(tmp_path):
+    """The random tiles' configs run on a tile (their own surfaces: their Pareto front apart, no speed-up against a
+    naive method measured on other surfaces); the default adaptive sampling beats lattice sampling at the same
+    pixels a cell, and both improve with pixels."""
+    views = benchmark.bench_views(40.0, 60.0)
+    configs = benchmark.tile_configs(adaptive=(8, 16), lattice=(8, 16))
+    table = benchmark.run_benchmark(configs, surfaces=benchmark.tile_surfaces(("random_pyramids",)), views=views,
+                                    repeats=1)
+    assert set(table["method"]) == {"fast tiles"} and set(table["surfaces"]) == {"random tiles"}
+    assert table["speedup_vs_naive"].isna().all()
+    total = table[table["component"] == "total"].set_index(["sampling", "pixels_per_period"])["mae"]
+    assert total[("adaptive", 16)] < total[("adaptive", 8)] and total[("lattice", 16)] < total[("lattice", 8)]
+    assert total[("adaptive", 16)] < total[("lattice", 16)]
+    assert [c.label for c in configs][:2] == ["fast tiles adaptive P=8/cell", "fast tiles adaptive P=16/cell"]
+    quick = benchmark.PLANS["quick"]["tiles"]
+    assert {c.settings["tile_sampling"] for c in quick["configs"]()} == {"adaptive", "lattice"}
+    figures.plot_speed_accuracy(table, tmp_path / "chart.png")
+    assert (tmp_path / "chart.png").stat().st_size > 10_000

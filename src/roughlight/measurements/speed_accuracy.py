@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 
@@ -16,6 +17,7 @@ from ..render import reference, shading
 from ..render.measure import measure_sweep, recorded_settings
 from ..render.sampling import RenderSettings
 from ..render.shading import COMPONENTS
+from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface
 
 __all__ = [
@@ -25,6 +27,8 @@ __all__ = [
     "default_configs",
     "quick_configs",
     "PLANS",
+    "tile_configs",
+    "tile_surfaces",
     "run_benchmark",
     "pareto_front",
 ]
@@ -57,7 +61,14 @@ class Config:
     settings: dict = field(default_factory=dict)
 
     @property
+    def tiles(self) -> bool:
+        """True for a random tiles' config (its settings are the tile ones: ``tile_sampling``, ...)."""
+        return self.method == "fast" and "tile_sampling" in self.settings
+
+    @property
     def label(self) -> str:
+        if self.tiles:
+            return f"fast tiles {self.settings['tile_sampling']} P={self.settings.get('tile_pixels_per_period')}/cell"
         if self.method == "fast":
             s = self.settings
             return f"fast {s.get('sampling', 'lattice')} P={s.get('pixels_per_period')} S={s.get('shadow_map_size')}" + (
@@ -100,12 +111,27 @@ def quick_configs() -> list[Config]:
     return configs
 
 
+def tile_configs(adaptive=(8, 16, 24), lattice=(16, 24)) -> list[Config]:
+    """The random tiles' fast configs: adaptive sampling (counted on the GL side, the default) and lattice sampling
+    (the shader's tile mean) at these pixels a cell."""
+    return ([Config("fast", {"tile_sampling": "adaptive", "tile_pixels_per_period": p}) for p in adaptive]
+            + [Config("fast", {"tile_sampling": "lattice", "tile_pixels_per_period": p}) for p in lattice])
+
+
+def tile_surfaces(kinds=RANDOM_KINDS, point=(1.0, 1.0, 30.0), seed: int = 1) -> tuple:
+    """One random tile of each kind (the study's 4 cells) at ``point`` (truncation, aspect, incidence)."""
+    t, a, i = point
+    return tuple((make_surface(kind, t, a, seed), i) for kind in kinds)
+
+
 #: Sizes of the benchmark, by name (``report.speed_accuracy.plan`` in the config): ``full`` is
 #: ``make bench``'s measurement; ``quick`` the same code on fewer configs, surfaces and views,
 #: sized for the default workflow's chart.
 PLANS = {
-    "full": {"configs": default_configs, "surfaces": BENCH_SURFACES, "views": (5.0, 20.0), "repeats": 3},
-    "quick": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:4:2], "views": (20.0, 45.0), "repeats": 1},
+    "full": {"configs": default_configs, "surfaces": BENCH_SURFACES, "views": (5.0, 20.0), "repeats": 3,
+             "tiles": {"configs": partial(tile_configs, (8, 12, 16, 24, 32), (8, 16, 24, 32)), "kinds": RANDOM_KINDS}},
+    "quick": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:4:2], "views": (20.0, 45.0), "repeats": 1,
+              "tiles": {"configs": tile_configs, "kinds": ("random_pyramids",)}},
 }
 
 
@@ -123,9 +149,17 @@ def run_plan(plan: str = "full", lighting=None, log=None):
     """The benchmark at one of the sizes of :data:`PLANS`."""
     if plan not in PLANS:
         raise ValueError(f"no benchmark plan {plan!r}: one of {', '.join(PLANS)}")
+    import pandas as pd
+
     size = PLANS[plan]
-    return run_benchmark(size["configs"](), size["surfaces"], bench_views(*size["views"]), lighting, log,
-                         size["repeats"])
+    views = bench_views(*size["views"])
+    table = _measured(size["configs"](), size["surfaces"], views, lighting, log, size["repeats"])
+    tiles = size.get("tiles")
+    if tiles:  # the random tiles' samplings, on tiles of their own (their Pareto front apart)
+        tile_table = _measured(tiles["configs"](), tile_surfaces(tiles["kinds"]), views, lighting, log,
+                               size["repeats"])
+        table = pd.concat([table, tile_table], ignore_index=True)
+    return _with_comparisons(table)
 
 
 def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=None, log=None, repeats=3):
@@ -144,13 +178,19 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
 
     Returns
     -------
-    pandas.DataFrame, one row per config x component: method, label, settings
-    columns (sampling, pixels_per_period, shadow_map_size, shadow_bias),
-    n_views, seconds, views_per_second, ms_per_view, mae, max_error, component,
-    speedup_vs_naive (views per second over the naive method's, same run),
-    default (the fast method's default settings), pareto (on the front of
-    error against time per view for that component).
+    pandas.DataFrame, one row per config x component: method ("fast tiles" for a random tiles' config), label,
+    settings columns (sampling, pixels_per_period, shadow_map_size, shadow_bias; a tile's per cell), n_views,
+    seconds, views_per_second, ms_per_view, mae, max_error, component, surfaces ("regular surfaces" or "random
+    tiles"), speedup_vs_naive (views per second over the naive method's, same run and surfaces), default (the
+    fast method's default settings), pareto (on the front of error against time per view for that component,
+    among the same surfaces).
     """
+    return _with_comparisons(_measured(configs, surfaces, views, lighting, log, repeats))
+
+
+def _measured(configs, surfaces, views, lighting, log, repeats):
+    """:func:`run_benchmark`'s rows before the comparisons, each with ``surfaces``: "random tiles" when the
+    surfaces are random tiles, else "regular surfaces"."""
     import pandas as pd
 
     configs = list(configs or default_configs())
@@ -166,7 +206,9 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
         seconds, errors = _timed_errors(config, surfaces, exact, azimuth, elevation, lighting, repeats)
         log(f"{config.label}: {n_views / seconds:.0f} views/s")
         rows += _config_rows(config, seconds, errors, n_views)
-    return _with_comparisons(pd.DataFrame(rows))
+    table = pd.DataFrame(rows)
+    table["surfaces"] = "random tiles" if hasattr(surfaces[0][0], "cells") else "regular surfaces"
+    return table
 
 
 def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting, repeats: int):
@@ -195,13 +237,14 @@ def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting,
 
 def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> list[dict]:
     """:func:`run_benchmark`'s rows of one config, one a component: its recorded settings, speed and errors."""
-    recorded = recorded_settings(config.method, _settings(config))
+    settings = _settings(config)
+    recorded = recorded_settings(config.method, settings.tile_settings() if config.tiles else settings)
     rows = []
     for c in COMPONENTS:
         err = np.concatenate(errors[c])
         rows.append(
             {
-                "method": config.method,
+                "method": "fast tiles" if config.tiles else config.method,
                 "label": config.label,
                 **recorded,
                 "shadow_bias": config.settings.get(
@@ -224,13 +267,16 @@ def _with_comparisons(table):
     defaults = RenderSettings()
     default = Config("fast", {"sampling": defaults.sampling, "pixels_per_period": defaults.pixels_per_period,
                               "shadow_map_size": defaults.shadow_map_size}).label
+    if "surfaces" not in table:
+        table["surfaces"] = "regular surfaces"
     naive = table.loc[table["method"] == "naive", "views_per_second"]
-    table["speedup_vs_naive"] = table["views_per_second"] / naive.iloc[0] if len(naive) else np.nan
+    regular = table["surfaces"] == "regular surfaces"
+    table["speedup_vs_naive"] = np.where(regular, table["views_per_second"] / naive.iloc[0], np.nan) if len(naive) \
+        else np.nan
     table["default"] = table["label"] == default
     table["pareto"] = False
-    for c in COMPONENTS:
-        mask = table["component"] == c
-        table.loc[mask, "pareto"] = pareto_front(table.loc[mask, "ms_per_view"].to_numpy(), table.loc[mask, "mae"].to_numpy())
+    for _, group in table.groupby(["component", "surfaces"]):
+        table.loc[group.index, "pareto"] = pareto_front(group["ms_per_view"].to_numpy(), group["mae"].to_numpy())
     return table
 
 

@@ -20,6 +20,9 @@ def _fast_point_labels(sub, label) -> list:
 
     out = []
     for _, row in sub.iterrows():
+        if row["method"] == "fast tiles":
+            out.append((row["ms per view"], row[label], f"P={row['pixels_per_period']}/cell"))
+            continue
         default_bias = np.isclose(row["shadow_bias"], RenderSettings().shadow_bias)
         labelled = row["sampling"] in ("lattice", "adaptive") and row["shadow_map_size"] == 512
         if row["method"] == "fast" and labelled and default_bias:
@@ -47,8 +50,9 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
             sub[label] = sub[column].clip(lower=floor)
             sns.scatterplot(data=sub, x="ms per view", y=label, hue="method", style="sampling", s=70, ax=ax,
                             legend=(r == 0 and component == components[-1]))
-            if r == 0:
-                front = sub[sub["pareto"]].sort_values("ms per view")
+            if r == 0:  # the regular surfaces' front (random tiles are other surfaces)
+                regular = sub["surfaces"] == "regular surfaces" if "surfaces" in sub else True
+                front = sub[sub["pareto"] & regular].sort_values("ms per view")
                 ax.plot(front["ms per view"], front[label], color="black", lw=1, ls="--", label="Pareto front")
             labels[ax] = _fast_point_labels(sub, label)
             ax.axhline(line_at, color="grey", lw=0.8, ls=":")
