@@ -131,7 +131,7 @@ PLANS = {
     "full": {"configs": default_configs, "surfaces": BENCH_SURFACES, "views": (5.0, 20.0), "repeats": 3,
              "tiles": {"configs": partial(tile_configs, (8, 12, 16, 24, 32), (8, 16, 24, 32)), "kinds": RANDOM_KINDS}},
     "quick": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:4:2], "views": (20.0, 45.0), "repeats": 1,
-              "tiles": {"configs": tile_configs, "kinds": ("random_pyramids",)}},
+              "tiles": {"configs": partial(tile_configs, (8, 16), (16,)), "kinds": ("random_pyramids",)}},
 }
 
 

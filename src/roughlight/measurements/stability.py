@@ -428,7 +428,7 @@ PLANS = {
         "shininess": {"surfaces": QUICK_SURFACES, "shininess": (4.0, 64.0)},
         "normals": {"surfaces": NORMALS_SURFACES[1:2], "views": _views((30.0, 60.0, 90.0, 120.0, 150.0), (0.0, 90.0))},
         "clipping": {"surfaces": ((PLATE, 30.0),) + SURFACES[1:3], "elevation_step": 4.0},
-        "tiles": {"kinds": ("random_pyramids",), "pixels": (4, 8, 16, 24)},
+        "tiles": {"kinds": ("random_pyramids",), "pixels": (4, 8, 16)},
     },
 }
 
