@@ -3,7 +3,7 @@ the exact reference and its speed beside the regular surface's, and pictures of 
 
 Plans (``measurements.plan``, the folder ``results/benchmarks/{plan}/``):
 
-* ``quick``: tiles of 1, 2 and 4 cells, 3 seeds, views every 2 x 10 degrees at t = 1, a = 1,
+* ``quick``: tiles of 1, 2 and 4 cells, 3 seeds, views every 3 x 10 degrees at t = 1, a = 1,
   i = 30; accuracy on one 4-cell tile (the study's) of each kind at coarse views (30 x 45 degrees).
 * ``full`` (``make bench``): tiles of 1, 2, 3, 4 and 6 cells, 6 seeds; accuracy on 2 seeds of
   4-cell tiles (the study's default) of each kind at the corners of the default random grid (t 0.5 and 1 x
@@ -24,7 +24,7 @@ __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy"
            "tile_pixel_scan", "TILE_SAMPLINGS"]
 
 PLANS = {
-    "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (2.0, 10.0),
+    "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (3.0, 10.0),
               "accuracy_cells": 4, "accuracy_seeds": 1, "accuracy_views": (30.0, 45.0),
               "accuracy_points": ((1.0, 1.0),)},
     "full": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 3, 4, 6), "seeds": 6, "views": (1.0, 5.0),
