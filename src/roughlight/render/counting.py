@@ -7,15 +7,16 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
 * **Nothing hidden.** Where every facet faces the view, each region's share is its exact projected area: its plan
   area times its facet's area ratio ``det = 1 - alpha d_x - beta d_y`` (the projection along the view is affine on
   a facet). No rendering.
-* **Something hidden.** The other views are drawn, a framebuffer of tiles at a time, in three passes of the same
-  copies (:mod:`roughlight.render.passes`): depth only; then ``shaders/periodic_count.frag`` with the depth test
-  ``GL_LEQUAL``, each visible fragment adding one to its view's count of its region (an atomic counter on the GL
-  side: no pixel is read back); then with ``GL_GREATER``, counting the hidden fragments. The two tests are
-  complementary, so every fragment of a region's projection is counted once: ``visible + hidden`` is exactly the
-  number of pixel centres in the region's projection, the count :func:`roughlight.render.shares.counts_and_areas`
-  computes from polygons, and ``visible / (visible + hidden)`` is the region's visible fraction with the pixel
-  errors along its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it
-  is the region's share; what remains is the error along the edges of whatever hides it.
+* **Something hidden.** The other views are drawn, a framebuffer of tiles at a time, in two passes of the same
+  copies (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. Each fragment adds one to its
+  view's count of its region (an atomic counter on the GL side: no pixel is read back). The first pass draws the
+  depth buffer with the shader run before the depth test, so it counts every fragment of every region's
+  projection: exactly the number of pixel centres in the region's projection, the count
+  :func:`roughlight.render.shares.counts_and_areas` computes from polygons. The second pass, with early depth
+  tests ``GL_LEQUAL`` against that buffer, counts the visible fragments. ``visible / total`` is the region's
+  visible fraction with the pixel errors along its own edges cancelled
+  (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it is the region's share; what remains
+  is the error along the edges of whatever hides it.
 
 The shadow test is the shader's (``shaders/periodic_shadow.glsl``), the same for visible and hidden fragments;
 facets wholly lit or wholly in shadow (from the exact lit regions) skip it.
@@ -166,29 +167,26 @@ def _counted_batches(surface, incidence, views, shears, hidden, lighting, settin
 
 
 def _count_batch(scene, poses, matrix, width, height_px, buffer, n_views, lit_state):
-    """One framebuffer of views: the depth pass, then the visible and the hidden fragments' counts, (n, R) each."""
+    """One framebuffer of views in two passes: every fragment counted while the depth buffer is drawn, then the
+    visible ones against it. Returns the visible and the hidden counts, (n, R) each."""
     ctx, n_regions = scene.ctx, 2 * len(lit_state)
     uniforms = {"sampling": matrix.astype(np.float32), "ndc_scale": np.array([2.0 / width, 2.0 / height_px],
                 np.float32), "surface_shift": np.zeros(2, np.float32), "depth_scale": float(scene.depth_scale)}
     begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
     gl.glColorMask(gl.GL_FALSE, gl.GL_FALSE, gl.GL_FALSE, gl.GL_FALSE)
     try:
-        depth = ctx.programs.get_program("periodic.vert", "periodic_depth.frag", defines=ATTRIBUTES)
-        depth._bind()
-        for name, value in uniforms.items():
-            depth.set_uniform(name, value)
-        draw(ctx, primitive(scene.surface, poses), depth)
-        depth._unbind()
+        # without early fragment tests the shader runs, and counts, before the depth test: on every fragment
+        every = ctx.programs.get_program("periodic.vert", "periodic_count.frag",
+                                         defines={**ATTRIBUTES, "COUNT_EVERY_FRAGMENT": 1})
+        total = _counting_draw(scene, every, poses, uniforms, buffer, n_views, n_regions, lit_state)
         gl.glDepthMask(gl.GL_FALSE)
-        program = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
-        counts = []
-        for test in (gl.GL_LEQUAL, gl.GL_GREATER):
-            gl.glDepthFunc(test)
-            counts.append(_counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state))
+        gl.glDepthFunc(gl.GL_LEQUAL)
+        visible = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
+        seen = _counting_draw(scene, visible, poses, uniforms, buffer, n_views, n_regions, lit_state)
     finally:
         gl.glColorMask(gl.GL_TRUE, gl.GL_TRUE, gl.GL_TRUE, gl.GL_TRUE)
         gl.glDepthMask(gl.GL_TRUE)
-    return counts
+    return seen, total - seen
 
 
 def _counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state) -> np.ndarray:

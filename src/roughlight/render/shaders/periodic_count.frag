@@ -2,9 +2,12 @@
 // Counting pass of random tiles (roughlight.render.counting): each fragment adds one to its view's count of its
 // region, the lit or the shadowed part of its facet (decided as periodic.frag decides it, periodic_shadow.glsl):
 //   counts[slot * n_regions + 2 facet + (lit ? 0 : 1)].
-// Early fragment tests: the depth test (against a depth-only pass drawn before) picks which fragments count,
-// the visible ones (GL_LEQUAL) or the hidden ones (GL_GREATER), before the shader runs.
+// With COUNT_EVERY_FRAGMENT the shader runs before the depth test (it has side effects), so every fragment
+// counts, while the depth buffer is drawn. Without it, early fragment tests: the depth test (GL_LEQUAL against
+// that buffer) picks the visible fragments before the shader runs.
+#ifndef COUNT_EVERY_FRAGMENT
 layout(early_fragment_tests) in;
+#endif
 
 in vec3 frag_local;
 flat in vec3 frag_vertex;
