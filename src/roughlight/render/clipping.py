@@ -43,6 +43,8 @@ class Facets:
     height: float
     plate: bool
     footprints: list = field(default_factory=list)  # shapely polygons in (x, y)
+    corners: np.ndarray = None  # (F, n, 3) each facet's vertices, its last repeated up to the most a facet has
+    sides: np.ndarray = None  # (F,) int, each facet's vertex count
 
 
 def period_facets(surface: Surface) -> Facets:
@@ -59,7 +61,9 @@ def period_facets(surface: Surface) -> Facets:
     plate = surface.is_plate
     height = surface.height
     footprints = [shapely.Polygon(v[:, :2]) for v in verts]
-    return Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints)
+    sides = np.array([len(v) for v in verts])
+    corners = np.stack([v[np.minimum(np.arange(sides.max()), len(v) - 1)] for v in verts])
+    return Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints, corners, sides)
 
 
 def lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
@@ -153,8 +157,9 @@ def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
         return out, det
     offsets = lattice_offsets(surf.height, d)
     copies = _projected_copies(surf, front, d, offsets)
-    for j, f in enumerate(front):
-        out[f] = _visible_part(surf, f, det, copies, j * len(offsets), grid_size)
+    homes = np.arange(len(front)) * len(offsets)
+    for f, home, idx in zip(front, homes, _overlapping(copies, homes)):
+        out[f] = _visible_part(surf, f, det, copies, home, idx, grid_size)
     return out, det
 
 
@@ -170,29 +175,43 @@ class _Copies(NamedTuple):
     offs: np.ndarray
     #: (F' K, 4) float, each copy's bounding box (xmin, ymin, xmax, ymax)
     bbox: np.ndarray
+    #: (F' K, n, 2) float, each copy's vertices (the last one repeated up to the most a front facet has, n)
+    points: np.ndarray
+    #: (F' K, n, 2) float, the normals of each copy's edges (the first one repeated up to n): the axes that
+    #: separate two convex polygons that do not overlap
+    axes: np.ndarray
 
 
 def _projected_copies(surf: Facets, front, d, offsets) -> _Copies:
     """Project the facets ``front`` of every lattice copy at ``offsets`` ((K, 2), ``(0, 0)`` first) along the
     direction with plan shift ``d`` into oblique coordinates."""
     n_off = len(offsets)
-    geoms, owner, bbox = [], [], []
-    for f in front:
-        v = surf.verts[f]
-        p = v[:, :2] - v[:, 2:3] * d  # (n, 2), period 0
-        coords = p[None, :, :] + offsets[:, None, :]  # (K, n, 2)
-        geoms.append(shapely.polygons(coords))
-        owner.append(np.full(n_off, f))
-        bbox.append(np.concatenate([coords.min(axis=1), coords.max(axis=1)], axis=1))
-    return _Copies(np.concatenate(geoms), np.concatenate(owner), np.tile(offsets, (len(front), 1)),
-                   np.concatenate(bbox))
+    sides = surf.sides[front]
+    n_max = int(sides.max())
+    corners = surf.corners[front, :n_max]  # (F', n, 3)
+    p = corners[..., :2] - corners[..., 2:3] * d  # (F', n, 2), period 0
+    coords = p[:, None, :, :] + offsets[None, :, None, :]  # (F', K, n, 2)
+    geoms = np.empty((len(front), n_off), dtype=object)
+    for n in np.unique(sides):
+        geoms[sides == n] = shapely.polygons(coords[sides == n][:, :, :n])
+    # each edge from corner i to the next (the first after the last); padding repeats the first edge
+    i = np.arange(n_max)[None, :]
+    start = np.where(i < sides[:, None], i, 0)
+    end = np.where(start + 1 < sides[:, None], start + 1, 0)
+    rows = np.arange(len(front))[:, None]
+    edge = p[rows, end] - p[rows, start]
+    normal = np.stack([-edge[..., 1], edge[..., 0]], axis=-1)  # (F', n, 2)
+    coords = coords.reshape(-1, n_max, 2)
+    return _Copies(geoms.ravel(), np.repeat(front, n_off), np.tile(offsets, (len(front), 1)),
+                   np.concatenate([coords.min(axis=1), coords.max(axis=1)], axis=1), coords,
+                   np.repeat(normal, n_off, axis=0))
 
 
-def _visible_part(surf: Facets, f: int, det, copies: _Copies, home: int, grid_size=None):
+def _visible_part(surf: Facets, f: int, det, copies: _Copies, home: int, idx, grid_size=None):
     """Facet ``f``'s visible region: its period-0 projection (``copies`` row ``home``) minus its overlaps, of
-    more than :data:`MIN_OVERLAP`, with the copies in front of it there (:func:`_in_front`)."""
+    more than :data:`MIN_OVERLAP`, with the copies ``idx`` (those it may overlap) in front of it there
+    (:func:`_in_front`)."""
     pf = copies.geoms[home]
-    idx = _overlapping(copies.bbox, home)
     if len(idx) == 0:
         return pf
     inter = overlay(shapely.intersection, pf, copies.geoms[idx], grid_size=grid_size)
@@ -207,19 +226,43 @@ def _visible_part(surf: Facets, f: int, det, copies: _Copies, home: int, grid_si
     return overlay(shapely.difference, pf, overlay(shapely.union_all, occ, grid_size=grid_size), grid_size=grid_size)
 
 
-def _overlapping(bbox: np.ndarray, home: int) -> np.ndarray:
-    """Rows of the (m, 4) bounding boxes ``bbox`` that overlap row ``home``'s by more than 1e-12 (periods) both
-    ways, ``home`` itself left out."""
-    bf = bbox[home]
-    tol = 1e-12
-    cand = (
-        (bbox[:, 0] < bf[2] - tol)
-        & (bbox[:, 2] > bf[0] + tol)
-        & (bbox[:, 1] < bf[3] - tol)
-        & (bbox[:, 3] > bf[1] + tol)
-    )
-    cand[home] = False
-    return np.flatnonzero(cand)
+#: Most (home, copy) pairs :func:`_overlapping` tests at once.
+PAIRS_AT_ONCE = 4_000_000
+
+
+def _overlapping(copies: _Copies, homes) -> list:
+    """For each row of ``homes`` ((H,) rows of ``copies``), the rows whose projection may overlap it in some
+    area: bounding boxes overlapping by more than 1e-12 (periods) both ways, then no edge normal of either
+    separating them (facets are convex, :func:`roughlight.surfaces.geometry.facet_polygons`, so a separating
+    axis means they touch at most). GEOS need not intersect the others: their overlap would be dropped as
+    under :data:`MIN_OVERLAP`. The home row itself is left out."""
+    out = []
+    block = max(1, PAIRS_AT_ONCE // len(copies.bbox))
+    for first in range(0, len(homes), block):
+        rows = homes[first:first + block]
+        home_box, box = copies.bbox[rows][:, None, :], copies.bbox[None, :, :]
+        tol = 1e-12
+        near = ((box[..., 0] < home_box[..., 2] - tol) & (box[..., 2] > home_box[..., 0] + tol)
+                & (box[..., 1] < home_box[..., 3] - tol) & (box[..., 3] > home_box[..., 1] + tol))
+        near[np.arange(len(rows)), rows] = False
+        which, other = np.nonzero(near)
+        keep = ~_separated(copies, rows[which], other)
+        which, other = which[keep], other[keep]
+        split = np.searchsorted(which, np.arange(1, len(rows)))
+        out.extend(np.split(other, split))
+    return out
+
+
+def _separated(copies: _Copies, a, b) -> np.ndarray:
+    """(P,) bool: where an edge normal of copy ``a`` or of copy ``b`` ((P,) rows each) separates their convex
+    projections (they touch at most)."""
+    p_a, p_b = copies.points[a], copies.points[b]  # (P, n, 2)
+    apart = np.zeros(len(a), bool)
+    for axes in (copies.axes[a], copies.axes[b]):  # (P, n, 2)
+        on_a = p_a[:, :, None, 0] * axes[:, None, :, 0] + p_a[:, :, None, 1] * axes[:, None, :, 1]  # (P, n, n)
+        on_b = p_b[:, :, None, 0] * axes[:, None, :, 0] + p_b[:, :, None, 1] * axes[:, None, :, 1]
+        apart |= np.any((on_a.max(axis=1) <= on_b.min(axis=1)) | (on_b.max(axis=1) <= on_a.min(axis=1)), axis=1)
+    return apart
 
 
 def _in_front(surf: Facets, f: int, det, inter, owner, offs) -> np.ndarray:
