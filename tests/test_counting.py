@@ -2,8 +2,9 @@
 
 import numpy as np
 import pytest
+import shapely
 
-from roughlight.render import counting, reference, shading, shares
+from roughlight.render import clipping, counting, reference, shading, shares
 from roughlight.render.sampling import RenderSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.roughness import RandomSurface
@@ -85,3 +86,29 @@ def test_the_reference_falls_back_to_coarser_grids_until_one_holds(monkeypatch):
 
     with pytest.raises(RuntimeError, match=f"failed at {reference.SNAP_GRIDS[-1]}"):
         reference._with_fallback(never)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_the_reference_skips_only_copies_that_overlap_in_no_area(kind):
+    """clipping._overlapping drops a (facet, copy) pair without intersecting it where bounding boxes or a
+    separating axis keep them apart: every pair GEOS finds overlapping in area must be kept, and most of the
+    bounding-box candidates must be dropped (else the test says nothing)."""
+    surf = clipping.period_facets(RandomSurface(kind, 1.0, 1.0, seed=2, cells=2))
+    kept_total = candidates_total = 0
+    for elevation, azimuth in ((45.0, 15.0), (20.0, 100.0), (160.0, 40.0)):
+        view = _views(elevation, azimuth)
+        d = view[:2] / view[2]
+        det = 1.0 - surf.alpha * d[0] - surf.beta * d[1]
+        front = np.flatnonzero(det > clipping.EDGE_ON)
+        copies = clipping._projected_copies(surf, front, d, clipping.lattice_offsets(surf.height, d))
+        homes = np.arange(len(front)) * (len(copies.bbox) // len(front))
+        for home, kept in zip(homes, clipping._overlapping(copies, homes)):
+            others = np.setdiff1d(np.arange(len(copies.bbox)), [home])
+            area = shapely.area(shapely.intersection(copies.geoms[home], copies.geoms[others]))
+            overlapping = others[area > clipping.MIN_OVERLAP]
+            assert np.isin(overlapping, kept).all(), (elevation, azimuth, home)
+            kept_total += len(kept)
+        candidates_total += sum(len(np.flatnonzero(
+            (copies.bbox[:, 0] < copies.bbox[h, 2]) & (copies.bbox[:, 2] > copies.bbox[h, 0])
+            & (copies.bbox[:, 1] < copies.bbox[h, 3]) & (copies.bbox[:, 3] > copies.bbox[h, 1]))) - 1 for h in homes)
+    assert kept_total < 0.5 * candidates_total, (kept_total, candidates_total)
