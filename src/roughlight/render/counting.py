@@ -7,16 +7,15 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
 * **Nothing hidden.** Where every facet faces the view, each region's share is its exact projected area: its plan
   area times its facet's area ratio ``det = 1 - alpha d_x - beta d_y`` (the projection along the view is affine on
   a facet). No rendering.
-* **Something hidden.** The other views are drawn, a framebuffer of tiles at a time, in two passes of the same
-  copies (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. Each fragment adds one to its
-  view's count of its region (an atomic counter on the GL side: no pixel is read back). The first pass draws the
-  depth buffer with the shader run before the depth test, so it counts every fragment of every region's
-  projection: exactly the number of pixel centres in the region's projection, the count
-  :func:`roughlight.render.shares.counts_and_areas` computes from polygons. The second pass, with early depth
-  tests ``GL_LEQUAL`` against that buffer, counts the visible fragments. ``visible / total`` is the region's
-  visible fraction with the pixel errors along its own edges cancelled
-  (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it is the region's share; what remains
-  is the error along the edges of whatever hides it.
+* **Something hidden.** The other views are drawn, a framebuffer of tiles at a time, in one pass of the copies
+  (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. Each fragment adds one to its view's
+  count of its region (an atomic counter on the GL side). The shader runs before the depth test (it has side
+  effects and asks for no early tests), so every fragment counts, hidden or not: the total is exactly the number
+  of pixel centres in the region's projection, the count :func:`roughlight.render.shares.counts_and_areas`
+  computes from polygons. The depth test keeps the nearest fragment's region in the image, which is read back:
+  each view's pixels of each region are its visible count. ``visible / total`` is the region's visible fraction
+  with the pixel errors along its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the
+  exact area it is the region's share; what remains is the error along the edges of whatever hides it.
 
 The shadow test is the shader's (``shaders/periodic_shadow.glsl``), the same for visible and hidden fragments;
 facets wholly lit or wholly in shadow (from the exact lit regions) skip it.
@@ -32,7 +31,7 @@ from .passes import ATTRIBUTES, batch_poses, begin_pass, cached_layout, draw, ma
 
 __all__ = ["region_plan_areas", "projected_areas", "counted_shares"]
 
-#: Largest framebuffer side (pixels) of the counting passes. A 4096-pixel framebuffer holds four times the views a
+#: Largest framebuffer side (pixels) of the counting pass. A 4096-pixel framebuffer holds four times the views a
 #: pass, but with its depth buffer and the counts it took a heightfield tile sweep to 1.2 GB; at 2048 it stays
 #: under 0.75 GB and is no slower (random heightfield t 0.5, a 1, seed 2: 1.22 GB in 6.2 s against 0.73 GB in
 #: 5.9 s, one llvmpipe thread).
@@ -160,33 +159,45 @@ def _counted_batches(surface, incidence, views, shears, hidden, lighting, settin
         for first in range(0, hidden.size, len(slots)):
             idx = hidden[first:first + len(slots)]
             poses = batch_poses(scene.height, views, shears, idx, slots, np.zeros(2))
-            seen, behind = _count_batch(scene, poses, matrix, width, height_px, buffer, idx.size, lit_state)
-            yield idx, seen, seen + behind, per_tile
+            slot_pixels = pixel_order[: idx.size * per_tile].reshape(idx.size, per_tile)
+            seen, total = _count_batch(scene, poses, matrix, width, height_px, buffer, slot_pixels, lit_state)
+            yield idx, seen, total, per_tile
     finally:
         gl.glDeleteBuffers(1, [buffer])
 
 
-def _count_batch(scene, poses, matrix, width, height_px, buffer, n_views, lit_state):
-    """One framebuffer of views in two passes: every fragment counted while the depth buffer is drawn, then the
-    visible ones against it. Returns the visible and the hidden counts, (n, R) each."""
+def _count_batch(scene, poses, matrix, width, height_px, buffer, slot_pixels, lit_state):
+    """One framebuffer of views in one pass: every fragment counted on the GL side as the image is drawn, then
+    each slot's visible regions read from the image.
+
+    Parameters
+    ----------
+    slot_pixels : (n, N) int array
+        Each drawn view's pixels (indices into the framebuffer's row-major pixels), N a tile.
+
+    Returns
+    -------
+    visible, total : (n, R) float arrays
+    """
     ctx, n_regions = scene.ctx, 2 * len(lit_state)
+    if n_regions >= 0xFFFF:
+        raise ValueError(f"a tile of {n_regions // 2} facets is too many to count (the image holds 16-bit regions)")
     uniforms = {"sampling": matrix.astype(np.float32), "ndc_scale": np.array([2.0 / width, 2.0 / height_px],
                 np.float32), "surface_shift": np.zeros(2, np.float32), "depth_scale": float(scene.depth_scale)}
     begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
-    gl.glColorMask(gl.GL_FALSE, gl.GL_FALSE, gl.GL_FALSE, gl.GL_FALSE)
-    try:
-        # without early fragment tests the shader runs, and counts, before the depth test: on every fragment
-        every = ctx.programs.get_program("periodic.vert", "periodic_count.frag",
-                                         defines={**ATTRIBUTES, "COUNT_EVERY_FRAGMENT": 1})
-        total = _counting_draw(scene, every, poses, uniforms, buffer, n_views, n_regions, lit_state)
-        gl.glDepthMask(gl.GL_FALSE)
-        gl.glDepthFunc(gl.GL_LEQUAL)
-        visible = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
-        seen = _counting_draw(scene, visible, poses, uniforms, buffer, n_views, n_regions, lit_state)
-    finally:
-        gl.glColorMask(gl.GL_TRUE, gl.GL_TRUE, gl.GL_TRUE, gl.GL_TRUE)
-        gl.glDepthMask(gl.GL_TRUE)
-    return seen, total - seen
+    program = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
+    total = _counting_draw(scene, program, poses, uniforms, buffer, len(slot_pixels), n_regions, lit_state)
+    raw = gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+    return _visible_counts(raw, slot_pixels, n_regions), total
+
+
+def _visible_counts(raw: bytes, slot_pixels, n_regions: int) -> np.ndarray:
+    """(n, R) each view's pixels of each region, from the framebuffer's RGBA bytes (the region + 1 in red and
+    green, 0 where no surface) at the views' pixels ``slot_pixels`` ((n, N))."""
+    region = (np.frombuffer(raw, np.uint32).take(slot_pixels) & 0xFFFF).astype(np.int64) - 1
+    key = region + (np.arange(len(slot_pixels)) * n_regions)[:, None]
+    counts = np.bincount(key[region >= 0], minlength=len(slot_pixels) * n_regions)
+    return counts.reshape(len(slot_pixels), n_regions).astype(float)
 
 
 def _counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state) -> np.ndarray:
