@@ -194,10 +194,11 @@ def _count_batch(scene, poses, matrix, width, height_px, buffer, slot_pixels, li
 def _visible_counts(raw: bytes, slot_pixels, n_regions: int) -> np.ndarray:
     """(n, R) each view's pixels of each region, from the framebuffer's RGBA bytes (the region + 1 in red and
     green, 0 where no surface) at the views' pixels ``slot_pixels`` ((n, N))."""
-    region = (np.frombuffer(raw, np.uint32).take(slot_pixels) & 0xFFFF).astype(np.int64) - 1
-    key = region + (np.arange(len(slot_pixels)) * n_regions)[:, None]
-    counts = np.bincount(key[region >= 0], minlength=len(slot_pixels) * n_regions)
-    return counts.reshape(len(slot_pixels), n_regions).astype(float)
+    n_views = len(slot_pixels)
+    key = np.frombuffer(raw, np.uint16)[0::2].take(slot_pixels).astype(np.int32)  # red + 256 green, little-endian
+    key += (np.arange(n_views, dtype=np.int32) * (n_regions + 1))[:, None]  # bin 0 of each view: no surface
+    counts = np.bincount(key.ravel(), minlength=n_views * (n_regions + 1))
+    return counts.reshape(n_views, n_regions + 1)[:, 1:].astype(float)
 
 
 def _counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state) -> np.ndarray:
