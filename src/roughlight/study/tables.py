@@ -187,33 +187,92 @@ def aggregate(rough_paths, control_paths):
     """
     import pandas as pd
 
-    rough = pd.concat([read_sweep(p) for p in rough_paths], ignore_index=True)
-    control = pd.concat([read_sweep(p) for p in control_paths], ignore_index=True)
-    return join_controls(rough, control)
+    controls = _ControlViews(pd.concat([read_sweep(p) for p in control_paths], ignore_index=True))
+    return _joined([controls.joined(read_sweep(p)) for p in rough_paths])
 
 
 def join_controls(rough, control):
     """The study table from sweep frames (:func:`sweep_table`'s columns): each rough view joined to the
     control's same view (see :func:`aggregate`)."""
+    return _joined([_ControlViews(control).joined(rough)])
+
+
+#: The order of the study table's surfaces.
+KIND_ORDER = ["pyramids", "random_pyramids", "random_heightfield"]
+#: The view of a control row a rough row is joined to.
+CONTROL_KEY = ["incidence", "azimuth", "elevation", "component"]
+
+
+class _ControlViews:
+    """The control sweeps' values, looked up by view (:data:`CONTROL_KEY`)."""
+
+    def __init__(self, control):
+        import pandas as pd
+
+        self.views = pd.MultiIndex.from_arrays([_as_str(control[name]) if name == "component" else control[name]
+                                                for name in CONTROL_KEY])
+        if not self.views.is_unique:
+            raise ValueError("the control sweeps measure some view twice (one control sweep an incidence is expected)")
+        self.values = control["value"].to_numpy()
+
+    def joined(self, rough) -> dict:
+        """A rough sweep frame's columns (:func:`sweep_table`'s), each a Series of its own memory (columns that
+        share a frame's block would not be freed one by one), with ``kind`` and ``component`` as strings, its
+        ``value`` as ``rough``, the control's value of each row's view as ``control``, and the sort codes of
+        ``kind`` and ``component`` (:data:`KIND_ORDER`, :data:`~roughlight.render.shading.COMPONENTS`)."""
+        import pandas as pd
+
+        columns = {name: frame_column.copy() for name, frame_column in rough.items()}
+        columns["rough"] = columns.pop("value")
+        columns["kind"], columns["component"] = _as_str(columns["kind"]), _as_str(columns["component"])
+        where = self.views.get_indexer(pd.MultiIndex.from_arrays([columns[name] for name in CONTROL_KEY]))
+        if np.any(where < 0):
+            missing = rough.loc[where < 0, CONTROL_KEY[:3]].drop_duplicates()
+            raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
+        columns["control"] = pd.Series(self.values[where])
+        columns["_kind"] = pd.Categorical(columns["kind"], categories=KIND_ORDER).codes
+        columns["_component"] = pd.Categorical(columns["component"], categories=list(COMPONENTS)).codes
+        return columns
+
+
+def _as_str(column):
+    return column.astype(str)
+
+
+def _joined(sweeps: list):
+    """The study table from rough sweeps joined to their controls (:meth:`_ControlViews.joined`), emptied as
+    their columns are used: the table is built a column at a time, so that the sweeps and the table are not held
+    twice over. Rows are sorted by :data:`KIND_ORDER`, seed, truncation, aspect, incidence, azimuth, elevation
+    and component (in :data:`~roughlight.render.shading.COMPONENTS` order); columns concatenate as
+    ``pandas.concat`` does (a categorical stays one where every sweep has the same categories)."""
     import pandas as pd
 
-    rough, control = rough.copy(), control.copy()
-    join = ["incidence", "azimuth", "elevation", "component"]
-    control = control[join + ["value"]].rename(columns={"value": "control"})
-    for frame in (rough, control):
-        frame["component"] = frame["component"].astype(str)
-    rough["kind"] = rough["kind"].astype(str)
-    study = rough.rename(columns={"value": "rough"}).merge(control, on=join, how="left", validate="many_to_one")
-    if study["control"].isna().any():
-        missing = study.loc[study["control"].isna(), ["incidence", "azimuth", "elevation"]].drop_duplicates()
-        raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
-    study["component"] = pd.Categorical(study["component"], categories=list(COMPONENTS))
-    kind_order = pd.Categorical(study["kind"], categories=["pyramids", "random_pyramids", "random_heightfield"])
-    study = study.assign(_kind=kind_order).sort_values(
-        ["_kind", "seed", "truncation", "aspect", "incidence", "azimuth", "elevation", "component"])
-    study = study[STUDY_COLUMNS].reset_index(drop=True)
-    study["component"] = study["component"].astype(str)
-    return study
+    def column(name, keep=False):
+        values = [sweep[name] if keep else sweep.pop(name) for sweep in sweeps]
+        return np.concatenate(values) if isinstance(values[0], np.ndarray) else pd.concat(values, ignore_index=True)
+
+    order = np.lexsort([column("_component")] + [column(name, keep=True).to_numpy() for name in
+                       ["elevation", "azimuth", "incidence", "aspect", "truncation", "seed"]] + [column("_kind")])
+    study = {}
+    for name in STUDY_COLUMNS:
+        values = column(name)
+        study[name] = values.take(order).reset_index(drop=True)
+        del values
+        _release_memory()
+    return pd.DataFrame(study, copy=False)
+
+
+def _release_memory() -> None:
+    """Give freed heap memory back to the system (glibc's ``malloc_trim``; nothing elsewhere). The sweeps' columns
+    are small allocations that glibc keeps for reuse, while the table's large columns are mapped afresh: without
+    this the job's memory would hold both."""
+    import ctypes
+    import ctypes.util
+
+    try:
+        ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim(0)
+    except (OSError, AttributeError):
+        pass
 
 
 #: Which rows :func:`read_study` keeps.

@@ -1,0 +1,89 @@
+"""The study table's aggregate (roughlight.study.tables.aggregate) and its Parquet writing (roughlight.atomic)."""
+
+import numpy as np
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from roughlight import atomic
+from roughlight.render import views as sweeps
+from roughlight.render.shading import COMPONENTS, Lighting
+from roughlight.study.tables import STUDY_COLUMNS, aggregate
+from roughlight.study.tables import sweep_table as make_sweep_table
+from roughlight.surfaces.roughness import make_surface
+
+SETTINGS = {"pixels_per_period": 16, "sampling": "adaptive", "shadow_map_size": 128}
+
+
+def _sweep(surface, incidence, seed):
+    azimuth, elevation = sweeps.view_grid(30, 45)
+    rng = np.random.default_rng(seed)
+    result = {key: rng.uniform(0, 255, azimuth.size) for key in ("diffuse", "specular", "total")}
+    result.update(coverage=np.ones(azimuth.size), seconds=0.5)
+    return make_sweep_table(result, surface, incidence, azimuth, elevation, Lighting(), "fast", SETTINGS)
+
+
+def _sweep_files(tmp_path):
+    """Rough sweeps of three kinds at two incidences, listed in no particular order, and the two controls."""
+    surfaces = [make_surface("pyramids", t, a) for t, a in ((1.0, 0.5), (0.5, 1.0), (0.0, 0.2))]
+    surfaces += [make_surface(kind, 1.0, 1.0, seed, cells=2) for kind in ("random_heightfield", "random_pyramids")
+                 for seed in (2, 1)]
+    rough = []
+    for n, (surface, incidence) in enumerate([(s, i) for i in (45.0, 30.0) for s in surfaces]):
+        rough.append(tmp_path / f"rough{n}.parquet")
+        pq.write_table(_sweep(surface, incidence, n), rough[-1])
+    control = []
+    for incidence in (30.0, 45.0):
+        control.append(tmp_path / f"control{incidence}.parquet")
+        pq.write_table(_sweep(make_surface("pyramids", 0.0, 0.0), incidence, 100 + int(incidence)), control[-1])
+    return rough, control
+
+
+def _merged_and_sorted(rough_paths, control_paths):
+    """The study table as a pandas merge and sort computes it (what ``aggregate`` did before it was built a
+    column at a time)."""
+    rough = pd.concat([pd.read_parquet(p) for p in rough_paths], ignore_index=True)
+    control = pd.concat([pd.read_parquet(p) for p in control_paths], ignore_index=True)
+    join = ["incidence", "azimuth", "elevation", "component"]
+    control = control[join + ["value"]].rename(columns={"value": "control"})
+    for frame in (rough, control):
+        frame["component"] = frame["component"].astype(str)
+    rough["kind"] = rough["kind"].astype(str)
+    study = rough.rename(columns={"value": "rough"}).merge(control, on=join, how="left", validate="many_to_one")
+    study["component"] = pd.Categorical(study["component"], categories=list(COMPONENTS))
+    kind = pd.Categorical(study["kind"], categories=["pyramids", "random_pyramids", "random_heightfield"])
+    study = study.assign(_kind=kind).sort_values(
+        ["_kind", "seed", "truncation", "aspect", "incidence", "azimuth", "elevation", "component"])
+    study = study[STUDY_COLUMNS].reset_index(drop=True)
+    study["component"] = study["component"].astype(str)
+    return study
+
+
+def test_the_aggregate_is_the_merged_and_sorted_sweeps(tmp_path):
+    rough, control = _sweep_files(tmp_path)
+    study = aggregate(rough, control)
+    pd.testing.assert_frame_equal(study, _merged_and_sorted(rough, control))
+    assert list(study["kind"].unique()) == ["pyramids", "random_pyramids", "random_heightfield"]
+    assert study["control"].notna().all() and (study["rough"] != study["control"]).any()
+    # written, it is the file a whole-table write gives
+    atomic.write_frame(study, tmp_path / "study.parquet")
+    pq.write_table(pa.Table.from_pandas(study, preserve_index=False), tmp_path / "whole.parquet", compression="zstd")
+    assert (tmp_path / "study.parquet").read_bytes() == (tmp_path / "whole.parquet").read_bytes()
+
+
+def test_a_view_the_control_lacks_stops_the_aggregate(tmp_path):
+    rough, control = _sweep_files(tmp_path)
+    with pytest.raises(ValueError, match="no control measurement for .* views"):
+        aggregate(rough, control[:1])
+
+
+def test_frames_are_written_a_row_group_at_a_time(tmp_path, monkeypatch):
+    monkeypatch.setattr(atomic, "ROW_GROUP_ROWS", 7)
+    frame = pd.DataFrame({"x": np.arange(30.0), "name": [f"v{i % 4}" for i in range(30)],
+                          "level": pd.Categorical(["a", "b", "c"] * 10)})
+    atomic.write_frame(frame, tmp_path / "frame.parquet")
+    assert pq.ParquetFile(tmp_path / "frame.parquet").metadata.num_row_groups == 5
+    pd.testing.assert_frame_equal(pd.read_parquet(tmp_path / "frame.parquet"), frame)
+    atomic.write_frame(frame.iloc[:0], tmp_path / "empty.parquet")
+    assert len(pd.read_parquet(tmp_path / "empty.parquet")) == 0
