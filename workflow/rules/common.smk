@@ -23,6 +23,13 @@ wildcard_constraints:
     seed=r"[1-9][0-9]*",
 
 
+# Job order on a workstation (Snakemake runs the ready job of highest priority first): the sweeps, then the chain
+# from the study table to the figures, which runs one job at a time, so that the benchmarks and scans (which
+# no sweep waits for) fill the other core while it runs, instead of leaving a core idle at the end.
+PRIORITY_SWEEPS = 1
+PRIORITY_STUDY_CHAIN = 2
+
+
 # the keys left unset that follow the grid, one line each (roughlight.study.config.follow_grid): logged at the start
 # of a run and shown in the report
 FOLLOWED = []

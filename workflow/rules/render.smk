@@ -8,6 +8,7 @@ rule control_sweep:
         "results/logs/sweeps/i{incidence}/control.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/control.benchmark.tsv"
+    priority: PRIORITY_SWEEPS
     group:
         "sweeps"
     conda:
@@ -33,6 +34,7 @@ rule rough_sweep:
         "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.benchmark.tsv"
+    priority: PRIORITY_SWEEPS
     group:
         "sweeps"
     conda:
@@ -58,6 +60,7 @@ rule random_sweep:
         "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.benchmark.tsv"
+    priority: PRIORITY_SWEEPS
     group:
         "sweeps"
     conda:
@@ -81,6 +84,7 @@ rule random_mesh:
         "results/meshes/{kind}_t{truncation}_a{aspect}_s{seed}.ply",
     log:
         "results/logs/meshes/{kind}_t{truncation}_a{aspect}_s{seed}.log",
+    priority: PRIORITY_SWEEPS
     conda:
         "../../envs/render.yaml"
     threads: 1
@@ -97,6 +101,7 @@ rule surface_meshes:
         mesh_files(),
     log:
         "results/logs/meshes.log",
+    priority: PRIORITY_SWEEPS
     conda:
         "../../envs/render.yaml"
     threads: 1

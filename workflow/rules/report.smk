@@ -46,6 +46,7 @@ rule analysis_tables:
         "results/logs/report/tables.log",
     benchmark:
         "results/logs/report/tables.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
@@ -87,6 +88,7 @@ rule analysis_glm:
         "results/logs/report/glm.log",
     benchmark:
         "results/logs/report/glm.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
@@ -114,6 +116,7 @@ rule analysis_models:
         "results/logs/report/models.log",
     benchmark:
         "results/logs/report/models.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
@@ -146,6 +149,7 @@ rule figures:
         "results/logs/report/figures.log",
     benchmark:
         "results/logs/report/figures.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1

@@ -10,6 +10,9 @@ rule study_table:
         "results/study.parquet",
     log:
         "results/logs/study.log",
+    benchmark:
+        "results/logs/study.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
