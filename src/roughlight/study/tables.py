@@ -188,7 +188,12 @@ def aggregate(rough_paths, control_paths):
     import pandas as pd
 
     controls = _ControlViews(pd.concat([read_sweep(p) for p in control_paths], ignore_index=True))
-    return _joined([controls.joined(read_sweep(p)) for p in rough_paths])
+    sweeps = []
+    for n, path in enumerate(rough_paths):
+        sweeps.append(controls.joined(read_sweep(path)))
+        if n % 16 == 15:
+            _release_memory()  # what reading left behind
+    return _joined(sweeps)
 
 
 def join_controls(rough, control):
@@ -269,6 +274,9 @@ def _release_memory() -> None:
     import ctypes
     import ctypes.util
 
+    import pyarrow as pa
+
+    pa.default_memory_pool().release_unused()  # the string columns' memory
     try:
         ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim(0)
     except (OSError, AttributeError):
