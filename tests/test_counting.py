@@ -112,3 +112,21 @@ def test_the_reference_skips_only_copies_that_overlap_in_no_area(kind):
             (copies.bbox[:, 0] < copies.bbox[h, 2]) & (copies.bbox[:, 2] > copies.bbox[h, 0])
             & (copies.bbox[:, 1] < copies.bbox[h, 3]) & (copies.bbox[:, 3] > copies.bbox[h, 1]))) - 1 for h in homes)
     assert kept_total < 0.5 * candidates_total, (kept_total, candidates_total)
+
+
+def test_views_near_the_horizon_are_counted_at_more_pixels():
+    """counted_shares counts views within GRAZING_BAND of the horizon at tile_grazing_scale times the pixels, the
+    others as configured: changing the scale changes the grazing views' shares only."""
+    from dataclasses import replace
+
+    tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=2)
+    views = _views([5.0, 175.0, 45.0, 120.0], [15.0, 60.0, 15.0, 100.0])
+    settings = RenderSettings().tile_settings().for_tile(tile.cells)
+    plain_lit, plain_shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(),
+                                                               replace(settings, tile_grazing_scale=1.0))
+    fine_lit, fine_shadow, _ = counting.counted_shares(tile, 30.0, views, Lighting(),
+                                                       replace(settings, tile_grazing_scale=2.0), regions)
+    np.testing.assert_array_equal(plain_lit[2:], fine_lit[2:])
+    np.testing.assert_array_equal(plain_shadow[2:], fine_shadow[2:])
+    assert np.abs(plain_lit[:2] - fine_lit[:2]).max() > 0
+    assert counting._grazing_settings(settings).pixels_per_period == round(1.25 * settings.pixels_per_period)

@@ -344,4 +344,5 @@ def render_settings_from_config(config: dict, random_tiles: bool = False) -> dic
         settings["tile_sampling"] = str(render["random_tiles"]["sampling"])
         settings["tile_pixels_per_period"] = int(render["random_tiles"]["pixels_per_period"])
         settings["tile_shadow_map_size"] = int(render["random_tiles"]["shadow_map_size"])
+        settings["tile_grazing_scale"] = float(render["random_tiles"]["grazing_scale"])
     return settings
