@@ -7,9 +7,9 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
 * **Nothing hidden.** Where every facet faces the view, each region's share is its exact projected area: its plan
   area times its facet's area ratio ``det = 1 - alpha d_x - beta d_y`` (the projection along the view is affine on
   a facet). No rendering.
-* **Something hidden.** The other views (those within :data:`GRAZING_BAND` of the horizon apart, at
-  ``RenderSettings.tile_grazing_scale`` times the pixels) are drawn, a framebuffer of tiles at a time, in one pass of the copies
-  (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. Each fragment adds one to its view's
+* **Something hidden.** The other views are drawn (those within :data:`GRAZING_BAND` of the horizon apart, at
+  ``RenderSettings.tile_grazing_scale`` times the pixels), a framebuffer of tiles at a time, in one pass of the
+  copies (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. Each fragment adds one to its view's
   count of its region (an atomic counter on the GL side). The shader runs before the depth test (it has side
   effects and asks for no early tests), so every fragment counts, hidden or not: the total is exactly the number
   of pixel centres in the region's projection, the count :func:`roughlight.render.shares.counts_and_areas`
@@ -42,7 +42,7 @@ FRAMEBUFFER = 2048
 #: pixels (:func:`counted_shares`).
 GRAZING_BAND = 10.0
 
-#: Facets with an area ratio below this face away from the view (as :func:`roughlight.render.shares.all_facing`).
+#: Facets with an area ratio below this face away from the view (as in :func:`roughlight.render.shares.all_facing`).
 FACING = 1e-9
 
 
@@ -56,8 +56,10 @@ def region_plan_areas(regions: shares.Regions) -> np.ndarray:
     return out
 
 
-def projected_areas(regions: shares.Regions, plan_areas, shears) -> tuple[np.ndarray, np.ndarray]:
-    """Each region's projected area along each view, and which views see every facet.
+def projected_areas(regions: shares.Regions, plan_areas, shears) -> np.ndarray:
+    """(V, R) each region's projected area along each view: its plan area times its facet's area ratio
+    ``1 - alpha d_x - beta d_y``, 0 where the facet faces away (periods^2; a view's areas sum to 1 where nothing
+    is hidden).
 
     Parameters
     ----------
@@ -66,19 +68,9 @@ def projected_areas(regions: shares.Regions, plan_areas, shears) -> tuple[np.nda
         :func:`region_plan_areas`.
     shears : (V, 2) array
         Each view's plan shift ``d = (V_x / V_z, V_y / V_z)``.
-
-    Returns
-    -------
-    areas : (V, R) array
-        Plan area times the facet's area ratio ``1 - alpha d_x - beta d_y``, 0 where the facet faces away
-        (periods^2; a view's areas sum to 1 where nothing is hidden).
-    whole : (V,) bool array
-        True where every facet faces the view: nothing is hidden.
     """
     det = 1.0 - regions.alpha[None, :] * shears[:, 0:1] - regions.beta[None, :] * shears[:, 1:2]
-    facing = det > FACING
-    areas = plan_areas[None, :] * np.where(facing, det, 0.0)[:, regions.facet]
-    return areas, np.all(facing, axis=1)
+    return plan_areas[None, :] * np.where(det > FACING, det, 0.0)[:, regions.facet]
 
 
 def _lit_state(regions: shares.Regions, plan_areas) -> np.ndarray:
@@ -117,21 +109,21 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     plan = region_plan_areas(regions)
     n_views, n_facets = len(views), len(regions.normals)
     lit, shadow = np.zeros((n_views, n_facets)), np.zeros((n_views, n_facets))
-    det = 1.0 - regions.alpha[None, :] * shears[:, 0:1] - regions.beta[None, :] * shears[:, 1:2]
-    whole = np.flatnonzero(np.all(det > FACING, axis=1))
-    del det
     # (views, regions) arrays a batch at a time: whole, they take gigabytes on large tiles
+    batches = range(0, n_views, 1024)
+    whole = np.flatnonzero(np.concatenate([shares.all_facing(regions, shears[i:i + 1024]) for i in batches]))
     for first in range(0, whole.size, 1024):
         idx = whole[first:first + 1024]
-        _store(lit, shadow, idx, projected_areas(regions, plan, shears[idx])[0])
+        _store(lit, shadow, idx, projected_areas(regions, plan, shears[idx]))
     hidden = np.setdiff1d(np.arange(n_views), whole)
     grazing = np.abs(views[hidden, 2]) < np.sin(np.radians(GRAZING_BAND))
+    lit_state = _lit_state(regions, plan)
     for part, part_settings in ((hidden[~grazing], settings), (hidden[grazing], _grazing_settings(settings))):
         if not part.size:
             continue
         for idx, visible, total, per_tile in _counted_batches(surface, incidence, views, shears, part, lighting,
-                                                              part_settings, _lit_state(regions, plan)):
-            areas = projected_areas(regions, plan, shears[idx])[0]
+                                                              part_settings, lit_state):
+            areas = projected_areas(regions, plan, shears[idx])
             ratio = np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile)
             sums = ratio.sum(axis=1, keepdims=True)
             _store(lit, shadow, idx, np.where(sums > 0, ratio / np.where(sums > 0, sums, 1.0), 0.0))

@@ -41,6 +41,7 @@ import numpy as np
 
 from ..atomic import write_frame
 from ..render.shading import COMPONENTS, phase_angle
+from ..surfaces.roughness import KINDS
 from ..surfaces.surface import Surface
 
 __all__ = [
@@ -202,8 +203,6 @@ def join_controls(rough, control):
     return _joined([_ControlViews(control).joined(rough)])
 
 
-#: The order of the study table's surfaces.
-KIND_ORDER = ["pyramids", "random_pyramids", "random_heightfield"]
 #: The view of a control row a rough row is joined to.
 CONTROL_KEY = ["incidence", "azimuth", "elevation", "component"]
 
@@ -214,7 +213,7 @@ class _ControlViews:
     def __init__(self, control):
         import pandas as pd
 
-        self.views = pd.MultiIndex.from_arrays([_as_str(control[name]) if name == "component" else control[name]
+        self.views = pd.MultiIndex.from_arrays([control[name].astype(str) if name == "component" else control[name]
                                                 for name in CONTROL_KEY])
         if not self.views.is_unique:
             raise ValueError("the control sweeps measure some view twice (one control sweep an incidence is expected)")
@@ -224,31 +223,29 @@ class _ControlViews:
         """A rough sweep frame's columns (:func:`sweep_table`'s), each a Series of its own memory (columns that
         share a frame's block would not be freed one by one), with ``kind`` and ``component`` as strings, its
         ``value`` as ``rough``, the control's value of each row's view as ``control``, and the sort codes of
-        ``kind`` and ``component`` (:data:`KIND_ORDER`, :data:`~roughlight.render.shading.COMPONENTS`)."""
+        ``kind`` and ``component`` (in :data:`~roughlight.surfaces.roughness.KINDS` and
+        :data:`~roughlight.render.shading.COMPONENTS` order)."""
         import pandas as pd
 
         columns = {name: frame_column.copy() for name, frame_column in rough.items()}
         columns["rough"] = columns.pop("value")
-        columns["kind"], columns["component"] = _as_str(columns["kind"]), _as_str(columns["component"])
+        columns["kind"], columns["component"] = columns["kind"].astype(str), columns["component"].astype(str)
         where = self.views.get_indexer(pd.MultiIndex.from_arrays([columns[name] for name in CONTROL_KEY]))
         if np.any(where < 0):
             missing = rough.loc[where < 0, CONTROL_KEY[:3]].drop_duplicates()
             raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
         columns["control"] = pd.Series(self.values[where])
-        columns["_kind"] = pd.Categorical(columns["kind"], categories=KIND_ORDER).codes
+        columns["_kind"] = pd.Categorical(columns["kind"], categories=list(KINDS)).codes
         columns["_component"] = pd.Categorical(columns["component"], categories=list(COMPONENTS)).codes
         return columns
-
-
-def _as_str(column):
-    return column.astype(str)
 
 
 def _joined(sweeps: list):
     """The study table from rough sweeps joined to their controls (:meth:`_ControlViews.joined`), emptied as
     their columns are used: the table is built a column at a time, so that the sweeps and the table are not held
-    twice over. Rows are sorted by :data:`KIND_ORDER`, seed, truncation, aspect, incidence, azimuth, elevation
-    and component (in :data:`~roughlight.render.shading.COMPONENTS` order); columns concatenate as
+    twice over. Rows are sorted by kind (in :data:`~roughlight.surfaces.roughness.KINDS` order), seed,
+    truncation, aspect, incidence, azimuth, elevation and component (in :data:`~roughlight.render.shading.COMPONENTS`
+    order); columns concatenate as
     ``pandas.concat`` does (a categorical stays one where every sweep has the same categories)."""
     import pandas as pd
 
