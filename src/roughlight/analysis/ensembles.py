@@ -375,6 +375,12 @@ def claim_interval(row, rule) -> tuple[float, float]:
     return max(low, min(lows)), min(high, max(highs))
 
 
+def _tolerance(row, rule) -> float:
+    """How close to the regular value a claim row's interval must lie to decide "no difference" (``rule``:
+    absolute, or relative to the regular value)."""
+    return rule["absolute"] if rule["absolute"] is not None else rule["relative"] * abs(row["regular"])
+
+
 def _decision(row, rule) -> tuple[str, str]:
     """(decided, why) for one claim row: decided when its interval (:func:`claim_interval`, in ``row["low"]``,
     ``row["high"]``) excludes the regular value, or lies within the tolerance of it (``rule``: relative to the
@@ -384,7 +390,7 @@ def _decision(row, rule) -> tuple[str, str]:
                     "window's edge), so there is nothing to compare"
     if row["seeds"] < 2 or not np.isfinite(row["low"]):
         return "–", f"{int(row['seeds'])} seed(s) with a back lobe: an interval needs 2 or more (surface.seeds)"
-    tolerance = rule["absolute"] if rule["absolute"] is not None else rule["relative"] * abs(row["regular"])
+    tolerance = _tolerance(row, rule)
     if row["low"] > row["regular"] or row["high"] < row["regular"]:
         side = "above" if row["low"] > row["regular"] else "below"
         return "yes", f"the interval lies {side} the regular value"
@@ -396,8 +402,7 @@ def _decision(row, rule) -> tuple[str, str]:
 def claim_table(summary: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
     """The thesis's rectangular-lobe claim as one table: per random kind, grid point and test (:data:`CLAIMS`),
     the regular value, the ensemble's mean with its interval (:func:`claim_interval`), whether the test is decided
-    and why, and
-    the seeds that would decide it (from the seed-to-seed SD: the fewest whose t-interval excludes the regular
+    and why, and the seeds that would decide it (from the seed-to-seed SD: the fewest whose t-interval excludes the regular
     value or fits the tolerance).
 
     Parameters
@@ -421,8 +426,7 @@ def claim_table(summary: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:
         decided, why = _decision(r, rule)
         need = pd.NA
         if np.isfinite(r["sd"]) and r["sd"] > 0 and np.isfinite(r["regular"]):
-            tolerance = rule["absolute"] if rule["absolute"] is not None else rule["relative"] * abs(r["regular"])
-            target = max(abs(r["mean"] - r["regular"]), tolerance / 2.0)
+            target = max(abs(r["mean"] - r["regular"]), _tolerance(r, rule) / 2.0)
             n = np.arange(2, 10_001)
             ok = np.flatnonzero(sps.t.ppf(0.5 + level / 2, n - 1) * r["sd"] / np.sqrt(n) <= target)
             need = int(n[ok[0]]) if len(ok) else 10_000

@@ -18,6 +18,8 @@ from . import shading
 from .gl import GLTF, Context, Primitive, gl, set_material_uniforms
 from .sampling import RenderSettings, lattice_copies, tile_layout
 
+#: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
+#: texcoord_0 = the facet's index and lit state, then the instance matrix).
 ATTRIBUTES = {"NORMAL_LOC": 1, "FACET_LOC": 2, "INST_M_LOC": 3}
 
 

@@ -55,8 +55,6 @@ from .passes import (
 from .sampling import RenderSettings
 
 
-#: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
-#: texcoord_0 = the facet's index, then the instance matrix).
 def fast_sweep(
     surface: Surface,
     incidence: float,
@@ -229,7 +227,7 @@ def _render_batch(scene: Scene, poses, matrix, shift, width: int, height_px: int
     begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
     program._bind()
     set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
-                           scene.depth_scale, scene.height)
+                          scene.depth_scale, scene.height)
     program.set_uniform("sampling", matrix.astype(np.float32))
     program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
     program.set_uniform("surface_shift", shift.astype(np.float32))

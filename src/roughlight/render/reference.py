@@ -204,8 +204,9 @@ def _without_slivers(region):
     """``region`` without its parts of no area (zero-width spikes and bow-ties that polygon clipping of random
     tiles leaves; mapped into a view they can turn invalid and count twice, as in random pyramids, seed 2,
     t 1, a 1, i 30, e 45, phi 15)."""
-    parts = [p for p in shapely.get_parts(region) if p.area > MIN_OVERLAP]
-    if len(parts) == len(shapely.get_parts(region)):
+    every = shapely.get_parts(region)
+    parts = [p for p in every if p.area > MIN_OVERLAP]
+    if len(parts) == len(every):
         return region
     return area_parts(shapely.union_all(parts)) if parts else shapely.Polygon()
 

@@ -162,17 +162,22 @@ def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
         else:
             value = f"{r['mean']:.3g}" if np.isfinite(r["mean"]) else "–"
         rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
-                     "incidence": r["incidence"], "test": r["test"].replace("back_", "").replace("_", " "),
+                     "incidence": r["incidence"], "test": _test_label(r["test"]),
                      "regular": r["regular"], "random mean [95% interval]": value, "seeds": r["seeds"],
                      "decided": r["decided"], "why": r["why"], "seeds to decide": r["seeds_to_decide"]})
     return pd.DataFrame(rows)
+
+
+def _test_label(statistic: str) -> str:
+    """A claim test's name as the page shows it: ``back_phase_shift`` -> ``phase shift``."""
+    return statistic.replace("back_", "").replace("_", " ")
 
 
 def _claim_tests() -> list[dict]:
     """Each test of the claim: its name, the claim it puts and what its statistic shows."""
     from ..analysis.ensembles import CLAIMS
 
-    return [{"test": name.replace("back_", "").replace("_", " "), "claim": rule["claim"], "shows": rule["shows"],
+    return [{"test": _test_label(name), "claim": rule["claim"], "shows": rule["shows"],
              "tolerance": (f"±{rule['absolute']:g}°" if rule["absolute"] is not None
                            else f"±{100 * rule['relative']:g}% of the regular value")}
             for name, rule in CLAIMS.items()]
