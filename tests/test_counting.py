@@ -17,20 +17,19 @@ def _views(elevation, azimuth):
 
 
 @pytest.mark.parametrize("kind", KINDS)
-def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind):
-    """Without shadows a region is a facet's whole footprint (or nothing), so the GL side's visible + hidden count
-    of each region must be the pixel centres inside its projected polygon counted from the polygon
+@pytest.mark.parametrize("shadows", [False, True])
+def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, shadows):
+    """The GL side draws each region (the lit or the shadowed part of a facet) as its own triangles, so its
+    visible + hidden count must be the pixel centres inside its projected polygon counted from the polygon
     (shares.counts_and_areas): equal but where a centre lies within float32 rounding of an edge (about 1% of the
-    regions here, one pixel each)."""
+    regions here, one pixel each), with shadows or without."""
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
-    lighting = Lighting(shadows=False)
     settings = RenderSettings().tile_settings().for_tile(tile.cells)
-    regions = shares.facet_regions(tile, 30.0, False)
+    regions = shares.facet_regions(tile, 30.0, shadows)
     views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
     shears = views[:, :2] / views[:, 2:3]
     plan = counting.region_plan_areas(regions)
-    visible, total, per_tile = counting._count(tile, 30.0, views, shears, np.arange(len(views)), lighting, settings,
-                                               counting._lit_state(regions, plan))
+    visible, total, per_tile = counting._count(tile, regions, views, shears, np.arange(len(views)), settings)
     expected, areas = shares.counts_and_areas(regions, shears, settings.sampling_matrix())
     assert per_tile == abs(round(np.linalg.det(settings.sampling_matrix())))
     difference = np.abs(total - expected)
@@ -39,6 +38,25 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind):
     assert np.all(visible <= total) and np.all(visible.sum(axis=1) == per_tile)
     # the exact projected areas are the polygons' (shoelace over the projected rings)
     np.testing.assert_allclose(counting.projected_areas(regions, plan, shears), areas, atol=1e-12)
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_region_triangles_cover_each_region_exactly(kind):
+    """The counting pass draws the regions' triangles: they must tile each region (areas equal to its polygons'),
+    face up (counter-clockwise, so that back-face culling keeps exactly the facets facing a view) and lie on their
+    facet's plane."""
+    tile = RandomSurface(kind, 1.0, 1.0, seed=2, cells=4)
+    regions = shares.facet_regions(tile, 30.0, True)
+    tris, owner = counting.region_triangles(regions)
+    a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
+    twice = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    assert np.all(twice >= 0)
+    np.testing.assert_allclose(np.bincount(owner, 0.5 * twice, minlength=len(regions.rings)),
+                               counting.region_plan_areas(regions), atol=1e-12)
+    facet = regions.facet[owner]
+    heights = regions.alpha[facet, None] * tris[..., 0] + regions.beta[facet, None] * tris[..., 1]
+    spread = (tris[..., 2] - heights).max(axis=1) - (tris[..., 2] - heights).min(axis=1)
+    assert spread.max() < 1e-12
 
 
 @pytest.mark.parametrize("kind", KINDS)

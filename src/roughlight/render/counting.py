@@ -9,26 +9,25 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
   a facet). No rendering.
 * **Something hidden.** The other views are drawn (those within :data:`GRAZING_BAND` of the horizon apart, at
   ``RenderSettings.tile_grazing_scale`` times the pixels), a framebuffer of tiles at a time, in one pass of the
-  copies (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. Each fragment adds one to its view's
-  count of its region (an atomic counter on the GL side). The shader runs before the depth test (it has side
-  effects and asks for no early tests), so every fragment counts, hidden or not: the total is exactly the number
-  of pixel centres in the region's projection, the count :func:`roughlight.render.shares.counts_and_areas`
-  computes from polygons. The depth test keeps the nearest fragment's region in the image, which is read back:
-  each view's pixels of each region are its visible count. ``visible / total`` is the region's visible fraction
-  with the pixel errors along its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the
-  exact area it is the region's share; what remains is the error along the edges of whatever hides it.
-
-The shadow test is the shader's (``shaders/periodic_shadow.glsl``), the same for visible and hidden fragments;
-facets wholly lit or wholly in shadow (from the exact lit regions) skip it.
+  copies (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. The tile is drawn as its regions'
+  triangles (:func:`region_triangles`), each vertex carrying its region, so the lit and the shadowed part of a facet
+  are told apart by the exact polygons, not by a shadow map. Each fragment adds one to its view's count of its
+  region (an atomic counter on the GL side). The shader runs before the depth test (it has side effects and asks
+  for no early tests), so every fragment counts, hidden or not: the total is exactly the number of pixel centres in
+  the region's projection, the count :func:`roughlight.render.shares.counts_and_areas` computes from polygons. The
+  depth test keeps the nearest fragment's region in the image, which is read back: each view's pixels of each
+  region are its visible count. ``visible / total`` is the region's visible fraction with the pixel errors along
+  its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it is the region's
+  share; what remains is the error along the edges of whatever hides it.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from . import shading, shares
-from .gl import context, gl
-from .passes import ATTRIBUTES, batch_poses, begin_pass, cached_layout, draw, make_scene, primitive, set_lighting_uniforms
+from . import shares
+from .gl import GLTF, Primitive, context, gl
+from .passes import ATTRIBUTES, batch_poses, begin_pass, cached_layout, draw
 
 __all__ = ["region_plan_areas", "projected_areas", "counted_shares"]
 
@@ -73,12 +72,6 @@ def projected_areas(regions: shares.Regions, plan_areas, shears) -> np.ndarray:
     return plan_areas[None, :] * np.where(det > FACING, det, 0.0)[:, regions.facet]
 
 
-def _lit_state(regions: shares.Regions, plan_areas) -> np.ndarray:
-    """(F,) float32 per facet: 1 wholly lit, 2 wholly in shadow, 0 partly (the shader tests its shadow map)."""
-    lit, shadow = plan_areas[0::2], plan_areas[1::2]
-    return np.where(shadow <= 1e-15, 1.0, np.where(lit <= 1e-15, 2.0, 0.0)).astype(np.float32)
-
-
 def counted_shares(surface, incidence: float, views, lighting, settings, regions=None):
     """Each region's share of each view's image, for a random tile (see the module's description).
 
@@ -91,6 +84,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     views : (V, 3) array
         Unit vectors toward the detector, none grazing (``V_z > 0``).
     lighting : Lighting
+        Only whether it casts shadows matters here (the values come from :func:`roughlight.render.shading.facet_sum`).
     settings : RenderSettings
         The tile's own (:meth:`RenderSettings.tile_settings` then :meth:`RenderSettings.for_tile`): its
         ``pixels_per_period`` is per tile.
@@ -117,12 +111,12 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
         _store(lit, shadow, idx, projected_areas(regions, plan, shears[idx]))
     hidden = np.setdiff1d(np.arange(n_views), whole)
     grazing = np.abs(views[hidden, 2]) < np.sin(np.radians(GRAZING_BAND))
-    lit_state = _lit_state(regions, plan)
+    triangles = region_triangles(regions) if hidden.size else None
     for part, part_settings in ((hidden[~grazing], settings), (hidden[grazing], _grazing_settings(settings))):
         if not part.size:
             continue
-        for idx, visible, total, per_tile in _counted_batches(surface, incidence, views, shears, part, lighting,
-                                                              part_settings, lit_state):
+        for idx, visible, total, per_tile in _counted_batches(surface.height, triangles, len(regions.rings), views,
+                                                              shears, part, part_settings):
             areas = projected_areas(regions, plan, shears[idx])
             ratio = np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile)
             sums = ratio.sum(axis=1, keepdims=True)
@@ -146,37 +140,83 @@ def _store(lit, shadow, idx, share) -> None:
     shadow[idx] = share[:, 1::2]
 
 
-def _count(surface, incidence, views, shears, hidden, lighting, settings, lit_state):
+def _count(surface, regions, views, shears, hidden, settings):
     """Visible and total pixel counts (H, R) of each region in each of the views ``hidden`` (indices into
     ``views``, in order), and a tile's pixel count: :func:`_counted_batches` gathered."""
-    batches = list(_counted_batches(surface, incidence, views, shears, hidden, lighting, settings, lit_state))
+    batches = list(_counted_batches(surface.height, region_triangles(regions), len(regions.rings), views, shears,
+                                    hidden, settings))
     per_tile = batches[0][3]
     return (np.concatenate([b[1] for b in batches]), np.concatenate([b[2] for b in batches]), per_tile)
 
 
-def _counted_batches(surface, incidence, views, shears, hidden, lighting, settings, lit_state):
+def _counted_batches(height, triangles, n_regions, views, shears, hidden, settings):
     """For each framebuffer of the views ``hidden`` (indices into ``views``): those views' indices, their visible
-    and total pixel counts (n, R) of each region, and a tile's pixel count."""
-    light_dir = shading.light_direction(incidence)
+    and total pixel counts (n, R) of each region, and a tile's pixel count.
+
+    Parameters
+    ----------
+    height : float
+        The tile's height (periods).
+    triangles : tuple
+        :func:`region_triangles` of its ``n_regions`` regions.
+    views, shears : (V, 3), (V, 2) arrays
+    hidden : (H,) int array
+    settings : RenderSettings
+        The tile's own.
+    """
     matrix = settings.sampling_matrix()
     side = min(int(settings.max_framebuffer), FRAMEBUFFER)
     width, height_px, slots, pixel_order = cached_layout(matrix, hidden.size, side)
     ctx = context(width, height_px, int(settings.shadow_map_size))
-    scene = make_scene(ctx, surface, light_dir, lighting, settings, None)
     per_tile = len(pixel_order) // len(slots)
     buffer = gl.glGenBuffers(1)
     try:
         for first in range(0, hidden.size, len(slots)):
             idx = hidden[first:first + len(slots)]
-            poses = batch_poses(scene.height, views, shears, idx, slots, np.zeros(2))
+            poses = batch_poses(height, views, shears, idx, slots, np.zeros(2))
             slot_pixels = pixel_order[: idx.size * per_tile].reshape(idx.size, per_tile)
-            seen, total = _count_batch(scene, poses, matrix, width, height_px, buffer, slot_pixels, lit_state)
+            seen, total = _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer, slot_pixels,
+                                       n_regions)
             yield idx, seen, total, per_tile
     finally:
         gl.glDeleteBuffers(1, [buffer])
 
 
-def _count_batch(scene, poses, matrix, width, height_px, buffer, slot_pixels, lit_state):
+def region_triangles(regions: shares.Regions):
+    """Each region triangulated: (T, 3, 3) corners (plan x, y and the facet's height, periods; counter-clockwise
+    seen from above) and (T,) the region each triangle belongs to. The triangles of a region cover exactly its
+    polygons (constrained Delaunay triangulation, holes left out)."""
+    import shapely
+
+    from .clipping import area_parts
+
+    tris, owner = [], []
+    for r, rings in enumerate(regions.rings):
+        f = regions.facet[r]
+        polygons = []
+        for ring in rings:
+            x, y = ring[:, 0], ring[:, 1]
+            twice_area = np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))
+            if twice_area > 1e-15:  # an exterior starts a polygon
+                polygons.append([ring[:, :2], []])
+            elif twice_area < -1e-15 and polygons:  # a hole of the last exterior
+                polygons[-1][1].append(ring[:, :2])
+        if not polygons:  # zero-area slivers only
+            continue
+        area = area_parts(shapely.MultiPolygon([shapely.Polygon(ext, holes) for ext, holes in polygons]))
+        parts = shapely.get_parts(shapely.constrained_delaunay_triangles(area))
+        xy = shapely.get_coordinates(parts).reshape(len(parts), 4, 2)[:, :3]
+        flip = (xy[:, 1, 0] - xy[:, 0, 0]) * (xy[:, 2, 1] - xy[:, 0, 1]) \
+            - (xy[:, 1, 1] - xy[:, 0, 1]) * (xy[:, 2, 0] - xy[:, 0, 0]) < 0
+        xy[flip] = xy[flip][:, ::-1]
+        z0 = rings[0][0, 2] - regions.alpha[f] * rings[0][0, 0] - regions.beta[f] * rings[0][0, 1]
+        z = regions.alpha[f] * xy[..., 0] + regions.beta[f] * xy[..., 1] + z0
+        tris.append(np.concatenate([xy, z[..., None]], axis=2))
+        owner.append(np.full(len(parts), r))
+    return np.concatenate(tris), np.concatenate(owner)
+
+
+def _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer, slot_pixels, n_regions):
     """One framebuffer of views in one pass: every fragment counted on the GL side as the image is drawn, then
     each slot's visible regions read from the image.
 
@@ -189,16 +229,37 @@ def _count_batch(scene, poses, matrix, width, height_px, buffer, slot_pixels, li
     -------
     visible, total : (n, R) float arrays
     """
-    ctx, n_regions = scene.ctx, 2 * len(lit_state)
     if n_regions >= 0xFFFF:
         raise ValueError(f"a tile of {n_regions // 2} facets is too many to count (the image holds 16-bit regions)")
+    depth_scale = 1.0 / max(height * 1.001, 1e-6)
     uniforms = {"sampling": matrix.astype(np.float32), "ndc_scale": np.array([2.0 / width, 2.0 / height_px],
-                np.float32), "surface_shift": np.zeros(2, np.float32), "depth_scale": float(scene.depth_scale)}
+                np.float32), "surface_shift": np.zeros(2, np.float32), "depth_scale": float(depth_scale)}
     begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
     program = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
-    total = _counting_draw(scene, program, poses, uniforms, buffer, len(slot_pixels), n_regions, lit_state)
+    size = len(slot_pixels) * n_regions
+    gl.glBindBuffer(gl.GL_SHADER_STORAGE_BUFFER, buffer)
+    gl.glBufferData(gl.GL_SHADER_STORAGE_BUFFER, size * 4, np.zeros(size, np.uint32), gl.GL_DYNAMIC_READ)
+    gl.glBindBufferBase(gl.GL_SHADER_STORAGE_BUFFER, 0, buffer)
+    program._bind()
+    for name, value in uniforms.items():
+        program.set_uniform(name, value)
+    program.set_uniform("n_regions", int(n_regions))
+    draw(ctx, _region_primitive(*triangles, poses), program)
+    program._unbind()
+    gl.glMemoryBarrier(gl.GL_BUFFER_UPDATE_BARRIER_BIT)
+    total = np.frombuffer(gl.glGetBufferSubData(gl.GL_SHADER_STORAGE_BUFFER, 0, size * 4), np.uint32)
     raw = gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-    return _visible_counts(raw, slot_pixels, n_regions), total
+    return _visible_counts(raw, slot_pixels, n_regions), total.reshape(len(slot_pixels), n_regions).astype(float)
+
+
+def _region_primitive(tris, region, poses):
+    """The region triangles as one instanced primitive at the copies ``poses``; each vertex carries its region."""
+    positions = tris.reshape(-1, 3).astype(np.float32)
+    # normals unused, but present: pyrender numbers the attributes in order (passes.ATTRIBUTES)
+    return Primitive(positions=positions, normals=np.broadcast_to(np.float32([0, 0, 1]), positions.shape),
+                     texcoord_0=np.repeat(np.stack([region.astype(np.float32), np.zeros(len(region), np.float32)],
+                                                   axis=1), 3, axis=0),
+                     mode=GLTF.TRIANGLES, poses=poses)
 
 
 def _visible_counts(raw: bytes, slot_pixels, n_regions: int) -> np.ndarray:
@@ -209,25 +270,3 @@ def _visible_counts(raw: bytes, slot_pixels, n_regions: int) -> np.ndarray:
     key += (np.arange(n_views, dtype=np.int32) * (n_regions + 1))[:, None]  # bin 0 of each view: no surface
     counts = np.bincount(key.ravel(), minlength=n_views * (n_regions + 1))
     return counts.reshape(n_views, n_regions + 1)[:, 1:].astype(float)
-
-
-def _counting_draw(scene, program, poses, uniforms, buffer, n_views, n_regions, lit_state) -> np.ndarray:
-    """Draw the copies with the counting shader into zeroed counters; return them, (n_views, n_regions)."""
-    size = n_views * n_regions
-    gl.glBindBuffer(gl.GL_SHADER_STORAGE_BUFFER, buffer)
-    gl.glBufferData(gl.GL_SHADER_STORAGE_BUFFER, size * 4, np.zeros(size, np.uint32), gl.GL_DYNAMIC_READ)
-    gl.glBindBufferBase(gl.GL_SHADER_STORAGE_BUFFER, 0, buffer)
-    program._bind()
-    set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
-                          scene.depth_scale, scene.height)
-    for name, value in uniforms.items():
-        program.set_uniform(name, value)
-    program.set_uniform("n_regions", int(n_regions))
-    gl.glActiveTexture(gl.GL_TEXTURE0)
-    gl.glBindTexture(gl.GL_TEXTURE_2D, scene.ctx.shadow_tex)
-    program.set_uniform("shadow_map", 0)
-    draw(scene.ctx, primitive(scene.surface, poses, lit_state), program)
-    program._unbind()
-    gl.glMemoryBarrier(gl.GL_BUFFER_UPDATE_BARRIER_BIT)
-    data = gl.glGetBufferSubData(gl.GL_SHADER_STORAGE_BUFFER, 0, size * 4)
-    return np.frombuffer(data, np.uint32).reshape(n_views, n_regions).astype(float)

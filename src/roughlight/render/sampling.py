@@ -56,13 +56,12 @@ class RenderSettings:
         one lattice a view.
     tile_sampling, tile_pixels_per_period, tile_shadow_map_size : str, int, int
         ``sampling``, ``pixels_per_period`` and ``shadow_map_size`` (per cell) of random tiles
-        (:meth:`tile_settings`). The tile's shadow map is coarser than the regular surface's: a 4-cell tile's
-        at 512 texels a cell is 2048 texels a side, which every fragment reads at random and which costs a
-        quarter of a tile sweep in cache misses, for no change in accuracy at 128 (the exact lit areas correct
-        every wholly seen region). ``"adaptive"`` (the default) counts each
-        region's visible and hidden pixels on the GL side and corrects them by
-        its exact area (:mod:`roughlight.render.counting`); lattice and grid
-        sampling take the tile mean of the shader's values.
+        (:meth:`tile_settings`). ``"adaptive"`` (the default) draws each region (the exact lit or shadowed part
+        of a facet), counts its visible and hidden pixels on the GL side and corrects them by its exact area
+        (:mod:`roughlight.render.counting`), with no shadow map; lattice and grid sampling take the tile mean of
+        the shader's values, shadowed by a shadow map of ``tile_shadow_map_size`` texels a cell (coarser than
+        the regular surface's: a 4-cell tile's at 512 texels a cell is 2048 texels a side, which every fragment
+        reads at random).
     tile_grazing_scale : float
         Adaptive sampling of random tiles: views within :data:`roughlight.render.counting.GRAZING_BAND` degrees
         of the horizon are counted at this many times ``tile_pixels_per_period`` (rounded). There the facets

@@ -1,5 +1,5 @@
-// Is this point of the surface lit? The periodic shadow map's test, shared by periodic.frag (values and facet
-// identities) and periodic_count.frag (region counts), so that both decide every fragment alike. The includer
+// Is this point of the surface lit? The periodic shadow map's test of periodic.frag (values and facet
+// identities); kept apart so that every program testing the shadow map decides every fragment alike. The includer
 // declares frag_local (the point within the period) and frag_vertex (a vertex of its facet, flat).
 
 uniform int shadow_mode;           // 0 none, 1 periodic shadow map, 2 all in shadow (grazing light)
