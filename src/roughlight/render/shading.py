@@ -174,11 +174,16 @@ def facet_components(normals, light_dir, view_dirs, lighting: Lighting, lit=1.0)
     -------
     diffuse, specular, total : arrays on the 0-255 scale, not clamped.
     """
+    return _components(_facet_terms(normals, light_dir, view_dirs, lighting), lighting, lit)
+
+
+def _facet_terms(normals, light_dir, view_dirs, lighting: Lighting):
+    """N.L, whether it is positive, and the specular factor of :func:`facet_components`, which do not depend on
+    whether the point is lit (computed once for both)."""
     n = np.asarray(normals, float)
     v = np.asarray(view_dirs, float)
     lvec = np.asarray(light_dir, float)
     ndotl = np.sum(n * lvec, axis=-1)
-    lit = np.asarray(lit, float) * (ndotl > 0)
     if lighting.specular_model == "phong":
         r = 2.0 * ndotl[..., None] * n - lvec
         base = np.sum(r * v, axis=-1)
@@ -186,9 +191,16 @@ def facet_components(normals, light_dir, view_dirs, lighting: Lighting, lit=1.0)
         h = lvec + v
         h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-12)
         base = np.sum(n * h, axis=-1)
-    spec_factor = np.where(ndotl > 0, np.maximum(base, 0.0) ** lighting.shininess, 0.0)
+    facing = ndotl > 0
+    return ndotl, facing, np.where(facing, np.maximum(base, 0.0) ** lighting.shininess, 0.0)
+
+
+def _components(terms, lighting: Lighting, lit):
+    """:func:`facet_components` from :func:`_facet_terms`."""
+    ndotl, facing, spec_factor = terms
+    lit = np.asarray(lit, float) * facing
     # the thesis's specular protocol: no inner shadows on the specular (N.L > 0 still gates it)
-    spec_lit = lit if lighting.specular_shadows else (ndotl > 0).astype(float)
+    spec_lit = lit if lighting.specular_shadows else facing.astype(float)
     j = lighting.light
     diffuse = j * (
         lighting.ambient_reflectance * lighting.ambient
@@ -222,8 +234,9 @@ def facet_values(normals, light_dir, view_dirs, lighting: Lighting, quantized: b
     views = np.asarray(view_dirs, float)[:, None, :]
     shape = (views.shape[0], normals.shape[1])
     out = []
+    terms = _facet_terms(normals, light_dir, views, lighting)
     for lit in (1.0, 0.0):
-        values = facet_components(normals, light_dir, views, lighting, lit=lit)
+        values = _components(terms, lighting, lit)
         out.append(tuple(np.broadcast_to(quantize(v) if quantized else v, shape) for v in values))
     return out[0], out[1]
 
