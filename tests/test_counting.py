@@ -148,3 +148,19 @@ def test_views_near_the_horizon_are_counted_at_more_pixels():
     np.testing.assert_array_equal(plain_shadow[2:], fine_shadow[2:])
     assert np.abs(plain_lit[:2] - fine_lit[:2]).max() > 0
     assert counting._grazing_settings(settings).pixels_per_period == round(1.25 * settings.pixels_per_period)
+
+
+def test_views_the_shadow_map_pass_got_wrong_are_within_a_level():
+    """Random pyramids, seed 3, t 1, a 1, 1-2 degrees above the horizon: when the counting pass told lit from
+    shadowed fragments with a shadow map, these views of the default study were 2.77 and 1.54 levels off the exact
+    reference (missed by the 5 x 15 degree accuracy checks). Drawn as the exact lit and shadowed regions they are
+    within 0.15."""
+    from roughlight.render.periodic import fast_sweep
+
+    tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=3, cells=4)
+    azimuth, elevation = np.array([145.0, 145.0]), np.array([179.0, 178.0])
+    exact, refused = reference.reference_views(tile, 30.0, azimuth, elevation, Lighting())
+    fast = fast_sweep(tile, 30.0, azimuth, elevation, Lighting())
+    assert not np.any(refused)
+    for component in ("diffuse", "specular", "total"):
+        assert np.max(np.abs(fast[component] - np.asarray(exact[component]))) < 0.5, component
