@@ -116,6 +116,11 @@ def test_bad_random_surfaces_name_the_key(build, key):
         ({"kind": ["pyramids", "fractal"]}, "surface.kind"),
         ({"seeds": 0}, "surface.seeds"),
         ({"seeds": [2, 2]}, "surface.seeds"),
+        ({"seeds": {"random_pyramids": [2, 2]}, "kind": ["random_pyramids"]}, "surface.seeds.random_pyramids lists"),
+        ({"seeds": {"random_pyramids": 3}, "kind": ["random_pyramids", "random_heightfield"]},
+         "surface.seeds gives seeds per kind but none for random_heightfield"),
+        ({"seeds": {"fractal": 3}}, "surface.seeds"),
+        ({"seeds": {"random_pyramids": 0}}, "surface.seeds"),
         ({"spread": {"apex": 1.0}}, "surface.spread.apex"),
         ({"spread": {"aspect": 1.0}}, "surface.spread.aspect"),
         ({"spread": {"apex": 0.8, "corner": 0.4}}, "surface.spread.apex \\+ surface.spread.corner"),
@@ -264,6 +269,20 @@ def test_adding_a_seed_renders_only_it(workflow_dir):
     cfg["surface"]["seeds"] = [1, 2, 3]
     write_config(workflow_dir, cfg)
     assert planned_jobs(workflow_dir) == {"random_sweep": 2, "study_table": 1}
+    # seeds given a kind at a time: only the new seed of the kind that gets one
+    cfg["surface"]["seeds"] = {"random_pyramids": [1, 2, 3], "random_heightfield": 2}
+    write_config(workflow_dir, cfg)
+    assert planned_jobs(workflow_dir) == {"random_sweep": 1, "study_table": 1}
+
+
+def test_seeds_a_kind_at_a_time_give_each_kind_its_own_ensemble():
+    cfg = rl_config.validate_config({"grid": {"truncation": [0.5, 1.0], "aspect": [1.0]},
+                                     "surface": {"kind": ["random_pyramids", "random_heightfield"],
+                                                 "seeds": {"random_pyramids": 3, "random_heightfield": [2, 7]}}})
+    surfaces = rl_config.random_surfaces(cfg)
+    assert {(k, s) for k, _, _, s in surfaces} == {("random_pyramids", s) for s in (1, 2, 3)} | {
+        ("random_heightfield", 2), ("random_heightfield", 7)}
+    assert len(surfaces) == 2 * (3 + 2)  # at both random grid points
 
 
 def test_tile_convergence_measures_the_regular_surface_beside_the_tiles(monkeypatch):

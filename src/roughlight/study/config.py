@@ -176,8 +176,15 @@ def _surface_problems(config: dict) -> list[str]:
         problems.append(f"config: surface.spread.apex + surface.spread.corner = {spread.get('apex', 0.5)} + "
                         f"{spread.get('corner', 0.3)} must be < 1 (else an apex can leave its cell's base: an "
                         "overhanging or vertical side)")
-    if isinstance(surface.get("seeds"), list) and len(set(surface["seeds"])) != len(surface["seeds"]):
-        problems.append(f"config: surface.seeds lists the same seed twice: {surface['seeds']!r}")
+    value = surface.get("seeds")
+    for name, listed in (value.items() if isinstance(value, dict) else [("", value)]):
+        if isinstance(listed, list) and len(set(listed)) != len(listed):
+            problems.append(f"config: surface.seeds{'.' + name if name else ''} lists the same seed twice: {listed!r}")
+    if isinstance(value, dict):
+        missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
+        if missing:
+            problems.append(f"config: surface.seeds gives seeds per kind but none for {', '.join(missing)} "
+                            "(surface.kind measures it): add it, or give one count or list for every kind")
     return problems + _follower_problems(config)
 
 
@@ -278,9 +285,12 @@ def kinds(config: dict) -> list[str]:
     return sorted(set(listed) | {"pyramids"}, key=["pyramids", "random_pyramids", "random_heightfield"].index)
 
 
-def seeds(config: dict) -> list[int]:
-    """The seeds of every random ensemble (``surface.seeds``: a count n gives 1..n)."""
+def seeds(config: dict, kind: str) -> list[int]:
+    """The seeds of the random kind ``kind``'s ensemble (``surface.seeds``: a count n gives 1..n; a mapping
+    gives each kind its own count or list)."""
     value = config.get("surface", {}).get("seeds", 1)
+    if isinstance(value, dict):
+        value = value[kind]
     return list(range(1, int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
 
 
@@ -292,7 +302,7 @@ def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
     wanted = config["surface"]["random_grid"]
     points = [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
               if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
-    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config)]
+    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config, k)]
 
 
 def random_surface_settings(config: dict) -> dict:
