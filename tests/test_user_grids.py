@@ -212,7 +212,8 @@ SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 @pytest.mark.slow
 def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
     """The issue's grids, one after the other in one directory, each edited into a user's --configfile over
-    config/config.yaml as shipped (random kinds, every report section): each run ends with the whole report."""
+    config/config.yaml as shipped (random kinds, every report section; :data:`SEEDS` seeds a kind): each run ends
+    with the whole report."""
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
     grids = [
         {"grid": {"truncation": [0.3, 1.0], "aspect": [0.6]}, "sweep": {"elevation_step": 30, "azimuth_step": 90},
