@@ -112,6 +112,14 @@ SNAP_GRIDS = (1e-10, 1e-9, 1e-8)
 #: The finest snap-rounding grid (the first fallback).
 SNAP_GRID = SNAP_GRIDS[0]
 
+#: Snap-rounding grid (periods) of the one overlay that splits a facet's visible region into its lit and shadowed
+#: parts, in every view. No check can catch that overlay going wrong in double precision: a lit part whose edge runs
+#: along the visible region's edge (a thin sliver at a grazing view) came out with no area, and the whole visible
+#: region was counted as shadowed (random pyramids, seed 1, t 0.5, a 0.5, i 30, e 3, phi 5: 1.70 levels off, where
+#: the fast renderer and a ray cast agree), while areas still summed as they should. Snap-rounded, the overlay is
+#: robust by construction; moving vertices by 1e-12 changes an area by about 1e-11 at the most (1e-9 of a level).
+LIT_SPLIT_GRID = 1e-12
+
 
 def snapped_tolerance(grid_size: float) -> float:
     """How far from 1 the visible areas of a view snap-rounded to ``grid_size`` may sum (1000 grid steps)."""
@@ -253,7 +261,8 @@ class _Scene:
                 # wholly visible: no overlay (GEOS can misjudge a lit part with sliver spikes)
                 lit[f] = min(lit_view.area, vis[f])
                 continue
-            both = overlay(shapely.intersection, region, lit_view, grid_size=grid_size).area
+            both = overlay(shapely.intersection, region, lit_view,
+                           grid_size=LIT_SPLIT_GRID if grid_size is None else grid_size).area
             _check_overlap(both, vis[f], lit_view.area, self.fp_area[f] * det[f],
                            f"facet {self.surf.names[f]}, view (e={elevation}, phi={azimuth})", grid_size)
             lit[f] = min(both, vis[f])
