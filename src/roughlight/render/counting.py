@@ -28,6 +28,7 @@ import numpy as np
 from . import shares
 from .gl import GLTF, Primitive, context, gl
 from .passes import ATTRIBUTES, batch_poses, begin_pass, cached_layout, draw
+from .sampling import oriented_lattices
 
 __all__ = ["region_plan_areas", "projected_areas", "counted_shares"]
 
@@ -40,6 +41,10 @@ FRAMEBUFFER = 2048
 #: Views within this many degrees of the horizon are counted at ``RenderSettings.tile_grazing_scale`` times the
 #: pixels (:func:`counted_shares`).
 GRAZING_BAND = 10.0
+
+#: Views within this many degrees of the horizon are each drawn on their own rotated lattice
+#: (:func:`counting_passes`).
+ORIENTED_BAND = 30.0
 
 #: Facets with an area ratio below this face away from the view (as in :func:`roughlight.render.shares.all_facing`).
 FACING = 1e-9
@@ -110,18 +115,37 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
         idx = whole[first:first + 1024]
         _store(lit, shadow, idx, projected_areas(regions, plan, shears[idx]))
     hidden = np.setdiff1d(np.arange(n_views), whole)
-    grazing = np.abs(views[hidden, 2]) < np.sin(np.radians(GRAZING_BAND))
     triangles = region_triangles(regions) if hidden.size else None
-    for part, part_settings in ((hidden[~grazing], settings), (hidden[grazing], _grazing_settings(settings))):
-        if not part.size:
-            continue
+    for part, part_settings, matrix in counting_passes(views, hidden, settings):
         for idx, visible, total, per_tile in _counted_batches(surface.height, triangles, len(regions.rings), views,
-                                                              shears, part, part_settings):
+                                                              shears, part, part_settings, matrix):
             areas = projected_areas(regions, plan, shears[idx])
             ratio = np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile)
             sums = ratio.sum(axis=1, keepdims=True)
             _store(lit, shadow, idx, np.where(sums > 0, ratio / np.where(sums > 0, sums, 1.0), 0.0))
     return lit, shadow, regions
+
+
+def counting_passes(views, hidden, settings):
+    """How the views ``hidden`` (indices into the (V, 3) unit ``views``) are counted: a list of (their indices,
+    settings, sampling matrix), one a lattice and density.
+
+    Views more than :data:`ORIENTED_BAND` degrees above the horizon are drawn on the tile's lattice
+    (``settings.sampling_matrix()``). Nearer the horizon each view is drawn on the rotated lattice across whose
+    rows its azimuth runs at the golden slope (:func:`roughlight.render.sampling.oriented_lattices`): there the
+    image is stretched along the azimuth, and on a fixed lattice the views whose azimuth ran near a row (as
+    azimuth 30 on the tile's lattice, turned 31.7 degrees) were off by more than a level. Within
+    :data:`GRAZING_BAND` of the horizon they are also drawn at ``tile_grazing_scale`` times the pixels.
+    """
+    sin_e = np.abs(views[hidden, 2])
+    oriented = sin_e < np.sin(np.radians(ORIENTED_BAND))
+    grazing = sin_e < np.sin(np.radians(GRAZING_BAND))
+    passes = [(hidden[~oriented], settings, settings.sampling_matrix())]
+    for part, part_settings in ((hidden[oriented & ~grazing], settings), (hidden[grazing], _grazing_settings(settings))):
+        azimuth = np.degrees(np.arctan2(views[part, 1], views[part, 0]))
+        matrices, choice = oriented_lattices(int(part_settings.pixels_per_period), azimuth)
+        passes += [(part[choice == k], part_settings, matrix) for k, matrix in enumerate(matrices)]
+    return [p for p in passes if p[0].size]
 
 
 def _grazing_settings(settings):
@@ -149,7 +173,7 @@ def _count(surface, regions, views, shears, hidden, settings):
     return (np.concatenate([b[1] for b in batches]), np.concatenate([b[2] for b in batches]), per_tile)
 
 
-def _counted_batches(height, triangles, n_regions, views, shears, hidden, settings):
+def _counted_batches(height, triangles, n_regions, views, shears, hidden, settings, matrix=None):
     """For each framebuffer of the views ``hidden`` (indices into ``views``): those views' indices, their visible
     and total pixel counts (n, R) of each region, and a tile's pixel count.
 
@@ -163,8 +187,10 @@ def _counted_batches(height, triangles, n_regions, views, shears, hidden, settin
     hidden : (H,) int array
     settings : RenderSettings
         The tile's own.
+    matrix : (2, 2) int array, optional
+        The sampling matrix (default ``settings.sampling_matrix()``).
     """
-    matrix = settings.sampling_matrix()
+    matrix = settings.sampling_matrix() if matrix is None else np.asarray(matrix)
     side = min(int(settings.max_framebuffer), FRAMEBUFFER)
     width, height_px, slots, pixel_order = cached_layout(matrix, hidden.size, side)
     ctx = context(width, height_px, int(settings.shadow_map_size))

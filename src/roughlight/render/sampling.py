@@ -10,6 +10,7 @@ settings can be built and recorded by code that never renders.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -215,6 +216,54 @@ def sampling_matrix(pixels_per_period: int, sampling: str = "lattice") -> np.nda
                 best = (score, p, q)
     _, p, q = best
     return np.array([[p, q], [-q, p]])
+
+
+#: The golden slope's angle, degrees: ``atan(0.618...)``, the slope worst approximated by ratios of small integers.
+GOLDEN_ANGLE = math.degrees(math.atan(0.6180339887498949))
+
+
+@functools.lru_cache(maxsize=16)
+def rotated_lattices(pixels_per_period: int) -> tuple[np.ndarray, ...]:
+    """Every rotated-square sampling matrix ``[[p, q], [-q, p]]`` (``p > 0``, ``q >= 0``: rotations by
+    ``atan(q / p)`` in [0, 90) degrees) with ``p^2 + q^2`` within 10% of ``pixels_per_period^2``, ``p + q`` odd and
+    ``gcd(p, q) = 1`` (as :func:`sampling_matrix`), by angle."""
+    size = int(pixels_per_period) ** 2
+    found = [(math.atan2(q, p), p, q) for p in range(1, int(pixels_per_period) + 3)
+             for q in range(0, int(pixels_per_period) + 3)
+             if (p + q) % 2 == 1 and math.gcd(p, q) == 1 and abs(p * p + q * q - size) <= 0.1 * size]
+    if not found:  # very low densities: the lattice sampling_matrix picks
+        return (sampling_matrix(int(pixels_per_period), "lattice"),)
+    return tuple(np.array([[p, q], [-q, p]]) for _, p, q in sorted(found))
+
+
+def oriented_lattices(pixels_per_period: int, azimuth) -> tuple[tuple[np.ndarray, ...], np.ndarray]:
+    """For each view, the rotated lattice across whose pixel rows the view's azimuth runs at the golden slope.
+
+    Near the horizon a view stretches every facet along its azimuth: the long edges in its image all run along
+    ``(cos phi, sin phi)``, which the matrix ``[[p, q], [-q, p]]`` turns by ``-atan(q / p)``. An edge along a short
+    lattice vector (a pixel row, a diagonal: a slope of a ratio of small integers) collects its count error over
+    its whole length; at the golden slope, the slope worst approximated by such ratios, the error stays bounded.
+
+    Parameters
+    ----------
+    pixels_per_period : int
+        The density (:func:`rotated_lattices`).
+    azimuth : (V,) array
+        The views' azimuths of their image's stretch, degrees (any; only modulo 90 matters).
+
+    Returns
+    -------
+    matrices : tuple of (2, 2) int arrays
+        :func:`rotated_lattices`.
+    choice : (V,) int array
+        Each view's index into ``matrices``: the lattice whose angle to the azimuth, folded into [0, 45] degrees
+        (the pixel grid's symmetries), is nearest :data:`GOLDEN_ANGLE`.
+    """
+    matrices = rotated_lattices(int(pixels_per_period))
+    angle = np.array([math.degrees(math.atan2(m[0, 1], m[0, 0])) for m in matrices])
+    relative = np.mod(np.asarray(azimuth, float)[:, None] - angle[None, :], 90.0)
+    folded = np.minimum(relative, 90.0 - relative)
+    return matrices, np.argmin(np.abs(folded - GOLDEN_ANGLE), axis=1)
 
 
 def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
