@@ -14,7 +14,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium slurm study test cluster-test bench style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test bench every-view style lint clean
 
 setup: system-deps $(STAMP)
 
@@ -66,6 +66,11 @@ cluster-test: setup slurm
 # and the report built with them
 bench: setup
 	$(BIN)/snakemake --cores $(CORES) --config 'measurements={plan: full}'
+
+# every view of the study's random sweeps (both kinds, two seeds, the random grid's lowest and highest corner)
+# against the exact reference: results/benchmarks/every_view/summary.csv (most of its time is the reference)
+every-view: setup
+	$(BIN)/snakemake --cores $(CORES) results/benchmarks/every_view/summary.csv
 
 # style: ruff over the Python, snakefmt over the rules (as the workflow catalog's template); part of `make test`
 style: setup

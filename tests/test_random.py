@@ -429,3 +429,53 @@ def test_accuracy_at_every_view_lists_the_random_tiles():
     assert table.loc["random_pyramids", "tiles"] == 2 and table.loc["random_pyramids", "views"] == 132
     assert "pyramids" not in table.index
     assert _tile_accuracy(None) is None and _tile_accuracy(pd.DataFrame(rows[:3])) is None
+
+
+def test_every_view_checks_both_kinds_two_seeds_at_the_random_grids_lowest_and_highest_corner():
+    cfg = rl_config.validate_config({"grid": {"truncation": [0.3, 0.5, 1.0], "aspect": [0.5, 0.7, 1.0]},
+                                     "surface": {"kind": ["random_pyramids", "random_heightfield"],
+                                                 "random_grid": {"truncation": [0.3, 1.0], "aspect": [0.5, 0.7]},
+                                                 "seeds": {"random_pyramids": [4, 2, 9], "random_heightfield": 1}}})
+    checked = rl_config.every_view_surfaces(cfg)
+    assert sorted(checked) == sorted([("random_pyramids", t, a, s) for t, a in ((0.3, 0.5), (1.0, 0.7))
+                                      for s in (2, 4)] + [("random_heightfield", t, a, 1)
+                                                          for t, a in ((0.3, 0.5), (1.0, 0.7))])
+    assert rl_config.every_view_surfaces(rl_config.validate_config({})) == []  # no random kind measured
+
+
+def test_every_view_errors_compare_each_view_of_a_sweep_and_name_the_worst(monkeypatch):
+    """every_view_errors puts the exact reference beside each view of a study sweep; every_view_summary gives a
+    tile's worst view (and where), its mean, the views over one level and the views the reference refused."""
+    from roughlight.measurements import random_tiles as B
+    from roughlight.render import reference
+    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.shading import Lighting
+    from roughlight.study.tables import sweep_table
+
+    surface = make_surface("random_pyramids", 1.0, 1.0, 1, cells=2)
+    azimuth, elevation = sweeps.view_grid(30, 45)
+    sweep = sweep_table(fast_sweep(surface, 30, azimuth, elevation), surface, 30, azimuth, elevation, Lighting(),
+                        "fast", {"pixels_per_period": 16, "sampling": "adaptive", "shadow_map_size": 128}).to_pandas()
+    # one view made 2 levels off, to be found
+    off = (sweep["azimuth"] == 45) & (sweep["elevation"] == 60) & (sweep["component"] == "diffuse")
+    sweep.loc[off, "value"] += 2.0
+    real = reference.reference_sweep
+
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, quantized=True):
+        if np.any(np.asarray(elevation) == 150):
+            raise RuntimeError("reference clipping failed")
+        return real(surface, incidence, azimuth, elevation, lighting, quantized)
+
+    monkeypatch.setattr(reference, "reference_sweep", refusing)
+    errors = B.every_view_errors(sweep, surface, 30.0, Lighting())
+    assert len(errors) == len(sweep) and set(errors["component"]) == {"diffuse", "specular", "total"}
+    seen = errors.dropna(subset=["exact"])
+    np.testing.assert_allclose(seen["error"], (seen["fast"] - seen["exact"]).abs())
+    summary = B.every_view_summary(errors).set_index("component")
+    n_views = len(sweep.drop_duplicates(["azimuth", "elevation"]))
+    refused = int((elevation == 150).sum())
+    assert (summary["refused"] == refused).all() and (summary["views"] == n_views - refused).all()
+    assert (summary.loc["diffuse", "worst_elevation"], summary.loc["diffuse", "worst_azimuth"]) == (60.0, 45.0)
+    assert summary.loc["all", "worst"] == summary.loc["diffuse", "worst"] > 1.5
+    assert summary.loc["all", "views_over_one_level"] == 1
+    assert summary.loc["specular", "worst"] < 1.0

@@ -116,3 +116,46 @@ rule random_tiles:
         render=fast_tile_render_params,
     script:
         "../scripts/random_tiles.py"
+
+
+# Every view of the study's random sweeps against the exact reference (`make every-view`; not in the default
+# workflow: the reference takes minutes a tile): both random kinds, their first two seeds, the random grid's
+# lowest and highest corner, at the tables' incidence (common.smk's every_view_files).
+rule random_every_view:
+    input:
+        "results/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.parquet",
+    output:
+        "results/benchmarks/every_view/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.parquet",
+    log:
+        "results/logs/benchmarks/every_view/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.log",
+    benchmark:
+        "results/logs/benchmarks/every_view/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        surface=random_surface_params,
+        incidence=incidence_param,
+        lighting=lighting_params,
+    script:
+        "../scripts/every_view.py"
+
+
+rule every_view_summary:
+    input:
+        every_view_files(),
+    output:
+        "results/benchmarks/every_view/summary.csv",
+    log:
+        "results/logs/benchmarks/every_view/summary.log",
+    benchmark:
+        "results/logs/benchmarks/every_view/summary.benchmark.tsv"
+    conda:
+        "../../envs/study.yaml"
+    threads: 1
+    resources:
+        mem_mb=1024,
+    script:
+        "../scripts/every_view_summary.py"

@@ -128,6 +128,17 @@ def random_sweep_files():
     ]
 
 
+def every_view_files():
+    """`make every-view`: the study's sweeps of each random kind's first two seeds at the random grid's
+    lowest and highest corner, at the tables' incidence, each against the reference at every view.
+    """
+    incidence = rl_config.label(rl_config.report_settings(config)["table_incidence"])
+    return [
+        f"results/benchmarks/every_view/i{incidence}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet"
+        for kind, t, a, seed in rl_config.every_view_surfaces(config)
+    ]
+
+
 def random_mesh_files():
     """One PLY per random tile, its kind and seed in the name."""
     return [

@@ -21,7 +21,7 @@ from ..render.sampling import RenderSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 
 __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures",
-           "tile_pixel_scan", "TILE_SAMPLINGS"]
+           "tile_pixel_scan", "TILE_SAMPLINGS", "every_view_errors", "every_view_summary", "EVERY_VIEW_SEEDS"]
 
 PLANS = {
     "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (3.0, 10.0),
@@ -150,6 +150,75 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
                          "reference_seconds": reference_seconds})
         log(f"accuracy {kind} t={t} a={a} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
             f"worst {rows[-1]['worst']:.2f}; reference {reference_seconds:.1f} s")
+    return pd.DataFrame(rows)
+
+
+#: ``make every-view``: the study's sweeps of these random tiles checked against the exact reference at every
+#: view, both kinds and these seeds at the lowest and the highest corner of ``surface.random_grid``.
+EVERY_VIEW_SEEDS = (1, 2)
+
+
+def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=None) -> pd.DataFrame:
+    """A study sweep (rule ``random_sweep``'s long frame) against the exact reference at every one of its views.
+
+    Parameters
+    ----------
+    sweep : DataFrame
+        ``azimuth``, ``elevation`` (degrees), ``component``, ``value`` (0-255) and the surface's ``kind``,
+        ``truncation``, ``aspect``, ``seed``.
+    surface : RandomSurface or Surface
+        The surface the sweep measured.
+    incidence : float
+        Light elevation, degrees.
+    lighting : Lighting
+
+    Returns
+    -------
+    DataFrame, one row a view and component: ``kind``, ``truncation``, ``aspect``, ``seed``, ``azimuth``,
+    ``elevation``, ``component``, ``fast``, ``exact`` (0-255; NaN where the reference refused the view), ``error``
+    (absolute, 8-bit levels), ``reference_seconds`` (the reference's wall time for the whole sweep).
+    """
+    from ..render.reference import reference_views
+    from ..render.shading import COMPONENTS, Lighting
+
+    views = sweep.drop_duplicates(["azimuth", "elevation"])[["azimuth", "elevation"]].reset_index(drop=True)
+    start = time.perf_counter()
+    exact, _ = reference_views(surface, incidence, views["azimuth"].to_numpy(), views["elevation"].to_numpy(),
+                               lighting or Lighting())
+    seconds = time.perf_counter() - start
+    reference = pd.concat([views.assign(component=c, exact=np.asarray(exact[c], float)) for c in COMPONENTS])
+    keys = ["azimuth", "elevation", "component"]
+    fast = sweep.assign(component=sweep["component"].astype(str))[["kind", "truncation", "aspect", "seed", *keys,
+                                                                    "value"]]
+    out = fast.rename(columns={"value": "fast"}).merge(reference, on=keys, how="left", validate="one_to_one")
+    out["kind"] = out["kind"].astype(str)
+    out["error"] = (out["fast"] - out["exact"]).abs()
+    out["reference_seconds"] = seconds
+    return out.reset_index(drop=True)
+
+
+def every_view_summary(errors: pd.DataFrame) -> pd.DataFrame:
+    """Per tile and component: views compared, views the reference refused, mean and worst error (8-bit levels),
+    where the worst is, views over one level, and the reference's seconds. Component ``all`` takes each view's
+    largest error over the three components.
+
+    Parameters
+    ----------
+    errors : DataFrame
+        :func:`every_view_errors` of one or more tiles, concatenated.
+    """
+    tile = ["kind", "truncation", "aspect", "seed"]
+    rows = []
+    for key, group in pd.concat([errors, errors.assign(component="all")]).groupby([*tile, "component"]):
+        view = group.groupby(["elevation", "azimuth"]).agg(error=("error", "max"),
+                                                            refused=("exact", lambda x: bool(x.isna().any())))
+        seen = view.loc[~view["refused"], "error"]
+        worst = seen.idxmax() if len(seen) else (np.nan, np.nan)
+        rows.append({**dict(zip([*tile, "component"], key)), "views": int(seen.size),
+                     "refused": int(view["refused"].sum()), "mae": float(seen.mean()), "worst": float(seen.max()),
+                     "worst_elevation": float(worst[0]), "worst_azimuth": float(worst[1]),
+                     "views_over_one_level": int((seen > 1.0).sum()),
+                     "reference_seconds": float(group["reference_seconds"].iloc[0])})
     return pd.DataFrame(rows)
 
 

@@ -305,6 +305,20 @@ def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
     return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config, k)]
 
 
+def every_view_surfaces(config: dict, n_seeds: int = 2) -> list[tuple[str, float, float, int]]:
+    """The random surfaces ``make every-view`` checks at every view: each random kind's first ``n_seeds`` seeds
+    at the lowest and the highest corner of the random grid (its smallest and its largest truncation and aspect),
+    as :func:`random_surfaces` gives them."""
+    measured = random_surfaces(config)
+    if not measured:
+        return []
+    t = sorted({s[1] for s in measured})
+    a = sorted({s[2] for s in measured})
+    corners = {(t[0], a[0]), (t[-1], a[-1])}
+    return [(k, tt, aa, s) for k, tt, aa, s in measured
+            if (tt, aa) in corners and s in seeds(config, k)[:n_seeds]]
+
+
 def random_surface_settings(config: dict) -> dict:
     """How random tiles are built (``surface.cells`` and ``surface.spread``), as plain types for params."""
     surface = config["surface"]

@@ -1,0 +1,19 @@
+"""Snakemake adapter: one study sweep of a random tile against the exact reference at every view."""
+import os
+import sys
+
+os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+sys.path.insert(0, os.path.dirname(__file__))
+
+import _log  # noqa: E402
+
+from roughlight.atomic import read_frame, write_frame  # noqa: E402
+from roughlight.measurements.random_tiles import every_view_errors, every_view_summary  # noqa: E402
+from roughlight.render.shading import Lighting  # noqa: E402
+from roughlight.surfaces.roughness import make_surface  # noqa: E402
+
+log = _log.setup(snakemake)
+errors = every_view_errors(read_frame(snakemake.input[0]), make_surface(**snakemake.params.surface),
+                           snakemake.params.incidence, Lighting(**snakemake.params.lighting))
+write_frame(errors, snakemake.output[0])
+log(every_view_summary(errors).round(4).to_string())
