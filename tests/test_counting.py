@@ -153,7 +153,8 @@ def test_views_near_the_horizon_are_counted_at_more_pixels():
 def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
     """oriented_lattices turns the pixel rows so that each azimuth crosses them at the golden slope (folded into
     [0, 45] degrees by the pixel grid's symmetries), at the asked density; counting_passes draws the views within
-    ORIENTED_BAND of the horizon that way, and the others on the tile's own lattice."""
+    ORIENTED_BAND of the horizon that way, and the others on the tile's own lattice, and counts every fragment
+    except within GRAZING_BAND."""
     from roughlight.render.sampling import GOLDEN_ANGLE, oriented_lattices
 
     azimuth = np.arange(0.0, 360.0, 2.5)
@@ -167,11 +168,13 @@ def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
     settings = RenderSettings().tile_settings().for_tile(4)
     views = _views([5.0, 15.0, 45.0, 165.0, 175.0], [30.0, 30.0, 30.0, 120.0, 120.0])
     passes = counting.counting_passes(views, np.arange(5), settings)
-    drawn = {int(v): (s.pixels_per_period, tuple(m.ravel())) for part, s, m in passes for v in part}
+    drawn = {int(v): (s.pixels_per_period, tuple(m.ravel()), totals) for part, s, m, totals in passes for v in part}
     assert sorted(drawn) == [0, 1, 2, 3, 4]
-    assert drawn[2] == (settings.pixels_per_period, tuple(settings.sampling_matrix().ravel()))
+    assert drawn[2] == (settings.pixels_per_period, tuple(settings.sampling_matrix().ravel()), True)
     assert drawn[1][1] != drawn[2][1] and drawn[3][1] == drawn[1][1]  # azimuths 30 and 120: one lattice
     assert drawn[0][0] == drawn[4][0] == counting._grazing_settings(settings).pixels_per_period
+    # within GRAZING_BAND only the visible pixels are counted
+    assert [drawn[v][2] for v in range(5)] == [False, True, True, True, False]
 
 
 def test_views_whose_azimuth_ran_along_the_tiles_pixel_rows_are_within_a_level():
@@ -204,3 +207,20 @@ def test_views_the_shadow_map_pass_got_wrong_are_within_a_level():
     assert not np.any(refused)
     for component in ("diffuse", "specular", "total"):
         assert np.max(np.abs(fast[component] - np.asarray(exact[component]))) < 0.5, component
+
+
+def test_views_counted_without_totals_see_what_the_counted_pass_sees():
+    """The views within GRAZING_BAND are drawn with early depth tests and no fragment counted: their visible
+    pixels are exactly those of the pass that counts every fragment, and no total comes back."""
+    tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=2)
+    views = _views([3.0, 177.0, 8.0], [30.0, 120.0, 75.0])
+    settings = RenderSettings().tile_settings().for_tile(tile.cells)
+    regions = shares.facet_regions(tile, 30.0, True)
+    shears = views[:, :2] / views[:, 2:3]
+    triangles = counting.region_triangles(regions)
+    both = [list(counting._counted_batches(tile.height, triangles, len(regions.rings), views, shears,
+                                           np.arange(3), settings, totals=totals)) for totals in (True, False)]
+    (_, counted, total, _), = both[0]
+    (_, seen, none, _), = both[1]
+    assert none is None and total.sum() > 3 * counted.sum() > 0
+    np.testing.assert_array_equal(seen, counted)

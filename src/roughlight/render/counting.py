@@ -19,6 +19,9 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
   region are its visible count. ``visible / total`` is the region's visible fraction with the pixel errors along
   its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it is the region's
   share; what remains is the error along the edges of whatever hides it.
+* **Near the horizon.** Views within :data:`ORIENTED_BAND` of the horizon are each drawn on a lattice turned to
+  their azimuth, and those within :data:`GRAZING_BAND` count their visible pixels only, with early depth tests
+  (:func:`counting_passes`).
 """
 
 from __future__ import annotations
@@ -116,11 +119,14 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
         _store(lit, shadow, idx, projected_areas(regions, plan, shears[idx]))
     hidden = np.setdiff1d(np.arange(n_views), whole)
     triangles = region_triangles(regions) if hidden.size else None
-    for part, part_settings, matrix in counting_passes(views, hidden, settings):
+    for part, part_settings, matrix, totals in counting_passes(views, hidden, settings):
         for idx, visible, total, per_tile in _counted_batches(surface.height, triangles, len(regions.rings), views,
-                                                              shears, part, part_settings, matrix):
-            areas = projected_areas(regions, plan, shears[idx])
-            ratio = np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile)
+                                                              shears, part, part_settings, matrix, totals):
+            if total is None:  # near the horizon: the visible pixels alone
+                ratio = visible / per_tile
+            else:
+                areas = projected_areas(regions, plan, shears[idx])
+                ratio = np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile)
             sums = ratio.sum(axis=1, keepdims=True)
             _store(lit, shadow, idx, np.where(sums > 0, ratio / np.where(sums > 0, sums, 1.0), 0.0))
     return lit, shadow, regions
@@ -128,23 +134,27 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
 
 def counting_passes(views, hidden, settings):
     """How the views ``hidden`` (indices into the (V, 3) unit ``views``) are counted: a list of (their indices,
-    settings, sampling matrix), one a lattice and density.
+    settings, sampling matrix, whether every fragment is counted), one a lattice and density.
 
     Views more than :data:`ORIENTED_BAND` degrees above the horizon are drawn on the tile's lattice
     (``settings.sampling_matrix()``). Nearer the horizon each view is drawn on the rotated lattice across whose
     rows its azimuth runs at the golden slope (:func:`roughlight.render.sampling.oriented_lattices`): there the
     image is stretched along the azimuth, and on a fixed lattice the views whose azimuth ran near a row (as
     azimuth 30 on the tile's lattice, turned 31.7 degrees) were off by more than a level. Within
-    :data:`GRAZING_BAND` of the horizon they are also drawn at ``tile_grazing_scale`` times the pixels.
+    :data:`GRAZING_BAND` of the horizon they are also drawn at ``tile_grazing_scale`` times the pixels, and only
+    their visible pixels are counted: there a region's visible part is the top of a projection stretched over
+    many periods, whose own edges the total no longer cancels, and its fragments were most of a sweep's (more than
+    ten for each visible one).
     """
     sin_e = np.abs(views[hidden, 2])
     oriented = sin_e < np.sin(np.radians(ORIENTED_BAND))
     grazing = sin_e < np.sin(np.radians(GRAZING_BAND))
-    passes = [(hidden[~oriented], settings, settings.sampling_matrix())]
-    for part, part_settings in ((hidden[oriented & ~grazing], settings), (hidden[grazing], _grazing_settings(settings))):
+    passes = [(hidden[~oriented], settings, settings.sampling_matrix(), True)]
+    for part, part_settings, totals in ((hidden[oriented & ~grazing], settings, True),
+                                        (hidden[grazing], _grazing_settings(settings), False)):
         azimuth = np.degrees(np.arctan2(views[part, 1], views[part, 0]))
         matrices, choice = oriented_lattices(int(part_settings.pixels_per_period), azimuth)
-        passes += [(part[choice == k], part_settings, matrix) for k, matrix in enumerate(matrices)]
+        passes += [(part[choice == k], part_settings, matrix, totals) for k, matrix in enumerate(matrices)]
     return [p for p in passes if p[0].size]
 
 
@@ -173,9 +183,9 @@ def _count(surface, regions, views, shears, hidden, settings):
     return (np.concatenate([b[1] for b in batches]), np.concatenate([b[2] for b in batches]), per_tile)
 
 
-def _counted_batches(height, triangles, n_regions, views, shears, hidden, settings, matrix=None):
+def _counted_batches(height, triangles, n_regions, views, shears, hidden, settings, matrix=None, totals=True):
     """For each framebuffer of the views ``hidden`` (indices into ``views``): those views' indices, their visible
-    and total pixel counts (n, R) of each region, and a tile's pixel count.
+    and total pixel counts (n, R) of each region (the total None unless ``totals``), and a tile's pixel count.
 
     Parameters
     ----------
@@ -202,7 +212,7 @@ def _counted_batches(height, triangles, n_regions, views, shears, hidden, settin
             poses = batch_poses(height, views, shears, idx, slots, np.zeros(2))
             slot_pixels = pixel_order[: idx.size * per_tile].reshape(idx.size, per_tile)
             seen, total = _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer, slot_pixels,
-                                       n_regions)
+                                       n_regions, totals)
             yield idx, seen, total, per_tile
     finally:
         gl.glDeleteBuffers(1, [buffer])
@@ -242,18 +252,22 @@ def region_triangles(regions: shares.Regions):
     return np.concatenate(tris), np.concatenate(owner)
 
 
-def _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer, slot_pixels, n_regions):
-    """One framebuffer of views in one pass: every fragment counted on the GL side as the image is drawn, then
-    each slot's visible regions read from the image.
+def _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer, slot_pixels, n_regions,
+                 totals=True):
+    """One framebuffer of views in one pass: every fragment counted on the GL side as the image is drawn (unless
+    not ``totals``), then each slot's visible regions read from the image.
 
     Parameters
     ----------
     slot_pixels : (n, N) int array
         Each drawn view's pixels (indices into the framebuffer's row-major pixels), N a tile.
+    totals : bool
+        Count every fragment; False: draw with early depth tests and count none.
 
     Returns
     -------
-    visible, total : (n, R) float arrays
+    visible : (n, R) float array
+    total : (n, R) float array, or None unless ``totals``
     """
     if n_regions >= 0xFFFF:
         raise ValueError(f"a tile of {n_regions // 2} facets is too many to count (the image holds 16-bit regions)")
@@ -261,21 +275,26 @@ def _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer
     uniforms = {"sampling": matrix.astype(np.float32), "ndc_scale": np.array([2.0 / width, 2.0 / height_px],
                 np.float32), "surface_shift": np.zeros(2, np.float32), "depth_scale": float(depth_scale)}
     begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
-    program = ctx.programs.get_program("periodic.vert", "periodic_count.frag", defines=ATTRIBUTES)
+    program = ctx.programs.get_program("periodic.vert", "periodic_count.frag",
+                                       defines=ATTRIBUTES if totals else {**ATTRIBUTES, "VISIBLE_ONLY": 1})
     size = len(slot_pixels) * n_regions
-    gl.glBindBuffer(gl.GL_SHADER_STORAGE_BUFFER, buffer)
-    gl.glBufferData(gl.GL_SHADER_STORAGE_BUFFER, size * 4, np.zeros(size, np.uint32), gl.GL_DYNAMIC_READ)
-    gl.glBindBufferBase(gl.GL_SHADER_STORAGE_BUFFER, 0, buffer)
+    if totals:
+        gl.glBindBuffer(gl.GL_SHADER_STORAGE_BUFFER, buffer)
+        gl.glBufferData(gl.GL_SHADER_STORAGE_BUFFER, size * 4, np.zeros(size, np.uint32), gl.GL_DYNAMIC_READ)
+        gl.glBindBufferBase(gl.GL_SHADER_STORAGE_BUFFER, 0, buffer)
     program._bind()
     for name, value in uniforms.items():
         program.set_uniform(name, value)
     program.set_uniform("n_regions", int(n_regions))
     draw(ctx, _region_primitive(*triangles, poses), program)
     program._unbind()
-    gl.glMemoryBarrier(gl.GL_BUFFER_UPDATE_BARRIER_BIT)
-    total = np.frombuffer(gl.glGetBufferSubData(gl.GL_SHADER_STORAGE_BUFFER, 0, size * 4), np.uint32)
+    total = None
+    if totals:
+        gl.glMemoryBarrier(gl.GL_BUFFER_UPDATE_BARRIER_BIT)
+        total = np.frombuffer(gl.glGetBufferSubData(gl.GL_SHADER_STORAGE_BUFFER, 0, size * 4), np.uint32)
+        total = total.reshape(len(slot_pixels), n_regions).astype(float)
     raw = gl.glReadPixels(0, 0, width, height_px, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-    return _visible_counts(raw, slot_pixels, n_regions), total.reshape(len(slot_pixels), n_regions).astype(float)
+    return _visible_counts(raw, slot_pixels, n_regions), total
 
 
 def _region_primitive(tris, region, poses):
