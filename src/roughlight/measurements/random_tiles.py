@@ -21,7 +21,7 @@ from ..render.sampling import RenderSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 
 __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures",
-           "tile_pixel_scan", "TILE_SAMPLINGS", "every_view_errors", "every_view_summary", "EVERY_VIEW_SEEDS"]
+           "tile_pixel_scan", "TILE_SAMPLINGS", "every_view_errors", "every_view_summary"]
 
 PLANS = {
     "quick": {"point": (1.0, 1.0, 30.0), "cells": (1, 2, 4), "seeds": 3, "views": (3.0, 10.0),
@@ -151,11 +151,6 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
         log(f"accuracy {kind} t={t} a={a} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
             f"worst {rows[-1]['worst']:.2f}; reference {reference_seconds:.1f} s")
     return pd.DataFrame(rows)
-
-
-#: ``make every-view``: the study's sweeps of these random tiles checked against the exact reference at every
-#: view, both kinds and these seeds at the lowest and the highest corner of ``surface.random_grid``.
-EVERY_VIEW_SEEDS = (1, 2)
 
 
 def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=None) -> pd.DataFrame:

@@ -222,15 +222,22 @@ def sampling_matrix(pixels_per_period: int, sampling: str = "lattice") -> np.nda
 GOLDEN_ANGLE = math.degrees(math.atan(0.6180339887498949))
 
 
+def lattice_pairs(pixels_per_period: int):
+    """Each ``(p, q)`` (``p > 0``, ``q >= 0``, ``p`` then ``q`` ascending) of a rotated-square sampling matrix
+    ``[[p, q], [-q, p]]`` with ``p^2 + q^2`` within 10% of ``pixels_per_period^2``, ``p + q`` odd and
+    ``gcd(p, q) = 1`` (as :func:`sampling_matrix`)."""
+    size = int(pixels_per_period) ** 2
+    for p in range(1, int(pixels_per_period) + 3):
+        for q in range(0, int(pixels_per_period) + 3):
+            if (p + q) % 2 == 1 and math.gcd(p, q) == 1 and abs(p * p + q * q - size) <= 0.1 * size:
+                yield p, q
+
+
 @functools.lru_cache(maxsize=16)
 def rotated_lattices(pixels_per_period: int) -> tuple[np.ndarray, ...]:
-    """Every rotated-square sampling matrix ``[[p, q], [-q, p]]`` (``p > 0``, ``q >= 0``: rotations by
-    ``atan(q / p)`` in [0, 90) degrees) with ``p^2 + q^2`` within 10% of ``pixels_per_period^2``, ``p + q`` odd and
-    ``gcd(p, q) = 1`` (as :func:`sampling_matrix`), by angle."""
-    size = int(pixels_per_period) ** 2
-    found = [(math.atan2(q, p), p, q) for p in range(1, int(pixels_per_period) + 3)
-             for q in range(0, int(pixels_per_period) + 3)
-             if (p + q) % 2 == 1 and math.gcd(p, q) == 1 and abs(p * p + q * q - size) <= 0.1 * size]
+    """Every rotated-square sampling matrix of :func:`lattice_pairs` (rotations by ``atan(q / p)`` in [0, 90)
+    degrees), by angle."""
+    found = [(math.atan2(q, p), p, q) for p, q in lattice_pairs(pixels_per_period)]
     if not found:  # very low densities: the lattice sampling_matrix picks
         return (sampling_matrix(int(pixels_per_period), "lattice"),)
     return tuple(np.array([[p, q], [-q, p]]) for _, p, q in sorted(found))

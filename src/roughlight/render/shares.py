@@ -380,17 +380,16 @@ def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
     """``n`` rotated-square sampling matrices ``[[p, q], [-q, p]]`` with ``p^2 + q^2`` within 10% of
     ``pixels_per_period^2`` (``gcd(p, q) = 1``, ``p + q`` odd, as :func:`roughlight.render.sampling.sampling_matrix`),
     their angles ``atan(q / p)`` spread over [0, 45] degrees; the default lattice comes first."""
-    from .sampling import sampling_matrix
+    from .sampling import lattice_pairs, sampling_matrix
 
     size = int(pixels_per_period) ** 2
     found = {}
-    for p in range(1, int(pixels_per_period) + 3):
-        for q in range(1, p):
-            if (p + q) % 2 == 1 and math.gcd(p, q) == 1 and abs(p * p + q * q - size) <= 0.1 * size:
-                angle = math.degrees(math.atan2(q, p))
-                key = round(angle)
-                if key not in found or abs(p * p + q * q - size) < abs(sum(x * x for x in found[key][1:]) - size):
-                    found[key] = (angle, p, q)
+    for p, q in lattice_pairs(pixels_per_period):
+        if 1 <= q < p:
+            angle = math.degrees(math.atan2(q, p))
+            key = round(angle)
+            if key not in found or abs(p * p + q * q - size) < abs(sum(x * x for x in found[key][1:]) - size):
+                found[key] = (angle, p, q)
     default = sampling_matrix(int(pixels_per_period), "lattice")
     out = [default]
     wanted = np.linspace(0.0, 45.0, n + 1)[1:] - 45.0 / (2 * n)
