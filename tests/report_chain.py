@@ -17,6 +17,7 @@ from roughlight.measurements.renderer_validation import arc_smoothness
 from roughlight.render.shading import Lighting
 from roughlight.report import figures as F
 from roughlight.report import page as R
+from roughlight.report.explorer import explorer_data, study_columns
 from roughlight.study import config as rl_config
 from roughlight.study.tables import aggregate, regular, run_sweep
 from roughlight.surfaces.roughness import make_surface
@@ -90,9 +91,13 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
         "share_laws": glm["share_laws"], "glm_messages": glm_messages, "model_fits": models["fits"],
         "model_fits_summary": models["summary"],
     }
+    explorer = None
+    if cfg["report"]["explorer"]["enabled"]:  # rule explorer_data
+        explorer = explorer_data(study_columns(study), budget=cfg["report"]["explorer"]["budget"])
     return R.build_report(page_tables, figures, config=cfg, provenance={"settings": settings},
                           messages=summary["messages"], table_aspects=settings["table_aspects"],
-                          table_incidence=settings["table_incidence"], random_html=random_html, followed=followed)
+                          table_incidence=settings["table_incidence"], random_html=random_html, followed=followed,
+                          explorer=explorer)
 
 
 def whole_report(user: dict, workdir: Path) -> tuple[str, dict, list[str], pd.DataFrame]:

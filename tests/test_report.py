@@ -9,6 +9,8 @@ from ``--dump-dom``. A screenshot is kept in the test's directory.
 
 from __future__ import annotations
 
+import base64
+import hashlib
 import json
 import math
 import os
@@ -16,7 +18,6 @@ import re
 import shutil
 import subprocess
 import sys
-import tempfile
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -43,13 +44,16 @@ from roughlight.render.shading import Lighting
 from roughlight.report import figures as F
 from roughlight.report import page as R
 from roughlight.report import registry
+from roughlight.report.explorer import DEFAULT_BUDGET, explorer_data, study_columns
+from roughlight.report.page_explorer import explorer_script
 from roughlight.study.selection import find_aspect
 from roughlight.study.tables import study_summary
 
+from .browser import Browser
 from .conftest import REPO
 from .test_analysis import make_study
+from .test_explorer import check_explorer
 
-CHROMIUM = os.environ.get("ROUGHLIGHT_CHROMIUM", "/usr/bin/chromium")
 S32 = math.sqrt(3.0) / 2.0
 SETTINGS = {"table_aspects": [1.0, S32], "table_incidence": 30, "lobe_halfwidth": 40, "collinearity_limit": 100,
             "hapke_max_phase": 60, "exact_check": True}
@@ -107,6 +111,7 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
          "model_fits_summary": model_fit_summary(fits)},
         paths, config={"grid": {"aspect": summary["aspects"]}}, messages=messages,
         provenance={"settings": SETTINGS}, benchmarks=None,
+        explorer=explorer_data(study_columns(study), budget=DEFAULT_BUDGET),
     )
     out = workdir / "roughlight_report.html"
     R.write_report(out, html)
@@ -155,42 +160,22 @@ def _parse(text):
     return p
 
 
-def _chromium(args, workdir):
-    if not (os.path.exists(CHROMIUM) and os.access(CHROMIUM, os.X_OK)):
-        pytest.skip(f"no Chromium at {CHROMIUM}")
-    profile = tempfile.mkdtemp(prefix="chromium-profile-", dir=workdir)
-    cmd = [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
-           "--no-first-run", "--no-default-browser-check", f"--user-data-dir={profile}", *args]
-    try:
-        return subprocess.run(cmd, capture_output=True, text=True, timeout=180)
-    finally:
-        shutil.rmtree(profile, ignore_errors=True)
-
-
-CHECK_SCRIPT = """<script>
-window.addEventListener('load', function () {
-  var imgs = Array.prototype.slice.call(document.images);
-  var bad = imgs.filter(function (i) { return !(i.complete && i.naturalWidth > 0); })
-                .map(function (i) { return i.getAttribute('alt'); });
-  var d = document.createElement('div');
-  d.id = 'img-check';
-  d.setAttribute('data-total', String(imgs.length));
-  d.setAttribute('data-loaded', String(imgs.length - bad.length));
-  d.setAttribute('data-bad', JSON.stringify(bad));
-  document.body.appendChild(d);
-});
-</script>"""
+IMAGE_CHECK = """(() => {
+  const imgs = [...document.images];
+  const bad = imgs.filter(i => !(i.complete && i.naturalWidth > 0)).map(i => i.getAttribute('alt'));
+  return {total: imgs.length, loaded: imgs.length - bad.length, bad};
+})()"""
 
 
 def _loaded_in_chromium(html_path: Path, workdir: Path):
-    """Open a copy of the page with the check script; return the dumped DOM's parse."""
-    probe = workdir / (html_path.stem + ".probe.html")
-    probe.write_text(html_path.read_text(encoding="utf-8").replace("</body>", CHECK_SCRIPT + "</body>"),
-                     encoding="utf-8")
-    res = _chromium(["--virtual-time-budget=15000", "--dump-dom", probe.as_uri()], workdir)
-    assert res.returncode == 0, res.stderr[-2000:]
-    dom = _parse(res.stdout)
-    assert hasattr(dom, "check"), "the check script did not run: " + res.stdout[:500]
+    """Open the page in Chromium (over the DevTools pipe: the page's policy refuses injected scripts); return the
+    parse of its DOM after ``load``, with ``check``: how many images there are and which failed to decode."""
+    with Browser(1280, 900, workdir=workdir) as browser:
+        browser.open(html_path)
+        check = browser.evaluate(IMAGE_CHECK)
+        dom = _parse(browser.evaluate("document.documentElement.outerHTML"))
+    dom.check = {"data-total": str(check["total"]), "data-loaded": str(check["loaded"]),
+                 "data-bad": json.dumps(check["bad"])}
     return dom
 
 
@@ -198,9 +183,20 @@ def test_report_is_self_contained(built):
     _, html_path, _ = built
     text = html_path.read_text(encoding="utf-8")
     assert text.startswith("<!DOCTYPE html>")
-    for pattern in (r"""(src|href)\s*=\s*["']?(https?:|//|file:)""", r"<link\b", r"<script\b", r"@import",
-                    r"url\("):
+    for pattern in (r"""(src|href)\s*=\s*["']?(https?:|//|file:)""", r"<link\b", r"@import", r"url\(",
+                    r"<script[^>]*\bsrc\s*="):
         assert not re.search(pattern, text, re.I), f"external resource or script: {pattern}"
+    # the only script that runs is the explorer's own, inline and named by its hash in the page's policy; the
+    # explorer's data sit in blocks that never run
+    scripts = re.findall(r"<script([^>]*)>(.*?)</script>", text, re.S | re.I)
+    running = [body for attrs, body in scripts if "type=" not in attrs]
+    assert running == [explorer_script()]
+    assert {re.search(r'type="([^"]+)"', a).group(1) for a, _ in scripts if "type=" in a} == {
+        "application/json", "application/octet-stream"}
+    digest = base64.b64encode(hashlib.sha256(running[0].encode()).digest()).decode()
+    policy = re.search(r'<meta http-equiv="Content-Security-Policy" content="([^"]+)"', text).group(1)
+    assert policy.replace("&#39;", "'") == ("default-src 'none'; img-src data:; style-src 'unsafe-inline'; "
+                                            f"script-src 'sha256-{digest}'; base-uri 'none'; form-action 'none'")
     imgs = _parse(text).imgs
     assert len(imgs) == len(registry.FIGURES)  # every figure of the report, one <img> each
     assert all(i["src"].startswith("data:image/png;base64,") for i in imgs)
@@ -241,10 +237,17 @@ def test_report_in_headless_chromium(built):
     assert thesis_row[1:] == ["4.10", "3.08", "–", "-4.684", "1.012", "122.407"]  # it printed no SD of |error|
     # a screenshot for a human
     shot = workdir / "report.png"
-    res = _chromium(["--virtual-time-budget=15000", "--window-size=1280,6000", f"--screenshot={shot}",
-                     html_path.as_uri()], workdir)
-    assert res.returncode == 0 and shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with Browser(1280, 6000, workdir=workdir) as browser:
+        browser.open(html_path)
+        browser.screenshot(shot)
+    assert shot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     print(f"\nreport screenshot: {shot}\nreport: {html_path}")
+
+
+def test_the_explorer_reads_back_the_study_in_chromium(built):
+    study, html_path, workdir = built
+    measured = check_explorer(html_path, study, workdir)
+    assert measured["values"] >= 400 and measured["moves"] >= 6
 
 
 def test_the_image_check_catches_a_broken_image(built):

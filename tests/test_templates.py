@@ -103,8 +103,9 @@ def case_diffuse_parts(png):
 def case_lobes(png):
     arc = pd.DataFrame({"lobe": ["<forward>"], "peak": [NAN]})
     s = {"figures": [figure("Lobes <g>")], "arc": arc, "protocols": True, "hemisphere": arc.head(0)}
-    return {"s": s}, ['id="arc-lobes"', "&lt;forward&gt;", "<td>–</td>", "the exact reference's FWHM",
-                      "<details><summary>Lobes over the whole hemisphere</summary>", ": no rows."], ["<forward>", "<g>"]
+    shown = ['id="arc-lobes"', "&lt;forward&gt;", "<td>–</td>", "the exact reference's FWHM",
+             '<p class="note">Lobes over the hemisphere: peak, where', ": no rows."]
+    return {"s": s}, shown, ["<forward>", "<g>", "<details"]  # one row: not folded
 
 
 def case_glm(png):
@@ -194,18 +195,69 @@ def case_random(png):
          "claim": claim, "charts": [("fig-random-maps", png, "maps", "maps <caption>")], "shown": frame,
          "best": [{"kind": "random_<x>", "component": "diffuse", "model": "<lambert>",
                    "means": [("<lambert>", 1.0), ("facets", 2.5)]}],
-         "fits": frame, "seeds": frame, "plan": "quick", "accuracy": None, "convergence": None, "tiles_png": None,
-         "tiles_caption": None}
+         "fits": frame, "opposition": frame, "seeds": frame, "plan": "quick", "accuracy": None, "convergence": None,
+         "tiles_png": None, "tiles_caption": None}
     return {"s": s}, ["a tile of 4 × 4 cells", "truncation t ± &lt;0.2&gt;, aspect a·(1 ± ?)", "π/4 = 0.785",
                       "<b>phase &lt;shift&gt;</b>: the claim is that random lobes &lt;peak&gt;; the statistic is the "
                       "mean &lt;distance&gt;; no difference within ±2°.", 'id="random-claim"',
                       "&lt;more seeds&gt;", 'id="fig-random-maps"', "maps &lt;caption&gt;",
                       "random &lt;x&gt;, diffuse: best <b>&lt;lambert&gt;</b> (mean RMSE over its grid points: "
-                      "&lt;lambert&gt; 1.00; facets 2.50)", 'id="random-seeds"'], ["<x>", "<lambert>", "random-accuracy"]
+                      "&lt;lambert&gt; 1.00; facets 2.50)", 'id="random-seeds"',
+                      'id="random-models-opposition"'], ["<x>", "<lambert>", "random-accuracy"]
 
 
-CASES = {"study.html": case_study, "tables.html": case_tables, "thesis_table.html": case_thesis_table,
-         "figures.html": case_figures, "diffuse_parts.html": case_diffuse_parts, "lobes.html": case_lobes,
+def case_findings(png):
+    lobe = {"lobe": "forward", "table": 1, "area": (0.04, 0.06), "regressed": (3.42, 3.42), "ours": "area",
+            "thesis": "regressed", "thesis_area": 4.1, "thesis_regressed": 2.35}
+    test = {"name": "back_phase_shift", "test": "phase <shift>", "claim": "less <shift>", "unit": "deg", "n": 8,
+            "expected": "below", "decided": 7, "ways": [("above", 7)], "mean": (4.871, 13.67), "regular": (0.08, 0.53)}
+    s = {"accuracy": {"n_surfaces": 3, "views": 1315, "setting": "configured", "worst": 0.49, "component": "<diffuse>",
+                      "mae": 0.0461, "tiles": {"worst": 0.42, "largest_mae": 0.086}, "target": "renderer-validation"},
+         "exact": {"max": 0.29, "mean": 0.06, "worst": 4.6e-15, "target": "exact-peaks"},
+         "implicit": {"why": "switched_off"},
+         "implied": {"scales": [{"table": 1, "model": "Square <Area>", "mae": 4.1, "low": 139.04, "high": 1115.2,
+                                 "stated": 127.0, "possible": False}],
+                     "at_scale": [{"table": 1, "model": "Square <Area>", "scale": 139.04, "area": (4.21, 4.27),
+                                   "thesis": 4.1, "regressed": (7.96, 8.02), "area_wins": True}],
+                     "target": "implied-scale"},
+         "incidence": 30.0, "laws": {"why": "no_laws"},
+         "random": {"tests": [test], "kinds": 2, "ellipse_fill": math.pi / 4, "shape": None, "points": 4, "n_tests": 8,
+                    "all_differ": False, "target": "random-claim"},
+         "ranking": {"labels": ["<1>"], "lobes": [lobe], "verdict": "reversed", "target": "tables"},
+         "speed": {"label": "fast <P=28>", "views": 72, "fast_vps": 1177.2, "naive_vps": 29.1, "speedup": 40.47,
+                   "fast_worst": 0.21, "naive_worst": 8.11, "fast_mae": 0.0406, "naive_mae": 1.968,
+                   "target": "speed-accuracy"},
+         "table_aspects": [1.0]}
+    return {"s": s}, ['<section id="findings"><h2>Findings</h2>', "the other way round from the thesis",
+                      "MAE at aspects &lt;1&gt;, incidence 30: forward lobe, square area function 0.04–0.06 against the "
+                      "regressed model's 3.42 (the thesis: 4.10 against 2.35)", '<a href="#tables">',
+                      "their MAE is at most 4.6e-15", "allow its square &lt;area&gt; a scale s in [139.0, 1115.2], not "
+                      "the stated 127", "At s = 139.0, the smallest allowed", '<a href="#implied-scale">',
+                      "No share law could be fitted", "(<code>report.implicit: false</code>)",
+                      "its phase &lt;shift&gt; is 0.08–0.53°", "phase &lt;shift&gt; higher in 7 of 8, against its "
+                      "claim, undecided in 1 of 8, random means 4.87–13.67°", "worst view 0.49 (&lt;diffuse&gt;), "
+                      "MAE at most 0.046 (3 surfaces × 1,315 views); random tiles: worst view 0.42",
+                      "40.5 times as fast as the naive method and more accurate", "(fast &lt;P=28&gt;) it draws 1,177 "
+                      "views/s against the naive method's 29", '<a href="#speed-accuracy">'], ["<shift>", "<P=28>",
+                                                                                             "<diffuse>", "<1>"]
+
+
+def case_explorer(png):
+    s = {"index": '{"datasets":[]}', "data": "eJwDAAAAAAE=", "script": "window.x = '<raw>';", "scripts": [],
+         "held": {"control": 1, "regular": 2, "means": 0, "seeds": 0}, "views": 12345, "azimuths": 5,
+         "elevations": 2469, "bytes": 1_234_567, "budget": 2_000_000,
+         "left_out": [{"kind": "k", "name": "kind <k>", "what": "seeds", "count": 3, "seeds": [2, 3, 4]}]}
+    return {"s": s}, ['<section id="explorer">', "every one of its 12,345 views (5 azimuths × 2469 elevations)",
+                      "1 control sweep(s), 2 regular surface(s)", "(1.23 MB of the <code>report.explorer.budget"
+                      "</code> of 2.00 MB)", "3 seeds of kind &lt;k&gt; (seeds 2, 3, 4)",
+                      '<script type="application/json" id="explorer-index">{"datasets":[]}</script>',
+                      "<script>window.x = '<raw>';</script>"], ["kind <k>"]
+
+
+CASES = {"explorer.html": case_explorer, "findings.html": case_findings, "study.html": case_study,
+         "tables.html": case_tables,
+         "thesis_table.html": case_thesis_table, "figures.html": case_figures, "diffuse_parts.html": case_diffuse_parts,
+         "lobes.html": case_lobes,
          "glm.html": case_glm, "models.html": case_models, "regressions.html": case_regressions,
          "provenance.html": case_provenance, "renderer_validation.html": case_renderer_validation,
          "stability.html": case_stability, "implicit.html": case_implicit, "random.html": case_random}

@@ -266,12 +266,20 @@ def measurement_plan(wildcards=None):
     return config["measurements"]["plan"]
 
 
+def explorer_budget(wildcards):
+    """report.explorer.budget: the bytes the explorer's data may take in the page."""
+    return int(config["report"]["explorer"]["budget"])
+
+
 def report_measurements(wildcards):
-    """The report's optional inputs, switched by report.speed_accuracy, report.implicit, report.stability and
-    surface.kind (never by which files exist): the measurements at measurements.plan, the random ensembles.
+    """The report's optional inputs, switched by report.speed_accuracy, report.implicit, report.stability,
+    report.explorer.enabled and surface.kind (never by which files exist): the measurements at
+    measurements.plan, the random ensembles, the explorer's data.
     """
     plan = measurement_plan()
     inputs = {}
+    if config["report"]["explorer"]["enabled"]:
+        inputs["explorer"] = "results/analysis/explorer_data.json"
     if config["report"]["speed_accuracy"]:
         inputs["speed_accuracy_table"] = (
             f"results/benchmarks/{plan}/speed_accuracy.parquet"

@@ -226,6 +226,27 @@ rule analysis_random:
         "../scripts/analysis_random.py"
 
 
+# every measured view of the study's surfaces, packed for the report's hemisphere explorer (report.explorer)
+rule explorer_data:
+    input:
+        study="results/study.parquet",
+    output:
+        "results/analysis/explorer_data.json",
+    log:
+        "results/logs/report/explorer_data.log",
+    benchmark:
+        "results/logs/report/explorer_data.benchmark.tsv"
+    conda:
+        "../../envs/study.yaml"
+    threads: 1
+    resources:
+        mem_mb=1024,
+    params:
+        budget=explorer_budget,
+    script:
+        "../scripts/explorer_data.py"
+
+
 rule report_html:
     input:
         unpack(report_measurements),

@@ -50,9 +50,11 @@ if "stability_chart" in inp.keys():  # report.stability
         inp.stability_chart, plan=snakemake.params.plan,
         renderer_validation=benchmarks["validation"] if benchmarks else None,
     )
+measured = {}  # the frames of the sections rendered apart that the findings read
 implicit_html = None
 if "implicit_chart" in inp.keys():  # report.implicit
-    implicit_html = R.implicit_section(pd.read_parquet(inp.implicit_validation), pd.read_parquet(inp.implicit_frames),
+    measured["implicit_validation"] = pd.read_parquet(inp.implicit_validation)
+    implicit_html = R.implicit_section(measured["implicit_validation"], pd.read_parquet(inp.implicit_frames),
                                        inp.implicit_chart, plan=snakemake.params.plan,
                                        maps_png_path=inp.implicit_maps_chart)
 random_html = None
@@ -60,12 +62,17 @@ if "random_ensembles" in inp.keys():  # surface.kind lists a random kind
     tile_accuracy = pd.read_parquet(inp.random_accuracy)
     if benchmarks:  # "Accuracy at every view" lists the random tiles too
         benchmarks["tiles"] = tile_accuracy
-    random_html = R.random_section(read_frame(inp.random_ensembles), read_frame(inp.random_seeds_needed),
+    measured["random_ensembles"] = read_frame(inp.random_ensembles)
+    random_html = R.random_section(measured["random_ensembles"], read_frame(inp.random_seeds_needed),
                                    pd.read_parquet(inp.random_model_fits), inp.random_ensembles_chart,
                                    inp.random_maps_chart, surface_settings=snakemake.params.surface,
                                    accuracy=tile_accuracy,
                                    convergence=pd.read_parquet(inp.tile_convergence),
                                    tiles_png=inp.random_tiles_chart, plan=snakemake.params.plan)
+explorer = None
+if "explorer" in inp.keys():  # report.explorer.enabled
+    with open(inp.explorer) as fh:
+        explorer = json.load(fh)
 provenance = {
     "versions": R.package_versions(),
     "inputs": [R.file_provenance(inp.study)],
@@ -76,6 +83,6 @@ html = R.build_report(tables, figures, config=dict(snakemake.params.config), pro
                       messages=summary["messages"], benchmarks=benchmarks, stability_html=stability_html,
                       table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"],
                       implicit_html=implicit_html, random_html=random_html,
-                      followed=list(snakemake.params.followed))
+                      followed=list(snakemake.params.followed), explorer=explorer, measured=measured)
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")

@@ -26,6 +26,8 @@ from pathlib import Path
 from ..analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE
 from ..atomic import write_text_atomic
 from . import page_sections as sections
+from .page_explorer import explorer_section
+from .page_findings import findings_section
 from .page_measurements import (
     RANDOM_MODELS,
     implicit_section,
@@ -39,7 +41,7 @@ from .page_sections import (
     _section_models,  # noqa: F401  (tests call the models section alone)
     regression_failures_html,
 )
-from .page_templates import TABLE_CAPTIONS, png_data_uri, render, safe
+from .page_templates import TABLE_CAPTIONS, content_security_policy, png_data_uri, render, safe
 from .page_thesis import tables_section, thesis_table_html
 
 __all__ = [
@@ -108,34 +110,35 @@ def build_report(
     implicit_html: str | None = None,
     random_html: str | None = None,
     followed=(),
+    explorer: dict | None = None,
+    measured: dict | None = None,
 ) -> str:
     """The report as one self-contained HTML string.
 
     Parameters
     ----------
-    tables : dict of DataFrames (missing keys are reported, not an error):
-        ``thesis_tables``, ``sine_refits``, ``lobes`` (arc lobes),
-        ``lobes_hemisphere``, ``exact_peaks``, ``diffuse_parts``,
-        ``glm_summary``, ``glm_coefficients``, ``model_fits``,
-        ``model_fits_summary``, ``timings`` (per sweep); and dicts
+    tables : dict of DataFrames (missing keys are reported, not an error): ``thesis_tables``, ``sine_refits``,
+        ``lobes`` (arc lobes), ``lobes_hemisphere``, ``exact_peaks``, ``diffuse_parts``, ``glm_summary``,
+        ``glm_coefficients``, ``model_fits``, ``model_fits_summary``, ``timings`` (per sweep); and dicts
         ``timings_summary``, ``study_summary``.
     figures : dict stem -> PNG path (:data:`roughlight.report.figures.FIGURES` stems).
     config : the configuration used (shown as YAML).
     provenance : dict with ``versions`` (package -> version), ``inputs``
         (list of :func:`file_provenance` dicts), ``settings`` (analysis settings).
     messages : list of str, shown as notes (what was left out and why).
-    stability_html : the "Where methods fail" section (:func:`stability_section`);
-        None: switched off (``report.stability: false``), only the regressions are shown.
-    benchmarks : dict with optional ``png`` (path) and ``table`` (DataFrame)
-        of the speed/accuracy benchmark; None: switched off (``report.speed_accuracy: false``).
-    implicit_html : the "An implicit rough surface" section (:func:`implicit_section`);
-        None: switched off (``report.implicit: false``).
+    stability_html : "Where methods fail" (:func:`stability_section`); None: switched off (only the regressions).
+    benchmarks : dict with optional ``png`` (path) and ``table`` (DataFrame) of the speed/accuracy benchmark;
+        None: switched off (``report.speed_accuracy: false``).
+    implicit_html : "An implicit rough surface" (:func:`implicit_section`); None: switched off.
     random_html : the "Random roughness" section (:func:`random_section`); None: no random kind measured.
     followed : lines naming the settings left unset that took the grid's values
         (:func:`roughlight.study.config.follow_grid`), shown in "The study".
-    table_aspects, table_incidence : the aspects and incidence of Tables 1-2
-        (``report.table_aspects``, ``report.table_incidence``): every table and text of the
-        page that speaks of "the table aspects" shows these.
+    explorer : the hemisphere explorer's data (:func:`roughlight.report.explorer.explorer_data`, as rule
+        ``explorer_data`` writes it); None: switched off (``report.explorer.enabled: false``).
+    measured : frames of the sections rendered apart, for the findings (:func:`findings_section`): ``random_ensembles``
+        and ``implicit_validation``; None or a missing key: the finding says it was not given.
+    table_aspects, table_incidence : the aspects and incidence of Tables 1-2 (``report.table_aspects``,
+        ``report.table_incidence``): every table and text of the page on "the table aspects" shows these.
 
     Returns
     -------
@@ -144,8 +147,12 @@ def build_report(
     tables = tables or {}
     page = _thesis_sections(tables, figures, list(messages or []), table_aspects, table_incidence, followed)
     page.update(_study_sections(tables, figures, config, provenance or {}, benchmarks))
+    shown = {"random": bool(random_html), "implicit": bool(implicit_html)}
+    page.update(findings=findings_section(tables, benchmarks, measured, table_aspects, table_incidence, shown=shown),
+                explorer=explorer_section(explorer))
     return render(
         "base.html", title=title, now=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"), **page,
+        csp=content_security_policy(page["explorer"]["scripts"] if page["explorer"] else ()),
         # the sections the workflow renders apart (stability_section, implicit_section, random_section)
         implicit_html=safe(implicit_html), random_html=safe(random_html), stability_html=safe(stability_html),
     )

@@ -221,12 +221,17 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
               if existing(png)]
     shown = ensembles[[c for c in ("kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean",
                                    "boot_low", "boot_high", "regular", "difference", "pooled") if c in ensembles]]
+    keys = ["kind", "truncation", "aspect", "incidence"]
     rmse = [c for c in model_fits.columns if c.startswith("rmse_")]
-    fits = model_fits.groupby(["kind", "truncation", "aspect", "incidence"], as_index=False)[rmse].mean()
+    fits = model_fits.groupby(keys, as_index=False)[rmse].mean()
+    # two tables, to fit the page's width: the diffuse and specular models, then Hapke's surge near opposition
+    modelled = {c for models in RANDOM_MODELS.values() for c, _ in models}
+    opposition = [c for c in rmse if c not in modelled]
     needed = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
     return render("random.html", s={
         "settings": surface_settings or {}, "ellipse_fill": ELLIPSE_FILL, "tests": _claim_tests(),
         "claim": random_claim_rows(ensembles), "charts": charts, "shown": shown, "best": _best_models(fits),
-        "fits": fits, "seeds": seeds_needed[["kind", "truncation", "aspect", "incidence", "statistic", "mean", "sd"]
-                                            + needed],
+        "fits": fits[keys + [c for c in rmse if c in modelled]],
+        "opposition": fits[keys + opposition] if opposition else None,
+        "seeds": seeds_needed[keys + ["statistic", "mean", "sd"] + needed],
         "plan": plan, **_random_tiles(accuracy, convergence, tiles_png)})

@@ -5,13 +5,19 @@ The templates hold the page's layout and sentences; Python hands them data frame
 Numbers are formatted by the filters registered here (``cell`` for a table cell, ``fmt`` for a format spec,
 ``domain`` for a safe-domain bound, ``aspect`` for an aspect's label),
 figures are inlined by ``png_data_uri``. Autoescape is on: every string a template prints is escaped.
+
+A table of more than :data:`FOLD_ROWS` rows is folded (``macros.html``'s ``table``): it sits in a closed
+``<details>`` under a one-line summary (``fold_summary``) with its whole frame as a CSV link (``csv_data_uri``,
+``csv_name``); column labels may wrap after an underscore (``breakable``).
 """
 
 from __future__ import annotations
 
 import base64
+import hashlib
 import math
 import os
+import re
 from functools import cache
 
 import jinja2
@@ -41,6 +47,13 @@ TABLE_CAPTIONS = {
 }
 
 
+#: A table of more rows than this is folded under a one-line summary, its data downloadable as CSV: the issue asks
+#: for more than 20, and ten keeps the default report within 25,000 px with every fold closed (docs/report.md).
+FOLD_ROWS = 10
+#: A folded table's summary line: at most this many characters of its caption (then its row count).
+SUMMARY_CHARS = 100
+
+
 # ---------------------------------------------------------------------------
 # filters and tests
 
@@ -52,6 +65,17 @@ def png_data_uri(path) -> str:
     if not data.startswith(b"\x89PNG\r\n\x1a\n"):
         raise ValueError(f"{path} is not a PNG file")
     return "data:image/png;base64," + base64.b64encode(data).decode("ascii")
+
+
+def content_security_policy(scripts=()) -> str:
+    """The page's Content-Security-Policy: nothing loads from anywhere (no fetch, font, frame or remote image), the
+    stylesheet and images are inline (``data:``), and the only scripts that run are ``scripts``, the texts of the
+    page's own inline ``<script>`` elements, each allowed by its SHA-256 (none: no script runs at all)."""
+    hashes = " ".join(f"'sha256-{base64.b64encode(hashlib.sha256(s.encode('utf-8')).digest()).decode()}'"
+                      for s in scripts)
+    script_src = hashes or "'none'"
+    return (f"default-src 'none'; img-src data:; style-src 'unsafe-inline'; script-src {script_src}; "
+            "base-uri 'none'; form-action 'none'")
 
 
 def cell(x, digits=3) -> str:
@@ -93,6 +117,42 @@ def rows(df: pd.DataFrame) -> list[list]:
     return [list(row.to_numpy()) for _, row in df.iterrows()]
 
 
+def breakable(text) -> markupsafe.Markup:
+    """A column label escaped, with a line break allowed after each underscore (``<wbr>``): long snake_case
+    labels wrap instead of widening their table. The text is unchanged."""
+    return markupsafe.Markup(str(markupsafe.escape(text)).replace("_", "_<wbr>"))
+
+
+def csv_text(df: pd.DataFrame) -> str:
+    """A frame as CSV: every row and column, no index, numbers at full precision (the shortest text that reads
+    back to the same float)."""
+    return df.to_csv(index=False, lineterminator="\n")
+
+
+def csv_data_uri(df: pd.DataFrame) -> str:
+    """A frame's CSV (``csv_text``) as a ``data:`` URI, for a download link that needs no server."""
+    return "data:text/csv;charset=utf-8;base64," + base64.b64encode(csv_text(df).encode("utf-8")).decode("ascii")
+
+
+def csv_name(name: str) -> str:
+    """A download's file name from a table's id (or caption): lower case letters, digits and dashes, ``.csv``."""
+    slug = re.sub(r"[^a-z0-9]+", "-", str(name).lower()).strip("-")[:60].strip("-")
+    return f"{slug or 'table'}.csv"
+
+
+def fold_summary(caption: str, n_rows: int, limit: int = SUMMARY_CHARS) -> str:
+    """A folded table's one-line summary: its caption, cut at the last clause (``:``, ``;``, ``,`` or `` (``)
+    that leaves its brackets closed and fits in ``limit`` characters (else at a word; a clause of fewer than 20
+    characters says too little), and its row count: "Seeds needed for a 95% interval … (96 rows)"."""
+    text = " ".join(str(caption or "Table").split()).rstrip(".")
+    if len(text) > limit:
+        cuts = [m.start() for m in re.finditer(r"[:;,]\s| \(", text)
+                if m.start() <= limit and text[:m.start()].count("(") == text[:m.start()].count(")")]
+        cut = cuts[-1] if cuts and cuts[-1] >= 20 else text.rfind(" ", 0, limit)
+        text = text[:cut if cut > 0 else limit].rstrip(" ,;:") + " …"
+    return f"{text} ({n_rows:,} rows)"
+
+
 def finite(x) -> bool:
     """Jinja test ``is finite``: a number that is neither NaN nor infinite."""
     return bool(np.isfinite(x))
@@ -108,9 +168,11 @@ def environment() -> jinja2.Environment:
     env = jinja2.Environment(loader=jinja2.PackageLoader("roughlight.report", "templates"), autoescape=True,
                              undefined=jinja2.StrictUndefined, trim_blocks=True, lstrip_blocks=True)
     env.filters.update(cell=cell, fmt=fmt, domain=domain, rows=rows, aspect=aspect_label,
-                       png_data_uri=png_data_uri)
+                       png_data_uri=png_data_uri, breakable=breakable, csv_data_uri=csv_data_uri, csv_name=csv_name,
+                       fold_summary=fold_summary)
     env.tests["finite"] = finite
     env.globals["table_captions"] = TABLE_CAPTIONS
+    env.globals["fold_rows"] = FOLD_ROWS
     return env
 
 

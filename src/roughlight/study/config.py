@@ -326,8 +326,10 @@ def random_surface_settings(config: dict) -> dict:
 
 
 def report_settings(config: dict) -> dict:
-    """The ``report:`` section (validated, defaults filled, the grid's followers set), as plain types for params."""
-    settings = dict(config["report"])
+    """The ``report:`` section (validated, defaults filled, the grid's followers set), as plain types for params;
+    without ``report.explorer``, which reaches rule ``explorer_data`` alone (so that a changed budget reruns the
+    explorer and the page, not the analysis)."""
+    settings = {k: v for k, v in config["report"].items() if k != "explorer"}
     settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
     settings["table_incidence"] = float(settings["table_incidence"])
     return settings

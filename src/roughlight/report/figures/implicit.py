@@ -8,7 +8,7 @@ import numpy as np
 import seaborn as sns
 
 from ...surfaces.surface import aspect_label
-from .common import hemisphere_frame, legend_below, mirrored, save_figure, theme
+from .common import hemisphere_frame, hemisphere_map, legend_below, save_figure, theme
 
 __all__ = ["plot_implicit", "plot_implicit_maps"]
 
@@ -46,19 +46,29 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
 
 
 def _map_panel(fig, ax, cur, ref, method, component, surface) -> None:
-    """The exact map of one surface, or an implicit model's difference from it on a symmetric scale."""
+    """The exact map of one surface (15 bands from 0 to its maximum), or an implicit model's difference from it
+    on a symmetric scale (16 bands), drawn from the measured views (:func:`.common.hemisphere_map`). ``cur`` and
+    ``ref``: the method's and the reference's rows of one surface, ``azimuth`` and ``elevation`` in degrees and
+    the components 0-255; the difference is taken view by view, so both must hold the same views."""
     t, a, i = surface
-    value = cur[component].to_numpy() - (0 if method == "reference" else ref[component].to_numpy())
-    e, phi = np.radians(cur["elevation"].to_numpy()), np.radians(cur["azimuth"].to_numpy())
-    X, Y, Z = mirrored(np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi), value)
+    keys = ["azimuth", "elevation"]
     if method == "reference":
-        levels, cmap = np.linspace(0, max(float(Z.max()), 1.0), 16), "magma"
+        views, value = cur, cur[component].to_numpy(float)
+    else:
+        views = cur[keys + [component]].merge(ref[keys + [component]], on=keys, how="outer",
+                                              suffixes=("", "_ref"), validate="one_to_one")
+        if len(views) != len(cur) or len(views) != len(ref):
+            raise ValueError(f"{method} and the reference were not measured on the same views")
+        value = views[component].to_numpy(float) - views[f"{component}_ref"].to_numpy(float)
+    azimuth, elevation = views["azimuth"].to_numpy(float), views["elevation"].to_numpy(float)
+    if method == "reference":
+        levels, cmap = np.linspace(0, max(float(np.nanmax(value)), 1.0), 16), "magma"
         title = f"t {t:g}, aspect {aspect_label(a)}, i {i:g}: exact {component}"
     else:
-        span = max(float(np.abs(Z).max()), 0.05)
+        span = max(float(np.nanmax(np.abs(value))), 0.05)
         levels, cmap = np.linspace(-span, span, 17), "RdBu_r"
         title = f"{method.replace('_', ' ')} − exact (max |Δ| {span:.2f})"
-    mappable = ax.tricontourf(X, Y, Z, levels=levels, cmap=cmap)
+    mappable = hemisphere_map(ax, azimuth, elevation, value, levels=levels, cmap=cmap)
     fig.colorbar(mappable, ax=ax, shrink=0.8)
     hemisphere_frame(ax, i)
     ax.set_title(title, loc="left", fontsize=8)
@@ -66,7 +76,8 @@ def _map_panel(fig, ax, cur, ref, method, component, surface) -> None:
 
 def plot_implicit_maps(maps, path, component: str = "total") -> None:
     """Hemisphere maps (top-down, light on the right) of the exact reference and of each implicit model's
-    difference from it, one row per surface (:func:`roughlight.measurements.implicit_surface.hemisphere_maps`)."""
+    difference from it, one row per surface (:func:`roughlight.measurements.implicit_surface.hemisphere_maps`),
+    each drawn from the measured views only (:func:`.common.hemisphere_map`)."""
     theme()
     surfaces = maps[["truncation", "aspect", "incidence"]].drop_duplicates().to_numpy()
     columns = ("reference", "implicit_exact", "implicit_correction")

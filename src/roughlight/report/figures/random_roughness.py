@@ -12,9 +12,9 @@ import pandas as pd
 from ...surfaces.surface import aspect_label
 from .common import (
     hemisphere_frame,
+    hemisphere_map,
     hemisphere_map_problem,
     legend_below,
-    mirrored,
     placeholder,
     save_figure,
     theme,
@@ -86,12 +86,16 @@ def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
 
 
 def _random_map(fig, ax, sel, kind, surface) -> None:
-    """One kind's map (the regular surface, or one seed), on its own scale: the shapes are compared, not the levels."""
+    """One kind's map (the regular surface, or one seed) from its measured views, on its own scale (15 bands from
+    0 to its maximum): the shapes are compared, not the levels. ``sel``: the sweep's rows of one component
+    (``azimuth``, ``elevation`` in degrees, ``rough`` 0-255), each view once; ``surface`` (truncation, aspect,
+    incidence). A random tile is not symmetric about the light's plane: every view is drawn as measured
+    (:func:`.common.hemisphere_map`), none mirrored."""
     t, a, i = surface
-    e, phi = np.radians(sel["elevation"].to_numpy(float)), np.radians(sel["azimuth"].to_numpy(float))
-    X, Y, Z = mirrored(np.cos(e) * np.cos(phi), np.cos(e) * np.sin(phi), sel["rough"].to_numpy(float))
-    top = max(float(Z.max()), 1.0)
-    mappable = ax.tricontourf(X, Y, Z, levels=np.linspace(0, top, 16), cmap="magma")
+    value = sel["rough"].to_numpy(float)
+    top = max(float(np.nanmax(value)), 1.0)
+    mappable = hemisphere_map(ax, sel["azimuth"].to_numpy(float), sel["elevation"].to_numpy(float), value,
+                              levels=np.linspace(0, top, 16), cmap="magma")
     fig.colorbar(mappable, ax=ax, shrink=0.7)
     hemisphere_frame(ax, i)
     seed_text = "" if kind == "pyramids" else f", seed {int(sel['seed'].iloc[0])}"
@@ -100,8 +104,9 @@ def _random_map(fig, ax, sel, kind, surface) -> None:
 
 
 def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", seed: int = 1) -> None:
-    """Top-down hemisphere maps (light on the right, star) of the regular surface and of one seed of each random
-    kind, one row per random grid point: the thesis's Fig. 19 view of the lobes' shapes."""
+    """Top-down hemisphere maps (light on the right, star) of the regular surface and of one seed (the lowest) of
+    each random kind, one row per random grid point: the thesis's Fig. 19 view of the lobes' shapes, each drawn
+    from its measured views only (:func:`.common.hemisphere_map`)."""
     from ...analysis.ensembles import random_points
 
     theme()

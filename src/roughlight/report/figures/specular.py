@@ -22,18 +22,17 @@ from .common import (
     arc_panels,
     aspects_present,
     hemisphere_frame,
+    hemisphere_map,
     hemisphere_map_problem,
     hue_palette,
     legend_below,
     legend_beside,
-    mirrored,
     no_table_aspect,
     panels_legend,
     pick_incidence,
     placeholder,
     select,
     theme,
-    topdown_xy,
 )
 
 __all__ = ["fig17_clipping", "fig19_topdown", "fig20_plate_incidence", "fig21_specular_truncation",
@@ -250,12 +249,13 @@ def _example_surfaces(grids, inc) -> list:
 
 
 def _topdown_map(ax, az, el, v, key) -> None:
-    """One surface's specular over the hemisphere, on its own scale."""
+    """One surface's specular over the hemisphere from its measured views (:func:`.common.hemisphere_map`), on
+    its own scale (15 bands from 0 to its maximum): ``az`` (A,) and ``el`` (E,) in degrees, ``v`` (A, E) 0-255,
+    NaN where a view is missing; ``key`` (truncation, aspect, incidence)."""
     t, a, i = key
-    X, Y, Z = mirrored(*topdown_xy(az, el), v)
-    ok = np.isfinite(Z)
-    vmax = max(float(np.nanmax(Z)), 1.0)
-    ax.tricontourf(X[ok], Y[ok], Z[ok], levels=np.linspace(0, vmax, 16), cmap="magma")
+    A, E = np.meshgrid(az, el, indexing="ij")
+    vmax = max(float(np.nanmax(v)), 1.0)
+    hemisphere_map(ax, A.ravel(), E.ravel(), np.ravel(v), levels=np.linspace(0, vmax, 16), cmap="magma")
     hemisphere_frame(ax, i)
     ax.set_title(f"t {t:g}, aspect {aspect_label(a)} (max {vmax:.0f})", loc="left", fontsize=9)
 
@@ -305,12 +305,15 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, i
 
     The top row maps the specular component seen from every direction
     (orthographic projection of the hemisphere, the light ★ at azimuth 0 on
-    the right; the lower half mirrors the measured upper half, as the surface
-    is symmetric about the light's plane), each panel on its own scale. White
-    dots mark, on every half great circle that passes within ``max_angle``
-    of the back (light-facing facet's) mirror direction, the brightest view
-    near it. The bottom row gives that maximum and its phase angle against
-    the dot's azimuth: a lobe centred on zero phase would keep phase 0.
+    the right), each panel on its own scale: filled contours interpolated
+    between measured neighbouring views (:func:`.common.hemisphere_map`; the
+    sweep's half great circles, azimuths 0 to < 180 with elevations 0-180,
+    cover the whole disc, and nothing is mirrored). White dots mark, on
+    every half great circle that passes within ``max_angle`` of the back
+    (light-facing facet's) mirror direction, the brightest view near it (on
+    either side of the light's plane, as measured). The bottom row gives
+    that maximum and its phase angle against the dot's azimuth: a lobe
+    centred on zero phase would keep phase 0.
     """
     theme()
     grids = {key: (az, el, v) for key, az, el, v in surface_grids(study, "specular")}
@@ -331,7 +334,6 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, i
         track = _back_lobe_track(*grids[key], key, max_angle)
         if track:
             ax.plot([r["x"] for r in track], [r["y"] for r in track], ".", color="white", ms=3.5)
-            ax.plot([r["x"] for r in track], [-r["y"] for r in track], ".", color="white", ms=3.5)
         track_rows += track
     ax1, ax2 = fig.add_subplot(gs[1, :n]), fig.add_subplot(gs[1, n:])
     _track_panels(ax1, ax2, track_rows)

@@ -1,0 +1,311 @@
+"""The page's "Findings": the study's main results as numbered statements, each with its numbers and a link to the
+element of the page that shows the evidence (``templates/findings.html``).
+
+Each function here gathers one statement's numbers from this run's frames, through the functions of the section
+that shows the evidence (:mod:`~roughlight.report.page_thesis`, :mod:`~roughlight.report.page_sections`,
+:mod:`~roughlight.report.page_measurements`, :func:`roughlight.analysis.ensembles.claim_table`), so that a finding
+says what its section says. Each returns a dict: the statement's numbers and ``target``, the id of the page element
+it links to (on the page whenever the statement is made); or, where the statement cannot be made for this run,
+``{"why": code}``, a code the template turns into the sentence that says why.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from . import page_sections as sections
+from . import page_thesis
+from .page_measurements import _test_label
+from .page_templates import frame_or_none
+
+#: The lobes of Tables 1-2: (lobe, table, its area function).
+LOBES = (("forward", 1, "Square Area Function"), ("back", 2, "Triangle Area Function"))
+#: The share laws' baseline model (:data:`roughlight.analysis.share_laws.MODELS`).
+BASELINE = "linear GLM (baseline)"
+#: Which way each test of the random-roughness claim (:data:`roughlight.analysis.ensembles.CLAIMS`) expects the
+#: random ensembles to differ from the regular surface: lower rectangularity, less phase shift.
+EXPECTED = {"back_rectangularity": "below", "back_phase_shift": "below"}
+
+
+def _span(values) -> tuple[float, float] | None:
+    """The smallest and largest of the finite ``values`` (None: none is finite)."""
+    v = np.asarray([x for x in values if x is not None and np.isfinite(x)], float)
+    return (float(v.min()), float(v.max())) if len(v) else None
+
+
+def _better(area: float, regressed: float) -> str | None:
+    """Which of two MAEs is smaller: "area", "regressed", or None when either is not a number."""
+    if not (np.isfinite(area) and np.isfinite(regressed)):
+        return None
+    return "area" if area < regressed else "regressed"
+
+
+def _has_rows(frame) -> bool:
+    """The frame is given and has rows."""
+    return frame_or_none(frame) is not None
+
+
+# ---------------------------------------------------------------------------
+# Tables 1-2
+
+
+def _lobe_ranking(thesis: pd.DataFrame, per_aspect: list[dict], lobe: str, table: int, area_model: str) -> dict:
+    """One lobe's MAEs over the table aspects (ours, the area function and the regressed model) and the thesis's."""
+    area = [f[f"{lobe}_area"] for f in per_aspect]
+    regressed = [f[f"{lobe}_regressed"] for f in per_aspect]
+    first = thesis["aspect"].max()
+    t_area = page_thesis._stat(thesis, table, first, area_model, "thesis 2001", "Mean Abs Error")
+    t_regressed = page_thesis._stat(thesis, table, first, "Regressed Model", "thesis 2001", "Mean Abs Error")
+    ours = {_better(a, r) for a, r in zip(area, regressed)} - {None}
+    return {"lobe": lobe, "table": table, "area": _span(area), "regressed": _span(regressed),
+            "ours": ours.pop() if len(ours) == 1 else ("mixed" if ours else None),
+            "thesis": _better(t_area, t_regressed), "thesis_area": t_area, "thesis_regressed": t_regressed}
+
+
+def ranking(thesis: pd.DataFrame | None) -> dict:
+    """Tables 1-2's ranking of the area functions against the regressed models, ours against the thesis's.
+
+    Ours are :func:`roughlight.report.page_thesis.findings`' MAEs (what "Tables 1 and 2" says), per lobe the
+    range over the table aspects; ``verdict``: "reversed" (every lobe ranks the other way round from the
+    thesis), "same", or "mixed" (some lobe could not be compared, or ranks differently at different aspects).
+    """
+    if not _has_rows(thesis):
+        return {"why": "no_table_aspect"}
+    per_aspect = page_thesis.findings(thesis)
+    lobes = [_lobe_ranking(thesis, per_aspect, *lobe) for lobe in LOBES]
+    ranked = [lb for lb in lobes if lb["ours"] in ("area", "regressed") and lb["thesis"]]
+    verdict = "mixed"
+    if len(ranked) == len(lobes):
+        if all(lb["ours"] != lb["thesis"] for lb in ranked):
+            verdict = "reversed"
+        elif all(lb["ours"] == lb["thesis"] for lb in ranked):
+            verdict = "same"
+    return {"labels": [f["label"] for f in per_aspect], "lobes": lobes, "verdict": verdict, "target": "tables"}
+
+
+def exact_law(thesis: pd.DataFrame | None, exact: pd.DataFrame | None) -> dict:
+    """The area functions on the exact lobe peaks, and how far the fast renderer's peaks are from them
+    (:func:`roughlight.report.page_thesis.exact_error`: max, mean, worst)."""
+    if not _has_rows(thesis):
+        return {"why": "no_table_aspect"}
+    error = page_thesis.exact_error(thesis, exact)
+    if error is None:
+        return {"why": "no_exact"}
+    return {**error, "target": "exact-peaks"}
+
+
+def _at_implied_scale(at_scale: pd.DataFrame, scales: pd.DataFrame) -> list[dict]:
+    """Per table recomputed at the implied scale: the scale, our area function's and regressed model's MAEs over
+    the table aspects, the thesis's MAE and whether the area function still wins."""
+    out = []
+    implied_rows = at_scale[at_scale["scale"] == "implied"]
+    for table, rows in implied_rows.groupby("table", sort=True):
+        scale = scales[scales["table"] == table].iloc[0]
+        area = rows[rows["model"].str.contains("Area")]
+        out.append({"table": int(table), "model": scale["model"], "scale": float(scale["s_min_mae"]),
+                    "area": _span(area["Mean Abs Error"]), "thesis": float(scale["mae"]),
+                    "regressed": _span(rows[rows["model"] == "Regressed Model"]["Mean Abs Error"]),
+                    "area_wins": page_thesis._area_still_wins(rows)})
+    return out
+
+
+def implied_scale(tables: dict, thesis: pd.DataFrame | None) -> dict:
+    """The scales of its area functions the thesis's own numbers allow (:func:`page_thesis.implied`), and our
+    rows at the smallest allowed scale where the stated one is impossible."""
+    if not _has_rows(thesis):
+        return {"why": "no_table_aspect"}
+    shown = page_thesis.implied(tables.get("implied_scales"), tables.get("tables_at_implied_scale"))
+    if shown is None:
+        return {"why": "no_scales"}
+    scales = shown["scales"]
+    rows = [{"table": int(r["table"]), "model": r["model"], "mae": float(r["mae"]), "low": float(r["s_min_mae"]),
+             "high": float(r["s_max_mae"]), "stated": float(r["stated_scale"]), "possible": bool(r["stated_possible"])}
+            for _, r in scales.sort_values("stated_possible").iterrows()]
+    at = _at_implied_scale(tables["tables_at_implied_scale"], scales) if shown["at_scale"] is not None else []
+    return {"scales": rows, "at_scale": at, "target": "implied-scale" if at else "tables"}
+
+
+# ---------------------------------------------------------------------------
+# over the grid
+
+
+def share_laws(tables: dict) -> dict:
+    """Per lobe and incidence, the model best held out (the one "GLMs over the grid" names) against the linear
+    GLM's held-out RMSE (NaN, with the frame's ``note`` saying why, where it was not fitted); ``all_laws``: every
+    best model is a share law."""
+    laws = frame_or_none(tables.get("share_laws"))
+    if laws is None:
+        return {"why": "no_laws"}
+    best = sections.glm_section(tables, {})["best_laws"]
+    items = []
+    for _, r in best.sort_values(["lobe", "incidence"], ascending=[False, True]).iterrows():
+        base = laws[(laws["lobe"] == r["lobe"]) & (laws["incidence"] == r["incidence"]) & (laws["model"] == BASELINE)]
+        items.append({"lobe": r["lobe"], "incidence": float(r["incidence"]), "model": r["model"],
+                      "rmse_held_out": float(r["rmse_held_out"]), "n": int(r["n"]),
+                      "baseline": float(base["rmse_held_out"].iloc[0]) if len(base) else float("nan"),
+                      "baseline_note": str(base["note"].iloc[0]) if len(base) and pd.notna(base["note"].iloc[0]) else ""})
+    return {"best": items, "all_laws": all(i["model"].startswith("share law") for i in items),
+            "target": "share-laws"}
+
+
+# ---------------------------------------------------------------------------
+# random roughness
+
+
+def _claim_frame(ensembles: pd.DataFrame) -> pd.DataFrame:
+    """:func:`roughlight.analysis.ensembles.claim_table` as "Random roughness" computes it
+    (:func:`roughlight.report.page_measurements.random_claim_rows`), numbers unformatted."""
+    from ..analysis.ensembles import claim_table
+
+    if "boot_low" not in ensembles:  # an ensembles table written before the bootstrap intervals
+        ensembles = ensembles.assign(boot_low=np.nan, boot_high=np.nan)
+    return claim_table(ensembles)
+
+
+def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
+    """One test of the claim over its rows: how many are decided and which way (``ways``: (direction, count) with
+    direction "below", "above" or "same", the random ensemble against the regular value), the direction the claim
+    ``expected`` (:data:`EXPECTED`, None: not known), the random means and the regular values (their ranges), the
+    statistic's ``unit``."""
+    decided = rows["decided"] == "yes"
+    below, above = decided & (rows["high"] < rows["regular"]), decided & (rows["low"] > rows["regular"])
+    counts = (("below", int(below.sum())), ("above", int(above.sum())), ("same", int((decided & ~below & ~above).sum())))
+    return {"name": name, "test": _test_label(name), "claim": rows["claim"].iloc[0], "unit": unit, "n": len(rows),
+            "expected": EXPECTED.get(name),
+            "decided": int(decided.sum()), "ways": [(way, k) for way, k in counts if k],
+            "mean": _span(rows["mean"]), "regular": _span(rows["regular"])}
+
+
+def _lobe_shape(test: dict | None, ellipse_fill: float) -> str | None:
+    """Whether the regular surface's back lobe is nearer an ellipse's rectangularity or a rectangle's (1) at every
+    random grid point: "ellipse", "rectangle" or "between" (None: no rectangularity test or no regular value)."""
+    if test is None or test["regular"] is None:
+        return None
+    middle = (1.0 + ellipse_fill) / 2.0
+    low, high = test["regular"]
+    return "ellipse" if high < middle else ("rectangle" if low > middle else "between")
+
+
+def random_claims(ensembles: pd.DataFrame | None, shown: bool) -> dict:
+    """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.ensembles.CLAIMS` (in its
+    order): the regular surface's values and the random ensembles' decisions over the random grid points and kinds.
+
+    ``shown``: the "Random roughness" section is on the page (a random kind was measured).
+    """
+    from ..analysis.ensembles import CLAIMS, ELLIPSE_FILL
+
+    if not shown:
+        return {"why": "no_kind"}
+    if ensembles is None:
+        return {"why": "not_given"}
+    claims = _claim_frame(ensembles)
+    if claims.empty:
+        return {"why": "no_claim"}
+    units = ensembles.groupby("statistic")["unit"].first() if "unit" in ensembles else pd.Series(dtype=object)
+    tests = [_claim_test(name, claims[claims["test"] == name], units.get(name, ""))
+             for name in CLAIMS if (claims["test"] == name).any()]
+    rectangularity = next((t for t in tests if t["name"] == "back_rectangularity"), None)
+    return {"tests": tests, "kinds": claims["kind"].nunique(), "ellipse_fill": ELLIPSE_FILL,
+            "shape": _lobe_shape(rectangularity, ELLIPSE_FILL),
+            "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
+            "n_tests": len(claims), "all_differ": all(t["decided"] == t["n"] and all(w != "same" for w, _ in t["ways"])
+                                                     for t in tests),
+            "target": "random-claim"}
+
+
+# ---------------------------------------------------------------------------
+# the renderers
+
+
+def renderer_accuracy(benchmarks: dict | None) -> dict:
+    """The fast renderer against the exact reference at every view (the configured setting of
+    :func:`roughlight.report.page_measurements.validation_line`: its worst view and largest MAE over the
+    components) and on random tiles, as "Accuracy at every view" says them."""
+    shown = sections._benchmarks(benchmarks)
+    if shown is None:
+        return {"why": "switched_off"}
+    if shown["validation"] is None:
+        return {"why": "no_validation"}
+    line = shown["validation"]["line"]
+    setting = next((s for s in line["settings"] if s["setting"] == "configured"), line["settings"][0])
+    worst = max(setting["rows"], key=lambda r: r["worst"])
+    return {"n_surfaces": line["n_surfaces"], "views": line["views"], "setting": setting["setting"],
+            "worst": worst["worst"], "component": worst["component"],
+            "mae": max(r["largest_mae"] for r in setting["rows"]), "tiles": shown["validation"]["tiles"],
+            "target": "renderer-validation"}
+
+
+def speed(benchmarks: dict | None) -> dict:
+    """The fast renderer at its default settings against the naive method, from the speed/accuracy benchmark
+    (:func:`roughlight.measurements.speed_accuracy.run_benchmark`): views per second and the total's worst
+    error and MAE against the exact reference."""
+    if sections._benchmarks(benchmarks) is None:
+        return {"why": "switched_off"}
+    table = frame_or_none(benchmarks.get("table"))
+    if table is None or not {"default", "speedup_vs_naive"} <= set(table.columns):
+        return {"why": "no_table"}
+    total = table[table["component"] == "total"]
+    fast, naive = total[total["default"].astype(bool)], total[total["method"] == "naive"]
+    if fast.empty or naive.empty:
+        return {"why": "no_default" if fast.empty else "no_naive"}
+    f, n = fast.iloc[0], naive.iloc[0]
+    return {"label": f["label"], "views": int(f["n_views"]), "fast_vps": float(f["views_per_second"]),
+            "naive_vps": float(n["views_per_second"]), "speedup": float(f["speedup_vs_naive"]),
+            "fast_worst": float(f["max_error"]), "naive_worst": float(n["max_error"]), "fast_mae": float(f["mae"]),
+            "naive_mae": float(n["mae"]), "target": "speed-accuracy"}
+
+
+def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
+    """The implicit shader's two forms against the exact reference (the "all" band of
+    :func:`roughlight.measurements.implicit_surface.summary`, the total): worst view, largest and median MAE.
+
+    ``shown``: the "An implicit rough surface" section is on the page (``report.implicit``).
+    """
+    from ..measurements.implicit_surface import summary
+
+    if not shown:
+        return {"why": "switched_off"}
+    if not _has_rows(validation):
+        return {"why": "not_given"}
+    s = summary(validation)
+    s = s[(s["band"] == "all") & (s["component"] == "total")].set_index("method")
+    forms = {m: {"worst": float(s.loc[m, "worst"]), "max_mae": float(s.loc[m, "max_mae"]),
+                 "median_mae": float(s.loc[m, "median_mae"])} if m in s.index else None
+             for m in ("implicit_exact", "implicit_correction")}
+    return {"n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
+            "n_views": int(validation["n_views"].iloc[0]), "exact": forms["implicit_exact"],
+            "correction": forms["implicit_correction"], "target": "implicit-validation"}
+
+
+# ---------------------------------------------------------------------------
+# the section
+
+
+def findings_section(tables: dict, benchmarks: dict | None = None, measured: dict | None = None, table_aspects=(),
+                     table_incidence: float = 30.0, shown: dict | None = None) -> dict:
+    """The data of ``templates/findings.html``: one entry a statement, in page order.
+
+    Parameters
+    ----------
+    tables : the analysis frames of :func:`roughlight.report.page.build_report`.
+    benchmarks : the speed/accuracy benchmark (``table``, ``validation``, ``tiles``); None: switched off.
+    measured : frames of the sections rendered apart: ``random_ensembles`` (rule ``analysis_random``),
+        ``implicit_validation`` (rule ``implicit_surface``); missing keys are said to be missing.
+    table_aspects, table_incidence : the aspects and incidence of Tables 1-2.
+    shown : which sections rendered apart are on the page: ``random``, ``implicit`` (bools).
+
+    Returns
+    -------
+    dict: the aspects and incidence of Tables 1-2 and a dict per statement (:func:`ranking`, ...).
+    """
+    measured, shown = measured or {}, shown or {}
+    thesis = tables.get("thesis_tables")
+    return {
+        "table_aspects": list(table_aspects), "incidence": table_incidence,
+        "ranking": ranking(thesis), "exact": exact_law(thesis, tables.get("exact_peaks")),
+        "implied": implied_scale(tables, thesis), "laws": share_laws(tables),
+        "implicit": implicit(measured.get("implicit_validation"), bool(shown.get("implicit"))),
+        "random": random_claims(measured.get("random_ensembles"), bool(shown.get("random"))),
+        "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
+    }

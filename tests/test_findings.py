@@ -1,0 +1,395 @@
+"""The report's "Findings": each statement's numbers are this run's, its link lands on the page, and a statement that
+cannot be made says why.
+
+The Tables 1-2 and share-law statements read the analysis of a small study measured here with the exact reference
+(``make_study``); the measurements' frames (the speed/accuracy benchmark, the renderer's validation, the random
+ensembles, the implicit surface's validation) are made here with known values.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from html import unescape
+from html.parser import HTMLParser
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from roughlight.analysis.ensembles import seeds_needed
+from roughlight.analysis.lobes import arc_lobes
+from roughlight.analysis.share_laws import share_law_fits
+from roughlight.analysis.thesis import exact_lobe_peaks, implied_scales, tables_at_implied_scale, thesis_tables
+from roughlight.render.shading import Lighting
+from roughlight.report import page as R
+from roughlight.report import page_findings as PF
+from roughlight.report.page_templates import render
+
+from .test_analysis import make_study
+
+S32 = math.sqrt(3.0) / 2.0
+ASPECTS = [1.0, S32]
+STATEMENTS = ("ranking", "exact", "implied", "laws", "implicit", "regular-lobe", "random", "accuracy", "speed")
+
+
+# ---------------------------------------------------------------------------
+# the frames
+
+
+@pytest.fixture(scope="module")
+def tables():
+    """The analysis frames build_report reads for Tables 1-2 and the share laws, of a small exact study."""
+    study = make_study([0.0, 0.5, 1.0], [0.0, 0.5, S32, 1.0], elevations=np.arange(0.0, 181.0, 2.0))
+    lobes = arc_lobes(study)
+    exact = exact_lobe_peaks(lobes, ASPECTS, 30.0, Lighting())
+    thesis, _ = thesis_tables(lobes, ASPECTS, 30.0, m=127.0, exact=exact)
+    return {"thesis_tables": thesis, "exact_peaks": exact, "implied_scales": implied_scales(),
+            "tables_at_implied_scale": tables_at_implied_scale(lobes), "share_laws": share_law_fits(lobes)}
+
+
+def speed_table() -> pd.DataFrame:
+    """The speed/accuracy benchmark's rows: the naive method, the fast one at its default and at another setting."""
+    rows = []
+    for method, label, vps, mae, worst, default in (("naive", "naive <thesis>", 29.1, 1.968, 8.11, False),
+                                                    ("fast", "fast lattice P=8", 6233.0, 1.41, 6.54, False),
+                                                    ("fast", "fast adaptive <P=28>", 1177.2, 0.0406, 0.211, True)):
+        for component, scale in (("diffuse", 0.9), ("specular", 0.1), ("total", 1.0)):
+            rows.append({"method": method, "label": label, "component": component, "n_views": 72,
+                         "views_per_second": vps, "mae": mae * scale, "max_error": worst * scale,
+                         "speedup_vs_naive": vps / 29.1, "default": default})
+    return pd.DataFrame(rows)
+
+
+def validation_frame() -> pd.DataFrame:
+    """The renderer's validation: two surfaces, two settings (the configured one and a coarser one)."""
+    rows = []
+    for setting, scale in (("configured", 1.0), ("lattice 24", 9.0)):
+        for k, (t, a) in enumerate(((0.5, 1.0), (1.0, S32))):
+            for component, worst, mae in (("diffuse", 0.49, 0.045), ("specular", 0.29, 0.004), ("total", 0.47, 0.046)):
+                rows.append({"setting": setting, "truncation": t, "aspect": a, "incidence": 30.0, "component": component,
+                             "n_views": 315, "mae": mae * scale * (1 - k / 4), "p99": worst * scale / 2,
+                             "worst": worst * scale * (1 - k / 10), "grazing_worst": worst / 2,
+                             "fast_views_per_second": 5270.0 / scale})
+    return pd.DataFrame(rows)
+
+
+def tiles_frame() -> pd.DataFrame:
+    """Random tiles against the exact reference (rule random_tiles' random_accuracy)."""
+    return pd.DataFrame([{"kind": kind, "truncation": 1.0, "aspect": 1.0, "cells": 4, "seed": 1, "component": c,
+                          "views": 20, "reference_refused": 0, "mae": mae, "worst": worst}
+                         for kind, mae, worst in (("random_pyramids", 0.086, 0.42), ("pyramids", 0.5, 3.0))
+                         for c in ("diffuse", "specular", "total")])
+
+
+def ensemble_row(kind, t, statistic, mean, half, regular, seeds=8) -> dict:
+    """One row of random_ensembles.csv: the mean over seeds with a 95% interval of half-width ``half``."""
+    return {"kind": kind, "truncation": t, "aspect": 1.0, "incidence": 30.0, "statistic": statistic,
+            "unit": "deg" if statistic == "back_phase_shift" else "ratio", "seeds": seeds, "mean": mean,
+            "sd": half * math.sqrt(seeds) / 2.36, "ci_low": mean - half, "ci_high": mean + half, "regular": regular,
+            "boot_low": mean - half / 2, "boot_high": mean + half / 2}
+
+
+def ensembles_frame() -> pd.DataFrame:
+    """Rectangularity: 3 tests lower than the regular value, 1 where the regular surface has no lobe. Phase shift: 2
+    higher, 1 within the ±2° tolerance (no difference), 1 undecided (a wide interval around the regular value)."""
+    rows = [ensemble_row("random_pyramids", 0.5, "back_rectangularity", 0.60, 0.05, 0.78),
+            ensemble_row("random_pyramids", 1.0, "back_rectangularity", 0.52, 0.05, 0.76),
+            ensemble_row("random_heightfield", 0.5, "back_rectangularity", 0.64, 0.08, 0.78),
+            ensemble_row("random_heightfield", 1.0, "back_rectangularity", 0.55, 0.08, np.nan),
+            ensemble_row("random_pyramids", 0.5, "back_phase_shift", 13.7, 3.0, 0.53),
+            ensemble_row("random_pyramids", 1.0, "back_phase_shift", 4.9, 2.0, 0.08),
+            ensemble_row("random_heightfield", 0.5, "back_phase_shift", 0.9, 0.5, 0.53),
+            ensemble_row("random_heightfield", 1.0, "back_phase_shift", 3.0, 6.0, 0.08),
+            ensemble_row("random_pyramids", 0.5, "back_peak", 20.0, 2.0, 27.0)]  # not a test of the claim
+    return pd.DataFrame(rows)
+
+
+def implicit_frame() -> pd.DataFrame:
+    """The implicit surface's validation: two surfaces, both forms and the fast renderer."""
+    rows = []
+    for k, (t, a) in enumerate(((1.0, 1.0), (0.5, 0.5))):
+        for method, mae, worst in (("implicit_exact", 0.015, 0.249), ("implicit_correction", 1.186, 15.67),
+                                   ("fast", 0.04, 0.56)):
+            for component, scale in (("diffuse", 0.9), ("specular", 0.01), ("total", 1.0)):
+                rows.append({"truncation": t, "aspect": a, "incidence": 30.0, "kind": "grid", "band": f"band {k}",
+                             "method": method, "component": component, "n_views": 174,
+                             "mae": mae * scale / (1 + 10 * k), "p99": worst * scale / 2,
+                             "worst": worst * scale / (1 + k)})
+    return pd.DataFrame(rows)
+
+
+def benchmarks() -> dict:
+    return {"png": None, "table": speed_table(), "validation": validation_frame(), "smoothness": None,
+            "tiles": tiles_frame()}
+
+
+def measured() -> dict:
+    return {"random_ensembles": ensembles_frame(), "implicit_validation": implicit_frame()}
+
+
+def section_html(ensembles: pd.DataFrame, validation: pd.DataFrame) -> dict:
+    """The random and implicit sections as the workflow renders them apart."""
+    fits = ensembles[["kind", "truncation", "aspect", "incidence"]].drop_duplicates().assign(rmse_lambert=3.0)
+    frames = pd.DataFrame({"field": [16, 16], "method": ["explicit", "implicit_exact"], "triangles": [1024, 2],
+                           "frame_ms": [59.0, 97.0], "error": [2.3, 0.06]})
+    return {"random_html": R.random_section(ensembles, seeds_needed(ensembles), fits, plan="quick"),
+            "implicit_html": R.implicit_section(validation, frames, None, plan="quick")}
+
+
+# ---------------------------------------------------------------------------
+# the page
+
+
+class _Page(HTMLParser):
+    """Every id of the page, and the findings: each statement's text and links."""
+
+    def __init__(self):
+        super().__init__()
+        self.ids, self.statements, self._in = set(), [], None
+        self._depth = 0
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if "id" in a:
+            self.ids.add(a["id"])
+        if tag == "section" and a.get("id") == "findings":
+            self._depth = 1
+        elif self._depth and tag == "li":
+            self._in = {"finding": a.get("data-finding"), "text": "", "links": []}
+            self.statements.append(self._in)
+        elif self._in is not None and tag == "a":
+            self._in["links"].append(a["href"])
+
+    def handle_endtag(self, tag):
+        if tag == "li":
+            self._in = None
+        elif tag == "section":
+            self._depth = 0
+
+    def handle_data(self, data):
+        if self._in is not None:
+            self._in["text"] += data
+
+
+def parse(html: str) -> _Page:
+    p = _Page()
+    p.feed(html)
+    for s in p.statements:
+        s["text"] = re.sub(r"\s+", " ", unescape(s["text"])).strip()
+    return p
+
+
+def statement(page: _Page, finding: str) -> str:
+    return next(s["text"] for s in page.statements if s["finding"] == finding)
+
+
+def assert_links_land(page: _Page):
+    """At most ten statements, each links only to ids on the page."""
+    assert 1 <= len(page.statements) <= 10
+    for s in page.statements:
+        for href in s["links"]:
+            assert href.startswith("#") and href[1:] in page.ids, (s["finding"], href)
+
+
+@pytest.fixture(scope="module")
+def full_page(tables):
+    m = measured()
+    html = R.build_report(dict(tables), {}, benchmarks=benchmarks(), table_aspects=ASPECTS, measured=m,
+                          **section_html(m["random_ensembles"], m["implicit_validation"]))
+    return parse(html)
+
+
+def test_every_statement_is_made_and_links_to_its_evidence(full_page):
+    assert [s["finding"] for s in full_page.statements] == list(STATEMENTS)
+    assert_links_land(full_page)
+    targets = {s["finding"]: s["links"] for s in full_page.statements}
+    assert targets["ranking"] == ["#tables"] and targets["laws"] == ["#share-laws"]
+    assert targets["random"] == ["#random-claim"] and targets["speed"] == ["#speed-accuracy"]
+    assert targets["accuracy"] == ["#renderer-validation"] and targets["implicit"] == ["#implicit-validation"]
+    assert targets["implied"] == ["#implied-scale"] and targets["exact"] == ["#exact-peaks"]
+    assert full_page.statements[0]["text"].startswith("Tables 1–2 rank the models")
+
+
+# ---------------------------------------------------------------------------
+# the numbers are the frames'
+
+
+def _mae(thesis, table, model, source):
+    rows = thesis[(thesis["table"] == table) & (thesis["model"] == model) & (thesis["source"] == source)]
+    return rows["Mean Abs Error"].to_numpy(float)
+
+
+def test_the_ranking_is_tables_1_2s(tables, full_page):
+    thesis = tables["thesis_tables"]
+    r = PF.ranking(thesis)
+    for lobe, (_, table, area_model) in zip(r["lobes"], PF.LOBES):
+        ours_area, ours_regressed = _mae(thesis, table, area_model, "ours"), _mae(thesis, table, "Regressed Model", "ours")
+        assert lobe["area"] == (ours_area.min(), ours_area.max())
+        assert lobe["regressed"] == (ours_regressed.min(), ours_regressed.max())
+        assert lobe["thesis_area"] == _mae(thesis, table, area_model, "thesis 2001")[0]
+        assert lobe["thesis_regressed"] == _mae(thesis, table, "Regressed Model", "thesis 2001")[0]
+        assert lobe["ours"] == "area" and lobe["thesis"] == "regressed"  # exact peaks: the area functions are exact
+    assert r["verdict"] == "reversed" and r["labels"] == ["1", "√3/2"]
+    text = statement(full_page, "ranking")
+    assert "the other way round" in text
+    assert (f"square area function {_mae(thesis, 1, 'Square Area Function', 'ours').max():.2f} against the regressed "
+            f"model's {_mae(thesis, 1, 'Regressed Model', 'ours').max():.2f} (the thesis: 4.10 against 2.35)") in text
+
+
+def test_the_ranking_follows_our_numbers():
+    """Built from a thesis frame alone: our MAEs decide the verdict, the thesis's are read from its rows."""
+    rows = []
+    for table, area_model in ((1, "Square Area Function"), (2, "Triangle Area Function")):
+        for model, ours, thesis in ((area_model, 1.0, 4.0), ("Regressed Model", 2.0, 3.0)):
+            rows += [{"table": table, "aspect": 1.0, "model": model, "source": "ours", "Mean Abs Error": ours},
+                     {"table": table, "aspect": 1.0, "model": model, "source": "thesis 2001", "Mean Abs Error": thesis}]
+    frame = pd.DataFrame(rows)
+    assert PF.ranking(frame)["verdict"] == "reversed"
+    frame.loc[(frame["source"] == "thesis 2001") & frame["model"].str.contains("Area"), "Mean Abs Error"] = 1.5
+    assert PF.ranking(frame)["verdict"] == "same"
+    frame.loc[(frame["source"] == "ours") & (frame["table"] == 2), "Mean Abs Error"] = np.nan
+    r = PF.ranking(frame)
+    assert r["verdict"] == "mixed" and r["lobes"][1]["area"] is None and r["lobes"][1]["ours"] is None
+    assert "back lobe, not compared" in render("findings.html", s=_section(ranking=r))
+
+
+def _section(**changes) -> dict:
+    """The findings' data with every statement saying why it is missing, but ``changes``."""
+    s = PF.findings_section({}, None, None, ASPECTS, 30.0)
+    s.update(changes)
+    return s
+
+
+def test_the_exact_and_implied_statements_are_the_tables(tables, full_page):
+    thesis, exact = tables["thesis_tables"], tables["exact_peaks"]
+    e = PF.exact_law(thesis, exact)
+    assert e["max"] == exact["error"].abs().max() and e["mean"] == pytest.approx(exact["error"].abs().mean())
+    area_exact = thesis[(thesis["source"] == "exact geometry") & thesis["model"].str.contains("Area")]
+    assert e["worst"] == area_exact["Mean Abs Error"].max() and e["worst"] < 1e-9
+    i = PF.implied_scale(tables, thesis)
+    scales = tables["implied_scales"].set_index("table")
+    assert [(r["table"], r["low"], r["high"], r["possible"]) for r in i["scales"]] == [
+        (t, scales.loc[t, "s_min_mae"], scales.loc[t, "s_max_mae"], bool(scales.loc[t, "stated_possible"]))
+        for t in (1, 2)]  # the impossible scale (Table 1) first
+    implied_rows = tables["tables_at_implied_scale"].query("scale == 'implied'")
+    area = implied_rows[implied_rows["model"] == "Square Area Function"]["Mean Abs Error"]
+    (at,) = i["at_scale"]
+    assert at["table"] == 1 and at["scale"] == scales.loc[1, "s_min_mae"]
+    assert at["area"] == (area.min(), area.max()) and at["area_wins"]
+    text = statement(full_page, "implied")
+    assert (f"a scale s in [{scales.loc[1, 's_min_mae']:.1f}, {scales.loc[1, 's_max_mae']:.1f}], not the stated 127"
+            in text)
+    assert f"At s = {scales.loc[1, 's_min_mae']:.1f}, the smallest allowed" in text and f"{area.max():.2f}" in text
+    assert "The area functions are the law of the lobe peaks" in statement(full_page, "exact")
+
+
+def test_the_share_laws_are_the_best_held_out(tables, full_page):
+    laws = tables["share_laws"]
+    found = PF.share_laws(tables)
+    assert [b["lobe"] for b in found["best"]] == ["forward", "back"]
+    for b in found["best"]:
+        rows = laws[laws["lobe"] == b["lobe"]]
+        best = rows.loc[rows["rmse_held_out"].idxmin()]
+        assert (b["model"], b["rmse_held_out"], b["n"]) == (best["model"], best["rmse_held_out"], best["n"])
+        np.testing.assert_equal(b["baseline"], rows[rows["model"] == "linear GLM (baseline)"]["rmse_held_out"].iloc[0])
+    text = statement(full_page, "laws")
+    forward, back = found["best"]
+    assert f"back lobe, {back['model']}: {back['rmse_held_out']:.2f} against {back['baseline']:.2f}" in text
+    # 3 rough surfaces with a forward lobe: the linear GLM's 4 parameters are not fitted, and the page says so
+    assert math.isnan(forward["baseline"]) and forward["n"] == 3
+    assert (f"forward lobe, {forward['model']}: {forward['rmse_held_out']:.2f} (the linear GLM not scored: fewer "
+            "surfaces than parameters) (3 surfaces, incidence 30)") in text
+
+
+def test_the_random_claims_are_the_claim_tables():
+    found = PF.random_claims(ensembles_frame(), shown=True)
+    rect, phase = found["tests"]
+    assert (rect["name"], rect["n"], rect["decided"], rect["ways"]) == ("back_rectangularity", 4, 3, [("below", 3)])
+    assert rect["mean"] == (0.52, 0.64) and rect["regular"] == (0.76, 0.78)
+    assert (phase["n"], phase["decided"], phase["ways"]) == (4, 3, [("above", 2), ("same", 1)])
+    assert phase["mean"] == (0.9, 13.7) and phase["unit"] == "deg"
+    assert (found["points"], found["kinds"], found["n_tests"]) == (2, 2, 8)
+    assert found["shape"] == "ellipse" and not found["all_differ"]
+
+
+def test_the_renderer_statements_are_the_benchmarks(full_page):
+    b = benchmarks()
+    acc = PF.renderer_accuracy(b)
+    configured = b["validation"].query("setting == 'configured'")
+    assert acc["worst"] == configured["worst"].max() and acc["mae"] == configured["mae"].max()
+    assert acc["component"] == configured.loc[configured["worst"].idxmax(), "component"]
+    assert (acc["n_surfaces"], acc["views"]) == (2, 315)
+    assert acc["tiles"]["worst"] == 0.42 and acc["tiles"]["largest_mae"] == 0.086  # the random kinds' tiles only
+    sp = PF.speed(b)
+    total = b["table"].query("component == 'total'")
+    fast, naive = total[total["default"]].iloc[0], total[total["method"] == "naive"].iloc[0]
+    assert (sp["fast_vps"], sp["naive_vps"], sp["speedup"]) == (fast["views_per_second"], naive["views_per_second"],
+                                                               fast["speedup_vs_naive"])
+    assert (sp["fast_worst"], sp["naive_worst"], sp["fast_mae"]) == (fast["max_error"], naive["max_error"], fast["mae"])
+    text = statement(full_page, "speed")
+    assert f"{fast['speedup_vs_naive']:.3g} times as fast as the naive method and more accurate" in text
+    assert "(fast adaptive <P=28>) it draws 1,177 views/s against the naive method's 29" in text
+    assert "worst view 0.21 from the exact reference against 8.11" in text
+    assert "worst view 0.49 (diffuse), MAE at most 0.046 (2 surfaces × 315 views); random tiles: worst view 0.42" in (
+        statement(full_page, "accuracy"))
+
+
+def test_the_implicit_statement_is_its_validation(full_page):
+    found = PF.implicit(implicit_frame(), shown=True)
+    v = implicit_frame().query("component == 'total'")
+    exact, correction = v[v["method"] == "implicit_exact"], v[v["method"] == "implicit_correction"]
+    assert found["exact"]["worst"] == exact["worst"].max() and found["exact"]["max_mae"] == exact["mae"].max()
+    assert found["correction"]["median_mae"] == correction["mae"].median()
+    assert (found["n_surfaces"], found["n_views"]) == (2, 174)
+    assert f"within {exact['worst'].max():.2f} of the exact reference at every view" in statement(full_page, "implicit")
+
+
+# ---------------------------------------------------------------------------
+# what cannot be computed says why
+
+
+def test_without_inputs_every_statement_says_why():
+    """No tables, no benchmarks, no random kind, the implicit surface switched off: no crash, each statement says why
+    and links nowhere."""
+    page = parse(R.build_report({}, {}))
+    assert_links_land(page)
+    assert [s["finding"] for s in page.statements] == ["ranking", "exact", "implied", "laws", "implicit", "random",
+                                                       "accuracy", "speed"]
+    assert all(not s["links"] for s in page.statements)
+    text = {s["finding"]: s["text"] for s in page.statements}
+    assert text["ranking"].startswith("Tables 1–2 could not be computed: none of the table aspects (1, √3/2) at "
+                                      "incidence 30 is in the study")
+    assert text["exact"].startswith("No lobe peak was compared") and "Tables 1–2 could not be computed" in text["implied"]
+    assert text["laws"].startswith("No share law could be fitted")
+    assert text["implicit"] == "The implicit rough surface was not measured (report.implicit: false)."
+    assert text["random"].startswith("Random roughness was not measured: surface.kind lists no random kind")
+    assert text["accuracy"].endswith("(report.speed_accuracy: false).")
+    assert text["speed"] == "The renderers' speed was not measured (report.speed_accuracy: false)."
+
+
+def test_a_partial_run_says_what_it_lacks(tables):
+    """The tables without their exact peaks, a benchmark without a naive row or a validation, the random section
+    without its frames: each of those statements says why; the others are made."""
+    partial = dict(tables, exact_peaks=None)
+    table = speed_table().query("method != 'naive'")
+    m = measured()
+    apart = section_html(m["random_ensembles"], m["implicit_validation"])
+    page = parse(R.build_report(partial, {}, benchmarks={"png": None, "table": table}, table_aspects=ASPECTS, **apart))
+    assert_links_land(page)
+    text = {s["finding"]: s["text"] for s in page.statements}
+    assert text["exact"] == "The lobe peaks were not compared with the exact reference (report.exact_check: false)."
+    assert text["speed"] == "The speed/accuracy benchmark has no row of the naive method to compare with."
+    assert text["accuracy"] == "The renderer's check against the exact reference at every view was not given."
+    assert text["random"] == "The random ensembles were not given."
+    assert text["implicit"] == "The implicit surface's validation was not given."
+    assert text["ranking"].startswith("Tables 1–2 rank the models the other way round")
+
+
+def test_no_claim_row_and_no_lobe_say_why():
+    no_claim = ensembles_frame().query("statistic == 'back_peak'")
+    assert PF.random_claims(no_claim, shown=True) == {"why": "no_claim"}
+    assert PF.random_claims(ensembles_frame(), shown=False) == {"why": "no_kind"}
+    html = render("findings.html", s=_section(random=PF.random_claims(no_claim, shown=True)))
+    assert "No test of the thesis's random-roughness claim could be computed" in html
+    assert PF.share_laws({"share_laws": pd.DataFrame()}) == {"why": "no_laws"}
