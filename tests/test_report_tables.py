@@ -60,7 +60,7 @@ def test_a_table_of_more_than_fold_rows_is_folded_with_its_whole_frame_as_csv():
     name, href = link(html).groups()
     assert name == "t-id.csv"
     pd.testing.assert_frame_equal(csv_of(href), df)
-    assert "<td>0.02</td>" in html and f"{df['value_<1>'][1]!r}" not in html
+    assert f"<td>{df['value_<1>'][1]:.2f}</td>" in html and f"{df['value_<1>'][1]!r}" not in html
 
 
 def test_a_table_of_fold_rows_is_not_folded():
