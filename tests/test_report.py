@@ -10,6 +10,7 @@ from ``--dump-dom``. A screenshot is kept in the test's directory.
 from __future__ import annotations
 
 import base64
+import fcntl
 import hashlib
 import json
 import math
@@ -119,12 +120,22 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     return out
 
 
-@pytest.fixture(scope="module")
-def built(tmp_path_factory):
-    workdir = tmp_path_factory.mktemp("report")
-    study = make_study([0.0, 0.5, 1.0], [0.0, 0.5, 1.0, S32], azimuths=np.arange(0.0, 180.0, 30.0),
-                       elevations=np.arange(0.0, 181.0, 2.0), method="fast")
-    return study, build_report_from_study(study, workdir), workdir
+@pytest.fixture(scope="session")
+def built(tmp_path_factory, worker_id):
+    """A small rendered study and its report, built once a test session: the pytest-xdist workers share it (the
+    first to come builds it under a lock, the others read it), as tests/test_report_tables.py reads it too."""
+    shared = tmp_path_factory.getbasetemp() if worker_id == "master" else tmp_path_factory.getbasetemp().parent
+    workdir = shared / "built-report"
+    with open(shared / "built-report.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (workdir / "study.parquet").exists():
+            workdir.mkdir(exist_ok=True)
+            study = make_study([0.0, 0.5, 1.0], [0.0, 0.5, 1.0, S32], azimuths=np.arange(0.0, 180.0, 30.0),
+                               elevations=np.arange(0.0, 181.0, 2.0), method="fast")
+            build_report_from_study(study, workdir)
+            study.to_parquet(workdir / ".study.parquet")
+            os.replace(workdir / ".study.parquet", workdir / "study.parquet")
+    return pd.read_parquet(workdir / "study.parquet"), workdir / "roughlight_report.html", workdir
 
 
 class _Collect(HTMLParser):

@@ -37,11 +37,13 @@ def save_figure(fig, path, dpi: int = DPI, bbox_inches="tight") -> str:
     """Write ``fig`` as a PNG to ``path`` (temporary name in the same directory, then rename); close it.
 
     The report's figures are opaque, so the PNG is written as RGB: the same pixels as matplotlib's RGBA, in about
-    a tenth fewer bytes (the report embeds every figure). A figure with any transparent pixel keeps its alpha."""
+    a tenth fewer bytes (the report embeds every figure), and a little faster. A figure with any transparent pixel
+    keeps its alpha."""
     path = os.fspath(path)
     buffer = io.BytesIO()
     try:
-        fig.savefig(buffer, format="png", dpi=dpi, bbox_inches=bbox_inches)
+        # stored, not deflated: it is read straight back (deflating it twice made saving 15% slower)
+        fig.savefig(buffer, format="png", dpi=dpi, bbox_inches=bbox_inches, pil_kwargs={"compress_level": 0})
     finally:
         plt.close(fig)
     buffer.seek(0)
