@@ -47,8 +47,8 @@ def make_study(truncations, aspects, incidence=30.0, azimuths=(0.0,), elevations
 
     ``method`` 'reference' uses the exact polygon clipping, 'fast' the renderer.
     """
+    from roughlight.render.fast.sampling import RenderSettings
     from roughlight.render.measure import measure_sweep
-    from roughlight.render.sampling import RenderSettings
 
     lighting = lighting or Lighting()
     elevations = np.arange(0.0, 181.0, 1.0) if elevations is None else np.asarray(elevations, float)

@@ -1,11 +1,13 @@
-"""Random tiles' adaptive sampling (roughlight.render.counting) and the exact reference on random tiles."""
+"""Random tiles' adaptive sampling (roughlight.render.fast.counting) and the exact reference on random tiles."""
 
 import numpy as np
 import pytest
 import shapely
 
-from roughlight.render import clipping, counting, reference, shading, shares
-from roughlight.render.sampling import RenderSettings
+from roughlight.render import shading
+from roughlight.render.exact import clipping, reference
+from roughlight.render.fast import counting, shares
+from roughlight.render.fast.sampling import RenderSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.roughness import RandomSurface
 
@@ -79,7 +81,7 @@ def test_the_reference_computes_the_view_it_once_refused():
     assert exact["coverage"][0] == pytest.approx(1.0, abs=1e-7)
     values, refused = reference.reference_views(tile, 30.0, [15.0], [45.0])
     assert not refused.any()
-    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.fast.periodic import fast_sweep
 
     fast = fast_sweep(tile, 30.0, [15.0], [45.0])
     for component in shading.COMPONENTS:
@@ -155,7 +157,7 @@ def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
     [0, 45] degrees by the pixel grid's symmetries), at the asked density; counting_passes draws the views within
     ORIENTED_BAND of the horizon that way, and the others on the tile's own lattice, and counts every fragment
     except within GRAZING_BAND."""
-    from roughlight.render.sampling import GOLDEN_ANGLE, oriented_lattices
+    from roughlight.render.fast.sampling import GOLDEN_ANGLE, oriented_lattices
 
     azimuth = np.arange(0.0, 360.0, 2.5)
     matrices, choice = oriented_lattices(80, azimuth)
@@ -182,7 +184,7 @@ def test_views_whose_azimuth_ran_along_the_tiles_pixel_rows_are_within_a_level()
     azimuth 30 or 120 saw their stretched edges run almost along its pixel rows: seed 1 at e 178, phi 120 was
     1.65 levels off the exact reference and at e 16, phi 25 1.02; seed 3 at e 4, phi 30 1.31. On lattices turned
     to their azimuth they are within 0.33."""
-    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.fast.periodic import fast_sweep
 
     for seed, azimuth, elevation in ((1, [120.0, 25.0], [178.0, 16.0]), (3, [30.0], [4.0])):
         tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=seed, cells=4)
@@ -198,7 +200,7 @@ def test_views_the_shadow_map_pass_got_wrong_are_within_a_level():
     shadowed fragments with a shadow map, these views of the default study were 2.77 and 1.54 levels off the exact
     reference (missed by the 5 x 15 degree accuracy checks). Drawn as the exact lit and shadowed regions they are
     within 0.15."""
-    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.fast.periodic import fast_sweep
 
     tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=3, cells=4)
     azimuth, elevation = np.array([145.0, 145.0]), np.array([179.0, 178.0])

@@ -4,8 +4,10 @@ import numpy as np
 import pytest
 
 from roughlight.measurements import implicit_surface as implicit_bench
-from roughlight.render import implicit, measure, reference, shading
+from roughlight.render import measure, shading
 from roughlight.render import views as sweeps
+from roughlight.render.exact import reference
+from roughlight.render.implicit import model as implicit
 from roughlight.surfaces.surface import SQRT3_2, Surface
 
 # a coarse sweep: elevations 0..180 by 6, azimuths 0..150 by 30 (grazing views included)
@@ -34,7 +36,7 @@ def test_exact_form_shader_equals_the_reference_on_every_view(surface, incidence
 def test_shader_and_numpy_agree_for_both_models():
     surface, incidence = Surface(0.6, 0.8), 30.0
     az, el = AZIMUTH[::3], ELEVATION[::3]
-    from roughlight.render.implicit_gl import implicit_sweep
+    from roughlight.render.implicit.shader import implicit_sweep
 
     samples = 4181
     gl_exact = implicit_sweep("exact", surface, incidence, az, el, samples=samples)
@@ -51,7 +53,7 @@ def test_shader_and_numpy_agree_for_both_models():
 @pytest.mark.parametrize("elevation, azimuth", [(90.0, 0.0), (60.0, 20.0), (45.0, 135.0)])
 def test_the_correction_scene_averages_to_its_facet_sum(elevation, azimuth):
     """A scene drawn with the correction (shares once a vertex, a dither a pixel) has the facet sum as its mean."""
-    from roughlight.render.implicit_gl import render_field
+    from roughlight.render.implicit.shader import render_field
 
     surface = Surface(0.6, 0.8)
     image, _ = render_field("correction", surface, 30.0, elevation, azimuth, 16, 128)
@@ -167,7 +169,7 @@ def test_random_validation_triples_are_seeded_and_off_the_grid():
 
 def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
     """A view whose exact clipping fails its own check is not compared, and the table says how many."""
-    from roughlight.render import reference as ref_module
+    from roughlight.render.exact import reference as ref_module
 
     real = ref_module.reference_sweep
 
@@ -191,8 +193,8 @@ def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
     pyrender, no #include left), and shader_uniforms plus the scene's four name every uniform they use."""
     from OpenGL.GL import shaders as gl_shaders
 
-    from roughlight.render.gl import context, gl
-    from roughlight.render.implicit_gl import shader_sources
+    from roughlight.render.gl.context import context, gl
+    from roughlight.render.implicit.shader import shader_sources
 
     vertex, fragment = shader_sources(model)
     assert not any(line.startswith("#include") for line in (vertex + fragment).splitlines())

@@ -63,6 +63,46 @@ def test_a_stage_imports_only_the_stages_below_it(module):
     assert not upward, f"{module} ({stage(module)}) imports stages above it: {upward}"
 
 
+#: render's rooms (render/README.md): a folder a method family, and the ground they stand on (the lighting equation in
+#: numpy, the detector's orbit); each room imports only the rooms named here (and itself); the entry points
+#: (``measure``, ``pictures``) reach every method
+RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
+                "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}}
+RENDER_GROUND = {"render.__init__", "render.shading", "render.views"}
+
+
+def render_room(module: str) -> str:
+    """The room of a module of render/: its folder, ``ground`` or ``entry``."""
+    parts = module.split(".")
+    if len(parts) > 2:
+        return parts[1]
+    return "ground" if module in RENDER_GROUND else "entry"
+
+
+@pytest.mark.parametrize("module", sorted(m for m in modules() if stage(m) == "render"))
+def test_a_render_room_imports_only_the_rooms_below_it(module):
+    room = render_room(module)
+    if room == "entry":
+        return
+    assert room in RENDER_ROOMS, f"{module}: render/{room}/ is not a room of render/README.md's map"
+    rooms = {render_room(m) for m in imported(module, modules()[module]) if stage(m) == "render"}
+    outside = sorted(rooms - RENDER_ROOMS[room] - {room})
+    assert not outside, f"{module} (render/{room}) imports the rooms {outside}"
+
+
+def test_the_room_rule_sees_a_method_reaching_into_another(tmp_path):
+    """The exact reference reaching into the fast renderer is outside its rooms; the fast renderer using the exact
+    reference is not."""
+    for name in ("render/exact/fake.py", "render/fast/periodic.py", "render/shading.py", "render/exact/clipping.py"):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text("")
+    fake = tmp_path / "render" / "exact" / "fake.py"
+    fake.write_text("from ..fast.periodic import fast_sweep\nfrom ..shading import Lighting\n")
+    rooms = {render_room(m) for m in imported("render.exact.fake", fake, root=tmp_path)}
+    assert rooms == {"fast", "ground"} and rooms - RENDER_ROOMS["exact"] - {"exact"} == {"fast"}
+    assert {"exact", "gl", "ground"} <= RENDER_ROOMS["fast"]
+
+
 def test_no_import_circle():
     graph = {m: imported(m, p) for m, p in modules().items()}
     state: dict[str, int] = {}

@@ -16,8 +16,10 @@ import math
 import numpy as np
 import pytest
 
-from roughlight.render import naive, periodic, reference
-from roughlight.render.sampling import RenderSettings
+from roughlight.render.exact import reference
+from roughlight.render.fast import periodic
+from roughlight.render.fast.sampling import RenderSettings
+from roughlight.render.naive import procedure as naive
 from roughlight.render.shading import Lighting, quantize
 from roughlight.surfaces.surface import PLATE, SQRT3_2, Surface
 

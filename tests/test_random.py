@@ -9,7 +9,7 @@ import shapely
 
 from roughlight.analysis import ensembles as E
 from roughlight.render import views as sweeps
-from roughlight.render.reference import reference_sweep
+from roughlight.render.exact.reference import reference_sweep
 from roughlight.render.shading import view_direction
 from roughlight.study import config as rl_config
 from roughlight.surfaces import geometry
@@ -136,7 +136,7 @@ def test_bad_surface_config_stops_before_rendering(surface, problem):
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_fast_renderer_matches_the_reference_on_a_random_tile(kind):
-    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.fast.periodic import fast_sweep
 
     tile = RandomSurface(kind, 1.0, 1.0, seed=1)  # the study's tile: 4 cells a side
     azimuth, elevation = sweeps.view_grid(15, 30)
@@ -179,7 +179,7 @@ def test_lobe_shape_tells_rectangles_from_ellipses():
 
 
 def _tiny_ensemble_study():
-    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.fast.periodic import fast_sweep
     from roughlight.render.shading import Lighting
     from roughlight.study.tables import sweep_table
 
@@ -317,7 +317,7 @@ def test_random_accuracy_leaves_out_and_counts_the_views_the_reference_refuses(m
     """One view the exact reference refuses (its own checks, seen on a random tile in make bench) no longer fails
     the whole benchmark: it is left out of the comparison and counted."""
     from roughlight.measurements import random_tiles as B
-    from roughlight.render import reference
+    from roughlight.render.exact import reference
 
     real = reference.reference_sweep
 
@@ -447,8 +447,8 @@ def test_every_view_errors_compare_each_view_of_a_sweep_and_name_the_worst(monke
     """every_view_errors puts the exact reference beside each view of a study sweep; every_view_summary gives a
     tile's worst view (and where), its mean, the views over one level and the views the reference refused."""
     from roughlight.measurements import random_tiles as B
-    from roughlight.render import reference
-    from roughlight.render.periodic import fast_sweep
+    from roughlight.render.exact import reference
+    from roughlight.render.fast.periodic import fast_sweep
     from roughlight.render.shading import Lighting
     from roughlight.study.tables import sweep_table
 

@@ -1,4 +1,4 @@
-"""Tests of the exact polygon-clipping reference (roughlight.render.reference)."""
+"""Tests of the exact polygon-clipping reference (roughlight.render.exact.reference)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from roughlight.render import reference
-from roughlight.render.reference import reference_sweep, visible_lit_areas
+from roughlight.render.exact import reference
+from roughlight.render.exact.reference import reference_sweep, visible_lit_areas
 from roughlight.render.shading import Lighting, facet_components, light_direction, quantize, view_direction
 from roughlight.surfaces.surface import Surface
 
@@ -441,8 +441,8 @@ def test_a_lit_sliver_along_the_visible_edge_is_counted_lit():
     none of 400 shadowed ones visible), whose edge runs along the lit part's. GEOS's double-precision intersection
     gave the sliver no lit area, so the whole of it counted as shadowed and the view came out 1.70 levels below
     the fast renderer, with every check passing. The lit split is now snap-rounded (reference.LIT_SPLIT_GRID)."""
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render.fast.periodic import fast_sweep
+    from roughlight.render.fast.sampling import RenderSettings
     from roughlight.surfaces.roughness import make_surface
 
     spread = {"truncation": 0.2, "aspect": 0.3, "apex": 0.5, "corner": 0.3}

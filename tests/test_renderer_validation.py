@@ -35,8 +35,8 @@ def test_view_errors_find_the_worst_view_and_leave_out_views_without_surface():
 
 def _arc_study(method, truncations=(0.5, 1.0), aspect=1.0, incidence=30.0):
     """A study table's rows on the light's plane (azimuth 0, every degree), measured here."""
+    from roughlight.render.fast.sampling import RenderSettings
     from roughlight.render.measure import measure_sweep
-    from roughlight.render.sampling import RenderSettings
 
     lighting = Lighting()
     elevation = np.arange(0.0, 181.0)
@@ -62,7 +62,7 @@ def test_arc_smoothness_is_zero_on_exact_curves_and_the_largest_deviation_of_ren
     fast = rv.arc_smoothness(fast_study, aspects=(1.0,))
     assert fast["largest_deviation"].max() > 0.0
     # the deviation is the curve's own largest |rendered - exact| (recomputed here for one curve)
-    from roughlight.render.reference import reference_sweep
+    from roughlight.render.exact.reference import reference_sweep
 
     row = fast[(fast["figure"] == "Fig. 28") & (fast["truncation"] == 1.0)].iloc[0]
     curve = fast_study[(fast_study["truncation"] == 1.0) & (fast_study["component"] == "diffuse")]
@@ -79,8 +79,8 @@ def test_a_low_surface_casts_no_false_shadow_anywhere_in_a_large_framebuffer():
     """(t 0.1, a 0.1) casts no shadow at incidence 30, so shadows on and off must agree on every view. Far out
     in the framebuffer of a whole sweep the receiver plane taken from interpolated coordinates shadowed up to 3
     levels of it (issue 11)."""
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render.fast.periodic import fast_sweep
+    from roughlight.render.fast.sampling import RenderSettings
 
     azimuth, elevation = sweeps.view_grid(2.0, 5.0)
     settings = RenderSettings(sampling="lattice", pixels_per_period=48)
@@ -92,8 +92,8 @@ def test_a_low_surface_casts_no_false_shadow_anywhere_in_a_large_framebuffer():
 @pytest.mark.parametrize("truncation,aspect,incidence", [(0.1, 1.0, 30.0), (1.0, 1.0, 5.0), (1.0, 1.0, 85.0),
                                                          (0.1, 0.1, 30.0)])
 def test_default_renderer_on_hard_surfaces_and_grazing_views(truncation, aspect, incidence):
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.reference import reference_sweep
+    from roughlight.render.exact.reference import reference_sweep
+    from roughlight.render.fast.periodic import fast_sweep
 
     elevation = np.concatenate([np.arange(1.0, 10.0), np.arange(20.0, 170.0, 15.0), np.arange(171.0, 180.0)])
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 15.0), elevation, indexing="ij"))
@@ -111,8 +111,8 @@ def test_default_renderer_on_hard_surfaces_and_grazing_views(truncation, aspect,
 
 def test_pixel_centres_of_a_projected_region_are_counted_exactly():
     """The crossing sums count the pixel centres inside a region's projection: checked against brute force."""
-    from roughlight.render import shares
-    from roughlight.render.sampling import sampling_matrix
+    from roughlight.render.fast import shares
+    from roughlight.render.fast.sampling import sampling_matrix
 
     regions = shares.facet_regions(Surface(0.6, 0.8), 30.0, True)
     matrix = sampling_matrix(24, "lattice")
@@ -141,9 +141,9 @@ def test_pixel_centres_of_a_projected_region_are_counted_exactly():
 def test_ratio_shares_are_exact_when_every_facet_is_seen_whole():
     """Seen from above no facet hides another: each region's pixels are all the pixels its projection holds,
     so the shares are the exact projected areas whatever the pixel errors."""
-    from roughlight.render import shares
-    from roughlight.render.reference import visible_lit_areas
-    from roughlight.render.sampling import sampling_matrix
+    from roughlight.render.exact.reference import visible_lit_areas
+    from roughlight.render.fast import shares
+    from roughlight.render.fast.sampling import sampling_matrix
 
     surface = Surface(0.5, 0.3)
     regions = shares.facet_regions(surface, 40.0, True)
@@ -166,8 +166,8 @@ def shading_view(shear):
 
 
 def test_candidate_lattices_have_the_density_asked_and_different_angles():
-    from roughlight.render import shares
-    from roughlight.render.sampling import sampling_matrix
+    from roughlight.render.fast import shares
+    from roughlight.render.fast.sampling import sampling_matrix
 
     lattices = shares.candidate_lattices(24)
     assert len(lattices) == 6
@@ -182,7 +182,7 @@ def test_candidate_lattices_have_the_density_asked_and_different_angles():
 def test_cell_border_edges_are_paired_with_the_next_periods_copy():
     """On the regular surface every edge has a region on both sides once the cell's border edges are paired
     with the next period's copies: each ring edge is kept once, and its second side is a real region."""
-    from roughlight.render import shares
+    from roughlight.render.fast import shares
 
     regions = shares.facet_regions(Surface(0.6, 0.8), 30.0, True)
     start, end, sides = shares._unique_edges(regions)
@@ -211,7 +211,8 @@ def test_edge_steps_are_the_value_step_across_each_edge():
     """The step across an edge between two regions in view is the largest difference of their 8-bit values;
     none between two regions of equal value (the shadowed ambient-only parts); a silhouette, whose other facet
     faces away, steps to anything in view."""
-    from roughlight.render import shading, shares
+    from roughlight.render import shading
+    from roughlight.render.fast import shares
 
     regions = shares.facet_regions(Surface(1.0, 1.0), 30.0, True)
     start, end, sides = shares._unique_edges(regions)
@@ -237,10 +238,11 @@ def test_value_discrepancy_is_close_to_a_bound_on_a_views_error():
     """Drawn on its best lattice, a view is off from the exact reference by little more than the lattice's value
     discrepancy (at most 1.11 times it on 72,900 views of 22 surfaces, issue 11): checked on a coarse sweep of a
     steep surface, every view drawn on its best lattice alone."""
-    from roughlight.render import shading, shares
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.reference import reference_sweep
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render import shading
+    from roughlight.render.exact.reference import reference_sweep
+    from roughlight.render.fast import shares
+    from roughlight.render.fast.periodic import fast_sweep
+    from roughlight.render.fast.sampling import RenderSettings
 
     surface = Surface(0.7, 1.0)
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 20.0), np.arange(10.0, 171.0, 16.0),
@@ -261,9 +263,9 @@ def test_value_discrepancy_is_close_to_a_bound_on_a_views_error():
 def test_views_drawn_on_several_lattices_take_the_mean_of_them(monkeypatch):
     """A view scoring at or above ``average_lattices_above`` is drawn on each of its best lattices and its values
     are the mean of what each gives alone; the others are drawn on their best alone."""
-    from roughlight.render import shares
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render.fast import shares
+    from roughlight.render.fast.periodic import fast_sweep
+    from roughlight.render.fast.sampling import RenderSettings
 
     surface = Surface(1.0, 1.0)
     azimuth, elevation = np.array([0.0, 30.0, 90.0]), np.array([25.0, 40.0, 150.0])
@@ -288,7 +290,7 @@ def test_views_drawn_on_several_lattices_take_the_mean_of_them(monkeypatch):
 
 
 def test_average_lattices_above_must_not_be_negative():
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render.fast.sampling import RenderSettings
 
     with pytest.raises(ValueError, match="average_lattices_above"):
         RenderSettings(average_lattices_above=-0.5)
@@ -298,9 +300,9 @@ def test_average_lattices_above_must_not_be_negative():
 def test_adaptive_sampling_is_within_one_level_where_the_lattice_is_not(truncation, aspect, incidence):
     """At 28 pixels a period, adaptive sampling stays within one 8-bit level of the exact reference at every
     view of a coarse sweep with grazing views, where the default lattice is off by several levels."""
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.reference import reference_sweep
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render.exact.reference import reference_sweep
+    from roughlight.render.fast.periodic import fast_sweep
+    from roughlight.render.fast.sampling import RenderSettings
 
     elevation = np.concatenate([np.arange(1.0, 10.0, 2.0), np.arange(12.0, 170.0, 6.0), np.arange(171.0, 180.0, 2.0)])
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 10.0), elevation, indexing="ij"))
@@ -322,10 +324,11 @@ def test_adaptive_sampling_is_within_one_level_where_the_lattice_is_not(truncati
 def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_reference():
     """Where no facet faces away nothing is hidden: adaptive sampling gives each region its exact projected area
     without rendering, so those views equal the exact reference; views with a facet facing away are rendered."""
-    from roughlight.render import shading, shares
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.reference import reference_sweep
-    from roughlight.render.sampling import RenderSettings
+    from roughlight.render import shading
+    from roughlight.render.exact.reference import reference_sweep
+    from roughlight.render.fast import shares
+    from roughlight.render.fast.periodic import fast_sweep
+    from roughlight.render.fast.sampling import RenderSettings
 
     surface = Surface(0.4, 0.6)
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 25.0), [8.0, 40.0, 75.0, 90.0, 130.0],
@@ -343,7 +346,7 @@ def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_refer
 def test_study_accuracy_checks_a_study_tables_own_numbers_against_the_reference(tmp_path):
     """The audit of a whole study: its regular rows against the exact reference, view by view; a study made of
     exact values has no error, and a value moved by two levels is found where it was moved."""
-    from roughlight.render.reference import reference_sweep
+    from roughlight.render.exact.reference import reference_sweep
 
     azimuth, elevation = sweeps.view_grid(30.0, 45.0)
     frames = []

@@ -6,8 +6,13 @@ import sys
 import numpy as np
 import pytest
 
-from roughlight.render import gl, measure, naive, osmesa, periodic, reference, sampling, shading
+from roughlight.render import measure, shading
 from roughlight.render import views as sweeps
+from roughlight.render.exact import reference
+from roughlight.render.fast import periodic, sampling
+from roughlight.render.gl import context as gl
+from roughlight.render.gl import osmesa
+from roughlight.render.naive import procedure as naive
 from roughlight.surfaces.surface import Surface
 
 AZ, EL = sweeps.view_grid(10, 30)  # coarse orbit: 19 elevations x 6 azimuths
@@ -184,11 +189,11 @@ def test_missing_or_broken_osmesa_is_named(broken_osmesa):
 
 def test_broken_osmesa_on_the_library_path_stops_the_import_with_one_message(broken_osmesa):
     env = {**os.environ, "LD_LIBRARY_PATH": str(broken_osmesa), "PYOPENGL_PLATFORM": "osmesa"}
-    proc = subprocess.run([sys.executable, "-c", "import roughlight.render.periodic"], env=env, capture_output=True,
+    proc = subprocess.run([sys.executable, "-c", "import roughlight.render.fast.periodic"], env=env, capture_output=True,
                           text=True, timeout=120)
     assert proc.returncode != 0
     last = proc.stderr.strip().splitlines()[-1]
-    assert last.startswith("roughlight.render.osmesa.OSMesaUnavailable: libOSMesa is broken")
+    assert last.startswith("roughlight.render.gl.osmesa.OSMesaUnavailable: libOSMesa is broken")
     assert "apt-get install libosmesa6" in last
 
 
@@ -263,7 +268,7 @@ def test_each_method_records_how_it_sampled(tmp_path):
 def test_a_sweep_job_imports_only_what_it_renders_with():
     """A sweep job is a fresh process: pandas, scipy, trimesh or the whole of pyrender would each cost it
     a large share of its start-up (pandas alone 0.4 s), so the measuring path must not import them."""
-    code = ("import sys, roughlight.study.tables, roughlight.render.measure, roughlight.render.periodic, "
+    code = ("import sys, roughlight.study.tables, roughlight.render.measure, roughlight.render.fast.periodic, "
             "roughlight.render.views; "
             "print(sorted(m for m in ('pandas', 'scipy', 'trimesh', 'shapely', 'matplotlib') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
@@ -282,8 +287,8 @@ def test_the_reference_method_loads_no_opengl():
 
 
 def test_fast_renderer_follows_the_specular_shadows_setting():
-    from roughlight.render.periodic import fast_sweep
-    from roughlight.render.reference import reference_sweep
+    from roughlight.render.exact.reference import reference_sweep
+    from roughlight.render.fast.periodic import fast_sweep
     from roughlight.render.shading import Lighting
     from roughlight.surfaces.surface import Surface
 
@@ -299,7 +304,7 @@ def test_fast_renderer_follows_the_specular_shadows_setting():
 
 
 def test_naive_method_refuses_unshadowed_specular():
-    from roughlight.render.naive import naive_sweep
+    from roughlight.render.naive.procedure import naive_sweep
     from roughlight.render.shading import Lighting
     from roughlight.surfaces.surface import Surface
 

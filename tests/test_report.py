@@ -476,7 +476,7 @@ def test_fig21_plots_the_studys_arc(built):
 
 def test_pictures_are_rendered_from_the_view_they_name():
     """surface_pictures renders each (elevation, azimuth) as named: a swap would show another view."""
-    from roughlight.render.naive import render_picture
+    from roughlight.render.naive.procedure import render_picture
     from roughlight.surfaces.surface import Surface
 
     views = [(1.0, 1.0, 30.0, 20.0, 60.0, "e20 phi60")]

@@ -10,8 +10,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from roughlight.render import periodic, reference
-from roughlight.render.sampling import RenderSettings
+from roughlight.render.exact import reference
+from roughlight.render.fast import periodic
+from roughlight.render.fast.sampling import RenderSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.surface import Surface
 

@@ -90,7 +90,7 @@ def check_results_writable(directory="results", probe=False):
 
 def check_osmesa():
     """Stop before any job if libOSMesa (software OpenGL, every renderer and picture) is missing or broken."""
-    from roughlight.render import osmesa
+    from roughlight.render.gl import osmesa
 
     try:
         osmesa.check_osmesa()

@@ -12,7 +12,7 @@ import _log  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import random_tiles as roughness_bench  # noqa: E402
 from roughlight.render import shading  # noqa: E402
-from roughlight.render.sampling import RenderSettings  # noqa: E402
+from roughlight.render.fast.sampling import RenderSettings  # noqa: E402
 from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)

@@ -12,7 +12,7 @@ import _log  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import renderer_validation  # noqa: E402
 from roughlight.render import shading  # noqa: E402
-from roughlight.render.sampling import RenderSettings  # noqa: E402
+from roughlight.render.fast.sampling import RenderSettings  # noqa: E402
 from roughlight.report import figures  # noqa: E402
 from roughlight.study.tables import read_study  # noqa: E402
 

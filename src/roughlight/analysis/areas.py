@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..render.reference import visible_lit_areas
+from ..render.exact.reference import visible_lit_areas
 from ..surfaces.geometry import lobe_centres
 from ..surfaces.surface import Surface
 
@@ -33,7 +33,7 @@ def reflecting_areas(aspect: float, incidence: float, truncations=None):
     For each truncation, the top's share of the image seen from the forward
     mirror direction and the light-facing facet's share seen from the back
     mirror direction (exact polygon clipping,
-    :func:`roughlight.render.reference.visible_lit_areas`), beside the normalised
+    :func:`roughlight.render.exact.reference.visible_lit_areas`), beside the normalised
     square and triangle area functions ``(1 - t)^2`` and
     ``k (1 - (1 - t)^2)`` with ``k`` the full pyramid's value.
 

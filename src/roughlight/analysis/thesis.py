@@ -202,7 +202,7 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: floa
     """Exact (polygon-clipping reference) lobe peaks beside the measured ones, for the table surfaces.
 
     For each surface of the tabulated aspects and each of the forward and
-    back lobes, :func:`roughlight.render.reference.reference_sweep` evaluates the
+    back lobes, :func:`roughlight.render.exact.reference.reference_sweep` evaluates the
     phi = 0 arc on the study's elevation grid (``step`` degrees) within
     ``halfwidth`` of the predicted mirror elevation; the exact peak is the
     largest of those values.
@@ -222,7 +222,7 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: floa
     and ``exact_fwhm_no_specular_shadows`` (the thesis's specular runs: no
     inner shadows on the specular, Ch. V.D).
     """
-    from ..render.reference import reference_sweep
+    from ..render.exact.reference import reference_sweep
     from ..render.shading import Lighting
 
     lighting = lighting or Lighting()
@@ -259,7 +259,7 @@ def _exact_widths(surface, incidence, centre, lighting, halfwidth, step) -> dict
     """The exact lobe's FWHM on the phi = 0 arc with the study's specular shadows and without (the thesis's)."""
     from dataclasses import replace
 
-    from ..render.reference import reference_sweep
+    from ..render.exact.reference import reference_sweep
     from .lobes import profile_lobe
 
     el = np.arange(np.ceil((centre - halfwidth) / step) * step, centre + halfwidth + 1e-9, step)

@@ -4,9 +4,9 @@ Two measurements, each at a size named by a plan (:data:`PLANS`: ``full`` is
 ``make bench``'s, ``quick`` the same code on a few surfaces and coarse views):
 
 * :func:`validation`: on every view of each validation surface, the error
-  against the exact reference (:func:`roughlight.render.reference.reference_sweep`)
+  against the exact reference (:func:`roughlight.render.exact.reference.reference_sweep`)
   of the implicit exact form and first-order correction (both through the
-  shader, :func:`roughlight.render.implicit_gl.implicit_sweep`), the explicit fast
+  shader, :func:`roughlight.render.implicit.shader.implicit_sweep`), the explicit fast
   renderer and the V-cavity facet model (the best analytic model the report
   fits, :func:`roughlight.analysis.surface_models.facet_model`): MAE, p99 and worst
   view per surface, method and component.
@@ -116,8 +116,8 @@ def validation(plan: str = "full", lighting=None, log=None):
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
     """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
     from ..analysis.surface_models import facet_model
+    from ..render.exact.reference import reference_views
     from ..render.measure import measure_sweep
-    from ..render.reference import reference_views
 
     lighting = lighting or shading.Lighting()
     seen = ~np.asarray(sweeps.is_grazing(elevation))
@@ -168,13 +168,13 @@ class _Field:
     map (redrawn every frame, as pyrender does), an orthographic camera; programs compiled once."""
 
     def __init__(self, surface: Surface, incidence: float, lighting, field_size: int, size: int, span: float):
-        from ..render.naive import CompiledShaders, _look_pose, _NaiveScene
+        from ..render.naive.procedure import CompiledShaders, _look_pose, _NaiveScene
 
         self._look_pose = _look_pose
         self.scene = _NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
         # the patch is centred on the origin; the implicit field spans [0, N]^2 (same surface, shifted
         # by whole periods when N is even)
-        from ..render.gl import import_pyrender, release_contexts
+        from ..render.gl.context import import_pyrender, release_contexts
 
         release_contexts()
         self.renderer = import_pyrender().OffscreenRenderer(size, size)
@@ -183,7 +183,7 @@ class _Field:
 
     def render(self, view):
         pyrender = self.scene.pyrender
-        from ..render.naive import _up_vector
+        from ..render.naive.procedure import _up_vector
 
         pose = self._look_pose(view, _up_vector(view), self.scene.distance)
         self.scene.scene.set_pose(self.scene.camera_node, pose)
@@ -207,7 +207,7 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     The picture shows the field's central ``N / 2`` periods (the field fills
     it down to elevation 30). Each frame's value is the mean of the total
     channel over the picture; its error is against the exact mean over the
-    infinite surface (:func:`roughlight.render.reference.reference_sweep`).
+    infinite surface (:func:`roughlight.render.exact.reference.reference_sweep`).
 
     Returns
     -------
@@ -221,7 +221,7 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     """
     import pandas as pd
 
-    from ..render.reference import reference_sweep
+    from ..render.exact.reference import reference_sweep
 
     size_plan = _plan(plan)
     lighting = lighting or shading.Lighting()
@@ -259,7 +259,7 @@ def _explicit_frames(surface, incidence, lighting, n: int, size: int, views, rep
     """:func:`frame_times`' rows of the explicit ``n`` x ``n`` field, one a view ((elevation, azimuth), degrees;
     ``exact`` the reference's total at each). ``pictures`` (a dict or None) receives the first view's total.
     The field's pyrender context is released after its frames."""
-    from ..render.gl import release_contexts
+    from ..render.gl.context import release_contexts
 
     field = _Field(surface, incidence, lighting, n, size, n / 2.0)
     rows = []
@@ -277,7 +277,7 @@ def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int
                      pictures) -> list:
     """:func:`frame_times`' rows of the ``n`` x ``n`` field drawn as one implicit quad with ``model`` (see
     :func:`_explicit_frames`)."""
-    from ..render.implicit_gl import render_field
+    from ..render.implicit.shader import render_field
 
     rows = []
     for k, (e, phi) in enumerate(views):

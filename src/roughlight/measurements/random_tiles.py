@@ -17,7 +17,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from ..render.sampling import RenderSettings
+from ..render.fast.sampling import RenderSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 
 __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures",
@@ -114,7 +114,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     (compared), ``reference_refused`` (views the reference's own checks refused, left out), ``mae``, ``p99``,
     ``worst`` (0-255), ``fast_views_per_second``, ``reference_seconds``.
     """
-    from ..render.reference import reference_views
+    from ..render.exact.reference import reference_views
     from ..render.shading import Lighting
     from ..render.views import view_grid
 
@@ -135,7 +135,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
         # a view the reference's own checks refuse is left out and counted
         exact, refused = reference_views(surface, i, azimuth, elevation, lighting)
         reference_seconds = time.perf_counter() - start
-        from ..render.periodic import fast_sweep
+        from ..render.fast.periodic import fast_sweep
 
         fast = fast_sweep(surface, i, azimuth, elevation, lighting, settings)
         compared = seen & ~refused
@@ -173,7 +173,7 @@ def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=N
     ``elevation``, ``component``, ``fast``, ``exact`` (0-255; NaN where the reference refused the view), ``error``
     (absolute, 8-bit levels), ``reference_seconds`` (the reference's wall time for the whole sweep).
     """
-    from ..render.reference import reference_views
+    from ..render.exact.reference import reference_views
     from ..render.shading import COMPONENTS, Lighting
 
     views = sweep.drop_duplicates(["azimuth", "elevation"])[["azimuth", "elevation"]].reset_index(drop=True)
@@ -224,14 +224,15 @@ PICTURE_VIEWS = ((30.0, 20.0, 60.0, "Fig. 9's view: e 20, phi 60"),
 
 
 def random_pictures(plan: str = "quick", lighting=None, cells: int = 4) -> list:
-    """Pictures of each kind as rendered (finite patches, :func:`roughlight.render.naive.render_picture`) at the thesis's
-    telling views, the same width of surface for every kind (8 cells across).
+    """Pictures of each kind as rendered (finite patches,
+    :func:`roughlight.render.naive.procedure.render_picture`) at the thesis's telling views, the same width of
+    surface for every kind (8 cells across).
 
     Returns
     -------
     list of (label, (H, W, 3) uint8 image), kinds by rows and views by columns.
     """
-    from ..render.naive import render_picture
+    from ..render.naive.procedure import render_picture
 
     t, a, _ = PLANS[plan]["point"]
     out = []
@@ -267,8 +268,8 @@ def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TIL
     pixels : pixels a cell (``render.random_tiles.pixels_per_period``)
     views : (elevation step, azimuth step), degrees
     """
-    from ..render.periodic import fast_sweep
-    from ..render.reference import reference_sweep
+    from ..render.exact.reference import reference_sweep
+    from ..render.fast.periodic import fast_sweep
     from ..render.shading import COMPONENTS, Lighting
     from ..render.views import view_grid
 

@@ -3,7 +3,7 @@ far the figures' arc curves (Figs. 21 and 28) stray from the exact ones.
 
 The thesis's complaint about its own data (Ch. IV.A) was "jagged peaks" from pixelation. A mean error hides
 them; these functions report the worst view of every sweep and the largest deviation of every plotted curve,
-against :func:`roughlight.render.reference.reference_sweep` on the same views.
+against :func:`roughlight.render.exact.reference.reference_sweep` on the same views.
 """
 
 from __future__ import annotations
@@ -87,9 +87,9 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     """
     from dataclasses import replace
 
-    from ..render.periodic import fast_sweep
-    from ..render.reference import reference_sweep
-    from ..render.sampling import RenderSettings
+    from ..render.exact.reference import reference_sweep
+    from ..render.fast.periodic import fast_sweep
+    from ..render.fast.sampling import RenderSettings
 
     settings = settings or RenderSettings()
     former = replace(settings, **FORMER_DEFAULT)
@@ -138,7 +138,7 @@ def study_accuracy(study: pd.DataFrame, lighting=None, shard: tuple[int, int] = 
     DataFrame, one row per surface x component: ``truncation``, ``aspect``, ``incidence`` and the columns of
     :func:`view_errors`.
     """
-    from ..render.reference import reference_sweep
+    from ..render.exact.reference import reference_sweep
 
     lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
@@ -173,7 +173,7 @@ def arc_smoothness(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float 
     ``aspect``, ``incidence``, ``n_views``, ``largest_deviation`` (0-255), ``at_elevation`` (degrees) and
     ``mae``; empty when the study has none of the aspects.
     """
-    from ..render.reference import reference_sweep
+    from ..render.exact.reference import reference_sweep
     from ..study.selection import arc
 
     lighting = lighting or shading.Lighting()

@@ -13,9 +13,10 @@ from functools import partial
 
 import numpy as np
 
-from ..render import reference, shading
+from ..render import shading
+from ..render.exact import reference
+from ..render.fast.sampling import RenderSettings
 from ..render.measure import measure_sweep, recorded_settings
-from ..render.sampling import RenderSettings
 from ..render.shading import COMPONENTS
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface

@@ -5,9 +5,9 @@ finely sampled pyramids ("flashing lines" as the camera moved), values
 clipped at 255 bending the lobes (its Fig. 17), and trouble at grazing views
 and low incidence. This module measures those failures on a few surfaces and
 coarse view sets, for the ``naive`` method (the thesis's procedure in
-pyrender, :func:`roughlight.render.naive.naive_sweep`) and the ``fast`` method
-(:func:`roughlight.render.periodic.fast_sweep`), always against the exact
-reference (:func:`roughlight.render.reference.reference_sweep`). Each measurement is
+pyrender, :func:`roughlight.render.naive.procedure.naive_sweep`) and the ``fast`` method
+(:func:`roughlight.render.fast.periodic.fast_sweep`), always against the exact
+reference (:func:`roughlight.render.exact.reference.reference_sweep`). Each measurement is
 a *scan*: one knob varied over its values (a *sweep* is one surface seen from
 every view). Its chart is drawn by :mod:`roughlight.report.figures` and its report
 section written by :mod:`roughlight.report.page`.
@@ -34,9 +34,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..render import reference, shading
+from ..render import shading
+from ..render.exact import reference
+from ..render.fast.sampling import RenderSettings
 from ..render.measure import measure_sweep
-from ..render.sampling import RenderSettings
 from ..render.shading import COMPONENTS, SHADINGS
 from ..surfaces.surface import PLATE, SQRT3_2, Surface
 
@@ -85,19 +86,19 @@ NORMALS_SURFACES = SURFACES[:4]
 # The renderers load OpenGL: imported when a scan renders, so that importing this module
 # (the workflow reads MEASUREMENTS while it parses) does not.
 def _fast_sweep(*args, **kwargs):
-    from ..render.periodic import fast_sweep
+    from ..render.fast.periodic import fast_sweep
 
     return fast_sweep(*args, **kwargs)
 
 
 def _naive_sweep(*args, **kwargs):
-    from ..render.naive import naive_sweep
+    from ..render.naive.procedure import naive_sweep
 
     return naive_sweep(*args, **kwargs)
 
 
 def _render_picture(*args, **kwargs):
-    from ..render.naive import render_picture
+    from ..render.naive.procedure import render_picture
 
     return render_picture(*args, **kwargs)
 

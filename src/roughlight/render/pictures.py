@@ -21,14 +21,14 @@ def plate_sweeps(incidences, lights, elevation_step: float = 1.0, lighting=None,
     elevation_step : degrees
     lighting : dict of :class:`roughlight.render.shading.Lighting` fields (the
         light level is replaced by each of ``lights``); settings : dict of
-        :class:`roughlight.render.sampling.RenderSettings` fields.
+        :class:`roughlight.render.fast.sampling.RenderSettings` fields.
 
     Returns
     -------
     long DataFrame: ``incidence``, ``light``, ``elevation``, ``component``, ``value`` (0-255), ``seconds``.
     """
+    from .fast.sampling import RenderSettings
     from .measure import measure_sweep
-    from .sampling import RenderSettings
     from .shading import Lighting
     from .views import elevations
 
@@ -78,9 +78,9 @@ def surface_pictures(views, lighting=None, size=(400, 300), periods=6):
 
     Returns
     -------
-    list of (label, (H, W, 3) uint8 image), from :func:`roughlight.render.naive.render_picture`
+    list of (label, (H, W, 3) uint8 image), from :func:`roughlight.render.naive.procedure.render_picture`
     """
-    from .naive import render_picture
+    from .naive.procedure import render_picture
 
     return [(label, np.asarray(render_picture(Surface(t, a), i, e, phi, lighting=lighting, size=size,
                                               periods=periods)))

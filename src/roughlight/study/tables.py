@@ -361,13 +361,13 @@ def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render
     sweep : dict with ``elevation_step`` and ``azimuth_step`` (degrees)
     lighting : dict of :class:`roughlight.render.shading.Lighting` fields
     method : str, ``fast``, ``naive`` or ``reference``
-    render : dict of :class:`roughlight.render.sampling.RenderSettings` fields (may be empty)
+    render : dict of :class:`roughlight.render.fast.sampling.RenderSettings` fields (may be empty)
     log : callable taking a message, optional
     """
     from ..render import shading
     from ..render import views as sweeps
+    from ..render.fast.sampling import RenderSettings
     from ..render.measure import measure_sweep, recorded_settings
-    from ..render.sampling import RenderSettings
 
     log = log or (lambda message: None)
     lighting = shading.Lighting(**lighting)

@@ -13,7 +13,7 @@ view, with one instanced draw call:
   no moire between the surface period and the pixel grid. ``coverage`` is
   the fraction of the tile's pixels that show the surface (1 for every view
   but the grazing ones, ``e`` = 0 or 180, which see no area and are 0).
-  How the tile samples the period is :mod:`roughlight.render.sampling`.
+  How the tile samples the period is :mod:`roughlight.render.fast.sampling`.
 * The scene holds only what the measurement needs: one period (at most 10
   triangles), instanced at the lattice copies whose projection reaches the
   tile (more copies only near grazing views of tall surfaces).
@@ -27,7 +27,7 @@ view, with one instanced draw call:
   b channels of one pass and are each stored as 8-bit values.
 
 pyrender provides the OSMesa context, the vertex buffers with instancing and
-the shader programs (:mod:`roughlight.render.gl`); its stock shader
+the shader programs (:mod:`roughlight.render.gl.context`); its stock shader
 (metallic-roughness PBR with gamma) is not the study's equation and is not used.
 """
 
@@ -37,10 +37,11 @@ import time
 
 import numpy as np
 
-from ..surfaces.surface import Surface
-from . import shading, shares
-from . import views as sweeps
-from .gl import context, gl
+from ...surfaces.surface import Surface
+from .. import shading
+from .. import views as sweeps
+from ..gl.context import context, gl
+from . import shares
 from .passes import (
     Scene,
     batch_poses,
@@ -127,7 +128,7 @@ def _view_angles(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
 
 def _counted_views(out, surface, incidence, todo, views, lighting, settings) -> None:
     """Fill ``out`` at the non-grazing views ``todo`` of a random tile with adaptive sampling: each region's share
-    counted on the GL side (:func:`roughlight.render.counting.counted_shares`), weighted by its 8-bit values."""
+    counted on the GL side (:func:`roughlight.render.fast.counting.counted_shares`), weighted by its 8-bit values."""
     from .counting import counted_shares
 
     regions = _adaptive_regions(surface, incidence, lighting)
@@ -163,8 +164,8 @@ def _render_views(out, surface, incidence, todo, views, lighting, settings) -> N
 
 
 def _adaptive_regions(surface, incidence: float, lighting):
-    """The surface's facet regions (:func:`roughlight.render.shares.facet_regions`) for adaptive sampling,
-    which takes at most :data:`roughlight.render.shares.MAX_FACETS` facets a period."""
+    """The surface's facet regions (:func:`roughlight.render.fast.shares.facet_regions`) for adaptive sampling,
+    which takes at most :data:`roughlight.render.fast.shares.MAX_FACETS` facets a period."""
     regions = shares.facet_regions(surface, incidence, lighting.shadows)
     if len(regions.normals) > shares.MAX_FACETS:
         raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
@@ -177,7 +178,7 @@ def _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting, set
 
     Where every facet faces the view nothing is hidden: each region's share is its exact area, added to
     ``out`` unrendered. Each of the others is drawn on its best lattice
-    (:func:`roughlight.render.shares.choose_lattices`), and on the next best too, averaged, where even the best
+    (:func:`roughlight.render.fast.shares.choose_lattices`), and on the next best too, averaged, where even the best
     may be off by ``settings.average_lattices_above`` levels.
 
     Returns
@@ -201,7 +202,7 @@ def _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting, set
 def _draw_group(out, scene: Scene, todo, views, shears, group, layout) -> None:
     """Draw one lattice's views (``group``, a :func:`_lattice_group`) a framebuffer at a time and store their
     values in ``out`` at ``todo`` of them. ``views`` (V, 3) and ``shears`` (V, 2) are all the drawn views';
-    ``layout`` is the lattice's :func:`roughlight.render.sampling.tile_layout`."""
+    ``layout`` is the lattice's :func:`roughlight.render.fast.sampling.tile_layout`."""
     matrix, members, weights = group
     width, height_px, slots, pixel_order = layout
     per_tile = len(pixel_order) // len(slots)
@@ -271,7 +272,7 @@ def _tile_pixels(raw: bytes, pixel_order: np.ndarray, n_tiles: int) -> np.ndarra
 
 def _adaptive_values(out, target, weight, ids, regions, shear, views, matrix, shift, light_dir, lighting) -> None:
     """Add to ``out`` at ``target``, times ``weight``, the values from the tiles' (facet, lit) identities (``ids``
-    = 2 facet + lit + 1): each facet's shares by :func:`roughlight.render.shares.ratio_shares`, weighted by its 8-bit
+    = 2 facet + lit + 1): each facet's shares by :func:`roughlight.render.fast.shares.ratio_shares`, weighted by its 8-bit
     values as the framebuffer stores them (:func:`roughlight.render.shading.facet_sum`)."""
     n, width = len(ids), 2 * len(regions.normals) + 2
     histogram = np.bincount((np.arange(n)[:, None] * width + ids).ravel(), minlength=n * width).reshape(n, width)
@@ -283,7 +284,8 @@ def _adaptive_values(out, target, weight, ids, regions, shear, views, matrix, sh
 
 def _exact_values(out, target, regions, shear, views, light_dir, lighting) -> None:
     """Add to ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
-    (:func:`roughlight.render.shares.area_shares`) weighted by its 8-bit values (:func:`roughlight.render.shading.facet_sum`)."""
+    (:func:`roughlight.render.fast.shares.area_shares`) weighted by its 8-bit values
+    (:func:`roughlight.render.shading.facet_sum`)."""
     lit, shadow = shares.area_shares(regions, shear)
     _add_from_shares(out, target, 1.0, regions, views, lit, shadow, light_dir, lighting, 1.0)
 

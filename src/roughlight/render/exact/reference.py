@@ -43,7 +43,7 @@ once per sweep and stored as a region of the facet's plan footprint (its
 ``(x, y)`` projection); each view maps it through the facet's plane into
 ``(s, u)`` (an affine map) and intersects it with the facet's visible region.
 
-Conventions shared with the renderer (:mod:`roughlight.render.periodic`)
+Conventions shared with the renderer (:mod:`roughlight.render.fast.periodic`)
 ------------------------------------------------------------------
 * Grazing views, ``e`` = 0 or 180 (``sweeps.is_grazing`` or
   ``|sin e| < 1e-9``): the detector sees no area; every component and the
@@ -78,10 +78,10 @@ import shapely
 import shapely.errors
 from shapely import affinity
 
-from ..surfaces.surface import Surface
-from . import views as sweeps
+from ...surfaces.surface import Surface
+from .. import views as sweeps
+from ..shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
 from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
-from .shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
 
 __all__ = [
     "REFERENCE_ERROR",
@@ -415,7 +415,7 @@ def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=No
     values : dict, ``diffuse``, ``specular``, ``total``: (n_views,) arrays, NaN at refused views
     refused : (n_views,) bool array
     """
-    from .shading import COMPONENTS
+    from ..shading import COMPONENTS
 
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))

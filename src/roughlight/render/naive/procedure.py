@@ -17,12 +17,12 @@ import time
 
 import numpy as np
 
-from ..surfaces import geometry
-from ..surfaces.surface import Surface
-from . import shading
-from . import views as sweeps
-from .gl import SHADER_DIR, SHADOW_TEX_SZ, PyrenderShaderCache, import_pyrender, release_contexts
-from .shading import SHADINGS
+from ...surfaces import geometry
+from ...surfaces.surface import Surface
+from .. import shading
+from .. import views as sweeps
+from ..gl.context import SHADER_DIR, SHADOW_TEX_SZ, PyrenderShaderCache, import_pyrender, release_contexts
+from ..shading import SHADINGS
 
 
 class _PyrenderShaders(PyrenderShaderCache):
@@ -222,7 +222,7 @@ def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, 
     (true face normals); ``phong`` and ``gouraud`` use averaged vertex
     normals, to measure how wrong they make each component.
 
-    Returns the dict of :func:`roughlight.render.periodic.fast_sweep`.
+    Returns the dict of :func:`roughlight.render.fast.periodic.fast_sweep`.
     """
     start = time.perf_counter()
     lighting = lighting or shading.Lighting()

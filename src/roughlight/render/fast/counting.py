@@ -1,7 +1,7 @@
 """Adaptive sampling of random tiles: each region's visible share from pixel counts made on the GL side.
 
 A random tile (:mod:`roughlight.surfaces.roughness`) has hundreds of facets. Its views are measured as the regular
-surface's adaptive sampling measures them (:mod:`roughlight.render.shares`), each region (the lit or the shadowed
+surface's adaptive sampling measures them (:mod:`roughlight.render.fast.shares`), each region (the lit or the shadowed
 part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.shading.facet_sum`):
 
 * **Nothing hidden.** Where every facet faces the view, each region's share is its exact projected area: its plan
@@ -9,15 +9,15 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
   a facet). No rendering.
 * **Something hidden.** The other views are drawn (those within :data:`GRAZING_BAND` of the horizon apart, at
   ``RenderSettings.tile_grazing_scale`` times the pixels), a framebuffer of tiles at a time, in one pass of the
-  copies (:mod:`roughlight.render.passes`) with ``shaders/periodic_count.frag``. The tile is drawn as its regions'
+  copies (:mod:`roughlight.render.fast.passes`) with ``shaders/periodic_count.frag``. The tile is drawn as its regions'
   triangles (:func:`region_triangles`), each vertex carrying its region, so the lit and the shadowed part of a facet
   are told apart by the exact polygons, not by a shadow map. Each fragment adds one to its view's count of its
   region (an atomic counter on the GL side). The shader runs before the depth test (it has side effects and asks
   for no early tests), so every fragment counts, hidden or not: the total is exactly the number of pixel centres in
-  the region's projection, the count :func:`roughlight.render.shares.counts_and_areas` computes from polygons. The
+  the region's projection, the count :func:`roughlight.render.fast.shares.counts_and_areas` computes from polygons. The
   depth test keeps the nearest fragment's region in the image, which is read back: each view's pixels of each
   region are its visible count. ``visible / total`` is the region's visible fraction with the pixel errors along
-  its own edges cancelled (:func:`roughlight.render.shares.ratio_shares`). Times the exact area it is the region's
+  its own edges cancelled (:func:`roughlight.render.fast.shares.ratio_shares`). Times the exact area it is the region's
   share; what remains is the error along the edges of whatever hides it.
 * **Near the horizon.** Views within :data:`ORIENTED_BAND` of the horizon are each drawn on a lattice turned to
   their azimuth, and those within :data:`GRAZING_BAND` count their visible pixels only, with early depth tests
@@ -28,8 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..gl.context import GLTF, Primitive, context, gl
 from . import shares
-from .gl import GLTF, Primitive, context, gl
 from .passes import ATTRIBUTES, batch_poses, begin_pass, cached_layout, draw
 from .sampling import oriented_lattices
 
@@ -49,7 +49,7 @@ GRAZING_BAND = 10.0
 #: (:func:`counting_passes`).
 ORIENTED_BAND = 30.0
 
-#: Facets with an area ratio below this face away from the view (as in :func:`roughlight.render.shares.all_facing`).
+#: Facets with an area ratio below this face away from the view (as in :func:`roughlight.render.fast.shares.all_facing`).
 FACING = 1e-9
 
 
@@ -97,7 +97,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
         The tile's own (:meth:`RenderSettings.tile_settings` then :meth:`RenderSettings.for_tile`): its
         ``pixels_per_period`` is per tile.
     regions : Regions, optional
-        :func:`roughlight.render.shares.facet_regions` of the tile under this light (computed when not given).
+        :func:`roughlight.render.fast.shares.facet_regions` of the tile under this light (computed when not given).
 
     Returns
     -------
@@ -138,7 +138,7 @@ def counting_passes(views, hidden, settings):
 
     Views more than :data:`ORIENTED_BAND` degrees above the horizon are drawn on the tile's lattice
     (``settings.sampling_matrix()``). Nearer the horizon each view is drawn on the rotated lattice across whose
-    rows its azimuth runs at the golden slope (:func:`roughlight.render.sampling.oriented_lattices`): there the
+    rows its azimuth runs at the golden slope (:func:`roughlight.render.fast.sampling.oriented_lattices`): there the
     image is stretched along the azimuth, and on a fixed lattice the views whose azimuth ran near a row (as
     azimuth 30 on the tile's lattice, turned 31.7 degrees) were off by more than a level. Within
     :data:`GRAZING_BAND` of the horizon they are also drawn at ``tile_grazing_scale`` times the pixels, and only
@@ -224,7 +224,7 @@ def region_triangles(regions: shares.Regions):
     polygons (constrained Delaunay triangulation, holes left out)."""
     import shapely
 
-    from .clipping import area_parts
+    from ..exact.clipping import area_parts
 
     tris, owner = [], []
     for r, rings in enumerate(regions.rings):

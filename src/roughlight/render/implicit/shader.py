@@ -7,13 +7,13 @@ Two uses:
   ``implicit_exact`` / ``implicit_correction``). The quad covers the
   framebuffer; each view owns ``M`` consecutive pixels (``M`` a Fibonacci
   number), pixel ``k`` of a view being point ``k`` of the Fibonacci lattice
-  over one period (:func:`roughlight.render.implicit.fibonacci_lattice`). The view's
+  over one period (:func:`roughlight.render.implicit.model.fibonacci_lattice`). The view's
   value is the mean of its pixels' 8-bit values.
 * :func:`render_field`: a picture of an ``N x N`` field of periods as a
   real-time scene would draw it: one quad through an orthographic camera
   (used by the speed benchmark, :mod:`roughlight.measurements.implicit_surface`).
 
-The numpy forms of both models are in :mod:`roughlight.render.implicit`.
+The numpy forms of both models are in :mod:`roughlight.render.implicit.model`.
 """
 
 from __future__ import annotations
@@ -22,11 +22,11 @@ import time
 
 import numpy as np
 
-from ..surfaces.surface import Surface
-from . import shading
-from . import views as sweeps
-from .gl import GLTF, Primitive, context, gl, set_uniforms
-from .implicit import shader_uniforms
+from ...surfaces.surface import Surface
+from .. import shading
+from .. import views as sweeps
+from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
+from .model import shader_uniforms
 
 __all__ = ["implicit_sweep", "render_field", "scene_defines", "shader_sources", "FRAMEBUFFER_WIDTH"]
 
@@ -84,7 +84,7 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
     Parameters
     ----------
     model : str
-        ``"exact"`` or ``"correction"`` (:data:`roughlight.render.implicit.MODELS`).
+        ``"exact"`` or ``"correction"`` (:data:`roughlight.render.implicit.model.MODELS`).
     surface : Surface
     incidence : float
         Light elevation, degrees in [0, 90] (light at azimuth 0).
@@ -92,11 +92,11 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
     lighting : Lighting, optional
     samples : int, optional
         Pixels a view, a Fibonacci number (default
-        :func:`roughlight.render.implicit.model_samples`).
+        :func:`roughlight.render.implicit.model.model_samples`).
 
     Returns
     -------
-    dict as :func:`roughlight.render.periodic.fast_sweep`: ``diffuse``, ``specular``,
+    dict as :func:`roughlight.render.fast.periodic.fast_sweep`: ``diffuse``, ``specular``,
     ``total``, ``coverage`` (n_views,) and ``seconds``.
     """
     start = time.perf_counter()
@@ -184,10 +184,10 @@ def scene_defines(model: str) -> dict:
 def shader_sources(model: str) -> tuple[str, str]:
     """The implicit shader's vertex and fragment sources for a scene drawn with ``model``, self-contained:
     ``#include`` expanded and the model's defines applied, ready for any OpenGL 3.3 program to compile.
-    Set the uniforms :func:`roughlight.render.implicit.shader_uniforms` gives, plus ``camera`` (world -> clip),
+    Set the uniforms :func:`roughlight.render.implicit.model.shader_uniforms` gives, plus ``camera`` (world -> clip),
     ``field_size`` (N), ``scene_view`` (unit vector toward the detector) and ``fb_width`` (pixels), and draw
     one quad over ``[0, N]^2`` of the plane ``z = 0`` (:func:`render_field`)."""
-    from .gl import SHADER_DIR, _Program
+    from ..gl.context import SHADER_DIR, _Program
 
     program = _Program.__new__(_Program)  # only its source loader: no GL context is needed
     program.defines = scene_defines(model)

@@ -1,7 +1,7 @@
 """How the fast renderer samples one period of the surface: its settings and the tile layout.
 
 Each view's tile in the framebuffer shows exactly one period of the projected
-image of the infinite periodic surface (see :mod:`roughlight.render.periodic`). The
+image of the infinite periodic surface (see :mod:`roughlight.render.fast.periodic`). The
 integer sampling matrix maps cell coordinates to window pixels; ``lattice``
 sampling rotates it so that no row of pixel centres runs along the facets'
 axis-aligned or diagonal edges. Pure numpy: no OpenGL is loaded here, so the
@@ -36,7 +36,7 @@ class RenderSettings:
         are drawn on the lattice chosen for the view among six (on the three
         best, averaged, where the best may be off by ``average_lattices_above``),
         and each region's pixel count is corrected by its exact area
-        (:mod:`roughlight.render.shares`). ``"lattice"``: the tile is a rotated square
+        (:mod:`roughlight.render.fast.shares`). ``"lattice"``: the tile is a rotated square
         whose pixel centres sample the period on a rotated lattice (no row of
         samples along the facets' axis-aligned or diagonal edges); ``"grid"``:
         a plain square tile of ``pixels_per_period`` x ``pixels_per_period``
@@ -51,20 +51,20 @@ class RenderSettings:
         drawn in further passes.
     average_lattices_above : float
         Adaptive sampling: a view whose best lattice's value discrepancy (close
-        to a bound on its error, :func:`roughlight.render.shares.value_discrepancy`)
+        to a bound on its error, :func:`roughlight.render.fast.shares.value_discrepancy`)
         is at least this many 8-bit levels is drawn on its three best lattices
-        (:data:`roughlight.render.shares.AVERAGED`) and the values averaged. ``inf``:
+        (:data:`roughlight.render.fast.shares.AVERAGED`) and the values averaged. ``inf``:
         one lattice a view.
     tile_sampling, tile_pixels_per_period, tile_shadow_map_size : str, int, int
         ``sampling``, ``pixels_per_period`` and ``shadow_map_size`` (per cell) of random tiles
         (:meth:`tile_settings`). ``"adaptive"`` (the default) draws each region (the exact lit or shadowed part
         of a facet), counts its visible and hidden pixels on the GL side and corrects them by its exact area
-        (:mod:`roughlight.render.counting`), with no shadow map; lattice and grid sampling take the tile mean of
+        (:mod:`roughlight.render.fast.counting`), with no shadow map; lattice and grid sampling take the tile mean of
         the shader's values, shadowed by a shadow map of ``tile_shadow_map_size`` texels a cell (coarser than
         the regular surface's: a 4-cell tile's at 512 texels a cell is 2048 texels a side, which every fragment
         reads at random).
     tile_grazing_scale : float
-        Adaptive sampling of random tiles: views within :data:`roughlight.render.counting.GRAZING_BAND` degrees
+        Adaptive sampling of random tiles: views within :data:`roughlight.render.fast.counting.GRAZING_BAND` degrees
         of the horizon are counted at this many times ``tile_pixels_per_period`` (rounded). There the facets
         facing the detector are stretched and long edges of whatever hides them cross the tile; at 16 pixels a
         cell a few such views were more than one 8-bit level off, at 20 none of the checked ones.

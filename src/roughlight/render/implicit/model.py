@@ -3,12 +3,12 @@
 The thesis's goal (Ch. I.A) was a shader with which a surface of few polygons
 "reflects light as if it were rough". This module is the numpy form of the two
 implicit models whose GLSL lives in ``shaders/implicit.frag`` (run by
-:mod:`roughlight.render.implicit_gl`); tests compare the two.
+:mod:`roughlight.render.implicit.shader`); tests compare the two.
 
 Exact form (``implicit_exact``)
 -------------------------------
 Every pixel of the flat polygon is one point ``(s, u)`` of the base plane in
-the view's oblique coordinates (see :mod:`roughlight.render.reference`). The pixel
+the view's oblique coordinates (see :mod:`roughlight.render.exact.reference`). The pixel
 casts the view ray through the *analytic* periodic heightfield
 
     h(x, y) = min(2 a c(x, y), t a),   c = min(fx, 1 - fx, fy, 1 - fy),  fx = frac(x),
@@ -34,9 +34,9 @@ import time
 
 import numpy as np
 
-from ..surfaces.surface import Surface
-from . import shading
-from . import views as sweeps
+from ...surfaces.surface import Surface
+from .. import shading
+from .. import views as sweeps
 
 __all__ = [
     "MODELS",
@@ -343,7 +343,7 @@ def exact_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None,
                 samples: int = DEFAULT_SAMPLES) -> dict:
     """Mean 8-bit value of each component for many views, by the exact form (numpy).
 
-    Returns the dict of :func:`roughlight.render.reference.reference_sweep` plus
+    Returns the dict of :func:`roughlight.render.exact.reference.reference_sweep` plus
     ``seconds``: each pixel stores ``quantize(component)`` of its facet.
     """
     start = time.perf_counter()
@@ -509,7 +509,7 @@ def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samp
     -------
     dict, uniform name -> value: ``model``, ``truncation``, ``aspect``, ``shadows``, ``blend_scale``,
     ``samples``, ``generator`` and the material (:func:`roughlight.render.shading.material_uniforms`). A scene adds
-    ``camera``, ``field_size``, ``scene_view`` and ``fb_width`` (:func:`roughlight.render.implicit_gl.render_field`).
+    ``camera``, ``field_size``, ``scene_view`` and ``fb_width`` (:func:`roughlight.render.implicit.shader.render_field`).
     """
     default = model_samples(model)  # refuses an unknown model
     lighting = lighting or shading.Lighting()

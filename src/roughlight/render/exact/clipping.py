@@ -1,8 +1,8 @@
-"""The clipping engine of the exact reference (:mod:`roughlight.render.reference`): one period's facets, the
+"""The clipping engine of the exact reference (:mod:`roughlight.render.exact.reference`): one period's facets, the
 lattice copies that can hide them, and each facet's visible region along a direction (toward the viewer or the
 light) in that direction's oblique base-plane coordinates, by GEOS overlays (shapely).
 
-The method is :mod:`roughlight.render.reference`'s ("Oblique coordinates"): the visible region of a facet is its
+The method is :mod:`roughlight.render.exact.reference`'s ("Oblique coordinates"): the visible region of a facet is its
 projection minus the union of the projections, on their overlap, of the facet copies in front of it. Overlays run
 in double precision, or snap-rounded to a grid (``grid_size``) where the reference falls back to that.
 """
@@ -16,8 +16,8 @@ from typing import NamedTuple
 import numpy as np
 import shapely
 
-from ..surfaces.geometry import facet_polygons, period_triangles
-from ..surfaces.surface import Surface
+from ...surfaces.geometry import facet_polygons, period_triangles
+from ...surfaces.surface import Surface
 
 __all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "overlay", "visible_regions", "to_oblique",
            "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
@@ -127,7 +127,7 @@ def area_parts(geometry):
 
 def overlay(operation, *geometries, grid_size=None):
     """A GEOS overlay: in double precision, or snap-rounded to ``grid_size`` (robust; see
-    :data:`roughlight.render.reference.SNAP_GRID`)."""
+    :data:`roughlight.render.exact.reference.SNAP_GRID`)."""
     if grid_size is None:
         return operation(*geometries)
     snapped = [_polygonal(g, grid_size) for g in geometries]

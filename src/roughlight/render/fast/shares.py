@@ -6,7 +6,7 @@ with an error along every edge in the image, which at single views reaches sever
 thesis's "jagged peaks", Ch. IV.A). Two corrections, both exact geometry and no rendering:
 
 - **Ratio to the exact area.** Each *region* (the lit or the shadowed part of a facet, from
-  :func:`roughlight.render.reference.lit_footprints`) projects along the view to a polygon whose area is known exactly and
+  :func:`roughlight.render.exact.reference.lit_footprints`) projects along the view to a polygon whose area is known exactly and
   whose lattice points (the tile's pixel centres) can be counted exactly. The rendered count of the region's visible
   part over that count is its visible fraction, and times the exact area its share: the pixel errors along the
   region's own edges cancel, those along the edges of whatever hides it remain.
@@ -22,7 +22,7 @@ thesis's "jagged peaks", Ch. IV.A). Two corrections, both exact geometry and no 
 
 Coordinates: plan ``(x, y, z)`` of one period; a view's plan shift ``d = (V_x / V_z, V_y / V_z)``; the oblique
 ("cell") coordinates ``(x, y) - z d`` in periods, and pixel coordinates ``matrix @ (cell + shift)`` whose integer
-points plus one half are the tile's pixel centres (:mod:`roughlight.render.sampling`).
+points plus one half are the tile's pixel centres (:mod:`roughlight.render.fast.sampling`).
 """
 
 from __future__ import annotations
@@ -79,8 +79,8 @@ def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
     import shapely
     from shapely.geometry.polygon import orient
 
-    from .clipping import area_parts
-    from .reference import _Scene
+    from ..exact.clipping import area_parts
+    from ..exact.reference import _Scene
 
     scene = _Scene(surface, incidence, shadows)
     surf = scene.surf
@@ -230,7 +230,7 @@ def counts_and_areas(regions: Regions, shear, matrix, shift=(0.0, 0.0)):
     shear : (V, 2) array
         Each view's plan shift ``d``.
     matrix : (2, 2) int array
-        Cell coordinates to pixels (:func:`roughlight.render.sampling.sampling_matrix`).
+        Cell coordinates to pixels (:func:`roughlight.render.fast.sampling.sampling_matrix`).
     shift : (2,) array
         Translation of the surface in cell units (the renderer's jitter).
 
@@ -261,7 +261,7 @@ def counts_and_areas(regions: Regions, shear, matrix, shift=(0.0, 0.0)):
 def region_values(regions: Regions, light_dir, views, lighting) -> np.ndarray:
     """(3, V, R) each region's 8-bit diffuse, specular and total value in each view (its facet's value, lit or in
     shadow as the region is; :func:`roughlight.render.shading.facet_values`)."""
-    from .shading import facet_values
+    from ..shading import facet_values
 
     on, off = facet_values(regions.normals, light_dir, views, lighting)
     return np.stack([np.where(regions.lit[None, :], v_on[:, regions.facet], v_off[:, regions.facet])
@@ -378,7 +378,7 @@ def _star_discrepancy(x0, y0, x1, y1, valid) -> np.ndarray:
 
 def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
     """``n`` rotated-square sampling matrices ``[[p, q], [-q, p]]`` with ``p^2 + q^2`` within 10% of
-    ``pixels_per_period^2`` (``gcd(p, q) = 1``, ``p + q`` odd, as :func:`roughlight.render.sampling.sampling_matrix`),
+    ``pixels_per_period^2`` (``gcd(p, q) = 1``, ``p + q`` odd, as :func:`roughlight.render.fast.sampling.sampling_matrix`),
     their angles ``atan(q / p)`` spread over [0, 45] degrees; the default lattice comes first."""
     from .sampling import lattice_pairs, sampling_matrix
 

@@ -1,7 +1,7 @@
 """The OpenGL passes a sweep of the fast method draws (pyrender over OSMesa): the period as instanced lattice
 copies, the pass state, the periodic shadow map, each batch's instance matrices and the lighting uniforms.
 
-:mod:`roughlight.render.periodic` draws values or facet identities with them, :mod:`roughlight.render.counting`
+:mod:`roughlight.render.fast.periodic` draws values or facet identities with them, :mod:`roughlight.render.fast.counting`
 counts each region's pixels. Coordinates and the instance matrices are ``shaders/periodic.vert``'s.
 """
 
@@ -12,10 +12,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..surfaces import geometry
-from ..surfaces.surface import Surface
-from . import shading
-from .gl import GLTF, Context, Primitive, gl, set_material_uniforms
+from ...surfaces import geometry
+from ...surfaces.surface import Surface
+from .. import shading
+from ..gl.context import GLTF, Context, Primitive, gl, set_material_uniforms
 from .sampling import RenderSettings, lattice_copies, tile_layout
 
 #: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
@@ -114,7 +114,7 @@ _LAYOUTS: dict = {}
 
 
 def cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
-    """:func:`roughlight.render.sampling.tile_layout` for at least ``n_views``: the count is rounded up to a step of
+    """:func:`roughlight.render.fast.sampling.tile_layout` for at least ``n_views``: the count is rounded up to a step of
     2^(1/4) (at most 19% spare slots), so that sweeps drawing slightly different numbers of views with one
     lattice (adaptive sampling) share a layout; the caller uses the first slots."""
     n_views = int(math.ceil(2.0 ** (math.ceil(4.0 * math.log2(max(int(n_views), 1))) / 4.0)))
@@ -142,7 +142,7 @@ class Scene(NamedTuple):
     shadow_mode: int
     #: 1 / the surface's height (slightly more), mapping heights to depths in [0, 1)
     depth_scale: float
-    #: adaptive sampling's facet regions (:func:`roughlight.render.shares.facet_regions`), else None
+    #: adaptive sampling's facet regions (:func:`roughlight.render.fast.shares.facet_regions`), else None
     regions: object
 
 

@@ -4,8 +4,8 @@ This is the one module that loads OpenGL. It selects PyOpenGL's OSMesa
 platform (``PYOPENGL_PLATFORM=osmesa``, unless the caller chose another
 before), turns PyOpenGL's bare import errors into one message that says what
 to install, and loads only the parts of pyrender the fast method needs (see
-:func:`import_pyrender_core`). The renderers (:mod:`roughlight.render.periodic`,
-:mod:`roughlight.render.naive`) import it; nothing else does, so measuring with the
+:func:`import_pyrender_core`). The renderers (:mod:`roughlight.render.fast.periodic`,
+:mod:`roughlight.render.naive.procedure`) import it; nothing else does, so measuring with the
 exact reference or analysing a study table never loads OpenGL.
 
 pyrender's program cache keys programs on the GL context object, which OSMesa
@@ -95,7 +95,7 @@ __all__ = [
     "import_pyrender",
 ]
 
-SHADER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "shaders")
+SHADER_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "shaders")  # render/shaders
 
 #: What to do when OpenGL cannot start: the one message a sweep job ends with.
 OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software rendering): " + _OSMESA_HELP
@@ -156,7 +156,7 @@ def set_uniforms(program, uniforms: dict) -> None:
 
 def set_material_uniforms(program, lighting, light_dir) -> None:
     """The lighting equation's uniforms (:func:`roughlight.render.shading.material_uniforms`) on the bound ``program``."""
-    from .shading import material_uniforms
+    from ..shading import material_uniforms
 
     set_uniforms(program, material_uniforms(lighting, light_dir))
 
