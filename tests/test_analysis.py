@@ -310,15 +310,15 @@ def test_grid_glm_recovers_an_interaction_model():
 
 
 def test_scaled_condition_is_belsleys_uncentred_unit_length_scaling():
-    from roughlight.analysis.glm import _scaled_condition
+    from roughlight.analysis.glm import scaled_condition
 
     # a column nearly constant is collinear with the intercept: centring would hide it, Belsley's scaling shows it
     x = 10 + 1e-3 * np.arange(20)
     X = np.column_stack([np.ones(20), x])
-    assert _scaled_condition(X) > 1e3
+    assert scaled_condition(X) > 1e3
     # orthogonal columns of any lengths: 1
     Q = np.column_stack([np.r_[1, 1, 1, 1], 5 * np.r_[1, -1, 1, -1], 0.1 * np.r_[1, 1, -1, -1]]).astype(float)
-    assert _scaled_condition(Q) == pytest.approx(1.0)
+    assert scaled_condition(Q) == pytest.approx(1.0)
 
 
 def test_grid_glm_degenerate_grids_never_crash():
@@ -524,10 +524,10 @@ def test_the_report_flags_sigma_fits_on_a_bound():
 
     fits = pd.DataFrame({"truncation": [0.0, 0.5, 1.0], "aspect": [0.0, 1.0, 1.0],
                          "sigma_fitted_at_bound": [False, True, False]})
-    text = "".join(report._section_models({"model_fits": fits}, {}, {}))
+    text = "".join(report.models_section_html({"model_fits": fits}, {}, {}))
     assert "ended on a bound" in text and "1 of 2 rough surfaces" in text
     fits["sigma_fitted_at_bound"] = False
-    assert "ended on a bound" not in "".join(report._section_models({"model_fits": fits}, {}, {}))
+    assert "ended on a bound" not in "".join(report.models_section_html({"model_fits": fits}, {}, {}))
 
 
 def test_the_thesis_rows_carry_only_what_the_thesis_printed():

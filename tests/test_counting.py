@@ -31,7 +31,7 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
     views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
     shears = views[:, :2] / views[:, 2:3]
     plan = counting.region_plan_areas(regions)
-    visible, total, per_tile = counting._count(tile, regions, views, shears, np.arange(len(views)), settings)
+    visible, total, per_tile = counting.counted_pixels(tile, regions, views, shears, np.arange(len(views)), settings)
     expected, areas = shares.counts_and_areas(regions, shears, settings.sampling_matrix())
     assert per_tile == abs(round(np.linalg.det(settings.sampling_matrix())))
     difference = np.abs(total - expected)
@@ -98,19 +98,19 @@ def test_the_reference_falls_back_to_coarser_grids_until_one_holds(monkeypatch):
             raise RuntimeError("areas do not sum to 1")
         return "ok"
 
-    assert reference._with_fallback(compute) == "ok"
+    assert reference.with_fallback(compute) == "ok"
     assert tried == [None, *reference.SNAP_GRIDS]
 
     def never(grid_size=None):
         raise RuntimeError(f"failed at {grid_size}")
 
     with pytest.raises(RuntimeError, match=f"failed at {reference.SNAP_GRIDS[-1]}"):
-        reference._with_fallback(never)
+        reference.with_fallback(never)
 
 
 @pytest.mark.parametrize("kind", KINDS)
 def test_the_reference_skips_only_copies_that_overlap_in_no_area(kind):
-    """clipping._overlapping drops a (facet, copy) pair without intersecting it where bounding boxes or a
+    """clipping.may_overlap drops a (facet, copy) pair without intersecting it where bounding boxes or a
     separating axis keep them apart: every pair GEOS finds overlapping in area must be kept, and most of the
     bounding-box candidates must be dropped (else the test says nothing)."""
     surf = clipping.period_facets(RandomSurface(kind, 1.0, 1.0, seed=2, cells=2))
@@ -120,9 +120,9 @@ def test_the_reference_skips_only_copies_that_overlap_in_no_area(kind):
         d = view[:2] / view[2]
         det = 1.0 - surf.alpha * d[0] - surf.beta * d[1]
         front = np.flatnonzero(det > clipping.EDGE_ON)
-        copies = clipping._projected_copies(surf, front, d, clipping.lattice_offsets(surf.height, d))
+        copies = clipping.projected_copies(surf, front, d, clipping.lattice_offsets(surf.height, d))
         homes = np.arange(len(front)) * (len(copies.bbox) // len(front))
-        for home, kept in zip(homes, clipping._overlapping(copies, homes)):
+        for home, kept in zip(homes, clipping.may_overlap(copies, homes)):
             others = np.setdiff1d(np.arange(len(copies.bbox)), [home])
             area = shapely.area(shapely.intersection(copies.geoms[home], copies.geoms[others]))
             overlapping = others[area > clipping.MIN_OVERLAP]
@@ -149,7 +149,7 @@ def test_views_near_the_horizon_are_counted_at_more_pixels():
     np.testing.assert_array_equal(plain_lit[2:], fine_lit[2:])
     np.testing.assert_array_equal(plain_shadow[2:], fine_shadow[2:])
     assert np.abs(plain_lit[:2] - fine_lit[:2]).max() > 0
-    assert counting._grazing_settings(settings).pixels_per_period == round(1.25 * settings.pixels_per_period)
+    assert counting.grazing_settings(settings).pixels_per_period == round(1.25 * settings.pixels_per_period)
 
 
 def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
@@ -174,7 +174,7 @@ def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
     assert sorted(drawn) == [0, 1, 2, 3, 4]
     assert drawn[2] == (settings.pixels_per_period, tuple(settings.sampling_matrix().ravel()), True)
     assert drawn[1][1] != drawn[2][1] and drawn[3][1] == drawn[1][1]  # azimuths 30 and 120: one lattice
-    assert drawn[0][0] == drawn[4][0] == counting._grazing_settings(settings).pixels_per_period
+    assert drawn[0][0] == drawn[4][0] == counting.grazing_settings(settings).pixels_per_period
     # within GRAZING_BAND only the visible pixels are counted
     assert [drawn[v][2] for v in range(5)] == [False, True, True, True, False]
 
@@ -220,7 +220,7 @@ def test_views_counted_without_totals_see_what_the_counted_pass_sees():
     regions = shares.facet_regions(tile, 30.0, True)
     shears = views[:, :2] / views[:, 2:3]
     triangles = counting.region_triangles(regions)
-    both = [list(counting._counted_batches(tile.height, triangles, len(regions.rings), views, shears,
+    both = [list(counting.counted_batches(tile.height, triangles, len(regions.rings), views, shears,
                                            np.arange(3), settings, totals=totals)) for totals in (True, False)]
     (_, counted, total, _), = both[0]
     (_, seen, none, _), = both[1]

@@ -180,7 +180,7 @@ def test_no_node_at_the_mirror_image_of_a_view(drawn):
     fig, ax = plt.subplots()
     sweep = pd.DataFrame({"azimuth": azimuth, "elevation": elevation, "seed": 1,
                           "rough": asymmetric(azimuth, elevation)})
-    random_roughness._random_map(fig, ax, sweep, "random_pyramids", (0.5, 1.0, 30.0))
+    random_roughness.random_map(fig, ax, sweep, "random_pyramids", (0.5, 1.0, 30.0))
     plt.close(fig)
     (map_,) = drawn
     x, y = topdown(35.0, 60.0)
@@ -256,7 +256,7 @@ def test_implicit_difference_needs_the_same_views():
     frame = pd.DataFrame({"azimuth": azimuth, "elevation": elevation, "total": asymmetric(azimuth, elevation)})
     fig, ax = plt.subplots()
     with pytest.raises(ValueError, match="same views"):
-        implicit._map_panel(fig, ax, frame.iloc[1:], frame, "implicit_exact", "total", (1.0, 1.0, 30.0))
+        implicit.map_panel(fig, ax, frame.iloc[1:], frame, "implicit_exact", "total", (1.0, 1.0, 30.0))
     plt.close(fig)
 
 

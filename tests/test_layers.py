@@ -103,6 +103,40 @@ def test_the_room_rule_sees_a_method_reaching_into_another(tmp_path):
     assert {"exact", "gl", "ground"} <= RENDER_ROOMS["fast"]
 
 
+def private_reaches(path: Path) -> list[str]:
+    """Where ``path`` takes another roughlight module's ``_private`` name: ``from x import _name`` of a roughlight
+    module (relative or absolute), or ``module._name`` of a roughlight module it imported."""
+    tree = ast.parse(path.read_text())
+    modules_seen, out = set(), []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("roughlight")):
+            for alias in node.names:
+                if alias.name.startswith("_") and not alias.name.startswith("__"):
+                    out.append(f"{path.name}:{node.lineno}: from {'.' * node.level}{node.module or ''} import {alias.name}")
+                modules_seen.add(alias.asname or alias.name)
+        elif isinstance(node, ast.Import):
+            modules_seen |= {a.asname or a.name.split(".")[0] for a in node.names if a.name.startswith("roughlight")}
+    for node in ast.walk(tree):
+        if (isinstance(node, ast.Attribute) and node.attr.startswith("_") and not node.attr.startswith("__")
+                and isinstance(node.value, ast.Name) and node.value.id in modules_seen):
+            out.append(f"{path.name}:{node.lineno}: {node.value.id}.{node.attr}")
+    return out
+
+
+def test_no_module_reaches_into_anothers_private_names():
+    """Public seams only: in the package, its workflow scripts and its tests, no module takes another's ``_name``."""
+    root = PACKAGE.parents[1]
+    paths = [*PACKAGE.rglob("*.py"), *(root / "tests").glob("*.py"), *(root / "workflow" / "scripts").glob("*.py")]
+    reaches = [r for p in sorted(paths) for r in private_reaches(p)]
+    assert not reaches, "private names taken from another module:\n" + "\n".join(reaches)
+
+
+def test_the_seam_check_sees_a_private_reach(tmp_path):
+    fake = tmp_path / "fake.py"
+    fake.write_text("from roughlight.render.fast import shares\nfrom ..x import _hidden\n\nshares._front(1)\n")
+    assert private_reaches(fake) == ["fake.py:2: from ..x import _hidden", "fake.py:4: shares._front"]
+
+
 def test_no_import_circle():
     graph = {m: imported(m, p) for m, p in modules().items()}
     state: dict[str, int] = {}

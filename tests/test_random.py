@@ -415,7 +415,7 @@ def test_read_study_keeps_exactly_the_rows_each_analysis_reads(tmp_path):
 def test_accuracy_at_every_view_lists_the_random_tiles():
     """The renderer validation's section of the page names the random tiles' worst view and largest MAE, from
     rule random_tiles' accuracy table (one row a tile and component), and leaves them out without one."""
-    from roughlight.report.page_measurements import _tile_accuracy
+    from roughlight.report.page_measurements import tile_accuracy
 
     rows = []
     for kind, seed, worst, mae in (("pyramids", 0, 0.3, 0.05), ("random_pyramids", 1, 0.6, 0.04),
@@ -423,12 +423,12 @@ def test_accuracy_at_every_view_lists_the_random_tiles():
         for component in ("diffuse", "specular", "total"):
             rows.append({"kind": kind, "truncation": 1.0, "aspect": 1.0, "cells": 4, "seed": seed,
                          "component": component, "views": 66, "reference_refused": 0, "mae": mae, "worst": worst})
-    tiles = _tile_accuracy(pd.DataFrame(rows))
+    tiles = tile_accuracy(pd.DataFrame(rows))
     assert tiles["worst"] == 0.9 and tiles["largest_mae"] == 0.08
     table = tiles["table"].set_index("kind")
     assert table.loc["random_pyramids", "tiles"] == 2 and table.loc["random_pyramids", "views"] == 132
     assert "pyramids" not in table.index
-    assert _tile_accuracy(None) is None and _tile_accuracy(pd.DataFrame(rows[:3])) is None
+    assert tile_accuracy(None) is None and tile_accuracy(pd.DataFrame(rows[:3])) is None
 
 
 def test_every_view_checks_both_kinds_two_seeds_at_the_random_grids_lowest_and_highest_corner():

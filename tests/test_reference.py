@@ -405,7 +405,7 @@ def test_specular_without_inner_shadows_is_the_theses_protocol():
     """render.specular_shadows: false shadows the diffuse only; the back lobe widens (15.6 to 16.8 deg, t 1, sqrt3/2)."""
     from dataclasses import replace
 
-    from roughlight.analysis.thesis import _exact_widths
+    from roughlight.analysis.thesis import exact_widths
     from roughlight.render.shading import Lighting
     from roughlight.surfaces.surface import SQRT3_2, Surface
 
@@ -419,7 +419,7 @@ def test_specular_without_inner_shadows_is_the_theses_protocol():
     np.testing.assert_allclose(thesis["specular"], unshadowed["specular"])
     assert (thesis["specular"] >= shadowed["specular"] - 1e-9).all()
     assert (thesis["specular"] > shadowed["specular"] + 0.5).any()
-    widths = _exact_widths(surface, 30, 30.0, Lighting(), 25, 1.0)
+    widths = exact_widths(surface, 30, 30.0, Lighting(), 25, 1.0)
     assert widths["exact_fwhm"] == pytest.approx(15.57, abs=0.05)
     assert widths["exact_fwhm_no_specular_shadows"] == pytest.approx(16.82, abs=0.05)
     assert replace(Lighting(), specular_shadows=False).specular_shadows is False

@@ -185,13 +185,13 @@ def test_cell_border_edges_are_paired_with_the_next_periods_copy():
     from roughlight.render.fast import shares
 
     regions = shares.facet_regions(Surface(0.6, 0.8), 30.0, True)
-    start, end, sides = shares._unique_edges(regions)
+    start, end, sides = shares.unique_edges(regions)
     assert (sides >= 0).all()
     # every ring edge is one of them (either way round, or the copy a period over), with its region on a side
     kept = {}
     for (a, b), pair in zip(zip(np.round(start, 9), np.round(end, 9)), sides):
         kept[(tuple(a), tuple(b))] = kept[(tuple(b), tuple(a))] = set(pair)
-    ring_start, ring_end, owner = shares._edges(regions)
+    ring_start, ring_end, owner = shares.facet_edges(regions)
     ring = {(tuple(a), tuple(b), r) for a, b, r in zip(np.round(ring_start, 9), np.round(ring_end, 9), owner)}
     on_border = 0
     for a, b, r in zip(ring_start, ring_end, owner):
@@ -215,12 +215,12 @@ def test_edge_steps_are_the_value_step_across_each_edge():
     from roughlight.render.fast import shares
 
     regions = shares.facet_regions(Surface(1.0, 1.0), 30.0, True)
-    start, end, sides = shares._unique_edges(regions)
+    start, end, sides = shares.unique_edges(regions)
     views = shading.view_direction(np.array([60.0, 20.0]), np.array([40.0, 0.0]))
     shear = views[:, :2] / views[:, 2:3]
     values = shares.region_values(regions, shading.light_direction(30.0), views, Lighting())
     steps = shares.edge_steps(regions, sides, shear, values)
-    facing = shares._front(regions, np.arange(len(regions.facet)), shear)
+    facing = shares.front_facing(regions, np.arange(len(regions.facet)), shear)
     for v in range(len(views)):
         seen = values[:, v, facing[v]]
         for e, (a, b) in enumerate(sides):

@@ -157,7 +157,7 @@ def test_naive_method_measures_the_same_quantity():
     assert np.mean(np.abs(rough["total"] - exact["total"])) < 5.0
     assert rough["seconds"] > 0
     # pyrender compiles its programs anew every render; none may pile up (they leaked 2 MB a render)
-    for renderer in naive._NAIVE_RENDERERS.values():
+    for renderer in naive.NAIVE_RENDERERS.values():
         assert len(renderer._renderer._program_cache._program_cache) == 0
 
 

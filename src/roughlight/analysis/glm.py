@@ -30,7 +30,7 @@ class GLMResult:
     messages: list
 
 
-def _scaled_condition(X: np.ndarray) -> float:
+def scaled_condition(X: np.ndarray) -> float:
     """Belsley's scaled condition number: the design, intercept column included, with every column scaled to
     unit length and *not* centred (Belsley, Kuh and Welsch 1980, ch. 3: centring hides the collinearity with
     the intercept). Its thresholds, 30 ("moderate") and 100 ("strong"), assume this scaling."""
@@ -90,13 +90,13 @@ def design(d: pd.DataFrame, terms: list[str]) -> np.ndarray:
 
 def collinearity(d: pd.DataFrame, terms: list[str], response: str, limit: float, messages: list) -> list[str]:
     """Drop terms (interaction first, then incidence, then the last) until the design is full rank and its
-    Belsley-scaled condition number (:func:`_scaled_condition`) is at most ``limit``. Removes them from
+    Belsley-scaled condition number (:func:`scaled_condition`) is at most ``limit``. Removes them from
     ``terms``; returns the dropped."""
     dropped = []
     while terms:
         X = design(d, terms)
         rank = np.linalg.matrix_rank(X)
-        kappa = _scaled_condition(X)
+        kappa = scaled_condition(X)
         if rank == X.shape[1] and kappa <= limit:
             break
         victim = next((x for x in ("truncation:aspect", "incidence") if x in terms), terms[-1])
@@ -181,7 +181,7 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
     d, terms, X, y = prepared
     summary["terms"] = " + ".join(terms)
     summary["condition_raw"] = float(np.linalg.cond(X))
-    summary["condition_scaled"] = _scaled_condition(X)
+    summary["condition_scaled"] = scaled_condition(X)
     res = fit(X, y, response, messages)
     if res is None:
         summary["status"] = "failed"

@@ -245,7 +245,7 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: floa
                     k = int(np.argmax(out["specular"]))
                     peak = float(out["specular"][k])
                     row.update(exact_peak=peak, exact_peak_elevation=float(el[k]) if peak >= MIN_LOBE_PEAK else np.nan)
-                row.update(_exact_widths(Surface(r["truncation"], a), r["incidence"], c, lighting, width_halfwidth,
+                row.update(exact_widths(Surface(r["truncation"], a), r["incidence"], c, lighting, width_halfwidth,
                                          step))
             rows.append(row)
     out = pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation",
@@ -255,7 +255,7 @@ def exact_lobe_peaks(lobes: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: floa
     return out
 
 
-def _exact_widths(surface, incidence, centre, lighting, halfwidth, step) -> dict:
+def exact_widths(surface, incidence, centre, lighting, halfwidth, step) -> dict:
     """The exact lobe's FWHM on the phi = 0 arc with the study's specular shadows and without (the thesis's)."""
     from dataclasses import replace
 

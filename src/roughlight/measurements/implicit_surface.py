@@ -168,10 +168,10 @@ class _Field:
     map (redrawn every frame, as pyrender does), an orthographic camera; programs compiled once."""
 
     def __init__(self, surface: Surface, incidence: float, lighting, field_size: int, size: int, span: float):
-        from ..render.naive.procedure import CompiledShaders, _look_pose, _NaiveScene
+        from ..render.naive.procedure import CompiledShaders, NaiveScene, look_pose
 
-        self._look_pose = _look_pose
-        self.scene = _NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
+        self.look_pose = look_pose
+        self.scene = NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
         # the patch is centred on the origin; the implicit field spans [0, N]^2 (same surface, shifted
         # by whole periods when N is even)
         from ..render.gl.context import import_pyrender, release_contexts
@@ -183,9 +183,9 @@ class _Field:
 
     def render(self, view):
         pyrender = self.scene.pyrender
-        from ..render.naive.procedure import _up_vector
+        from ..render.naive.procedure import up_vector
 
-        pose = self._look_pose(view, _up_vector(view), self.scene.distance)
+        pose = self.look_pose(view, up_vector(view), self.scene.distance)
         self.scene.scene.set_pose(self.scene.camera_node, pose)
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.scene.shadows else pyrender.RenderFlags.NONE
         start = time.perf_counter()

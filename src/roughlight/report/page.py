@@ -38,7 +38,7 @@ from .page_measurements import (
     stability_section,
 )
 from .page_sections import (
-    _section_models,  # noqa: F401  (tests call the models section alone)
+    models_section_html,  # noqa: F401  (tests call the models section alone)
     regression_failures_html,
 )
 from .page_templates import TABLE_CAPTIONS, content_security_policy, png_data_uri, render, safe

@@ -16,7 +16,7 @@ import pandas as pd
 
 from . import page_sections as sections
 from . import page_thesis
-from .page_measurements import _test_label
+from .page_measurements import claim_test_label
 from .page_templates import frame_or_none
 
 #: The lobes of Tables 1-2: (lobe, table, its area function).
@@ -55,8 +55,8 @@ def _lobe_ranking(thesis: pd.DataFrame, per_aspect: list[dict], lobe: str, table
     area = [f[f"{lobe}_area"] for f in per_aspect]
     regressed = [f[f"{lobe}_regressed"] for f in per_aspect]
     first = thesis["aspect"].max()
-    t_area = page_thesis._stat(thesis, table, first, area_model, "thesis 2001", "Mean Abs Error")
-    t_regressed = page_thesis._stat(thesis, table, first, "Regressed Model", "thesis 2001", "Mean Abs Error")
+    t_area = page_thesis.table_statistic(thesis, table, first, area_model, "thesis 2001", "Mean Abs Error")
+    t_regressed = page_thesis.table_statistic(thesis, table, first, "Regressed Model", "thesis 2001", "Mean Abs Error")
     ours = {_better(a, r) for a, r in zip(area, regressed)} - {None}
     return {"lobe": lobe, "table": table, "area": _span(area), "regressed": _span(regressed),
             "ours": ours.pop() if len(ours) == 1 else ("mixed" if ours else None),
@@ -106,7 +106,7 @@ def _at_implied_scale(at_scale: pd.DataFrame, scales: pd.DataFrame) -> list[dict
         out.append({"table": int(table), "model": scale["model"], "scale": float(scale["s_min_mae"]),
                     "area": _span(area["Mean Abs Error"]), "thesis": float(scale["mae"]),
                     "regressed": _span(rows[rows["model"] == "Regressed Model"]["Mean Abs Error"]),
-                    "area_wins": page_thesis._area_still_wins(rows)})
+                    "area_wins": page_thesis.area_still_wins(rows)})
     return out
 
 
@@ -171,7 +171,7 @@ def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
     decided = rows["decided"] == "yes"
     below, above = decided & (rows["high"] < rows["regular"]), decided & (rows["low"] > rows["regular"])
     counts = (("below", int(below.sum())), ("above", int(above.sum())), ("same", int((decided & ~below & ~above).sum())))
-    return {"name": name, "test": _test_label(name), "claim": rows["claim"].iloc[0], "unit": unit, "n": len(rows),
+    return {"name": name, "test": claim_test_label(name), "claim": rows["claim"].iloc[0], "unit": unit, "n": len(rows),
             "expected": EXPECTED.get(name),
             "decided": int(decided.sum()), "ways": [(way, k) for way, k in counts if k],
             "mean": _span(rows["mean"]), "regular": _span(rows["regular"])}
@@ -222,7 +222,7 @@ def renderer_accuracy(benchmarks: dict | None) -> dict:
     """The fast renderer against the exact reference at every view (the configured setting of
     :func:`roughlight.report.page_measurements.validation_line`: its worst view and largest MAE over the
     components) and on random tiles, as "Accuracy at every view" says them."""
-    shown = sections._benchmarks(benchmarks)
+    shown = sections.benchmarks_data(benchmarks)
     if shown is None:
         return {"why": "switched_off"}
     if shown["validation"] is None:
@@ -240,7 +240,7 @@ def speed(benchmarks: dict | None) -> dict:
     """The fast renderer at its default settings against the naive method, from the speed/accuracy benchmark
     (:func:`roughlight.measurements.speed_accuracy.run_benchmark`): views per second and the total's worst
     error and MAE against the exact reference."""
-    if sections._benchmarks(benchmarks) is None:
+    if sections.benchmarks_data(benchmarks) is None:
         return {"why": "switched_off"}
     table = frame_or_none(benchmarks.get("table"))
     if table is None or not {"default", "speedup_vs_naive"} <= set(table.columns):

@@ -46,10 +46,10 @@ def renderer_validation_data(validation: pd.DataFrame, smoothness: pd.DataFrame 
     smoothness = frame_or_none(smoothness)
     worst = smoothness.sort_values("largest_deviation", ascending=False).iloc[0] if smoothness is not None else None
     return {"line": validation_line(validation), "png": existing(png_path), "validation": validation,
-            "smoothness": smoothness, "worst": worst, "tiles": _tile_accuracy(frame_or_none(tiles))}
+            "smoothness": smoothness, "worst": worst, "tiles": tile_accuracy(frame_or_none(tiles))}
 
 
-def _tile_accuracy(accuracy: pd.DataFrame | None) -> dict | None:
+def tile_accuracy(accuracy: pd.DataFrame | None) -> dict | None:
     """Per random kind: the tiles compared, their views, the worst view and the largest MAE over components."""
     if accuracy is None or "kind" not in accuracy:
         return None
@@ -162,13 +162,13 @@ def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
         else:
             value = f"{r['mean']:.3g}" if np.isfinite(r["mean"]) else "–"
         rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
-                     "incidence": r["incidence"], "test": _test_label(r["test"]),
+                     "incidence": r["incidence"], "test": claim_test_label(r["test"]),
                      "regular": r["regular"], "random mean [95% interval]": value, "seeds": r["seeds"],
                      "decided": r["decided"], "why": r["why"], "seeds to decide": r["seeds_to_decide"]})
     return pd.DataFrame(rows)
 
 
-def _test_label(statistic: str) -> str:
+def claim_test_label(statistic: str) -> str:
     """A claim test's name as the page shows it: ``back_phase_shift`` -> ``phase shift``."""
     return statistic.replace("back_", "").replace("_", " ")
 
@@ -177,7 +177,7 @@ def _claim_tests() -> list[dict]:
     """Each test of the claim: its name, the claim it puts and what its statistic shows."""
     from ..analysis.ensembles import CLAIMS
 
-    return [{"test": _test_label(name), "claim": rule["claim"], "shows": rule["shows"],
+    return [{"test": claim_test_label(name), "claim": rule["claim"], "shows": rule["shows"],
              "tolerance": (f"±{rule['absolute']:g}°" if rule["absolute"] is not None
                            else f"±{100 * rule['relative']:g}% of the regular value")}
             for name, rule in CLAIMS.items()]

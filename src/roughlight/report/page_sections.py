@@ -120,7 +120,7 @@ def models_section(tables: dict, figures: dict, provenance: dict) -> dict:
     return out
 
 
-def _section_models(tables: dict, figures: dict, provenance: dict) -> str:
+def models_section_html(tables: dict, figures: dict, provenance: dict) -> str:
     """The report's section: analytic models (its HTML)."""
     return render("models.html", s=models_section(tables, figures, provenance))
 
@@ -166,7 +166,7 @@ def _plain(obj):
     return obj
 
 
-def _benchmarks(benchmarks: dict | None) -> dict | None:
+def benchmarks_data(benchmarks: dict | None) -> dict | None:
     """The speed/accuracy part of the provenance (None: switched off)."""
     if not (benchmarks and (benchmarks.get("png") or benchmarks.get("table") is not None)):
         return None
@@ -188,7 +188,7 @@ def provenance_section(tables: dict, figures: dict, config, provenance: dict, be
     settings, inputs = provenance.get("settings"), provenance.get("inputs")
     return {
         "timings_summary": tables.get("timings_summary") or {}, "timings": timings,
-        "figures": section_figures("provenance", figures), "benchmarks": _benchmarks(benchmarks),
+        "figures": section_figures("provenance", figures), "benchmarks": benchmarks_data(benchmarks),
         "settings": yaml.safe_dump(settings, sort_keys=False) if settings else None,
         "config": yaml.safe_dump(_plain(config), sort_keys=False) if config else None,
         "versions": pd.DataFrame(sorted(versions.items()), columns=["package", "version"]),

@@ -49,7 +49,7 @@ def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float, incidence
     return render("thesis_table.html", t=thesis_table(tables, table, aspect, incidence))
 
 
-def _stat(tables, table, aspect, model, source, metric):
+def table_statistic(tables, table, aspect, model, source, metric):
     sel = tables[(tables["table"] == table) & (np.abs(tables["aspect"] - aspect) <= ASPECT_TOL)
                  & (tables["model"] == model) & (tables["source"] == source)]
     return float(sel[metric].iloc[0]) if len(sel) else float("nan")
@@ -61,10 +61,10 @@ def findings(tables: pd.DataFrame) -> list[dict]:
     for aspect in sorted(tables["aspect"].unique(), reverse=True):
         out.append({
             "label": aspect_label(aspect),
-            "forward_area": _stat(tables, 1, aspect, "Square Area Function", "ours", "Mean Abs Error"),
-            "forward_regressed": _stat(tables, 1, aspect, "Regressed Model", "ours", "Mean Abs Error"),
-            "back_area": _stat(tables, 2, aspect, "Triangle Area Function", "ours", "Mean Abs Error"),
-            "back_regressed": _stat(tables, 2, aspect, "Regressed Model", "ours", "Mean Abs Error"),
+            "forward_area": table_statistic(tables, 1, aspect, "Square Area Function", "ours", "Mean Abs Error"),
+            "forward_regressed": table_statistic(tables, 1, aspect, "Regressed Model", "ours", "Mean Abs Error"),
+            "back_area": table_statistic(tables, 2, aspect, "Triangle Area Function", "ours", "Mean Abs Error"),
+            "back_regressed": table_statistic(tables, 2, aspect, "Regressed Model", "ours", "Mean Abs Error"),
         })
     return out
 
@@ -102,10 +102,10 @@ def implied(scales, at_scale) -> dict | None:
         cols = [c for c in ("scale", "m", "table", "aspect_label", "model", "Mean Abs Error", "Standard Deviation",
                             "b0", "b1", "RSS") if c in at_scale]
         shown = at_scale[cols]
-    return {"scales": scales, "at_scale": shown, "area_wins": shown is not None and _area_still_wins(at_scale)}
+    return {"scales": scales, "at_scale": shown, "area_wins": shown is not None and area_still_wins(at_scale)}
 
 
-def _area_still_wins(at_scale) -> bool:
+def area_still_wins(at_scale) -> bool:
     implied_rows = at_scale[at_scale["scale"] == "implied"]
     area = implied_rows[implied_rows["model"].str.contains("Area")]["Mean Abs Error"]
     regressed = implied_rows[implied_rows["model"] == "Regressed Model"]["Mean Abs Error"]

@@ -156,9 +156,9 @@ def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
     if len(front) == 0:
         return out, det
     offsets = lattice_offsets(surf.height, d)
-    copies = _projected_copies(surf, front, d, offsets)
+    copies = projected_copies(surf, front, d, offsets)
     homes = np.arange(len(front)) * len(offsets)
-    for f, home, idx in zip(front, homes, _overlapping(copies, homes)):
+    for f, home, idx in zip(front, homes, may_overlap(copies, homes)):
         out[f] = _visible_part(surf, f, det, copies, home, idx, grid_size)
     return out, det
 
@@ -182,7 +182,7 @@ class _Copies(NamedTuple):
     axes: np.ndarray
 
 
-def _projected_copies(surf: Facets, front, d, offsets) -> _Copies:
+def projected_copies(surf: Facets, front, d, offsets) -> _Copies:
     """Project the facets ``front`` of every lattice copy at ``offsets`` ((K, 2), ``(0, 0)`` first) along the
     direction with plan shift ``d`` into oblique coordinates."""
     n_off = len(offsets)
@@ -226,11 +226,11 @@ def _visible_part(surf: Facets, f: int, det, copies: _Copies, home: int, idx, gr
     return overlay(shapely.difference, pf, overlay(shapely.union_all, occ, grid_size=grid_size), grid_size=grid_size)
 
 
-#: Most (home, copy) pairs :func:`_overlapping` tests at once.
+#: Most (home, copy) pairs :func:`may_overlap` tests at once.
 PAIRS_AT_ONCE = 4_000_000
 
 
-def _overlapping(copies: _Copies, homes) -> list:
+def may_overlap(copies: _Copies, homes) -> list:
     """For each row of ``homes`` ((H,) rows of ``copies``), the rows whose projection may overlap it in some
     area: bounding boxes overlapping by more than 1e-12 (periods) both ways, then no edge normal of either
     separating them (facets are convex, :func:`roughlight.surfaces.geometry.facet_polygons`, so a separating

@@ -162,7 +162,7 @@ def _check_overlap(both: float, a: float, b: float, whole: float, what: str, gri
                            f"outside [{a + b - whole!r}, {min(a, b)!r}]")
 
 
-def _with_fallback(compute, *args):
+def with_fallback(compute, *args):
     """``compute(*args, grid_size=None)`` in double precision; if GEOS fails or the checks do not hold, again
     snap-rounded to each of :data:`SNAP_GRIDS` in turn (OverlayNG's fixed precision); the last one's error is
     raised if every grid fails."""
@@ -180,7 +180,7 @@ def _with_fallback(compute, *args):
 
 def _lit_regions(surf: Facets, incidence: float, shadows: bool) -> list:
     """Lit part of each facet's plan footprint (shapely geometries)."""
-    return _with_fallback(_lit_regions_at, surf, incidence, shadows)
+    return with_fallback(_lit_regions_at, surf, incidence, shadows)
 
 
 def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, grid_size=None) -> list:
@@ -220,7 +220,7 @@ def _without_slivers(region):
     return area_parts(shapely.union_all(parts)) if parts else shapely.Polygon()
 
 
-class _Scene:
+class LitScene:
     """Everything of a sweep that does not depend on the view."""
 
     def __init__(self, surface: Surface, incidence, shadows):
@@ -238,7 +238,7 @@ class _Scene:
         n = len(self.surf.names)
         if is_grazing_view(elevation):
             return np.zeros(n), np.zeros(n)
-        return _with_fallback(self._areas_at, elevation, azimuth)
+        return with_fallback(self._areas_at, elevation, azimuth)
 
     def _areas_at(self, elevation: float, azimuth: float, grid_size=None) -> tuple[np.ndarray, np.ndarray]:
         n = len(self.surf.names)
@@ -307,7 +307,7 @@ def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
         the facet is wholly shadowed. The facet's true lit area is the plan
         area divided by its normal's ``z``.
     """
-    scene = _Scene(surface, incidence, shadows)
+    scene = LitScene(surface, incidence, shadows)
     return dict(zip(scene.surf.names, scene.lit))
 
 
@@ -336,7 +336,7 @@ def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=T
         top of the full pyramid, the sides of the plate) are absent. "Lit"
         means reached by the light with ``N.L > 0``.
     """
-    scene = _Scene(surface, incidence, shadows)
+    scene = LitScene(surface, incidence, shadows)
     az, el = _check_views(azimuth, elevation)
     if len(az) != 1:
         raise ValueError("visible_lit_areas takes one view; use reference_sweep for many")
@@ -385,7 +385,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     200,000 lattice copies.
     """
     lighting = Lighting() if lighting is None else lighting
-    scene = _Scene(surface, incidence, lighting.shadows)
+    scene = LitScene(surface, incidence, lighting.shadows)
     az, el = _check_views(azimuth, elevation)
     n_views = len(az)
     n_f = len(scene.surf.names)

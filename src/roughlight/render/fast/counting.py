@@ -120,7 +120,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     hidden = np.setdiff1d(np.arange(n_views), whole)
     triangles = region_triangles(regions) if hidden.size else None
     for part, part_settings, matrix, totals in counting_passes(views, hidden, settings):
-        for idx, visible, total, per_tile in _counted_batches(surface.height, triangles, len(regions.rings), views,
+        for idx, visible, total, per_tile in counted_batches(surface.height, triangles, len(regions.rings), views,
                                                               shears, part, part_settings, matrix, totals):
             if total is None:  # near the horizon: the visible pixels alone
                 ratio = visible / per_tile
@@ -151,14 +151,14 @@ def counting_passes(views, hidden, settings):
     grazing = sin_e < np.sin(np.radians(GRAZING_BAND))
     passes = [(hidden[~oriented], settings, settings.sampling_matrix(), True)]
     for part, part_settings, totals in ((hidden[oriented & ~grazing], settings, True),
-                                        (hidden[grazing], _grazing_settings(settings), False)):
+                                        (hidden[grazing], grazing_settings(settings), False)):
         azimuth = np.degrees(np.arctan2(views[part, 1], views[part, 0]))
         matrices, choice = oriented_lattices(int(part_settings.pixels_per_period), azimuth)
         passes += [(part[choice == k], part_settings, matrix, totals) for k, matrix in enumerate(matrices)]
     return [p for p in passes if p[0].size]
 
 
-def _grazing_settings(settings):
+def grazing_settings(settings):
     """The settings of the views within :data:`GRAZING_BAND` of the horizon: ``tile_grazing_scale`` times the
     pixels."""
     from dataclasses import replace
@@ -174,16 +174,16 @@ def _store(lit, shadow, idx, share) -> None:
     shadow[idx] = share[:, 1::2]
 
 
-def _count(surface, regions, views, shears, hidden, settings):
+def counted_pixels(surface, regions, views, shears, hidden, settings):
     """Visible and total pixel counts (H, R) of each region in each of the views ``hidden`` (indices into
-    ``views``, in order), and a tile's pixel count: :func:`_counted_batches` gathered."""
-    batches = list(_counted_batches(surface.height, region_triangles(regions), len(regions.rings), views, shears,
+    ``views``, in order), and a tile's pixel count: :func:`counted_batches` gathered."""
+    batches = list(counted_batches(surface.height, region_triangles(regions), len(regions.rings), views, shears,
                                     hidden, settings))
     per_tile = batches[0][3]
     return (np.concatenate([b[1] for b in batches]), np.concatenate([b[2] for b in batches]), per_tile)
 
 
-def _counted_batches(height, triangles, n_regions, views, shears, hidden, settings, matrix=None, totals=True):
+def counted_batches(height, triangles, n_regions, views, shears, hidden, settings, matrix=None, totals=True):
     """For each framebuffer of the views ``hidden`` (indices into ``views``): those views' indices, their visible
     and total pixel counts (n, R) of each region (the total None unless ``totals``), and a tile's pixel count.
 

@@ -80,9 +80,9 @@ def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
     from shapely.geometry.polygon import orient
 
     from ..exact.clipping import area_parts
-    from ..exact.reference import _Scene
+    from ..exact.reference import LitScene
 
-    scene = _Scene(surface, incidence, shadows)
+    scene = LitScene(surface, incidence, shadows)
     surf = scene.surf
     facet, lit_flag, rings = [], [], []
     for f in range(len(surf.names)):
@@ -105,7 +105,7 @@ def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
                    np.asarray(surf.alpha, float), np.asarray(surf.beta, float))
 
 
-def _edges(regions: Regions):
+def facet_edges(regions: Regions):
     """Every ring edge: start (E, 3), end (E, 3), region (E,)."""
     start, end, owner = [], [], []
     for r, rings in enumerate(regions.rings):
@@ -118,14 +118,14 @@ def _edges(regions: Regions):
     return np.concatenate(start), np.concatenate(end), np.concatenate(owner)
 
 
-def _unique_edges(regions: Regions):
+def unique_edges(regions: Regions):
     """Every edge once: start (E, 3), end (E, 3) and the regions on its two sides (E, 2).
 
     The first side owns the edge's direction (its interior on the left, seen from above). An edge on the cell's
     border is paired with the next period's copy of the edge it meets, whose region is then its second side; -1
     where no copy matches vertex for vertex.
     """
-    start, end, owner = _edges(regions)
+    start, end, owner = facet_edges(regions)
     rounded = [(tuple(a), tuple(b)) for a, b in zip(np.round(start, 9), np.round(end, 9))]
     # polygon clipping can leave zero-width spikes, an edge there and back within one region: they bound nothing
     ring = set(zip(rounded, owner.tolist()))
@@ -152,7 +152,7 @@ def _unique_edges(regions: Regions):
     return start[kept], end[kept], sides[kept]
 
 
-def _front(regions: Regions, owner, shear) -> np.ndarray:
+def front_facing(regions: Regions, owner, shear) -> np.ndarray:
     """(V, E) True where the edge's facet faces the view (its projection has positive area)."""
     f = regions.facet[owner]
     det = 1.0 - regions.alpha[f][None, :] * shear[:, 0:1] - regions.beta[f][None, :] * shear[:, 1:2]
@@ -167,7 +167,7 @@ def all_facing(regions: Regions, shear) -> np.ndarray:
     its exact projected area (:func:`area_shares`), with no rendering.
     """
     shear = np.atleast_2d(np.asarray(shear, float))
-    return np.all(_front(regions, np.arange(len(regions.facet)), shear), axis=1)
+    return np.all(front_facing(regions, np.arange(len(regions.facet)), shear), axis=1)
 
 
 def area_shares(regions: Regions, shear):
@@ -189,13 +189,13 @@ def area_shares(regions: Regions, shear):
 
 def _areas(regions: Regions, shear) -> np.ndarray:
     """(V, R) each region's projected area in periods, 0 where its facet faces away (shoelace over the edges)."""
-    start, end, owner = _edges(regions)
+    start, end, owner = facet_edges(regions)
     n_views, n_regions = len(shear), len(regions.rings)
     if len(owner) == 0:
         return np.zeros((n_views, n_regions))
     identity = np.eye(2)
     a, b = _project(start, shear, identity, (0.0, 0.0)), _project(end, shear, identity, (0.0, 0.0))
-    cross = (a[..., 0] * b[..., 1] - b[..., 0] * a[..., 1]) * _front(regions, owner, shear)
+    cross = (a[..., 0] * b[..., 1] - b[..., 0] * a[..., 1]) * front_facing(regions, owner, shear)
     key = np.arange(n_views)[:, None] * n_regions + owner[None, :]
     areas = np.bincount(key.ravel(), weights=0.5 * cross.ravel(), minlength=n_views * n_regions)
     return areas.reshape(n_views, n_regions)
@@ -241,11 +241,11 @@ def counts_and_areas(regions: Regions, shear, matrix, shift=(0.0, 0.0)):
         them) and the polygon's area in periods (0 where the facet faces away).
     """
     shear = np.atleast_2d(np.asarray(shear, float))
-    start, end, owner = _edges(regions)
+    start, end, owner = facet_edges(regions)
     n_views, n_regions = len(shear), len(regions.rings)
     if len(owner) == 0:
         return np.zeros((n_views, n_regions)), np.zeros((n_views, n_regions))
-    front = _front(regions, owner, shear)
+    front = front_facing(regions, owner, shear)
     a, b = _project(start, shear, matrix, shift), _project(end, shear, matrix, shift)
     key = np.arange(n_views)[:, None] * n_regions + owner[None, :]
     # crossing sums: each edge adds, on every pixel-centre row it spans, the pixel centres left of it (+ going up,
@@ -276,7 +276,7 @@ def edge_steps(regions: Regions, sides, shear, values) -> np.ndarray:
     ----------
     regions : Regions
     sides : (E, 2) int array
-        The regions on each edge's two sides (:func:`_unique_edges`), -1 for none.
+        The regions on each edge's two sides (:func:`unique_edges`), -1 for none.
     shear : (V, 2) array
         Each view's plan shift ``d``.
     values : (3, V, R) array
@@ -286,7 +286,7 @@ def edge_steps(regions: Regions, sides, shear, values) -> np.ndarray:
     (a silhouette, whose other facet faces away, or an unpaired cell border) can have any region in view behind
     it: its step is the largest from its region to any region facing the view.
     """
-    facing = _front(regions, np.arange(len(regions.facet)), shear)
+    facing = front_facing(regions, np.arange(len(regions.facet)), shear)
     first, second = sides[:, 0], np.maximum(sides[:, 1], 0)
     f0, f1 = facing[:, first], facing[:, second] & (sides[:, 1] >= 0)[None, :]
     q0, q1 = values[:, :, first], values[:, :, second]
@@ -308,7 +308,7 @@ def value_discrepancy(start, end, steps, shear, matrix, shift=(0.0, 0.0)) -> np.
     Parameters
     ----------
     start, end : (E, 3) arrays
-        The edges (:func:`_unique_edges`).
+        The edges (:func:`unique_edges`).
     steps : (V, E) array
         :func:`edge_steps`; edges with no step are not walked.
     shear, matrix, shift
@@ -426,7 +426,7 @@ def choose_lattices(regions: Regions, shear, matrices, shifts, values):
         The best lattice's value discrepancy, 8-bit levels.
     """
     shear = np.atleast_2d(np.asarray(shear, float))
-    start, end, sides = _unique_edges(regions)
+    start, end, sides = unique_edges(regions)
     steps = edge_steps(regions, sides, shear, values)
     scores = np.array([value_discrepancy(start, end, steps, shear, m, s) for m, s in zip(matrices, shifts)])
     order = np.argsort(scores, axis=0, kind="stable")[:AVERAGED]

@@ -104,7 +104,7 @@ OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software
 _INCLUDE = re.compile(r'^#include\s+"([A-Za-z0-9_.]+)"\s*$', re.MULTILINE)
 
 
-class _Program(ShaderProgram):
+class Program(ShaderProgram):
     """pyrender's shader program with one more directive: ``#include "file"`` (a file of the same
     directory, its defines applied as to the includer), so that two stages can share GLSL functions."""
 
@@ -129,7 +129,7 @@ class ShaderCache:
         key = (vertex_shader, fragment_shader, tuple(sorted(defines.items())))
         program = self._programs.get(key)
         if program is None:
-            program = _Program(
+            program = Program(
                 vertex_shader=os.path.join(self.shader_dir, vertex_shader),
                 fragment_shader=os.path.join(self.shader_dir, fragment_shader),
                 defines=defines,

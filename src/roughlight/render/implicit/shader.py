@@ -187,9 +187,9 @@ def shader_sources(model: str) -> tuple[str, str]:
     Set the uniforms :func:`roughlight.render.implicit.model.shader_uniforms` gives, plus ``camera`` (world -> clip),
     ``field_size`` (N), ``scene_view`` (unit vector toward the detector) and ``fb_width`` (pixels), and draw
     one quad over ``[0, N]^2`` of the plane ``z = 0`` (:func:`render_field`)."""
-    from ..gl.context import SHADER_DIR, _Program
+    from ..gl.context import SHADER_DIR, Program
 
-    program = _Program.__new__(_Program)  # only its source loader: no GL context is needed
+    program = Program.__new__(Program)  # only its source loader: no GL context is needed
     program.defines = scene_defines(model)
     return tuple(program._load(f"{SHADER_DIR}/implicit.{stage}") for stage in ("vert", "frag"))
 

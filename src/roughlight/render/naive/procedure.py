@@ -55,7 +55,7 @@ class CompiledShaders(_PyrenderShaders):
         pass
 
 
-def _up_vector(view: np.ndarray) -> np.ndarray:
+def up_vector(view: np.ndarray) -> np.ndarray:
     """Image 'up': the direction of increasing elevation (keeps the horizon level)."""
     e = math.asin(max(-1.0, min(1.0, view[2])))
     phi = math.atan2(view[1], view[0]) if abs(math.cos(e)) > 1e-12 else 0.0
@@ -64,7 +64,7 @@ def _up_vector(view: np.ndarray) -> np.ndarray:
     return np.array([-math.sin(e) * math.cos(phi), -math.sin(e) * math.sin(phi), math.cos(e)])
 
 
-def _look_pose(direction: np.ndarray, up: np.ndarray, distance: float) -> np.ndarray:
+def look_pose(direction: np.ndarray, up: np.ndarray, distance: float) -> np.ndarray:
     """Camera (or light) pose at ``distance * direction`` looking back at the origin."""
     z = direction / np.linalg.norm(direction)
     x = np.cross(up, z)
@@ -120,7 +120,7 @@ def patch_mesh(surface: Surface, periods: int, averaged_normals: bool = False):
     return mesh
 
 
-class _NaiveScene:
+class NaiveScene:
     """The thesis's set-up in pyrender as it comes: a finite patch, an orthographic
     camera orbiting it, one DirectionalLight whose shadow map pyrender redraws on
     every render."""
@@ -148,7 +148,7 @@ class _NaiveScene:
         light_dir = shading.light_direction(incidence)
         light = pyrender.DirectionalLight(color=np.ones(3), intensity=float(lighting.light) / 255.0)
         up = np.array([0.0, 0.0, 1.0]) if abs(light_dir[2]) < 0.99 else np.array([1.0, 0.0, 0.0])
-        self.scene.add(light, pose=_look_pose(light_dir, up, 10.0))
+        self.scene.add(light, pose=look_pose(light_dir, up, 10.0))
         half_width = view_periods / 2.0
         camera = pyrender.OrthographicCamera(
             xmag=half_width, ymag=half_width * self.size[1] / self.size[0], znear=0.05, zfar=4.0 * periods + 20.0
@@ -162,7 +162,7 @@ class _NaiveScene:
 
     def render(self, renderer, view, jitter=(0.0, 0.0)):
         pyrender = self.pyrender
-        pose = _look_pose(view, _up_vector(view), self.distance)
+        pose = look_pose(view, up_vector(view), self.distance)
         pixel = 2.0 * self.camera_node.camera.xmag / self.size[0]  # world units per pixel
         pose[:3, 3] += pixel * (jitter[0] * pose[:3, 0] + jitter[1] * pose[:3, 1])
         self.scene.set_pose(self.camera_node, pose)
@@ -177,7 +177,7 @@ class _NaiveScene:
         return color, depth
 
 
-_NAIVE_RENDERERS: dict = {}
+NAIVE_RENDERERS: dict = {}
 
 
 #: The naive method as it comes: a 400 x 300 window spanning 40 periods (10 pixels a period).
@@ -192,15 +192,15 @@ NAIVE_SHADOW_MAP = SHADOW_TEX_SZ
 
 
 def _naive_renderer(size):
-    renderer = _NAIVE_RENDERERS.get(size)
+    renderer = NAIVE_RENDERERS.get(size)
     if renderer is None:
-        for other in list(_NAIVE_RENDERERS.values()):
+        for other in list(NAIVE_RENDERERS.values()):
             other.delete()
-        _NAIVE_RENDERERS.clear()
+        NAIVE_RENDERERS.clear()
         release_contexts()  # the fast method's too: one OSMesa context at a time
         renderer = import_pyrender().OffscreenRenderer(*size)
         renderer._renderer._program_cache = _PyrenderShaders()
-        _NAIVE_RENDERERS[size] = renderer
+        NAIVE_RENDERERS[size] = renderer
     return renderer
 
 
@@ -231,7 +231,7 @@ def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, 
     elevation = np.atleast_1d(np.asarray(elevation, float))
     periods = _patch_periods(view_periods * capture / window[0], lowest_elevation)
     # the scene first: it checks the shading model before any OpenGL context is made
-    scene = _NaiveScene(surface, incidence, lighting, window, periods, view_periods, shading_model)
+    scene = NaiveScene(surface, incidence, lighting, window, periods, view_periods, shading_model)
     renderer = _naive_renderer(tuple(window))
     views = shading.view_direction(elevation, azimuth)
     out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
@@ -262,7 +262,7 @@ def render_picture(surface: Surface, incidence, elevation, azimuth, lighting=Non
     """
     lighting = lighting or shading.Lighting()
     patch = _patch_periods(periods, max(float(elevation), 1.0))
-    scene = _NaiveScene(surface, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods,
+    scene = NaiveScene(surface, shading.check_incidence(incidence), lighting, size, min(patch, 201), periods,
                         shading_model)
     renderer = _naive_renderer(tuple(size))
     view = shading.view_direction(float(elevation), float(azimuth))

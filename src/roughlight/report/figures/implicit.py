@@ -45,7 +45,7 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
     save_figure(fig, path, dpi=120)
 
 
-def _map_panel(fig, ax, cur, ref, method, component, surface) -> None:
+def map_panel(fig, ax, cur, ref, method, component, surface) -> None:
     """The exact map of one surface (15 bands from 0 to its maximum), or an implicit model's difference from it
     on a symmetric scale (16 bands), drawn from the measured views (:func:`.common.hemisphere_map`). ``cur`` and
     ``ref``: the method's and the reference's rows of one surface, ``azimuth`` and ``elevation`` in degrees and
@@ -87,6 +87,6 @@ def plot_implicit_maps(maps, path, component: str = "total") -> None:
         ref = sel[sel.method == "reference"].sort_values(["azimuth", "elevation"])
         for ax, method in zip(row, columns):
             cur = sel[sel.method == method].sort_values(["azimuth", "elevation"])
-            _map_panel(fig, ax, cur, ref, method, component, (t, a, i))
+            map_panel(fig, ax, cur, ref, method, component, (t, a, i))
     fig.tight_layout()
     save_figure(fig, path, dpi=110)

@@ -85,7 +85,7 @@ def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
     save_figure(fig, path)
 
 
-def _random_map(fig, ax, sel, kind, surface) -> None:
+def random_map(fig, ax, sel, kind, surface) -> None:
     """One kind's map (the regular surface, or one seed) from its measured views, on its own scale (15 bands from
     0 to its maximum): the shapes are compared, not the levels. ``sel``: the sweep's rows of one component
     (``azimuth``, ``elevation`` in degrees, ``rough`` 0-255), each view once; ``surface`` (truncation, aspect,
@@ -125,7 +125,7 @@ def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", see
         for ax, kind in zip(row, kinds):
             sel = at[at["kind"].astype(str) == kind]
             sel = sel[sel["seed"] == (0 if kind == "pyramids" else sel["seed"].min())]
-            _random_map(fig, ax, sel, kind, (t, a, i))
+            random_map(fig, ax, sel, kind, (t, a, i))
     fig.suptitle(f"{component} (0-255), each map on its own scale", fontsize=9)
     fig.tight_layout()
     save_figure(fig, path)
