@@ -113,3 +113,41 @@ def test_validation_accepts_exactly_the_valid_grids(truncation, aspect, incidenc
     else:
         with pytest.raises(rl_config.ConfigError):
             rl_config.validate_config(copy.deepcopy(cfg), SCHEMA)
+
+
+# ---------------------------------------------------------------------------
+# the defaults are written in three places: the schema, the code's types, the shipped config
+
+
+def _leaves(tree: dict, path=()):
+    for key, value in tree.items():
+        if isinstance(value, dict):
+            yield from _leaves(value, path + (key,))
+        else:
+            yield path + (key,), value
+
+
+def test_the_codes_defaults_are_the_schemas():
+    """An empty config's lighting and renderer (the schema's defaults) are Lighting()'s and RenderSettings()'s."""
+    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.shading import Lighting
+
+    cfg = rl_config.validate_config({}, SCHEMA)
+    assert rl_config.lighting_from_config(cfg) == Lighting()
+    render = rl_config.render_settings_from_config(cfg, random_tiles=True)
+    code = RenderSettings()
+    assert {key: getattr(code, key) for key in render} == render
+
+
+def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_and_kinds():
+    """config/config.yaml writes most defaults out for its readers: each equals the schema's. Only the study's own
+    choices differ: its grid (the thesis's, with sqrt(3)/2) and its surfaces (the random kinds and their seeds)."""
+    defaults = rl_config.validate_config({}, SCHEMA)
+    differ = []
+    for path, value in _leaves(default_config()):
+        here = defaults
+        for key in path:
+            here = here.get(key, "<no default>") if isinstance(here, dict) else "<no default>"
+        if here != value:
+            differ.append(path)
+    assert {path[0] for path in differ} <= {"grid", "surface"}, differ

@@ -3,6 +3,7 @@ import os
 
 try:
     from roughlight.study import config as rl_config
+    from roughlight.study import runs as rl_runs
     from roughlight.report import registry as rl_registry
     from roughlight.measurements import stability as rl_stability
 except (
@@ -58,34 +59,12 @@ def followed_params(wildcards):
 
 
 def check_results_writable(directory="results", probe=False):
-    """Stop before any job if results/ cannot be written (one message, nothing touched).
-
-    Without `probe` only looks (it runs while the workflow is parsed, dry runs too);
-    with it, also writes and removes a probe file (at the start of a real run).
-    """
-    import tempfile
-
-    problem = None
-    if os.path.exists(directory) and not os.path.isdir(directory):
-        problem = "it exists but is not a directory"
-    elif os.path.isdir(directory) and not os.access(directory, os.W_OK | os.X_OK):
-        problem = "permission denied"
-    elif not os.path.exists(directory) and not os.access(
-        os.path.dirname(os.path.abspath(directory)), os.W_OK
-    ):
-        problem = "it cannot be created here"
-    elif probe:
-        try:
-            os.makedirs(directory, exist_ok=True)
-            with tempfile.NamedTemporaryFile(dir=directory, prefix=".write-check-"):
-                pass
-        except OSError as exc:
-            problem = str(exc)
+    """Stop before any job if results/ cannot be written (one message, nothing touched): looks while the
+    workflow is parsed, and with `probe` writes a probe file at the start of a real run
+    (roughlight.study.runs.results_problem)."""
+    problem = rl_runs.results_problem(directory, probe=probe)
     if problem:
-        raise WorkflowError(
-            f"{directory}/ is not writable ({problem}): make it a writable directory "
-            "(or run from a directory where it can be created) and rerun; nothing was computed or removed"
-        )
+        raise WorkflowError(rl_runs.not_writable_message(directory, problem))
 
 
 def check_osmesa():
@@ -337,35 +316,16 @@ def figure_outputs(rendered):
 
 # One run at a time in a directory, and a killed run never blocks the next: the workflow holds an
 # OS-level lock (flock) on .snakemake/roughlight.lock from its start (onstart, so dry runs, --lint and
-# runs with nothing to do never take it) until its process ends; the kernel releases it when that process
-# dies, even by SIGKILL. Job processes and cluster jobs run without hooks and never take it.
-RUN_LOCK = ".snakemake/roughlight.lock"
+# runs with nothing to do never take it) until its process ends (roughlight.study.runs). Job processes and
+# cluster jobs run without hooks and never take it.
 _run_lock = []
 
 
-def acquire_run_lock(path=RUN_LOCK):
+def acquire_run_lock():
     """Take the directory's run lock or stop at once, naming the run that holds it; nothing is touched."""
-    import fcntl
     import sys
-    import time
 
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    fd = os.open(path, os.O_RDWR | os.O_CREAT, 0o644)
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except BlockingIOError:
-        holder = (
-            os.pread(fd, 4096, 0).decode("utf-8", "replace").strip()
-            or "another snakemake process"
-        )
-        os.close(fd)
-        raise WorkflowError(
-            f"another run of this workflow is active in {os.getcwd()} ({holder}): wait for it to finish, or "
-            "stop it and rerun; this run stopped before touching anything"
-        )
-    os.ftruncate(fd, 0)
-    started = time.strftime("%Y-%m-%d %H:%M:%S")
-    os.pwrite(
-        fd, f"pid {os.getpid()}, started {started}: {' '.join(sys.argv)}".encode(), 0
-    )
-    _run_lock.append(fd)  # held until this process ends
+        _run_lock.append(rl_runs.acquire_run_lock(rl_runs.RUN_LOCK, " ".join(sys.argv)))
+    except rl_runs.RunLocked as exc:
+        raise WorkflowError(str(exc))
