@@ -2,6 +2,7 @@
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -310,3 +311,17 @@ def test_naive_method_refuses_unshadowed_specular():
 
     with pytest.raises(ValueError, match="render.specular_shadows"):
         naive_sweep(Surface(1.0, 1.0), 30, [0.0], [60.0], Lighting(specular_shadows=False))
+
+
+def test_one_lighting_equation_in_glsl():
+    """Every program's lighting is lighting.glsl's: each shader that lights a surface includes it, and no other
+    shader file computes a specular power."""
+    from roughlight.render.gl.context import SHADER_DIR
+
+    shaders = {p.name: p.read_text() for p in Path(SHADER_DIR).iterdir()}
+    assert "pow(" in shaders["lighting.glsl"]
+    assert [name for name, text in shaders.items() if "pow(" in text] == ["lighting.glsl"]
+    for name in ("periodic.frag", "implicit_model.glsl", "naive.vert", "naive.frag"):
+        assert '#include "lighting.glsl"' in shaders[name], name
+    for name in ("implicit.vert", "implicit.frag"):
+        assert '#include "implicit_model.glsl"' in shaders[name], name

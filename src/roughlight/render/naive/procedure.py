@@ -21,7 +21,7 @@ from ...surfaces import geometry
 from ...surfaces.surface import Surface
 from .. import shading
 from .. import views as sweeps
-from ..gl.context import SHADER_DIR, SHADOW_TEX_SZ, PyrenderShaderCache, import_pyrender, release_contexts
+from ..gl.context import SHADER_DIR, SHADOW_TEX_SZ, Program, PyrenderShaderCache, import_pyrender, release_contexts
 from ..shading import SHADINGS
 
 
@@ -32,12 +32,18 @@ class _PyrenderShaders(PyrenderShaderCache):
     shading = "flat"
 
     def get_program(self, vertex_shader, fragment_shader, geometry_shader=None, defines=None):
-        if fragment_shader == "mesh.frag":
-            vertex_shader = os.path.join(SHADER_DIR, "naive.vert")
-            fragment_shader = os.path.join(SHADER_DIR, "naive.frag")
-            if self.shading == "gouraud":
-                defines = {**(defines or {}), "GOURAUD": 1}
-        return super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
+        if fragment_shader != "mesh.frag":
+            return super().get_program(vertex_shader, fragment_shader, geometry_shader, defines)
+        # ours, compiled with the study's `#include` (lighting.glsl) and keyed as pyrender keys its own programs
+        import OpenGL.contextdata
+
+        defines = {**(defines or {}), **({"GOURAUD": 1} if self.shading == "gouraud" else {})}
+        key = ("naive", OpenGL.contextdata.getContext(), tuple(sorted(defines.items())))
+        if key not in self._program_cache:
+            self._program_cache[key] = Program(vertex_shader=os.path.join(SHADER_DIR, "naive.vert"),
+                                               fragment_shader=os.path.join(SHADER_DIR, "naive.frag"),
+                                               defines=defines)
+        return self._program_cache[key]
 
 
 class CompiledShaders(_PyrenderShaders):

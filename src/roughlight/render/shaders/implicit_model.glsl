@@ -6,9 +6,9 @@
 //
 // Facets, in order: 0 top, 1 east (+x), 2 west (-x), 3 north (+y), 4 south (-y);
 // with s = 2a the side facet facing h has the normal (s h, 1), normalised.
-// Lighting equation (as roughlight.shading and periodic.frag):
-//   I = J (m_a A + m_d max(N.L, 0) + m_s S), S = max(R.V, 0)^zeta (Phong) or
-//   max(N.H, 0)^zeta (Blinn), S = 0 where N.L <= 0; shadowed: ambient only.
+// Lighting equation: lighting.glsl (as roughlight.render.shading); shadowed: ambient only.
+
+#include "lighting.glsl"
 
 uniform int model;                 // 0 exact form, 1 first-order correction
 uniform float truncation;          // t in [0, 1]
@@ -40,19 +40,9 @@ vec3 shade(vec3 N, vec3 V, bool lit)
     float ndotl = dot(N, L);
     float on = (lit && ndotl > 0.0) ? 1.0 : 0.0;
     float spec_on = (specular_shadows == 1) ? on : (ndotl > 0.0 ? 1.0 : 0.0);
-    float spec = 0.0;
-    if (spec_on > 0.0) {
-        float base;
-        if (specular_model == 0) {
-            base = max(dot(2.0 * ndotl * N - L, V), 0.0);
-        } else {
-            base = max(dot(N, normalize(L + V)), 0.0);
-        }
-        spec = (shininess == 0.0) ? 1.0 : pow(base, shininess);
-    }
-    float diffuse = light * (ambient_term + on * diffuse_reflectance * max(ndotl, 0.0));
-    float specular = light * spec_on * specular_reflectance * spec;
-    return vec3(diffuse, specular, diffuse + specular);
+    float spec = (spec_on > 0.0) ? specular_power(N, L, V, ndotl, specular_model == 1, shininess) : 0.0;
+    return lit_components(light, ambient_term, diffuse_reflectance, specular_reflectance, on, max(ndotl, 0.0),
+                          spec_on, spec);
 }
 
 // First-order correction: the lit and shadowed share of each facet, facets in

@@ -71,6 +71,8 @@ float shadow_calc(mat4 light_matrix, sampler2D shadow_map, float nl) {
 }
 #endif
 
+#include "lighting.glsl"
+
 void main()
 {
     vec4 factors = vec4(1.0, 1.0, 0.0, 0.5);
@@ -96,15 +98,12 @@ void main()
         lit = 1.0 - shadow_calc(directional_lights[0].light_matrix, directional_lights[0].shadow_map, clamp(ndotl, 0.0, 1.0));
     }
 #endif
-    float base = blinn > 0.5 ? max(dot(N, normalize(L + view)), 0.0) : max(dot(2.0 * ndotl * N - L, view), 0.0);
-    float s = ndotl > 0.0 ? ((shininess == 0.0) ? 1.0 : pow(base, shininess)) : 0.0;
 #ifdef GOURAUD
     // the angular terms come from the vertices; only the shadow is per fragment
-    float diffuse = J * (ambient_term + lit * m_d * vertex_light.x);
-    s = vertex_light.y;
+    vec3 I = lit_components(J, ambient_term, m_d, m_s, lit, vertex_light.x, lit, vertex_light.y);
 #else
-    float diffuse = J * (ambient_term + lit * m_d * max(ndotl, 0.0));
+    float s = ndotl > 0.0 ? specular_power(N, L, view, ndotl, blinn > 0.5, shininess) : 0.0;
+    vec3 I = lit_components(J, ambient_term, m_d, m_s, lit, max(ndotl, 0.0), lit, s);
 #endif
-    float specular = J * lit * m_s * s;
-    frag_color = vec4(diffuse, specular, diffuse + specular, 1.0);
+    frag_color = vec4(I, 1.0);
 }

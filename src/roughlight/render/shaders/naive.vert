@@ -44,6 +44,8 @@ out vec3 frag_normal;
 out vec2 vertex_light;   // (max(N.L, 0), S) at this vertex
 #endif
 
+#include "lighting.glsl"
+
 void main()
 {
     gl_Position = P * V * M * inst_m * vec4(position, 1.0);
@@ -60,8 +62,7 @@ void main()
     vec3 L = normalize(-directional_lights[0].direction);
     vec3 view = normalize(vec3(V[0][2], V[1][2], V[2][2]));
     float ndotl = dot(N, L);
-    float base = blinn > 0.5 ? max(dot(N, normalize(L + view)), 0.0) : max(dot(2.0 * ndotl * N - L, view), 0.0);
-    float s = ndotl > 0.0 ? ((shininess == 0.0) ? 1.0 : pow(base, shininess)) : 0.0;
+    float s = ndotl > 0.0 ? specular_power(N, L, view, ndotl, blinn > 0.5, shininess) : 0.0;
     vertex_light = vec2(max(ndotl, 0.0), s);
 #endif
 }

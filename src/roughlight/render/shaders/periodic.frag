@@ -1,8 +1,6 @@
 #version 330 core
-// The OpenGL lighting equation of the study, per fragment, flat facets:
-//   I = J (m_a A + m_d max(N.L, 0) + m_s S),
-//   S = max(R.V, 0)^zeta (Phong, R = 2 (N.L) N - L) or max(N.H, 0)^zeta (Blinn),
-//   S = 0 where N.L <= 0; shadowed fragments keep the ambient term only (periodic_shadow.glsl).
+// The OpenGL lighting equation of the study (lighting.glsl), per fragment, flat facets; shadowed fragments keep the
+// ambient term only (periodic_shadow.glsl).
 // Output channels (each stored as an 8-bit value by the framebuffer):
 //   r = diffuse (with ambient), g = specular, b = total, a = 1 (coverage);
 //   with FACET_IDS (adaptive sampling) the facet and whether it is lit instead (see the end of main).
@@ -25,6 +23,7 @@ uniform int specular_shadows;      // 1: shadows take the specular too; 0: the t
 
 out vec4 frag_color;
 
+#include "lighting.glsl"
 #include "periodic_shadow.glsl"
 
 void main()
@@ -34,25 +33,15 @@ void main()
     vec3 V = frag_view;
     float ndotl = dot(N, L);
     float lit = lit_by_light(N, ndotl, 0.0);
-    float s = 0.0;
     float spec_lit = (specular_shadows == 1) ? lit : (ndotl > 0.0 ? 1.0 : 0.0);
-    if (spec_lit > 0.0) {
-        float base;
-        if (specular_model == 0) {
-            vec3 R = 2.0 * ndotl * N - L;
-            base = max(dot(R, V), 0.0);
-        } else {
-            base = max(dot(N, normalize(L + V)), 0.0);
-        }
-        s = (shininess == 0.0) ? 1.0 : pow(base, shininess);
-    }
-    float diffuse = light * (ambient_term + lit * diffuse_reflectance * max(ndotl, 0.0));
-    float specular = light * spec_lit * specular_reflectance * s;
+    float s = (spec_lit > 0.0) ? specular_power(N, L, V, ndotl, specular_model == 1, shininess) : 0.0;
+    vec3 I = lit_components(light, ambient_term, diffuse_reflectance, specular_reflectance, lit, max(ndotl, 0.0),
+                            spec_lit, s);
 #ifdef FACET_IDS
     // which facet, lit or not: id = 2 facet + lit + 1 in 16 bits (red low byte, green high byte); 0 = no surface
     float id = 2.0 * frag_facet + lit + 1.0;
     frag_color = vec4(mod(id, 256.0), floor(id / 256.0), 0.0, 255.0) / 255.0;
 #else
-    frag_color = vec4(diffuse, specular, diffuse + specular, 1.0);
+    frag_color = vec4(I, 1.0);
 #endif
 }
