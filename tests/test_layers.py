@@ -68,7 +68,7 @@ def test_a_stage_imports_only_the_stages_below_it(module):
 #: (``measure``, ``pictures``) reach every method
 RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
                 "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}}
-RENDER_GROUND = {"render.__init__", "render.shading", "render.views"}
+RENDER_GROUND = {"render.__init__", "render.shading", "render.views", "render.sweep"}
 
 
 def render_room(module: str) -> str:

@@ -57,7 +57,13 @@ def view_grid(elevation_step: float = 1.0, azimuth_step: float = 5.0) -> tuple[n
     return azimuth.ravel(), elevation.ravel()
 
 
+#: ... or whose sine is below this (within about 6e-8 degrees of 0 or 180).
+GRAZING_SIN = 1e-9
+
+
 def is_grazing(elevation) -> np.ndarray:
-    """True where the view lies in the surface plane (``e`` = 0 or 180)."""
+    """True where the view lies in the surface plane (``e`` = 0 or 180): the one grazing rule of every method
+    (:mod:`roughlight.render.sweep` leaves these views at zero)."""
     e = np.asarray(elevation, float)
-    return (np.abs(e) <= GRAZING_TOLERANCE_DEG) | (np.abs(e - 180.0) <= GRAZING_TOLERANCE_DEG)
+    return ((np.abs(e) <= GRAZING_TOLERANCE_DEG) | (np.abs(e - 180.0) <= GRAZING_TOLERANCE_DEG)
+            | (np.abs(np.sin(np.radians(e))) < GRAZING_SIN))

@@ -45,9 +45,8 @@ once per sweep and stored as a region of the facet's plan footprint (its
 
 Conventions shared with the renderer (:mod:`roughlight.render.fast.periodic`)
 ------------------------------------------------------------------
-* Grazing views, ``e`` = 0 or 180 (``sweeps.is_grazing`` or
-  ``|sin e| < 1e-9``): the detector sees no area; every component and the
-  coverage are 0.
+* Grazing views, ``e`` = 0 or 180 (:func:`roughlight.render.views.is_grazing`, the one grazing rule of
+  :mod:`roughlight.render.sweep`): the detector sees no area; every component and the coverage are 0.
 * ``lighting.shadows`` true and the light in the plane (``Lz < 1e-9``, i.e.
   incidence 0) on a non-flat surface: every point is shadowed (ambient only).
   The plate casts no shadow; its ``N.L`` is then 0 and it is ambient-only
@@ -79,8 +78,10 @@ import shapely.errors
 from shapely import affinity
 
 from ...surfaces.surface import Surface
-from .. import views as sweeps
+from .. import sweep
 from ..shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
+from ..sweep import sweep_views
+from ..views import is_grazing
 from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
 
 __all__ = [
@@ -90,7 +91,6 @@ __all__ = [
     "reference_views",
     "visible_lit_areas",
     "lit_footprints",
-    "is_grazing_view",
 ]
 
 #: Bound on |reference - exact value| of each component, on the 0-255 scale,
@@ -129,18 +129,7 @@ def snapped_tolerance(grid_size: float) -> float:
 
 #: Light grazing the plane (matches the renderer's ``light_dir[2] < 1e-9``).
 _GRAZING_LIGHT = 1e-9
-#: Views with |sin e| below this are grazing.
-_GRAZING_SIN = 1e-9
 
-
-def is_grazing_view(elevation) -> np.ndarray:
-    """True where a view lies in the surface plane (``e`` = 0 or 180 degrees).
-
-    The union of :func:`roughlight.render.views.is_grazing` (within 1e-9 deg) and
-    ``|sin e| < 1e-9``.
-    """
-    e = np.asarray(elevation, float)
-    return np.asarray(sweeps.is_grazing(e)) | (np.abs(np.sin(np.radians(e))) < _GRAZING_SIN)
 
 
 def _check_sum(total: float, what: str, grid_size=None) -> None:
@@ -236,7 +225,7 @@ class LitScene:
     def areas(self, elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray]:
         """Visible-lit and visible-shadowed area of each facet, one view (0 if grazing)."""
         n = len(self.surf.names)
-        if is_grazing_view(elevation):
+        if is_grazing(elevation):
             return np.zeros(n), np.zeros(n)
         return with_fallback(self._areas_at, elevation, azimuth)
 
@@ -268,18 +257,6 @@ class LitScene:
                            f"facet {self.surf.names[f]}, view (e={elevation}, phi={azimuth})", grid_size)
             lit[f] = min(both, vis[f])
         return lit, vis - lit
-
-
-def _check_views(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
-    az = np.atleast_1d(np.asarray(azimuth, float))
-    el = np.atleast_1d(np.asarray(elevation, float))
-    az, el = np.broadcast_arrays(az, el)
-    az, el = az.ravel(), el.ravel()
-    if not np.all(np.isfinite(az)):
-        raise ValueError("azimuth must be finite (degrees)")
-    if not np.all(np.isfinite(el) & (el >= 0.0) & (el <= 180.0)):
-        raise ValueError("elevation must be within [0, 180] degrees")
-    return az, el
 
 
 # ---------------------------------------------------------------------------
@@ -337,10 +314,10 @@ def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=T
         means reached by the light with ``N.L > 0``.
     """
     scene = LitScene(surface, incidence, shadows)
-    az, el = _check_views(azimuth, elevation)
-    if len(az) != 1:
+    views = sweep_views(azimuth, elevation)
+    if len(views) != 1:
         raise ValueError("visible_lit_areas takes one view; use reference_sweep for many")
-    lit, shadow = scene.areas(float(el[0]), float(az[0]))
+    lit, shadow = scene.areas(float(views.elevation[0]), float(views.azimuth[0]))
     return {name: (float(a), float(b)) for name, a, b in zip(scene.surf.names, lit, shadow)}
 
 
@@ -356,7 +333,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         Light elevation above the surface plane ``i``, degrees in [0, 90];
         the light is at azimuth 0: ``L = (cos i, 0, sin i)``.
     azimuth, elevation : array_like, degrees
-        The views (broadcast together, flattened to ``n_views``): view
+        The views (one shape, flattened to ``n_views``; :func:`roughlight.render.sweep.sweep_views`): view
         azimuth ``phi`` (the study uses [0, 180)) and elevation ``e`` in
         [0, 180]; ``V = (cos e cos phi, cos e sin phi, sin e)``, so ``e > 90``
         looks from the far side of the zenith.
@@ -386,21 +363,20 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     """
     lighting = Lighting() if lighting is None else lighting
     scene = LitScene(surface, incidence, lighting.shadows)
-    az, el = _check_views(azimuth, elevation)
-    n_views = len(az)
-    n_f = len(scene.surf.names)
-    lit = np.zeros((n_views, n_f))
-    shadow = np.zeros((n_views, n_f))
-    for k in range(n_views):
-        lit[k], shadow[k] = scene.areas(float(el[k]), float(az[k]))
-    grazing = is_grazing_view(el)
-    coverage = np.where(grazing, 0.0, (lit + shadow).sum(axis=1))
 
-    values = facet_sum(scene.surf.normals, light_direction(scene.incidence), view_direction(el, az), lit, shadow,
-                       lighting, quantized)
-    out = {name: np.where(grazing, 0.0, value).astype(np.float64) for name, value in values.items()}
-    out["coverage"] = coverage.astype(np.float64)
-    return out
+    def step(out, views, incidence, lighting):
+        measured = views.measured
+        lit = np.zeros((measured.size, len(scene.surf.names)))
+        shadow = np.zeros_like(lit)
+        for row, k in enumerate(measured):
+            lit[row], shadow[row] = scene.areas(float(views.elevation[k]), float(views.azimuth[k]))
+        values = facet_sum(scene.surf.normals, light_direction(scene.incidence), views.directions(), lit, shadow,
+                           lighting, quantized)
+        for name, value in values.items():
+            out[name][measured] = value
+        out["coverage"][measured] = (lit + shadow).sum(axis=1)
+
+    return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
 def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None):

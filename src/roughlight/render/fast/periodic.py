@@ -33,13 +33,10 @@ the shader programs (:mod:`roughlight.render.gl.context`); its stock shader
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from ...surfaces.surface import Surface
-from .. import shading
-from .. import views as sweeps
+from .. import shading, sweep
 from ..gl.context import context, gl
 from . import shares
 from .passes import (
@@ -91,21 +88,15 @@ def fast_sweep(
         fraction of the tile's pixels showing the surface; ``seconds``: wall
         time of the sweep.
     """
-    start = time.perf_counter()
-    lighting = lighting or shading.Lighting()
     settings = _surface_settings(surface, settings or RenderSettings())
-    incidence = shading.check_incidence(incidence)
-    azimuth, elevation = _view_angles(azimuth, elevation)
-    out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
-    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
-    if todo.size:
-        views = shading.view_direction(elevation[todo], azimuth[todo])
+
+    def step(out, views, incidence, lighting):
         if hasattr(surface, "cells") and settings.sampling == "adaptive":  # a random tile: counted on the GL side
-            _counted_views(out, surface, incidence, todo, views, lighting, settings)
+            _counted_views(out, surface, incidence, views.measured, views.directions(), lighting, settings)
         else:
-            _render_views(out, surface, incidence, todo, views, lighting, settings)
-    out["seconds"] = time.perf_counter() - start
-    return out
+            _render_views(out, surface, incidence, views.measured, views.directions(), lighting, settings)
+
+    return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
 def _surface_settings(surface, settings: RenderSettings) -> RenderSettings:
@@ -115,15 +106,6 @@ def _surface_settings(surface, settings: RenderSettings) -> RenderSettings:
     if hasattr(surface, "cells"):  # a random tile
         return settings.tile_settings().for_tile(surface.cells)
     return settings
-
-
-def _view_angles(azimuth, elevation) -> tuple[np.ndarray, np.ndarray]:
-    """The views' azimuths and elevations (degrees) as (n_views,) float arrays of one shape."""
-    azimuth = np.atleast_1d(np.asarray(azimuth, float))
-    elevation = np.atleast_1d(np.asarray(elevation, float))
-    if azimuth.shape != elevation.shape:
-        raise ValueError("azimuth and elevation must have the same shape")
-    return azimuth, elevation
 
 
 def _counted_views(out, surface, incidence, todo, views, lighting, settings) -> None:

@@ -30,13 +30,12 @@ Angles in degrees; the light at azimuth 0, ``L = (cos i, 0, sin i)``; views
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
 from ...surfaces.surface import Surface
 from .. import shading
 from .. import views as sweeps
+from ..sweep import measure
 
 __all__ = [
     "MODELS",
@@ -346,14 +345,18 @@ def exact_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None,
     Returns the dict of :func:`roughlight.render.exact.reference.reference_sweep` plus
     ``seconds``: each pixel stores ``quantize(component)`` of its facet.
     """
-    start = time.perf_counter()
-    lighting = lighting or shading.Lighting()
-    az = np.atleast_1d(np.asarray(azimuth, float))
-    el = np.atleast_1d(np.asarray(elevation, float))
-    lit, shadow = exact_shares(surface, incidence, az, el, samples, lighting.shadows)
-    out = facet_sum(surface, incidence, az, el, lit, shadow, lighting)
-    out["seconds"] = time.perf_counter() - start
-    return out
+    def step(out, views, incidence, lighting):
+        az, el = views.azimuth[views.measured], views.elevation[views.measured]
+        lit, shadow = exact_shares(surface, incidence, az, el, samples, lighting.shadows)
+        _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting))
+
+    return measure(step, incidence, azimuth, elevation, lighting)
+
+
+def _store(out: dict, measured, values: dict) -> None:
+    """``values`` (:func:`facet_sum`'s, one a measured view) into the sweep's ``out`` at ``measured``."""
+    for key, value in values.items():
+        out[key][measured] = value
 
 
 def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, lighting) -> dict:
@@ -478,14 +481,12 @@ def correction_sweep(surface: Surface, incidence, azimuth, elevation, lighting=N
     The facet sum of :func:`correction_shares` with each facet's 8-bit value
     (what the shader's dithered pixels average to, within ``1 / M``).
     """
-    start = time.perf_counter()
-    lighting = lighting or shading.Lighting()
-    az = np.atleast_1d(np.asarray(azimuth, float))
-    el = np.atleast_1d(np.asarray(elevation, float))
-    lit, shadow = correction_shares(surface, incidence, az, el, lighting.shadows)
-    out = facet_sum(surface, incidence, az, el, lit, shadow, lighting)
-    out["seconds"] = time.perf_counter() - start
-    return out
+    def step(out, views, incidence, lighting):
+        az, el = views.azimuth[views.measured], views.elevation[views.measured]
+        lit, shadow = correction_shares(surface, incidence, az, el, lighting.shadows)
+        _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting))
+
+    return measure(step, incidence, azimuth, elevation, lighting)
 
 
 def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samples: int | None = None) -> dict:

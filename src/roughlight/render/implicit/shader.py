@@ -23,8 +23,7 @@ import time
 import numpy as np
 
 from ...surfaces.surface import Surface
-from .. import shading
-from .. import views as sweeps
+from .. import shading, sweep
 from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
 from .model import shader_uniforms
 
@@ -99,28 +98,22 @@ def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, 
     dict as :func:`roughlight.render.fast.periodic.fast_sweep`: ``diffuse``, ``specular``,
     ``total``, ``coverage`` (n_views,) and ``seconds``.
     """
-    start = time.perf_counter()
     uniforms = shader_uniforms(model, surface, incidence, lighting, samples)  # checks every input
     samples = uniforms["samples"]
-    azimuth = np.atleast_1d(np.asarray(azimuth, float))
-    elevation = np.atleast_1d(np.asarray(elevation, float))
-    if azimuth.shape != elevation.shape:
-        raise ValueError("azimuth and elevation must have the same shape")
-    out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
-    todo = np.flatnonzero(~sweeps.is_grazing(elevation))
-    if todo.size:
+
+    def step(out, views, incidence, lighting):
+        todo, directions = views.measured, views.directions()
         width = FRAMEBUFFER_WIDTH
         per_pass = (width * MAX_ROWS) // samples
         rows = -(-min(per_pass, todo.size) * samples // width)
         ctx = context(width, rows, 1)
         program = ctx.programs.get_program("implicit.vert", "implicit.frag")
-        views = shading.view_direction(elevation[todo], azimuth[todo])
         for first in range(0, todo.size, per_pass):
             idx = np.arange(first, min(first + per_pass, todo.size))
-            raw = _draw_views(program, uniforms, views[idx], width, rows)
+            raw = _draw_views(program, uniforms, directions[idx], width, rows)
             _store_view_means(out, todo[idx], raw, samples)
-    out["seconds"] = time.perf_counter() - start
-    return out
+
+    return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
 def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: int) -> bytes:

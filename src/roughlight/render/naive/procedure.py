@@ -13,14 +13,12 @@ from __future__ import annotations
 
 import math
 import os
-import time
 
 import numpy as np
 
 from ...surfaces import geometry
 from ...surfaces.surface import Surface
-from .. import shading
-from .. import views as sweeps
+from .. import shading, sweep
 from ..gl.context import SHADER_DIR, SHADOW_TEX_SZ, Program, PyrenderShaderCache, import_pyrender, release_contexts
 from ..shading import SHADINGS
 
@@ -230,27 +228,24 @@ def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, 
 
     Returns the dict of :func:`roughlight.render.fast.periodic.fast_sweep`.
     """
-    start = time.perf_counter()
     lighting = lighting or shading.Lighting()
-    incidence = shading.check_incidence(incidence)
-    azimuth = np.atleast_1d(np.asarray(azimuth, float))
-    elevation = np.atleast_1d(np.asarray(elevation, float))
     periods = _patch_periods(view_periods * capture / window[0], lowest_elevation)
     # the scene first: it checks the shading model before any OpenGL context is made
-    scene = NaiveScene(surface, incidence, lighting, window, periods, view_periods, shading_model)
-    renderer = _naive_renderer(tuple(window))
-    views = shading.view_direction(elevation, azimuth)
-    out = {key: np.zeros(azimuth.size) for key in ("diffuse", "specular", "total", "coverage")}
+    scene = NaiveScene(surface, shading.check_incidence(incidence), lighting, window, periods, view_periods,
+                       shading_model)
     w, h = window
     x0, y0 = (w - capture) // 2, (h - capture) // 2
     box = np.s_[y0:y0 + capture, x0:x0 + capture]
-    for k in np.flatnonzero(~sweeps.is_grazing(elevation)):
-        color, depth = scene.render(renderer, views[k], jitter)
-        means = color[box].reshape(-1, color.shape[-1]).mean(axis=0, dtype=np.float64)
-        out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]
-        out["coverage"][k] = float(np.mean(depth[box] > 0))
-    out["seconds"] = time.perf_counter() - start
-    return out
+
+    def step(out, views, incidence, lighting):
+        renderer = _naive_renderer(tuple(window))
+        for k, view in zip(views.measured, views.directions()):
+            color, depth = scene.render(renderer, view, jitter)
+            means = color[box].reshape(-1, color.shape[-1]).mean(axis=0, dtype=np.float64)
+            out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]
+            out["coverage"][k] = float(np.mean(depth[box] > 0))
+
+    return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
 def render_picture(surface: Surface, incidence, elevation, azimuth, lighting=None, size=(400, 300),
