@@ -47,20 +47,19 @@ def make_study(truncations, aspects, incidence=30.0, azimuths=(0.0,), elevations
 
     ``method`` 'reference' uses the exact polygon clipping, 'fast' the renderer.
     """
-    from roughlight.render.fast.sampling import RenderSettings
-    from roughlight.render.measure import measure_sweep
+    from roughlight.render import methods
 
     lighting = lighting or Lighting()
     elevations = np.arange(0.0, 181.0, 1.0) if elevations is None else np.asarray(elevations, float)
     az, el = np.meshgrid(np.asarray(azimuths, float), elevations, indexing="ij")
     az, el = az.ravel(), el.ravel()
-    rs = RenderSettings(**(settings or {}))
+    rs = methods.settings(method, settings)
     plate_lighting = Lighting(**{**lighting.as_dict(), "shadows": False})
-    control = measure_sweep(method, Surface(0.0, 0.0), incidence, az, el, plate_lighting, rs)
+    control = methods.sweep(method, Surface(0.0, 0.0), incidence, az, el, plate_lighting, rs)
     frames = []
     for t in truncations:
         for a in aspects:
-            out = measure_sweep(method, Surface(t, a), incidence, az, el, lighting, rs)
+            out = methods.sweep(method, Surface(t, a), incidence, az, el, lighting, rs)
             for comp in ("diffuse", "specular", "total"):
                 frames.append(pd.DataFrame({
                     "truncation": float(t), "aspect": float(a), "incidence": float(incidence),

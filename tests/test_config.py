@@ -128,15 +128,16 @@ def _leaves(tree: dict, path=()):
 
 
 def test_the_codes_defaults_are_the_schemas():
-    """An empty config's lighting and renderer (the schema's defaults) are Lighting()'s and RenderSettings()'s."""
-    from roughlight.render.fast.sampling import RenderSettings
+    """An empty config's lighting and renderer (the schema's defaults) are Lighting()'s and FastSettings()'s."""
+    from roughlight.render.fast.settings import FastSettings
     from roughlight.render.shading import Lighting
 
     cfg = rl_config.validate_config({}, SCHEMA)
     assert rl_config.lighting_from_config(cfg) == Lighting()
     render = rl_config.render_settings_from_config(cfg, random_tiles=True)
-    code = RenderSettings()
-    assert {key: getattr(code, key) for key in render} == render
+    code = FastSettings().config()
+    assert {key: code[key] for key in render} == render
+    assert FastSettings.from_config(render) == FastSettings()
 
 
 def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_and_kinds():

@@ -7,7 +7,7 @@ import shapely
 from roughlight.render import shading
 from roughlight.render.exact import clipping, reference
 from roughlight.render.fast import counting, shares
-from roughlight.render.fast.sampling import RenderSettings
+from roughlight.render.fast.settings import FastSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.roughness import RandomSurface
 
@@ -26,7 +26,7 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
     (shares.counts_and_areas): equal but where a centre lies within float32 rounding of an edge (about 1% of the
     regions here, one pixel each), with shadows or without."""
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
-    settings = RenderSettings().tile_settings().for_tile(tile.cells)
+    settings = FastSettings().tile_settings().for_tile(tile.cells)
     regions = shares.facet_regions(tile, 30.0, shadows)
     views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
     shears = views[:, :2] / views[:, 2:3]
@@ -65,7 +65,7 @@ def test_region_triangles_cover_each_region_exactly(kind):
 def test_shares_are_the_exact_areas_where_nothing_is_hidden(kind):
     tile = RandomSurface(kind, 0.5, 0.5, seed=2, cells=2)
     views = _views([90.0, 80.0], [0.0, 45.0])
-    lit, shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(), RenderSettings().tile_settings()
+    lit, shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(), FastSettings().tile_settings()
                                                    .for_tile(tile.cells))
     np.testing.assert_allclose((lit + shadow).sum(axis=1), 1.0, atol=1e-12)
     exact_lit, exact_shadow = shares.area_shares(regions, views[:, :2] / views[:, 2:3])
@@ -141,11 +141,10 @@ def test_views_near_the_horizon_are_counted_at_more_pixels():
 
     tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=2)
     views = _views([5.0, 175.0, 45.0, 120.0], [15.0, 60.0, 15.0, 100.0])
-    settings = RenderSettings().tile_settings().for_tile(tile.cells)
-    plain_lit, plain_shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(),
-                                                               replace(settings, tile_grazing_scale=1.0))
-    fine_lit, fine_shadow, _ = counting.counted_shares(tile, 30.0, views, Lighting(),
-                                                       replace(settings, tile_grazing_scale=2.0), regions)
+    settings = FastSettings().tile_settings().for_tile(tile.cells)
+    plain, fine = (replace(settings, tile=replace(settings.tile, grazing_scale=scale)) for scale in (1.0, 2.0))
+    plain_lit, plain_shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(), plain)
+    fine_lit, fine_shadow, _ = counting.counted_shares(tile, 30.0, views, Lighting(), fine, regions)
     np.testing.assert_array_equal(plain_lit[2:], fine_lit[2:])
     np.testing.assert_array_equal(plain_shadow[2:], fine_shadow[2:])
     assert np.abs(plain_lit[:2] - fine_lit[:2]).max() > 0
@@ -167,7 +166,7 @@ def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
     density = np.array([abs(np.linalg.det(m)) for m in matrices])
     assert np.all(np.abs(density - 80 ** 2) <= 0.1 * 80 ** 2)
 
-    settings = RenderSettings().tile_settings().for_tile(4)
+    settings = FastSettings().tile_settings().for_tile(4)
     views = _views([5.0, 15.0, 45.0, 165.0, 175.0], [30.0, 30.0, 30.0, 120.0, 120.0])
     passes = counting.counting_passes(views, np.arange(5), settings)
     drawn = {int(v): (s.pixels_per_period, tuple(m.ravel()), totals) for part, s, m, totals in passes for v in part}
@@ -216,7 +215,7 @@ def test_views_counted_without_totals_see_what_the_counted_pass_sees():
     pixels are exactly those of the pass that counts every fragment, and no total comes back."""
     tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=2)
     views = _views([3.0, 177.0, 8.0], [30.0, 120.0, 75.0])
-    settings = RenderSettings().tile_settings().for_tile(tile.cells)
+    settings = FastSettings().tile_settings().for_tile(tile.cells)
     regions = shares.facet_regions(tile, 30.0, True)
     shears = views[:, :2] / views[:, 2:3]
     triangles = counting.region_triangles(regions)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from roughlight.measurements import implicit_surface as implicit_bench
-from roughlight.render import measure, shading
+from roughlight.render import methods, shading
 from roughlight.render import views as sweeps
 from roughlight.render.exact import reference
 from roughlight.render.implicit import model as implicit
@@ -26,7 +26,7 @@ def _errors(out, exact):
 @pytest.mark.parametrize("surface,incidence", SURFACES)
 def test_exact_form_shader_equals_the_reference_on_every_view(surface, incidence):
     exact = reference.reference_sweep(surface, incidence, AZIMUTH, ELEVATION)
-    out = measure.measure_sweep("implicit_exact", surface, incidence, AZIMUTH, ELEVATION)
+    out = methods.sweep("implicit_exact", surface, incidence, AZIMUTH, ELEVATION)
     for component, err in _errors(out, exact).items():
         assert err.mean() <= 0.1, (component, err.mean())
         assert err.max() <= 1.0, (component, err.max())
@@ -36,12 +36,13 @@ def test_exact_form_shader_equals_the_reference_on_every_view(surface, incidence
 def test_shader_and_numpy_agree_for_both_models():
     surface, incidence = Surface(0.6, 0.8), 30.0
     az, el = AZIMUTH[::3], ELEVATION[::3]
+    from roughlight.render.implicit.settings import ImplicitSettings
     from roughlight.render.implicit.shader import implicit_sweep
 
     samples = 4181
-    gl_exact = implicit_sweep("exact", surface, incidence, az, el, samples=samples)
+    gl_exact = implicit_sweep(surface, incidence, az, el, settings=ImplicitSettings("exact", samples))
     np_exact = implicit.exact_sweep(surface, incidence, az, el, samples=samples)
-    gl_corr = implicit_sweep("correction", surface, incidence, az, el)
+    gl_corr = implicit_sweep(surface, incidence, az, el, settings=ImplicitSettings("correction"))
     np_corr = implicit.correction_sweep(surface, incidence, az, el)
     for c in shading.COMPONENTS:
         # the same pixels: only float32 against float64 at facet edges and shadow boundaries differ
@@ -68,7 +69,7 @@ def test_the_correction_scene_averages_to_its_facet_sum(elevation, azimuth):
 @pytest.mark.parametrize("method", ["implicit_correction", "implicit_exact"])
 def test_both_models_reduce_to_the_plain_opengl_equation_on_the_plate(plate, method):
     for incidence in (10.0, 50.0):
-        out = measure.measure_sweep(method, plate, incidence, AZIMUTH, ELEVATION)
+        out = methods.sweep(method, plate, incidence, AZIMUTH, ELEVATION)
         L = shading.light_direction(incidence)
         V = shading.view_direction(ELEVATION, AZIMUTH)
         plain = shading.facet_components(np.array([0.0, 0.0, 1.0]), L, V, shading.Lighting())
@@ -122,7 +123,7 @@ def test_unknown_model_and_bad_samples_are_refused():
     with pytest.raises(ValueError, match="Fibonacci"):
         implicit.fibonacci_lattice(1000)
     with pytest.raises(ValueError, match="render.method must be one of"):
-        measure.measure_sweep("implicit_smooth", Surface(1.0, 1.0), 30.0, [0.0], [45.0])
+        methods.sweep("implicit_smooth", Surface(1.0, 1.0), 30.0, [0.0], [45.0])
 
 
 def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
@@ -173,10 +174,10 @@ def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
 
     real = ref_module.reference_sweep
 
-    def refusing(surface, incidence, azimuth, elevation, lighting=None, quantized=True):
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None):
         if np.any(np.asarray(elevation) > 170):
             raise RuntimeError("reference clipping failed")
-        return real(surface, incidence, azimuth, elevation, lighting, quantized)
+        return real(surface, incidence, azimuth, elevation, lighting, settings)
 
     monkeypatch.setattr(ref_module, "reference_sweep", refusing)
     az, el = sweeps.view_grid(30.0, 90.0)

@@ -65,7 +65,7 @@ def test_a_stage_imports_only_the_stages_below_it(module):
 
 #: render's rooms (render/README.md): a folder a method family, and the ground they stand on (the lighting equation in
 #: numpy, the detector's orbit); each room imports only the rooms named here (and itself); the entry points
-#: (``measure``, ``pictures``) reach every method
+#: (``methods``, the registry, and ``pictures``) reach every method
 RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
                 "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}}
 RENDER_GROUND = {"render.__init__", "render.shading", "render.views", "render.sweep"}

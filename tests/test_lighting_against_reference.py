@@ -18,7 +18,7 @@ import pytest
 
 from roughlight.render.exact import reference
 from roughlight.render.fast import periodic
-from roughlight.render.fast.sampling import RenderSettings
+from roughlight.render.fast.settings import FastSettings, TileSettings
 from roughlight.render.naive import procedure as naive
 from roughlight.render.shading import Lighting, quantize
 from roughlight.surfaces.surface import PLATE, SQRT3_2, Surface
@@ -56,7 +56,7 @@ def fast_errors():
         for surface in SURFACES:
             for incidence in INCIDENCES:
                 exact = reference.reference_sweep(surface, incidence, AZ, EL, lighting)
-                fast = periodic.fast_sweep(surface, incidence, AZ, EL, lighting, RenderSettings())
+                fast = periodic.fast_sweep(surface, incidence, AZ, EL, lighting, FastSettings())
                 for c in COMPONENTS:
                     per[c].append(np.abs(fast[c] - exact[c]))
         errors[name] = {c: np.concatenate(v) for c, v in per.items()}
@@ -159,7 +159,7 @@ def test_the_shaders_lighting_equation_matches_the_reference(sampling, name):
     for surface in SURFACES:
         for incidence in INCIDENCES:
             exact = reference.reference_sweep(surface, incidence, AZ, EL, lighting)
-            fast = periodic.fast_sweep(surface, incidence, AZ, EL, lighting, RenderSettings(sampling=sampling))
+            fast = periodic.fast_sweep(surface, incidence, AZ, EL, lighting, FastSettings(sampling=sampling))
             for c in COMPONENTS:
                 errors[c].append(np.abs(fast[c] - exact[c]))
     for c in COMPONENTS:
@@ -189,8 +189,8 @@ def _tile_errors(kind, name, tile_sampling, pixels_per_cell=16, shadow_map_per_c
     az, el = np.meshgrid(np.arange(0.0, 180.0, 45.0), np.arange(15.0, 166.0, 30.0), indexing="ij")
     exact = reference.reference_sweep(tile, 45.0, az.ravel(), el.ravel(), lighting)
     fast = periodic.fast_sweep(tile, 45.0, az.ravel(), el.ravel(), lighting,
-                                RenderSettings(tile_sampling=tile_sampling, tile_pixels_per_period=pixels_per_cell,
-                                               tile_shadow_map_size=shadow_map_per_cell))
+                                FastSettings(tile=TileSettings(sampling=tile_sampling, pixels_per_period=pixels_per_cell,
+                                                               shadow_map_size=shadow_map_per_cell)))
     return {c: np.abs(fast[c] - exact[c]) for c in COMPONENTS}
 
 

@@ -59,10 +59,10 @@ from roughlight.study import config
 cfg = config.validate_config({{}})                                 # the schema
 from roughlight.report import registry
 assert all(registry.caption(f.name) for f in registry.FIGURES)    # every caption
-from roughlight.render.measure import measure_sweep
+from roughlight.render import methods
 from roughlight.surfaces.surface import Surface
 for method in ("fast", "naive", "implicit_exact"):                # every shader program, implicit_model.glsl too
-    out = measure_sweep(method, Surface(0.5, 1.0), 30.0, np.array([0.0]), np.array([60.0]))
+    out = methods.sweep(method, Surface(0.5, 1.0), 30.0, np.array([0.0]), np.array([60.0]))
     assert np.isfinite(out["total"]).all(), method
 from roughlight.report import page
 html = page.build_report({{}}, {{}})                                # the page's templates

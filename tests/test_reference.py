@@ -9,6 +9,7 @@ import pytest
 
 from roughlight.render.exact import reference
 from roughlight.render.exact.reference import reference_sweep, visible_lit_areas
+from roughlight.render.exact.settings import ReferenceSettings
 from roughlight.render.shading import Lighting, facet_components, light_direction, quantize, view_direction
 from roughlight.surfaces.surface import Surface
 
@@ -58,7 +59,7 @@ def test_plate_specular_peak_in_mirror_direction(incidence):
 
 
 def test_plate_quantized_false_is_raw():
-    out = reference_sweep(Surface(0.0, 1.0), 30.0, [0.0], [45.0], quantized=False)
+    out = reference_sweep(Surface(0.0, 1.0), 30.0, [0.0], [45.0], settings=ReferenceSettings(quantized=False))
     assert out["diffuse"][0] == pytest.approx(J * 0.5, abs=1e-9)
     raw = J * math.sin(math.radians(30.0))  # 63.49999999999999 in float64
     assert out["diffuse"][0] == raw
@@ -442,7 +443,7 @@ def test_a_lit_sliver_along_the_visible_edge_is_counted_lit():
     gave the sliver no lit area, so the whole of it counted as shadowed and the view came out 1.70 levels below
     the fast renderer, with every check passing. The lit split is now snap-rounded (reference.LIT_SPLIT_GRID)."""
     from roughlight.render.fast.periodic import fast_sweep
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings, TileSettings
     from roughlight.surfaces.roughness import make_surface
 
     spread = {"truncation": 0.2, "aspect": 0.3, "apex": 0.5, "corner": 0.3}
@@ -451,5 +452,5 @@ def test_a_lit_sliver_along_the_visible_edge_is_counted_lit():
     assert lit == pytest.approx(0.01001, abs=2e-5) and shadowed < 1e-9
     exact = reference_sweep(tile, 30.0, np.array([5.0]), np.array([3.0]))
     fast = fast_sweep(tile, 30.0, np.array([5.0]), np.array([3.0]), Lighting(),
-                      RenderSettings(tile_pixels_per_period=16, tile_shadow_map_size=128))
+                      FastSettings(tile=TileSettings(pixels_per_period=16, shadow_map_size=128)))
     assert abs(fast["total"][0] - exact["total"][0]) < 1.0

@@ -35,15 +35,14 @@ def test_view_errors_find_the_worst_view_and_leave_out_views_without_surface():
 
 def _arc_study(method, truncations=(0.5, 1.0), aspect=1.0, incidence=30.0):
     """A study table's rows on the light's plane (azimuth 0, every degree), measured here."""
-    from roughlight.render.fast.sampling import RenderSettings
-    from roughlight.render.measure import measure_sweep
+    from roughlight.render import methods
 
     lighting = Lighting()
     elevation = np.arange(0.0, 181.0)
     azimuth = np.zeros_like(elevation)
     frames = []
     for t in truncations:
-        out = measure_sweep(method, Surface(t, aspect), incidence, azimuth, elevation, lighting, RenderSettings())
+        out = methods.sweep(method, Surface(t, aspect), incidence, azimuth, elevation, lighting)
         for component in ("diffuse", "specular", "total"):
             frames.append(pd.DataFrame({
                 "kind": "pyramids", "truncation": float(t), "aspect": float(aspect), "incidence": incidence,
@@ -80,10 +79,10 @@ def test_a_low_surface_casts_no_false_shadow_anywhere_in_a_large_framebuffer():
     in the framebuffer of a whole sweep the receiver plane taken from interpolated coordinates shadowed up to 3
     levels of it (issue 11)."""
     from roughlight.render.fast.periodic import fast_sweep
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings
 
     azimuth, elevation = sweeps.view_grid(2.0, 5.0)
-    settings = RenderSettings(sampling="lattice", pixels_per_period=48)
+    settings = FastSettings(sampling="lattice", pixels_per_period=48)
     on = fast_sweep(Surface(0.1, 0.1), 30.0, azimuth, elevation, Lighting(shadows=True), settings)
     off = fast_sweep(Surface(0.1, 0.1), 30.0, azimuth, elevation, Lighting(shadows=False), settings)
     assert np.abs(on["diffuse"] - off["diffuse"]).max() < 0.05
@@ -242,7 +241,7 @@ def test_value_discrepancy_is_close_to_a_bound_on_a_views_error():
     from roughlight.render.exact.reference import reference_sweep
     from roughlight.render.fast import shares
     from roughlight.render.fast.periodic import fast_sweep
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings
 
     surface = Surface(0.7, 1.0)
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 20.0), np.arange(10.0, 171.0, 16.0),
@@ -253,7 +252,7 @@ def test_value_discrepancy_is_close_to_a_bound_on_a_views_error():
     matrices = shares.candidate_lattices(28)
     values = shares.region_values(regions, shading.light_direction(30.0), views, Lighting())
     _, score = shares.choose_lattices(regions, shear, matrices, [np.zeros(2)] * len(matrices), values)
-    once = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(average_lattices_above=np.inf))
+    once = fast_sweep(surface, 30.0, azimuth, elevation, settings=FastSettings(average_lattices_above=np.inf))
     exact = reference_sweep(surface, 30.0, azimuth, elevation)
     error = np.max([np.abs(once[c] - exact[c]) for c in ("diffuse", "specular", "total")], axis=0)
     assert error.max() > 0.1
@@ -265,7 +264,7 @@ def test_views_drawn_on_several_lattices_take_the_mean_of_them(monkeypatch):
     are the mean of what each gives alone; the others are drawn on their best alone."""
     from roughlight.render.fast import shares
     from roughlight.render.fast.periodic import fast_sweep
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings
 
     surface = Surface(1.0, 1.0)
     azimuth, elevation = np.array([0.0, 30.0, 90.0]), np.array([25.0, 40.0, 150.0])
@@ -280,7 +279,7 @@ def test_views_drawn_on_several_lattices_take_the_mean_of_them(monkeypatch):
     for name, order, score in (("a", (0,), 0.0), ("b", (3,), 0.0), ("c", (5,), 0.0),
                                 ("abc", (0, 3, 5), (5.0, 5.0, 0.5))):
         monkeypatch.setattr(shares, "choose_lattices", fixed(order, score))
-        swept[name] = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(average_lattices_above=5.0))
+        swept[name] = fast_sweep(surface, 30.0, azimuth, elevation, settings=FastSettings(average_lattices_above=5.0))
     for component in ("diffuse", "specular", "total", "coverage"):
         mean = (swept["a"][component] + swept["b"][component] + swept["c"][component]) / 3.0
         assert np.allclose(swept["abc"][component][:2], mean[:2], atol=1e-12, rtol=0)
@@ -290,10 +289,10 @@ def test_views_drawn_on_several_lattices_take_the_mean_of_them(monkeypatch):
 
 
 def test_average_lattices_above_must_not_be_negative():
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings
 
     with pytest.raises(ValueError, match="average_lattices_above"):
-        RenderSettings(average_lattices_above=-0.5)
+        FastSettings(average_lattices_above=-0.5)
 
 
 @pytest.mark.parametrize("truncation,aspect,incidence", [(1.0, 1.0, 30.0), (0.5, 0.5, 30.0), (1.0, 1.0, 5.0)])
@@ -302,16 +301,16 @@ def test_adaptive_sampling_is_within_one_level_where_the_lattice_is_not(truncati
     view of a coarse sweep with grazing views, where the default lattice is off by several levels."""
     from roughlight.render.exact.reference import reference_sweep
     from roughlight.render.fast.periodic import fast_sweep
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings
 
     elevation = np.concatenate([np.arange(1.0, 10.0, 2.0), np.arange(12.0, 170.0, 6.0), np.arange(171.0, 180.0, 2.0)])
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 10.0), elevation, indexing="ij"))
     surface = Surface(truncation, aspect)
     exact = reference_sweep(surface, incidence, azimuth, elevation)
     adaptive = fast_sweep(surface, incidence, azimuth, elevation,
-                          settings=RenderSettings(sampling="adaptive", pixels_per_period=28))
+                          settings=FastSettings(sampling="adaptive", pixels_per_period=28))
     lattice = fast_sweep(surface, incidence, azimuth, elevation,
-                         settings=RenderSettings(sampling="lattice", pixels_per_period=24))
+                         settings=FastSettings(sampling="lattice", pixels_per_period=24))
     rows = {r["component"]: r for r in rv.view_errors(adaptive, exact, azimuth, elevation)}
     plain = {r["component"]: r for r in rv.view_errors(lattice, exact, azimuth, elevation)}
     for component in ("diffuse", "specular", "total"):
@@ -328,7 +327,7 @@ def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_refer
     from roughlight.render.exact.reference import reference_sweep
     from roughlight.render.fast import shares
     from roughlight.render.fast.periodic import fast_sweep
-    from roughlight.render.fast.sampling import RenderSettings
+    from roughlight.render.fast.settings import FastSettings
 
     surface = Surface(0.4, 0.6)
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 25.0), [8.0, 40.0, 75.0, 90.0, 130.0],
@@ -337,7 +336,7 @@ def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_refer
     whole = shares.all_facing(shares.facet_regions(surface, 30.0, True), view[:, :2] / view[:, 2:3])
     assert whole.any() and not whole.all()
     exact = reference_sweep(surface, 30.0, azimuth, elevation)
-    adaptive = fast_sweep(surface, 30.0, azimuth, elevation, settings=RenderSettings(sampling="adaptive"))
+    adaptive = fast_sweep(surface, 30.0, azimuth, elevation, settings=FastSettings(sampling="adaptive"))
     for component in ("diffuse", "specular", "total"):
         assert np.allclose(adaptive[component][whole], exact[component][whole], atol=1e-9, rtol=0)
         assert np.abs(adaptive[component] - exact[component]).max() <= 1.5

@@ -7,13 +7,15 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from roughlight.render import measure, shading
+from roughlight.render import methods, shading
 from roughlight.render import views as sweeps
 from roughlight.render.exact import reference
-from roughlight.render.fast import periodic, sampling
+from roughlight.render.fast import periodic
+from roughlight.render.fast.settings import FastSettings
 from roughlight.render.gl import context as gl
 from roughlight.render.gl import osmesa
 from roughlight.render.naive import procedure as naive
+from roughlight.render.naive.settings import NaiveSettings
 from roughlight.surfaces.surface import Surface
 
 AZ, EL = sweeps.view_grid(10, 30)  # coarse orbit: 19 elevations x 6 azimuths
@@ -21,7 +23,7 @@ INNER = (EL > 0) & (EL < 180)
 
 
 def render(t, a, i, lighting=None, az=AZ, el=EL, **kw):
-    return periodic.fast_sweep(Surface(t, a), i, az, el, lighting or shading.Lighting(), sampling.RenderSettings(**kw))
+    return periodic.fast_sweep(Surface(t, a), i, az, el, lighting or shading.Lighting(), FastSettings.from_config(kw))
 
 
 @pytest.mark.parametrize("incidence", [10, 30, 45, 60, 90])
@@ -149,10 +151,10 @@ def test_bad_incidence_and_shapes_are_refused():
 def test_naive_method_measures_the_same_quantity():
     az, el = sweeps.view_grid(40, 60)
     keep = (el >= 10) & (el <= 170)
-    plate = measure.measure_sweep("naive", Surface(0.0, 0.0), 30, az, el)
+    plate = methods.sweep("naive", Surface(0.0, 0.0), 30, az, el)
     assert np.all(np.abs(plate["diffuse"][keep] - 127 * 0.5) <= 0.5 + 1e-9)
     assert np.all(plate["coverage"][keep] == 1.0)
-    rough = measure.measure_sweep("naive", Surface(0.5, 1.0), 30, az[keep], el[keep])
+    rough = methods.sweep("naive", Surface(0.5, 1.0), 30, az[keep], el[keep])
     exact = reference.reference_sweep(Surface(0.5, 1.0), 30, az[keep], el[keep], shading.Lighting())
     # a finite window of whole pixels: close to the truth, but not as close as the fast method
     assert np.mean(np.abs(rough["total"] - exact["total"])) < 5.0
@@ -163,10 +165,44 @@ def test_naive_method_measures_the_same_quantity():
 
 
 def test_reference_is_a_method():
-    out = measure.measure_sweep("reference", Surface(0.5, 1.0), 30, AZ, EL)
+    out = methods.sweep("reference", Surface(0.5, 1.0), 30, AZ, EL)
     assert set(out) >= {"diffuse", "specular", "total", "coverage", "seconds"}
     with pytest.raises(ValueError, match="render.method"):
-        measure.measure_sweep("raytrace", Surface(0.5, 1.0), 30, AZ, EL)
+        methods.sweep("raytrace", Surface(0.5, 1.0), 30, AZ, EL)
+
+
+def test_each_method_takes_only_its_own_settings_and_they_check_themselves():
+    """The registry hands a method its own settings type, refuses another's, and each type refuses a bad knob."""
+    for name in methods.NAMES:
+        assert type(methods.settings(name)).__name__.endswith("Settings")
+    with pytest.raises(TypeError, match="naive.*NaiveSettings.*FastSettings"):
+        methods.sweep("naive", Surface(0.5, 1.0), 30, AZ, EL, settings=FastSettings())
+    with pytest.raises(ValueError, match="model='correction'"):
+        methods.settings("implicit_exact", {"model": "correction"})
+    with pytest.raises(TypeError, match="view_periods"):  # a knob of another method: named
+        methods.settings("fast", {"view_periods": 10})
+    for bad in ({"capture": 500}, {"view_periods": 0}, {"shading_model": "toon"}, {"window": (0, 300)}):
+        with pytest.raises(ValueError):
+            NaiveSettings(**bad)
+    with pytest.raises(ValueError, match="tile_sampling"):
+        methods.settings("fast", {"tile_sampling": "random"})
+    with pytest.raises(ValueError, match="samples"):
+        methods.settings("implicit_correction", {"samples": 1000})
+    with pytest.raises(TypeError, match="quantized"):
+        methods.settings("reference", {"quantized": "yes"})
+    # the config's flat keys and the settings are one value both ways
+    knobs = {"pixels_per_period": 20, "tile_sampling": "grid", "tile_grazing_scale": 2.0}
+    fast = methods.settings("fast", knobs)
+    assert fast.tile.sampling == "grid" and fast.config()["tile_grazing_scale"] == 2.0
+    assert FastSettings.from_config(fast.config()) == fast
+
+
+def test_the_naive_shadow_map_recorded_is_pyrenders():
+    from pyrender.constants import SHADOW_TEX_SZ
+
+    from roughlight.render.naive.settings import NAIVE_SHADOW_MAP
+
+    assert NAIVE_SHADOW_MAP == SHADOW_TEX_SZ
 
 
 def test_missing_osmesa_ends_with_one_clear_message(monkeypatch):
@@ -211,7 +247,8 @@ def test_jitter_moves_sampled_values_but_not_their_mean():
         assert np.mean(np.abs(run - exact)) < 0.5
     plate = [render(0.0, 0.0, 30, jitter=j)["total"] for j in [(0, 0), (0.37, 0.61)]]
     np.testing.assert_array_equal(plate[0], plate[1])
-    shifted = [naive.naive_sweep(Surface(0.5, 1.0), 30, [0.0], [60.0], jitter=j)["total"][0] for j in [(0, 0), (0.5, 0.5)]]
+    shifted = [naive.naive_sweep(Surface(0.5, 1.0), 30, [0.0], [60.0], settings=NaiveSettings(jitter=j))["total"][0]
+               for j in [(0, 0), (0.5, 0.5)]]
     assert shifted[0] != shifted[1]
 
 
@@ -221,16 +258,17 @@ def test_averaged_normals_shading_is_wrong_where_flat_is_right():
     az, el = az[keep], el[keep]
     lighting = shading.Lighting()
     # on the plate the averaged normals are the face normal: all three shadings agree
-    plate = [naive.naive_sweep(Surface(0.0, 0.0), 30, az, el, lighting, shading_model=m)["total"]
+    plate = [naive.naive_sweep(Surface(0.0, 0.0), 30, az, el, lighting, NaiveSettings(shading_model=m))["total"]
              for m in shading.SHADINGS]
     np.testing.assert_allclose(plate[1], plate[0], atol=0.5)
     np.testing.assert_allclose(plate[2], plate[0], atol=0.5)
     exact = reference.reference_sweep(Surface(0.5, 1.0), 30, az, el, lighting)
-    errors = {m: np.mean(np.abs(naive.naive_sweep(Surface(0.5, 1.0), 30, az, el, lighting, shading_model=m)["total"]
-                                - exact["total"])) for m in shading.SHADINGS}
+    rough = {m: naive.naive_sweep(Surface(0.5, 1.0), 30, az, el, lighting, NaiveSettings(shading_model=m))
+             for m in shading.SHADINGS}
+    errors = {m: np.mean(np.abs(out["total"] - exact["total"])) for m, out in rough.items()}
     assert errors["phong"] > 2 * errors["flat"] and errors["gouraud"] > 2 * errors["flat"]
     with pytest.raises(ValueError, match="shading_model"):
-        naive.naive_sweep(Surface(0.5, 1.0), 30, az, el, lighting, shading_model="toon")
+        naive.naive_sweep(Surface(0.5, 1.0), 30, az, el, lighting, NaiveSettings(shading_model="toon"))
 
 
 def test_each_method_records_how_it_sampled(tmp_path):
@@ -242,7 +280,7 @@ def test_each_method_records_how_it_sampled(tmp_path):
     sweep = {"elevation_step": 60, "azimuth_step": 90}  # 4 views
     lighting = shading.Lighting().as_dict()
     seen = {}
-    for method in measure.METHODS:
+    for method in methods.NAMES:
         path = tmp_path / f"{method}.parquet"
         study.run_sweep(str(path), Surface(0.5, 1.0), 30.0, sweep, lighting, method, {})
         table = pq.read_table(path).to_pandas()
@@ -263,13 +301,13 @@ def test_each_method_records_how_it_sampled(tmp_path):
     assert seen["reference"] == {"method": ["reference"], "pixels_per_period": [0], "sampling": ["exact"],
                                  "shadow_map_size": [0]}
     with pytest.raises(ValueError, match="render.method"):
-        measure.recorded_settings("raytrace")
+        methods.recorded("raytrace")
 
 
 def test_a_sweep_job_imports_only_what_it_renders_with():
     """A sweep job is a fresh process: pandas, scipy, trimesh or the whole of pyrender would each cost it
     a large share of its start-up (pandas alone 0.4 s), so the measuring path must not import them."""
-    code = ("import sys, roughlight.study.tables, roughlight.render.measure, roughlight.render.fast.periodic, "
+    code = ("import sys, roughlight.study.tables, roughlight.render.methods, roughlight.render.fast.periodic, "
             "roughlight.render.views; "
             "print(sorted(m for m in ('pandas', 'scipy', 'trimesh', 'shapely', 'matplotlib') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
@@ -278,9 +316,9 @@ def test_a_sweep_job_imports_only_what_it_renders_with():
 
 
 def test_the_reference_method_loads_no_opengl():
-    """measure_sweep imports a renderer only for the methods that need one: the exact reference needs none."""
-    code = ("import sys; from roughlight.render.measure import measure_sweep; from roughlight.surfaces.surface import Surface; "
-            "out = measure_sweep('reference', Surface(0.5, 1.0), 30.0, [0.0], [60.0]); "
+    """The registry imports a method only when it runs: the exact reference needs no renderer."""
+    code = ("import sys; from roughlight.render import methods; from roughlight.surfaces.surface import Surface; "
+            "out = methods.sweep('reference', Surface(0.5, 1.0), 30.0, [0.0], [60.0]); "
             "print(sorted({m.split('.')[0] for m in sys.modules} & {'OpenGL', 'pyrender'}), out['diffuse'][0] > 0)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          env={**os.environ, "PYOPENGL_PLATFORM": "osmesa"}).stdout

@@ -12,13 +12,13 @@ import _log  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import renderer_validation  # noqa: E402
 from roughlight.render import shading  # noqa: E402
-from roughlight.render.fast.sampling import RenderSettings  # noqa: E402
+from roughlight.render.fast.settings import FastSettings  # noqa: E402
 from roughlight.report import figures  # noqa: E402
 from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
-settings = RenderSettings(**snakemake.params.render)
+settings = FastSettings.from_config(snakemake.params.render)
 validation = renderer_validation.validate_renderer(snakemake.wildcards.plan, lighting=lighting, settings=settings,
                                                    log=log)
 write_frame(validation, snakemake.output.validation)

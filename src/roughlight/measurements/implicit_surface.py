@@ -116,8 +116,8 @@ def validation(plan: str = "full", lighting=None, log=None):
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
     """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
     from ..analysis.surface_models import facet_model
+    from ..render import methods
     from ..render.exact.reference import reference_views
-    from ..render.measure import measure_sweep
 
     lighting = lighting or shading.Lighting()
     seen = ~np.asarray(sweeps.is_grazing(elevation))
@@ -126,7 +126,7 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     seen &= ~failed
     results = {}
     for method in VALIDATED[:3]:
-        results[method] = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
+        results[method] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting)
     start = time.perf_counter()
     model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
                         lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
@@ -312,7 +312,7 @@ def hemisphere_maps(plan: str = "full", lighting=None):
     """
     import pandas as pd
 
-    from ..render.measure import measure_sweep
+    from ..render import methods
 
     size = _plan(plan)
     lighting = lighting or shading.Lighting()
@@ -320,7 +320,7 @@ def hemisphere_maps(plan: str = "full", lighting=None):
     parts = []
     for surface, incidence in MAP_SURFACES:
         for method in ("reference", "implicit_exact", "implicit_correction"):
-            out = measure_sweep(method, surface, incidence, azimuth, elevation, lighting)
+            out = methods.sweep(method, surface, incidence, azimuth, elevation, lighting)
             parts.append(pd.DataFrame({"truncation": surface.truncation, "aspect": surface.aspect,
                                        "incidence": incidence, "azimuth": azimuth, "elevation": elevation,
                                        "method": method, **{c: out[c] for c in shading.COMPONENTS}}))

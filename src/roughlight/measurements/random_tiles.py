@@ -17,7 +17,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from ..render.fast.sampling import RenderSettings
+from ..render.fast.settings import FastSettings, TileSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 
 __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures",
@@ -36,12 +36,12 @@ CONVERGENCE_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "dif
 
 
 def _sweep_frame(surface, incidence, azimuth, elevation, lighting, settings, method="fast"):
-    from ..render.measure import measure_sweep, recorded_settings
+    from ..render import methods
     from ..study.tables import sweep_table
 
-    result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
+    result = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
     frame = sweep_table(result, surface, incidence, azimuth, elevation, lighting, method,
-                        recorded_settings(method, settings)).to_pandas()
+                        methods.recorded(method, settings, surface)).to_pandas()
     return frame, result
 
 
@@ -61,7 +61,7 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     p = PLANS[plan]
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
-    settings = settings or RenderSettings()
+    settings = settings or FastSettings()
     t, a, i = p["point"]
     azimuth, elevation = view_grid(*p["views"])
     control, _ = _sweep_frame(make_surface(), i, azimuth, elevation, Lighting(**{**lighting.as_dict(), "shadows": False}),
@@ -121,7 +121,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     p = PLANS[plan]
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
-    settings = settings or RenderSettings()
+    settings = settings or FastSettings()
     i = p["point"][2]
     azimuth, elevation = view_grid(*p["accuracy_views"])
     seen = np.sin(np.radians(elevation)) > 1e-9
@@ -283,7 +283,7 @@ def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TIL
         exact = reference_sweep(tile, i, azimuth, elevation, lighting)
         for sampling in samplings:
             for p in pixels:
-                settings = RenderSettings(tile_sampling=sampling, tile_pixels_per_period=int(p))
+                settings = FastSettings(tile=TileSettings(sampling=sampling, pixels_per_period=int(p)))
                 fast = fast_sweep(tile, i, azimuth, elevation, lighting, settings)
                 for component in COMPONENTS:
                     error = np.abs(fast[component] - exact[component])[seen]

@@ -89,9 +89,9 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
 
     from ..render.exact.reference import reference_sweep
     from ..render.fast.periodic import fast_sweep
-    from ..render.fast.sampling import RenderSettings
+    from ..render.fast.settings import FastSettings
 
-    settings = settings or RenderSettings()
+    settings = settings or FastSettings()
     former = replace(settings, **FORMER_DEFAULT)
     runs = [("configured", settings)]
     if former != settings:

@@ -13,10 +13,9 @@ from functools import partial
 
 import numpy as np
 
-from ..render import shading
+from ..render import methods, shading
 from ..render.exact import reference
-from ..render.fast.sampling import RenderSettings
-from ..render.measure import measure_sweep, recorded_settings
+from ..render.fast.settings import FastSettings
 from ..render.shading import COMPONENTS
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface
@@ -137,13 +136,13 @@ PLANS = {
 
 
 def _settings(config: Config):
-    """The fast method's RenderSettings of a config (None for the other methods)."""
-    return RenderSettings(**config.settings) if config.method == "fast" else None
+    """The settings of a config's method (:func:`roughlight.render.methods.settings`)."""
+    return methods.settings(config.method, config.settings)
 
 
 def _measure(config: Config, lit_surface, azimuth, elevation, lighting):
     surface, incidence = lit_surface
-    return measure_sweep(config.method, surface, incidence, azimuth, elevation, lighting, _settings(config))
+    return methods.sweep(config.method, surface, incidence, azimuth, elevation, lighting, _settings(config))
 
 
 def run_plan(plan: str = "full", lighting=None, log=None):
@@ -239,7 +238,7 @@ def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting,
 def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> list[dict]:
     """:func:`run_benchmark`'s rows of one config, one a component: its recorded settings, speed and errors."""
     settings = _settings(config)
-    recorded = recorded_settings(config.method, settings.tile_settings() if config.tiles else settings)
+    recorded = methods.recorded(config.method, settings.tile_settings() if config.tiles else settings)
     rows = []
     for c in COMPONENTS:
         err = np.concatenate(errors[c])
@@ -249,7 +248,7 @@ def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> 
                 "label": config.label,
                 **recorded,
                 "shadow_bias": config.settings.get(
-                    "shadow_bias", RenderSettings().shadow_bias if config.method == "fast" else np.nan),
+                    "shadow_bias", FastSettings().shadow_bias if config.method == "fast" else np.nan),
                 "component": c,
                 "n_views": n_views,
                 "seconds": seconds,
@@ -265,7 +264,7 @@ def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> 
 def _with_comparisons(table):
     """Add to the benchmark's table ``speedup_vs_naive``, ``default`` (the fast method's default settings) and
     ``pareto`` (on each component's front of error against time per view)."""
-    defaults = RenderSettings()
+    defaults = FastSettings()
     default = Config("fast", {"sampling": defaults.sampling, "pixels_per_period": defaults.pixels_per_period,
                               "shadow_map_size": defaults.shadow_map_size}).label
     if "surfaces" not in table:

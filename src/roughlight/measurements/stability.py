@@ -34,10 +34,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ..render import methods as registry
 from ..render import shading
 from ..render.exact import reference
-from ..render.fast.sampling import RenderSettings
-from ..render.measure import measure_sweep
+from ..render.exact.settings import ReferenceSettings
+from ..render.fast.settings import FastSettings
+from ..render.naive.settings import NaiveSettings
 from ..render.shading import COMPONENTS, SHADINGS
 from ..surfaces.surface import PLATE, SQRT3_2, Surface
 
@@ -83,20 +85,8 @@ SHININESS = (1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0)
 NORMALS_SURFACES = SURFACES[:4]
 
 
-# The renderers load OpenGL: imported when a scan renders, so that importing this module
-# (the workflow reads MEASUREMENTS while it parses) does not.
-def _fast_sweep(*args, **kwargs):
-    from ..render.fast.periodic import fast_sweep
-
-    return fast_sweep(*args, **kwargs)
-
-
-def _naive_sweep(*args, **kwargs):
-    from ..render.naive.procedure import naive_sweep
-
-    return naive_sweep(*args, **kwargs)
-
-
+# The renderers load OpenGL: imported when a scan renders (the registry imports a method's sweep on first use), so
+# that importing this module (the workflow reads MEASUREMENTS while it parses) does not.
 def _render_picture(*args, **kwargs):
     from ..render.naive.procedure import render_picture
 
@@ -175,7 +165,7 @@ def pixel_scan(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXELS
     surfaces : sequence of (Surface, incidence), or {method: sequence}
         Default :data:`PLAN` (fast on :data:`SURFACES`, naive on :data:`NAIVE_SURFACES`).
     fast_pixels : ints >= 2
-        ``RenderSettings.pixels_per_period`` of the fast method (its tile is one
+        ``FastSettings.pixels_per_period`` of the fast method (its tile is one
         period, so fewer than 2 pixels a period is not a valid setting).
     naive_pixels : floats, pixels per period
         The naive method's 400-pixel window spans ``400 / ppp`` periods (below 1:
@@ -206,11 +196,10 @@ def pixel_scan(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXELS
         for p in pixels:
             def run(surface, i, jitter=(0.0, 0.0), method=method, p=p, az=az, el=el, lowest=lowest):
                 if method == "fast":
-                    settings = RenderSettings(pixels_per_period=int(p), jitter=jitter)
-                    return _fast_sweep(surface, i, az, el, lighting, settings)
-                # the 400-pixel window spans 400 / p periods
-                return _naive_sweep(surface, i, az, el, lighting, view_periods=400.0 / p,
-                                         lowest_elevation=lowest, jitter=jitter)
+                    settings = FastSettings(pixels_per_period=int(p), jitter=jitter)
+                else:  # the 400-pixel window spans 400 / p periods
+                    settings = NaiveSettings(view_periods=400.0 / p, lowest_elevation=lowest, jitter=jitter)
+                return registry.sweep(method, surface, i, az, el, lighting, settings)
 
             errors, coverage, _ = _compare(_for(surfaces, method), az, el, lighting, run)
             extra = {"coverage": coverage}
@@ -238,7 +227,7 @@ def elevation_scan(surfaces=PLAN, elevations=GRAZING, azimuths=AZIMUTHS, lightin
             errors, coverage, _ = _compare(
                 _for(surfaces, method), az, el, lighting,
                 lambda surface, i, method=method, az=az, el=el, lighting=lighting:
-                measure_sweep(method, surface, i, az, el, lighting))
+                registry.sweep(method, surface, i, az, el, lighting))
             rows += _rows("elevation", method, "elevation", x, "", errors, {"coverage": coverage})
     return pd.DataFrame(rows)
 
@@ -263,16 +252,16 @@ def shadow_scan(surfaces=PLAN, incidences=INCIDENCES, biases=BIASES, map_sizes=M
             return [(surface, inc) for (surface, _) in _for(surfaces, method)]
 
         # (experiment, variable, x, setting, fast renderer's settings)
-        plan = [("shadow_bias", "incidence", inc, f"bias={b:g}", RenderSettings(shadow_bias=b)) for b in biases]
-        plan += [("shadow_map", "shadow_map_size", size, f"i={inc:g}", RenderSettings(shadow_map_size=int(size)))
+        plan = [("shadow_bias", "incidence", inc, f"bias={b:g}", FastSettings(shadow_bias=b)) for b in biases]
+        plan += [("shadow_map", "shadow_map_size", size, f"i={inc:g}", FastSettings(shadow_map_size=int(size)))
                  for size in map_sizes]
         for experiment, variable, x, setting, s in plan:
             errors, _, _ = _compare(at("fast"), az, el, lighting,
-                                    lambda surface, i, s=s: _fast_sweep(surface, i, az, el, lighting, s))
+                                    lambda surface, i, s=s: registry.sweep("fast", surface, i, az, el, lighting, s))
             rows += _rows(experiment, "fast", variable, x, setting, errors)
         if naive:
             errors, _, _ = _compare(at("naive"), az, el, lighting,
-                                    lambda surface, i: _naive_sweep(surface, i, az, el, lighting))
+                                    lambda surface, i: registry.sweep("naive", surface, i, az, el, lighting))
             rows += _rows("shadow_bias", "naive", "incidence", inc, "naive", errors)
     return pd.DataFrame(rows)
 
@@ -288,7 +277,7 @@ def shininess_scan(surfaces=PLAN, shininess=SHININESS, lighting=None, views=None
         for method in methods:
             errors, _, _ = _compare(_for(surfaces, method), az, el, lighting,
                                     lambda surface, i, method=method, az=az, el=el, lighting=lighting:
-                measure_sweep(method, surface, i, az, el, lighting))
+                registry.sweep(method, surface, i, az, el, lighting))
             rows += _rows("shininess", method, "shininess", z, "", errors)
     return pd.DataFrame(rows)
 
@@ -316,7 +305,8 @@ def normals_scan(surfaces=NORMALS_SURFACES, models=SHADINGS, lighting=None, view
     for k, model in enumerate(models):
         errors, _, outputs = _compare(
             surfaces, az, el, lighting,
-            lambda surface, i, model=model: _naive_sweep(surface, i, az, el, lighting, shading_model=model))
+            lambda surface, i, model=model: registry.sweep("naive", surface, i, az, el, lighting,
+                                                          NaiveSettings(shading_model=model)))
         if model == "flat":
             flat = outputs
         per = {}
@@ -372,8 +362,8 @@ def clipping_scan(surfaces=((PLATE, 30.0),) + SURFACES, lights=(127.0, 255.0),
         lobes = {}
         for light in lights:
             lighting = shading.Lighting(**{**base, "light": float(light)})
-            q = reference.reference_sweep(surface, i, az, el, lighting, quantized=True)
-            raw = reference.reference_sweep(surface, i, az, el, lighting, quantized=False)
+            q = reference.reference_sweep(surface, i, az, el, lighting, ReferenceSettings(quantized=True))
+            raw = reference.reference_sweep(surface, i, az, el, lighting, ReferenceSettings(quantized=False))
             clipped = (raw["total"] - q["total"]) > 0.5
             rows.append(dict(experiment="clipping", method="reference", variable="light", x=light, setting=name,
                              component="total", metric="clipped_fraction", value=float(clipped.mean())))
@@ -515,7 +505,7 @@ def safe_domain(frames, tol=TOLERANCE) -> pd.DataFrame:
 
 def _default_bias(method: str) -> str:
     """The ``shadow_bias`` experiment's setting of a method at its default bias (naive: pyrender's, fixed)."""
-    return "naive" if method == "naive" else f"bias={RenderSettings().shadow_bias:g}"
+    return "naive" if method == "naive" else f"bias={FastSettings().shadow_bias:g}"
 
 
 def _sampling_domain(frame: pd.DataFrame, method: str, tol: float) -> dict:

@@ -21,14 +21,13 @@ def plate_sweeps(incidences, lights, elevation_step: float = 1.0, lighting=None,
     elevation_step : degrees
     lighting : dict of :class:`roughlight.render.shading.Lighting` fields (the
         light level is replaced by each of ``lights``); settings : dict of
-        :class:`roughlight.render.fast.sampling.RenderSettings` fields.
+        :class:`roughlight.render.fast.settings.FastSettings` fields.
 
     Returns
     -------
     long DataFrame: ``incidence``, ``light``, ``elevation``, ``component``, ``value`` (0-255), ``seconds``.
     """
-    from .fast.sampling import RenderSettings
-    from .measure import measure_sweep
+    from . import methods
     from .shading import Lighting
     from .views import elevations
 
@@ -36,12 +35,12 @@ def plate_sweeps(incidences, lights, elevation_step: float = 1.0, lighting=None,
     base["shadows"] = False  # the plate casts none
     el = elevations(elevation_step)
     az = np.zeros_like(el)
-    rs = RenderSettings(**(settings or {}))
+    rs = methods.settings("fast", settings)
     rows = []
     for inc in incidences:
         for J in lights:
             lit = Lighting(**{**base, "light": float(J)})
-            out = measure_sweep("fast", PLATE, float(inc), az, el, lit, rs)
+            out = methods.sweep("fast", PLATE, float(inc), az, el, lit, rs)
             for comp in ("diffuse", "specular", "total"):
                 rows.append(pd.DataFrame({"incidence": float(inc), "light": float(J), "elevation": el,
                                           "component": comp, "value": np.asarray(out[comp], float),

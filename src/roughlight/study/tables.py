@@ -80,14 +80,14 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
     Parameters
     ----------
     result : dict
-        Output of :func:`roughlight.render.measure.measure_sweep`.
+        Output of :func:`roughlight.render.methods.sweep`.
     surface : Surface or RandomSurface
     incidence : float
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : roughlight.render.shading.Lighting
     method : str
     render_settings : dict
-        How the method sampled (:func:`roughlight.render.measure.recorded_settings`):
+        How the method sampled (:func:`roughlight.render.methods.recorded`):
         ``pixels_per_period``, ``sampling``, ``shadow_map_size``.
 
     The columns are built from their buffers (:func:`_column`, :func:`_labels`): ``pyarrow.array`` imports pandas
@@ -360,27 +360,25 @@ def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render
         Light elevation, degrees.
     sweep : dict with ``elevation_step`` and ``azimuth_step`` (degrees)
     lighting : dict of :class:`roughlight.render.shading.Lighting` fields
-    method : str, ``fast``, ``naive`` or ``reference``
-    render : dict of :class:`roughlight.render.fast.sampling.RenderSettings` fields (may be empty)
+    method : str, one of :data:`roughlight.render.methods.NAMES`
+    render : dict, the method's config keys (:meth:`roughlight.render.methods.Method.settings`; may be empty)
     log : callable taking a message, optional
     """
-    from ..render import shading
+    from ..render import methods, shading
     from ..render import views as sweeps
-    from ..render.fast.sampling import RenderSettings
-    from ..render.measure import measure_sweep, recorded_settings
 
     log = log or (lambda message: None)
     lighting = shading.Lighting(**lighting)
-    settings = RenderSettings(**render)
+    settings = methods.settings(method, render)
     azimuth, elevation = sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"])
     log(
         f"sweep {surface} incidence={incidence}: "
         f"{azimuth.size} views, method={method}, {lighting}, {settings}"
     )
-    result = measure_sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
+    result = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
     log(f"measured {azimuth.size} views in {result['seconds']:.2f} s ({azimuth.size / result['seconds']:.0f} views/s)")
     table = sweep_table(result, surface, incidence, azimuth, elevation, lighting, method,
-                        recorded_settings(method, settings.tile_settings() if hasattr(surface, "cells") else settings))
+                        methods.recorded(method, settings, surface))
     write_frame(table, path)
     log(f"wrote {table.num_rows} rows to {path}")
     return result

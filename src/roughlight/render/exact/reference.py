@@ -83,6 +83,7 @@ from ..shading import Lighting, check_incidence, facet_sum, light_direction, vie
 from ..sweep import sweep_views
 from ..views import is_grazing
 from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
+from .settings import ReferenceSettings
 
 __all__ = [
     "REFERENCE_ERROR",
@@ -321,7 +322,7 @@ def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=T
     return {name: (float(a), float(b)) for name, a, b in zip(scene.surf.names, lit, shadow)}
 
 
-def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, quantized=True) -> dict:
+def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
     """Exact mean image value of each component for many views of one surface.
 
     Parameters
@@ -340,8 +341,8 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     lighting : Lighting, optional
         Light and material (default ``Lighting()``); ``lighting.shadows``
         switches cast and self shadows.
-    quantized : bool
-        True (default): each facet's value is the 8-bit framebuffer value
+    settings : ReferenceSettings, optional
+        ``quantized`` True (default): each facet's value is the 8-bit framebuffer value
         ``quantize(component)`` (clamped to [0, 255], rounded to nearest),
         as the renderer stores per pixel; False: the raw float.
 
@@ -362,6 +363,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     200,000 lattice copies.
     """
     lighting = Lighting() if lighting is None else lighting
+    quantized = (settings or ReferenceSettings()).quantized
     scene = LitScene(surface, incidence, lighting.shadows)
 
     def step(out, views, incidence, lighting):

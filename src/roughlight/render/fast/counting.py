@@ -8,7 +8,7 @@ part of a facet) weighted by its facet's 8-bit values (:func:`roughlight.render.
   area times its facet's area ratio ``det = 1 - alpha d_x - beta d_y`` (the projection along the view is affine on
   a facet). No rendering.
 * **Something hidden.** The other views are drawn (those within :data:`GRAZING_BAND` of the horizon apart, at
-  ``RenderSettings.tile_grazing_scale`` times the pixels), a framebuffer of tiles at a time, in one pass of the
+  ``TileSettings.grazing_scale`` times the pixels), a framebuffer of tiles at a time, in one pass of the
   copies (:mod:`roughlight.render.fast.passes`) with ``shaders/periodic_count.frag``. The tile is drawn as its regions'
   triangles (:func:`region_triangles`), each vertex carrying its region, so the lit and the shadowed part of a facet
   are told apart by the exact polygons, not by a shadow map. Each fragment adds one to its view's count of its
@@ -41,7 +41,7 @@ __all__ = ["region_plan_areas", "projected_areas", "counted_shares"]
 #: 5.9 s, one llvmpipe thread).
 FRAMEBUFFER = 2048
 
-#: Views within this many degrees of the horizon are counted at ``RenderSettings.tile_grazing_scale`` times the
+#: Views within this many degrees of the horizon are counted at ``TileSettings.grazing_scale`` times the
 #: pixels (:func:`counted_shares`).
 GRAZING_BAND = 10.0
 
@@ -93,8 +93,8 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
         Unit vectors toward the detector, none grazing (``V_z > 0``).
     lighting : Lighting
         Only whether it casts shadows matters here (the values come from :func:`roughlight.render.shading.facet_sum`).
-    settings : RenderSettings
-        The tile's own (:meth:`RenderSettings.tile_settings` then :meth:`RenderSettings.for_tile`): its
+    settings : FastSettings
+        The tile's own (:meth:`FastSettings.tile_settings` then :meth:`FastSettings.for_tile`): its
         ``pixels_per_period`` is per tile.
     regions : Regions, optional
         :func:`roughlight.render.fast.shares.facet_regions` of the tile under this light (computed when not given).
@@ -163,7 +163,7 @@ def grazing_settings(settings):
     pixels."""
     from dataclasses import replace
 
-    scale = float(settings.tile_grazing_scale)
+    scale = float(settings.tile.grazing_scale)
     return settings if scale == 1.0 else replace(
         settings, pixels_per_period=int(round(int(settings.pixels_per_period) * scale)))
 
@@ -195,7 +195,7 @@ def counted_batches(height, triangles, n_regions, views, shears, hidden, setting
         :func:`region_triangles` of its ``n_regions`` regions.
     views, shears : (V, 3), (V, 2) arrays
     hidden : (H,) int array
-    settings : RenderSettings
+    settings : FastSettings
         The tile's own.
     matrix : (2, 2) int array, optional
         The sampling matrix (default ``settings.sampling_matrix()``).

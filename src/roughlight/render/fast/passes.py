@@ -16,7 +16,8 @@ from ...surfaces import geometry
 from ...surfaces.surface import Surface
 from .. import shading
 from ..gl.context import GLTF, Context, Primitive, gl, set_material_uniforms
-from .sampling import RenderSettings, lattice_copies, tile_layout
+from .sampling import lattice_copies, tile_layout
+from .settings import FastSettings
 
 #: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
 #: texcoord_0 = the facet's index and lit state, then the instance matrix).
@@ -135,7 +136,7 @@ class Scene(NamedTuple):
     #: (3,) unit vector towards the light
     light_dir: np.ndarray
     lighting: shading.Lighting
-    settings: RenderSettings
+    settings: FastSettings
     ctx: Context
     program: object
     #: 0 none, 1 periodic shadow map, 2 all in shadow (grazing light), as ``periodic.frag`` reads it

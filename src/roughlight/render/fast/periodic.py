@@ -50,7 +50,7 @@ from .passes import (
     set_lighting_uniforms,
     surface_shift,
 )
-from .sampling import RenderSettings
+from .settings import FastSettings
 
 
 def fast_sweep(
@@ -59,7 +59,7 @@ def fast_sweep(
     azimuth,
     elevation,
     lighting: shading.Lighting | None = None,
-    settings: RenderSettings | None = None,
+    settings: FastSettings | None = None,
 ) -> dict:
     """Render one sweep with the ``fast`` method (pyrender over OSMesa).
 
@@ -74,11 +74,11 @@ def fast_sweep(
     azimuth, elevation : (n_views,) arrays
         Views, degrees: azimuth in [0, 180), elevation in [0, 180].
     lighting : Lighting
-    settings : RenderSettings
+    settings : FastSettings
         A random tile is drawn with its tile settings
-        (:meth:`RenderSettings.tile_settings`), densities per cell: a tile of
+        (:meth:`FastSettings.tile_settings`), densities per cell: a tile of
         ``cells`` a side is sampled at ``cells`` times them
-        (:meth:`RenderSettings.for_tile`).
+        (:meth:`FastSettings.for_tile`).
 
     Returns
     -------
@@ -88,7 +88,7 @@ def fast_sweep(
         fraction of the tile's pixels showing the surface; ``seconds``: wall
         time of the sweep.
     """
-    settings = _surface_settings(surface, settings or RenderSettings())
+    settings = (settings or FastSettings()).for_surface(surface)
 
     def step(out, views, incidence, lighting):
         if hasattr(surface, "cells") and settings.sampling == "adaptive":  # a random tile: counted on the GL side
@@ -97,15 +97,6 @@ def fast_sweep(
             _render_views(out, surface, incidence, views.measured, views.directions(), lighting, settings)
 
     return sweep.measure(step, incidence, azimuth, elevation, lighting)
-
-
-def _surface_settings(surface, settings: RenderSettings) -> RenderSettings:
-    """The settings ``surface`` is drawn with: a random tile's (it has ``cells``) are its tile settings, densities
-    per cell (:meth:`RenderSettings.tile_settings`, :meth:`RenderSettings.for_tile`); the regular surface's are
-    ``settings``."""
-    if hasattr(surface, "cells"):  # a random tile
-        return settings.tile_settings().for_tile(surface.cells)
-    return settings
 
 
 def _counted_views(out, surface, incidence, todo, views, lighting, settings) -> None:

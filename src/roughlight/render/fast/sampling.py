@@ -1,135 +1,22 @@
-"""How the fast renderer samples one period of the surface: its settings and the tile layout.
+"""How the fast renderer samples one period of the surface: lattices, copies and the tile layout.
 
 Each view's tile in the framebuffer shows exactly one period of the projected
 image of the infinite periodic surface (see :mod:`roughlight.render.fast.periodic`). The
 integer sampling matrix maps cell coordinates to window pixels; ``lattice``
 sampling rotates it so that no row of pixel centres runs along the facets'
-axis-aligned or diagonal edges. Pure numpy: no OpenGL is loaded here, so the
-settings can be built and recorded by code that never renders.
+axis-aligned or diagonal edges. Pure numpy: no OpenGL is loaded here. The knobs
+are :class:`roughlight.render.fast.settings.FastSettings`.
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, replace
 
 import numpy as np
 
 #: Pixel sampling patterns of the fast renderer (``render.sampling``).
 SAMPLINGS = ("lattice", "grid", "adaptive")
-
-
-@dataclass(frozen=True)
-class RenderSettings:
-    """Knobs of the ``fast`` renderer that trade speed for accuracy.
-
-    Attributes
-    ----------
-    pixels_per_period : int
-        Sampling density: about this many pixels per period along each
-        direction (each view's tile holds one period of the projected
-        surface, about ``pixels_per_period ** 2`` pixels).
-    sampling : str
-        ``"adaptive"`` (the default): views where every facet faces the
-        detector are each region's exact projected area, unrendered; the others
-        are drawn on the lattice chosen for the view among six (on the three
-        best, averaged, where the best may be off by ``average_lattices_above``),
-        and each region's pixel count is corrected by its exact area
-        (:mod:`roughlight.render.fast.shares`). ``"lattice"``: the tile is a rotated square
-        whose pixel centres sample the period on a rotated lattice (no row of
-        samples along the facets' axis-aligned or diagonal edges); ``"grid"``:
-        a plain square tile of ``pixels_per_period`` x ``pixels_per_period``
-        pixels.
-    shadow_map_size : int
-        Texels per period (along each direction) of the periodic shadow map.
-    shadow_bias : float
-        Height tolerance of the shadow test, as a fraction of the surface
-        height (the receiver-plane test needs only rounding slack).
-    max_framebuffer : int
-        Largest framebuffer side in pixels; views beyond one framebuffer are
-        drawn in further passes.
-    average_lattices_above : float
-        Adaptive sampling: a view whose best lattice's value discrepancy (close
-        to a bound on its error, :func:`roughlight.render.fast.shares.value_discrepancy`)
-        is at least this many 8-bit levels is drawn on its three best lattices
-        (:data:`roughlight.render.fast.shares.AVERAGED`) and the values averaged. ``inf``:
-        one lattice a view.
-    tile_sampling, tile_pixels_per_period, tile_shadow_map_size : str, int, int
-        ``sampling``, ``pixels_per_period`` and ``shadow_map_size`` (per cell) of random tiles
-        (:meth:`tile_settings`). ``"adaptive"`` (the default) draws each region (the exact lit or shadowed part
-        of a facet), counts its visible and hidden pixels on the GL side and corrects them by its exact area
-        (:mod:`roughlight.render.fast.counting`), with no shadow map; lattice and grid sampling take the tile mean of
-        the shader's values, shadowed by a shadow map of ``tile_shadow_map_size`` texels a cell (coarser than
-        the regular surface's: a 4-cell tile's at 512 texels a cell is 2048 texels a side, which every fragment
-        reads at random).
-    tile_grazing_scale : float
-        Adaptive sampling of random tiles: views within :data:`roughlight.render.fast.counting.GRAZING_BAND` degrees
-        of the horizon are counted at this many times ``tile_pixels_per_period`` (rounded). There the facets
-        facing the detector are stretched and long edges of whatever hides them cross the tile; at 16 pixels a
-        cell a few such views were more than one 8-bit level off, at 20 none of the checked ones.
-    jitter : (float, float)
-        Sub-pixel shift of the camera (equivalently of the surface) in pixels,
-        for measuring how a value moves when the pixels fall elsewhere on the
-        surface (the thesis's "flashing lines"). The mean over the infinite
-        periodic surface does not depend on it; a sampled mean does.
-    """
-
-    pixels_per_period: int = 28
-    sampling: str = "adaptive"
-    shadow_map_size: int = 512
-    shadow_bias: float = 1e-4
-    max_framebuffer: int = 4096
-    jitter: tuple = (0.0, 0.0)
-    tile_sampling: str = "adaptive"
-    tile_pixels_per_period: int = 16
-    tile_shadow_map_size: int = 128
-    tile_grazing_scale: float = 1.25
-    average_lattices_above: float = 1.6
-
-    def __post_init__(self):
-        if int(self.pixels_per_period) < 1:
-            raise ValueError(f"render.pixels_per_period must be >= 1, got {self.pixels_per_period!r}")
-        if int(self.shadow_map_size) < 1:
-            raise ValueError(f"render.shadow_map_size must be >= 1, got {self.shadow_map_size!r}")
-        if not (self.shadow_bias >= 0):
-            raise ValueError(f"render.shadow_bias must be >= 0, got {self.shadow_bias!r}")
-        if self.pixels_per_period > self.max_framebuffer // 2:
-            raise ValueError("render.pixels_per_period exceeds the largest framebuffer")
-        for key in ("sampling", "tile_sampling"):
-            if getattr(self, key) not in SAMPLINGS:
-                raise ValueError(f"render.{key} must be one of {SAMPLINGS}, got {getattr(self, key)!r}")
-        if not (float(self.average_lattices_above) >= 0):
-            raise ValueError(f"render.average_lattices_above must be >= 0, got {self.average_lattices_above!r}")
-        if int(self.tile_pixels_per_period) < 1:
-            raise ValueError(f"render.tile_pixels_per_period must be >= 1, got {self.tile_pixels_per_period!r}")
-        if int(self.tile_shadow_map_size) < 1:
-            raise ValueError(f"render.tile_shadow_map_size must be >= 1, got {self.tile_shadow_map_size!r}")
-        if not (float(self.tile_grazing_scale) >= 1):
-            raise ValueError(f"render.tile_grazing_scale must be >= 1, got {self.tile_grazing_scale!r}")
-
-    def tile_settings(self) -> RenderSettings:
-        """The settings a random tile is drawn with, densities per cell: ``tile_sampling``,
-        ``tile_pixels_per_period`` and ``tile_shadow_map_size`` in place of ``sampling``, ``pixels_per_period``
-        and ``shadow_map_size``."""
-        return replace(self, sampling=self.tile_sampling, pixels_per_period=int(self.tile_pixels_per_period),
-                       shadow_map_size=int(self.tile_shadow_map_size))
-
-    def for_tile(self, cells: int) -> RenderSettings:
-        """The settings for a random tile of ``cells x cells`` cells drawn as one period.
-
-        The configured densities are per cell (per pyramid, as on the regular
-        surface), so the tile gets ``cells`` times the pixels and shadow texels
-        a side: the same sampling of every facet, at ``cells^2`` times the pixels.
-        """
-        if int(cells) == 1:
-            return self
-        return replace(self, pixels_per_period=int(self.pixels_per_period) * int(cells),
-                       shadow_map_size=int(self.shadow_map_size) * int(cells))
-
-    def sampling_matrix(self) -> np.ndarray:
-        """Integer 2x2 matrix from cell coordinates to window pixels (see ``periodic.vert``)."""
-        return sampling_matrix(int(self.pixels_per_period), self.sampling)
 
 
 def lattice_copies(shifts, margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:

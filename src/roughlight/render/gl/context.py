@@ -4,8 +4,10 @@ This is the one module that loads OpenGL. It selects PyOpenGL's OSMesa
 platform (``PYOPENGL_PLATFORM=osmesa``, unless the caller chose another
 before), turns PyOpenGL's bare import errors into one message that says what
 to install, and loads only the parts of pyrender the fast method needs (see
-:func:`import_pyrender_core`). The renderers (:mod:`roughlight.render.fast.periodic`,
-:mod:`roughlight.render.naive.procedure`) import it; nothing else does, so measuring with the
+:func:`import_pyrender_core`). The GL methods import it (the fast renderer, :mod:`roughlight.render.fast`; the
+naive procedure, :mod:`roughlight.render.naive.procedure`; the implicit shader,
+:mod:`roughlight.render.implicit.shader`), and only when they render (the registry,
+:mod:`roughlight.render.methods`, imports a method on first use), so measuring with the
 exact reference or analysing a study table never loads OpenGL.
 
 pyrender's program cache keys programs on the GL context object, which OSMesa

@@ -26,6 +26,7 @@ from ...surfaces.surface import Surface
 from .. import shading, sweep
 from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
 from .model import shader_uniforms
+from .settings import ImplicitSettings
 
 __all__ = ["implicit_sweep", "render_field", "scene_defines", "shader_sources", "FRAMEBUFFER_WIDTH"]
 
@@ -76,29 +77,27 @@ def _views_texture(views: np.ndarray, width: int) -> int:
     return tex
 
 
-def implicit_sweep(model: str, surface: Surface, incidence, azimuth, elevation, lighting=None,
-                   samples: int | None = None) -> dict:
+def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
     """Render one sweep through the implicit shader on one quad.
 
     Parameters
     ----------
-    model : str
-        ``"exact"`` or ``"correction"`` (:data:`roughlight.render.implicit.model.MODELS`).
     surface : Surface
     incidence : float
         Light elevation, degrees in [0, 90] (light at azimuth 0).
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : Lighting, optional
-    samples : int, optional
-        Pixels a view, a Fibonacci number (default
-        :func:`roughlight.render.implicit.model.model_samples`).
+    settings : ImplicitSettings, optional
+        The ``model`` (``"exact"``, the default, or ``"correction"``) and the pixels a view ``samples``, a
+        Fibonacci number (default :func:`roughlight.render.implicit.model.model_samples`).
 
     Returns
     -------
     dict as :func:`roughlight.render.fast.periodic.fast_sweep`: ``diffuse``, ``specular``,
     ``total``, ``coverage`` (n_views,) and ``seconds``.
     """
-    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)  # checks every input
+    settings = settings or ImplicitSettings()
+    uniforms = shader_uniforms(settings.model, surface, incidence, lighting, settings.samples)  # checks every input
     samples = uniforms["samples"]
 
     def step(out, views, incidence, lighting):

@@ -19,8 +19,9 @@ import numpy as np
 from ...surfaces import geometry
 from ...surfaces.surface import Surface
 from .. import shading, sweep
-from ..gl.context import SHADER_DIR, SHADOW_TEX_SZ, Program, PyrenderShaderCache, import_pyrender, release_contexts
+from ..gl.context import SHADER_DIR, Program, PyrenderShaderCache, import_pyrender, release_contexts
 from ..shading import SHADINGS
+from .settings import NaiveSettings
 
 
 class _PyrenderShaders(PyrenderShaderCache):
@@ -184,17 +185,6 @@ class NaiveScene:
 NAIVE_RENDERERS: dict = {}
 
 
-#: The naive method as it comes: a 400 x 300 window spanning 40 periods (10 pixels a period).
-NAIVE_WINDOW = (400, 300)
-
-
-NAIVE_VIEW_PERIODS = 40.0
-
-
-#: pyrender's directional shadow map, texels a side (``pyrender.constants.SHADOW_TEX_SZ``).
-NAIVE_SHADOW_MAP = SHADOW_TEX_SZ
-
-
 def _naive_renderer(size):
     renderer = NAIVE_RENDERERS.get(size)
     if renderer is None:
@@ -208,11 +198,10 @@ def _naive_renderer(size):
     return renderer
 
 
-def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, window=NAIVE_WINDOW, capture=40,
-                view_periods=NAIVE_VIEW_PERIODS, lowest_elevation=10.0, jitter=(0.0, 0.0), shading_model="flat"):
+def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
     """The thesis's procedure with pyrender as it comes: one render per view.
 
-    Each view renders a ``window`` (400 x 300 pixels, as the thesis) of a finite
+    Each view renders a ``settings.window`` (400 x 300 pixels, as the thesis) of a finite
     patch through an orthographic camera, with pyrender redrawing its 2048^2
     directional shadow map and (its program cache being keyed on OSMesa's
     ever-new context) recompiling its shaders on every render; the value is
@@ -221,26 +210,25 @@ def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, 
     period by default), the patch enough periods to fill the capture window
     down to ``lowest_elevation`` degrees (10 by default). ``coverage`` is the
     fraction of capture pixels showing the surface (from the depth buffer).
-    ``jitter`` shifts the camera by that many pixels (x, y) in its image plane.
-    ``shading_model`` is one of :data:`SHADINGS`: ``flat`` is the study's
-    (true face normals); ``phong`` and ``gouraud`` use averaged vertex
-    normals, to measure how wrong they make each component.
+    ``settings`` is a :class:`roughlight.render.naive.settings.NaiveSettings` (default: the thesis's), which
+    also sets the camera's ``jitter`` and the ``shading_model``.
 
     Returns the dict of :func:`roughlight.render.fast.periodic.fast_sweep`.
     """
     lighting = lighting or shading.Lighting()
-    periods = _patch_periods(view_periods * capture / window[0], lowest_elevation)
-    # the scene first: it checks the shading model before any OpenGL context is made
-    scene = NaiveScene(surface, shading.check_incidence(incidence), lighting, window, periods, view_periods,
-                       shading_model)
+    s = settings or NaiveSettings()
+    window, capture = tuple(int(w) for w in s.window), int(s.capture)
+    periods = _patch_periods(s.view_periods * capture / window[0], s.lowest_elevation)
+    scene = NaiveScene(surface, shading.check_incidence(incidence), lighting, window, periods, s.view_periods,
+                       s.shading_model)
     w, h = window
     x0, y0 = (w - capture) // 2, (h - capture) // 2
     box = np.s_[y0:y0 + capture, x0:x0 + capture]
 
     def step(out, views, incidence, lighting):
-        renderer = _naive_renderer(tuple(window))
+        renderer = _naive_renderer(window)
         for k, view in zip(views.measured, views.directions()):
-            color, depth = scene.render(renderer, view, jitter)
+            color, depth = scene.render(renderer, view, s.jitter)
             means = color[box].reshape(-1, color.shape[-1]).mean(axis=0, dtype=np.float64)
             out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]
             out["coverage"][k] = float(np.mean(depth[box] > 0))

@@ -1,0 +1,144 @@
+"""The registry of methods: every way of measuring a sweep, by the name ``render.method`` gives it.
+
+Each :class:`Method` names its sweep function (``sweep(surface, incidence, azimuth, elevation, lighting,
+settings)``, run through the one contract of :mod:`roughlight.render.sweep`) and its settings type, a frozen
+dataclass that checks itself and says how it sampled the surface (``recorded``). Both are named by dotted path and
+imported on first use, so a job imports only what its method needs: the exact reference loads no OpenGL.
+
+- ``fast``: :func:`roughlight.render.fast.periodic.fast_sweep`, :class:`roughlight.render.fast.settings.FastSettings`;
+- ``naive``: :func:`roughlight.render.naive.procedure.naive_sweep`,
+  :class:`roughlight.render.naive.settings.NaiveSettings`;
+- ``reference``: :func:`roughlight.render.exact.reference.reference_sweep`,
+  :class:`roughlight.render.exact.settings.ReferenceSettings`;
+- ``implicit_exact`` and ``implicit_correction``: :func:`roughlight.render.implicit.shader.implicit_sweep`,
+  :class:`roughlight.render.implicit.settings.ImplicitSettings` with ``model`` ``exact`` or ``correction``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+
+__all__ = ["Method", "METHODS", "NAMES", "method", "settings", "sweep", "recorded"]
+
+
+def _load(path: str):
+    module, name = path.split(":")
+    return getattr(importlib.import_module(module), name)
+
+
+@dataclass(frozen=True)
+class Method:
+    """One method of measuring a sweep.
+
+    Attributes
+    ----------
+    name : str
+        The method's name (``render.method``).
+    sweeper : str
+        ``"module:function"`` of its sweep function.
+    settings_type : str
+        ``"module:class"`` of its settings.
+    fixed : tuple of (str, value)
+        Settings the name fixes (the implicit methods' ``model``).
+    """
+
+    name: str
+    sweeper: str
+    settings_type: str
+    fixed: tuple = ()
+
+    def settings(self, knobs: dict | None = None):
+        """The method's settings from ``knobs`` (the config's keys for it; None or {}: its defaults), checked."""
+        kind = _load(self.settings_type)
+        knobs = {**dict(self.fixed), **(knobs or {})}
+        return self.checked(kind.from_config(knobs) if hasattr(kind, "from_config") else kind(**knobs))
+
+    def checked(self, settings=None):
+        """``settings`` (a dict of knobs or None: :meth:`settings`), refused unless they are this method's type
+        and keep the values its name fixes."""
+        if settings is None or isinstance(settings, dict):
+            return self.settings(settings)
+        kind = _load(self.settings_type)
+        if not isinstance(settings, kind):
+            raise TypeError(f"method {self.name!r} takes {kind.__name__}, got {type(settings).__name__}")
+        for key, value in self.fixed:
+            if getattr(settings, key) != value:
+                raise ValueError(f"method {self.name!r} has {key}={value!r}, got {key}={getattr(settings, key)!r}")
+        return settings
+
+    def sweep(self, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+        """Measure a sweep (:func:`sweep`)."""
+        return _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, self.checked(settings))
+
+    def recorded(self, settings=None, surface=None) -> dict:
+        """How the method sampled ``surface`` (:func:`recorded`)."""
+        return self.checked(settings).recorded(surface)
+
+
+#: The methods, by name.
+METHODS = {
+    m.name: m
+    for m in (
+        Method("fast", "roughlight.render.fast.periodic:fast_sweep", "roughlight.render.fast.settings:FastSettings"),
+        Method("naive", "roughlight.render.naive.procedure:naive_sweep",
+               "roughlight.render.naive.settings:NaiveSettings"),
+        Method("reference", "roughlight.render.exact.reference:reference_sweep",
+               "roughlight.render.exact.settings:ReferenceSettings"),
+        Method("implicit_exact", "roughlight.render.implicit.shader:implicit_sweep",
+               "roughlight.render.implicit.settings:ImplicitSettings", (("model", "exact"),)),
+        Method("implicit_correction", "roughlight.render.implicit.shader:implicit_sweep",
+               "roughlight.render.implicit.settings:ImplicitSettings", (("model", "correction"),)),
+    )
+}
+
+#: The methods' names, selectable with ``render.method``.
+NAMES = tuple(METHODS)
+
+
+def method(name: str) -> Method:
+    """The method called ``name``; ``ValueError`` naming the choices for any other."""
+    if name not in METHODS:
+        raise ValueError(f"render.method must be one of {NAMES}, got {name!r}")
+    return METHODS[name]
+
+
+def settings(name: str, knobs: dict | None = None):
+    """The named method's settings from its config keys ``knobs`` (:meth:`Method.settings`)."""
+    return method(name).settings(knobs)
+
+
+def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+    """Measure a sweep with the named method.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`NAMES`.
+    surface : Surface or RandomSurface
+    incidence : float
+        Light elevation above the surface plane, degrees in [0, 90] (light at azimuth 0).
+    azimuth, elevation : (n_views,) arrays
+        Views, degrees (:func:`roughlight.render.sweep.sweep_views`).
+    lighting : Lighting, optional
+    settings : the method's settings type, a dict of its knobs, or None (its defaults)
+
+    Returns
+    -------
+    dict
+        ``diffuse``, ``specular``, ``total`` and ``coverage``: (n_views,) arrays (0-255; coverage 0-1);
+        ``seconds``: wall time of the sweep (:data:`roughlight.render.sweep.RESULT`).
+    """
+    return method(name).sweep(surface, incidence, azimuth, elevation, lighting, settings)
+
+
+def recorded(name: str, settings=None, surface=None) -> dict:
+    """How the named method sampled ``surface``, as the study table and the benchmark record it.
+
+    Returns
+    -------
+    dict: ``pixels_per_period`` (int; a random tile's per cell), ``sampling`` (``lattice``, ``grid`` or
+    ``adaptive`` for fast, ``window`` for naive, ``exact`` for the reference, ``fibonacci`` for the implicit
+    shader) and ``shadow_map_size`` (texels a side; 0 where there is none).
+    """
+    return method(name).recorded(settings, surface)
