@@ -19,6 +19,7 @@ from roughlight.report import figures as F
 from roughlight.report import page as R
 from roughlight.report.explorer import explorer_data, study_columns
 from roughlight.study import config as rl_config
+from roughlight.study import plan
 from roughlight.study.tables import aggregate, regular, run_sweep
 from roughlight.surfaces.roughness import make_surface
 
@@ -34,74 +35,51 @@ def resolved(user: dict) -> tuple[dict, list[str]]:
 
 
 def measure_study(cfg: dict, workdir: Path) -> pd.DataFrame:
-    """Every sweep of the config's grid written as the sweep rules write them, then the study table."""
-    lighting = rl_config.lighting_from_config(cfg).as_dict()
-    control_lighting = {**lighting, "shadows": False, "specular_shadows": True}
-    method = cfg["render"]["method"]
-    render = rl_config.render_settings_from_config(cfg) if method == "fast" else {}
-    tile_render = rl_config.render_settings_from_config(cfg, random_tiles=True) if method == "fast" else {}
-    sweep = {key: float(cfg["sweep"][key]) for key in ("elevation_step", "azimuth_step")}
-    rough, random, control = [], [], []
-    for incidence in (float(i) for i in cfg["grid"]["incidence"]):
-        folder = workdir / f"i{rl_config.label(incidence)}"
-        folder.mkdir(parents=True, exist_ok=True)
-        control.append(str(folder / "control.parquet"))
-        run_sweep(control[-1], make_surface("pyramids", 0.0, 0.0), incidence, sweep, control_lighting, method, render)
-        for t, a in rl_config.surfaces(cfg):
-            rough.append(str(folder / f"t{rl_config.label(t)}_a{rl_config.label(a)}.parquet"))
-            run_sweep(rough[-1], make_surface("pyramids", t, a), incidence, sweep, lighting, method, render)
-        for kind, t, a, seed in rl_config.random_surfaces(cfg):
-            random.append(str(folder / f"{kind}_t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet"))
-            surface = make_surface(kind, t, a, seed, **rl_config.random_surface_settings(cfg))
-            run_sweep(random[-1], surface, incidence, sweep, lighting, method, tile_render)
-    return aggregate(rough + random, control)
+    """Every sweep of the config's plan (:mod:`roughlight.study.plan`, what the sweep rules run) written under
+    ``workdir`` as the sweep rules write them under the workflow's directory, then the study table."""
+    method, sweep = cfg["render"]["method"], plan.sweep_settings(cfg)
+    files = {}
+    for group in plan.GROUPS:
+        files[group] = []
+        for s in plan.sweeps(cfg, group):
+            path = workdir / s.path
+            path.parent.mkdir(parents=True, exist_ok=True)
+            run_sweep(str(path), make_surface(**s.surface), s.incidence, sweep, plan.lighting(cfg, group), method,
+                      plan.render_settings(cfg, group))
+            files[group].append(str(path))
+    return aggregate(files["rough"] + files["random"], files["control"])
 
 
 def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Path) -> str:
-    """The analysis steps, the drawn figures and the page, as the report rules chain them."""
+    """The analysis steps, the drawn figures and the page, as the report rules chain them: every output is named as
+    the rules name it (its file's stem; a chart's stem and _png) and handed to the next step by that name."""
     settings = rl_config.report_settings(cfg)
-    lighting = rl_config.lighting_from_config(cfg).as_dict()
+    lighting = plan.lighting(cfg)
     regular_study = regular(study)
-    tables, summary = steps.analysis_tables(regular_study, settings, lighting, log=lambda message: None)
-    glm, glm_messages = steps.analysis_glm(tables["lobes"], tables["diffuse_levels"], settings, lighting)
-    models = steps.analysis_models(regular_study, settings, lighting)
-    inputs = {"study": regular_study, "lobes": tables["lobes"], "diffuse_parts": tables["diffuse_parts"],
-              "sine": tables["sine"], "exact": tables["exact"], "reflecting_areas": tables["areas"],
-              "render_timings": tables["timings"], "glm_summary": glm["summary"],
-              "glm_diagnostics": glm["diagnostics"], "model_fits": models["fits"]}
+    outputs, study_summary = steps.analysis_tables(regular_study, settings, lighting, log=lambda message: None)
+    outputs["study_summary"] = study_summary
+    glm, outputs["glm_messages"] = steps.analysis_glm(outputs["lobes_arc"], outputs["diffuse_levels"], settings,
+                                                      lighting)
+    outputs.update(glm, **steps.analysis_models(regular_study, settings, lighting))
     figures = {name: F.save_figure(fig, workdir / "figures" / f"{name}.png")
-               for name, fig in F.drawn_figures(inputs, settings)}
+               for name, fig in F.drawn_figures({"study": regular_study, **outputs}, settings)}
     # the renderer validation's arc curves (rule renderer_validation) follow the table aspects and the grid's arcs
     smoothness = arc_smoothness(study, settings["table_aspects"], settings["table_incidence"], Lighting(**lighting))
     assert set(smoothness["aspect"]) <= set(settings["table_aspects"])
-    random_html = None
     if rl_config.random_surfaces(cfg):
-        random = steps.analysis_random(study, settings, lighting)
-        charts = (F.plot_random_ensembles(random["ensembles"], workdir / "figures" / "random_ensembles.png"),
-                  F.plot_random_maps(study, workdir / "figures" / "random_maps.png"))
-        random_html = R.random_section(random["ensembles"], random["seeds_needed"], random["model_fits"],
-                                       *charts, surface_settings=rl_config.random_surface_settings(cfg))
-    page_tables = {
-        "study_summary": summary["study"], "timings_summary": summary["timings"],
-        "lobes": tables["lobes"], "lobes_hemisphere": tables["hemisphere"], "diffuse_parts": tables["diffuse_parts"],
-        "exact_peaks": tables["exact"], "thesis_tables": tables["thesis_tables"],
-        "bootstrap_tables": tables["bootstrap"], "sine_refits": tables["sine"],
-        "implied_scales": tables["implied_scales"], "tables_at_implied_scale": tables["tables_at_implied_scale"],
-        "timings": tables["timings"], "glm_summary": glm["summary"], "glm_coefficients": glm["coefficients"],
-        "share_laws": glm["share_laws"], "glm_messages": glm_messages, "model_fits": models["fits"],
-        "model_fits_summary": models["summary"],
-    }
-    explorer = None
+        outputs.update(steps.analysis_random(study, settings, lighting))
+        # the charts rule analysis_random draws (the page is built without them: the chain checks the tables)
+        F.plot_random_ensembles(outputs["random_ensembles"], workdir / "figures" / "random_ensembles.png")
+        F.plot_random_maps(study, workdir / "figures" / "random_maps.png")
     if cfg["report"]["explorer"]["enabled"]:  # rule explorer_data
-        explorer = explorer_data(study_columns(study), budget=cfg["report"]["explorer"]["budget"])
-    return R.build_report(page_tables, figures, config=cfg, provenance={"settings": settings},
-                          messages=summary["messages"], table_aspects=settings["table_aspects"],
-                          table_incidence=settings["table_incidence"], random_html=random_html, followed=followed,
-                          explorer=explorer)
+        outputs["explorer_data"] = explorer_data(study_columns(study), budget=cfg["report"]["explorer"]["budget"])
+    return R.build_report(outputs, figures, config=cfg, provenance={"settings": settings}, followed=followed,
+                          surface_settings=rl_config.random_surface_settings(cfg),
+                          table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"])
 
 
 def whole_report(user: dict, workdir: Path) -> tuple[str, dict, list[str], pd.DataFrame]:
     """A user's config -> (the page, the config it ran with, the follow notes, the study table)."""
     cfg, followed = resolved(user)
-    study = measure_study(cfg, workdir / "sweeps")
+    study = measure_study(cfg, workdir)
     return build_page(cfg, followed, study, workdir), cfg, followed, study

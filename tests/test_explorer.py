@@ -147,7 +147,7 @@ def test_the_page_says_what_the_budget_left_out_and_allows_only_its_own_script()
     study = synthetic_study(kinds=(("pyramids", 0), ("random_heightfield", 1), ("random_heightfield", 2)))
     data = X.explorer_data(X.study_columns(study), budget=X.explorer_data(X.study_columns(study), 10**7)["bytes"]
                            - 10)
-    html = R.build_report({}, {}, explorer=data)
+    html = R.build_report({"explorer_data": data}, {})
     assert re.search(r"Left out to keep within <code>report.explorer.budget</code> \(raise it to hold them\): 1 "
                      r"seeds of random heightfield \(seed 2\)", html)
     csp = re.search(r'http-equiv="Content-Security-Policy" content="([^"]+)"', html).group(1).replace("&#39;", "'")
@@ -329,10 +329,10 @@ def users_grid(tmp_path_factory):
     user["sweep"].update(elevation_step=15, azimuth_step=45)
     user["surface"].update(seeds=2, random_grid={"truncation": [1.0], "aspect": [1.0]})
     cfg, _ = resolved(user)
-    study = measure_study(cfg, workdir / "sweeps")
+    study = measure_study(cfg, workdir)
     data = X.explorer_data(X.study_columns(study), budget=cfg["report"]["explorer"]["budget"])
     path = workdir / "report.html"
-    path.write_text(R.build_report({}, {}, config=cfg, explorer=data), encoding="utf-8")
+    path.write_text(R.build_report({"explorer_data": data}, {}, config=cfg), encoding="utf-8")
     return path, study, data, workdir
 
 

@@ -24,6 +24,7 @@ from roughlight.analysis.thesis import exact_lobe_peaks, implied_scales, tables_
 from roughlight.render.shading import Lighting
 from roughlight.report import page as R
 from roughlight.report import page_findings as PF
+from roughlight.report import page_sections as PS
 from roughlight.report.page_templates import render
 
 from .test_analysis import make_study
@@ -120,21 +121,18 @@ def implicit_frame() -> pd.DataFrame:
 
 
 def benchmarks() -> dict:
-    return {"png": None, "table": speed_table(), "validation": validation_frame(), "smoothness": None,
-            "tiles": tiles_frame()}
+    """The speed/accuracy benchmark and the renderer's validation, named as rule report_html names them."""
+    return {"speed_accuracy": speed_table(), "renderer_validation": validation_frame(), "random_accuracy": tiles_frame()}
 
 
 def measured() -> dict:
-    return {"random_ensembles": ensembles_frame(), "implicit_validation": implicit_frame()}
-
-
-def section_html(ensembles: pd.DataFrame, validation: pd.DataFrame) -> dict:
-    """The random and implicit sections as the workflow renders them apart."""
+    """The random and implicit sections' inputs, named as rule report_html names them."""
+    ensembles = ensembles_frame()
     fits = ensembles[["kind", "truncation", "aspect", "incidence"]].drop_duplicates().assign(rmse_lambert=3.0)
     frames = pd.DataFrame({"field": [16, 16], "method": ["explicit", "implicit_exact"], "triangles": [1024, 2],
                            "frame_ms": [59.0, 97.0], "error": [2.3, 0.06]})
-    return {"random_html": R.random_section(ensembles, seeds_needed(ensembles), fits, plan="quick"),
-            "implicit_html": R.implicit_section(validation, frames, None, plan="quick")}
+    return {"random_ensembles": ensembles, "random_seeds_needed": seeds_needed(ensembles), "random_model_fits": fits,
+            "implicit_validation": implicit_frame(), "implicit_frames": frames, "plan": "quick"}
 
 
 # ---------------------------------------------------------------------------
@@ -194,9 +192,7 @@ def assert_links_land(page: _Page):
 
 @pytest.fixture(scope="module")
 def full_page(tables):
-    m = measured()
-    html = R.build_report(dict(tables), {}, benchmarks=benchmarks(), table_aspects=ASPECTS, measured=m,
-                          **section_html(m["random_ensembles"], m["implicit_validation"]))
+    html = R.build_report({**tables, **benchmarks(), **measured()}, {}, table_aspects=ASPECTS)
     return parse(html)
 
 
@@ -256,7 +252,7 @@ def test_the_ranking_follows_our_numbers():
 
 def _section(**changes) -> dict:
     """The findings' data with every statement saying why it is missing, but ``changes``."""
-    s = PF.findings_section({}, None, None, ASPECTS, 30.0)
+    s = PF.findings_section(table_aspects=ASPECTS, table_incidence=30.0)
     s.update(changes)
     return s
 
@@ -267,7 +263,7 @@ def test_the_exact_and_implied_statements_are_the_tables(tables, full_page):
     assert e["max"] == exact["error"].abs().max() and e["mean"] == pytest.approx(exact["error"].abs().mean())
     area_exact = thesis[(thesis["source"] == "exact geometry") & thesis["model"].str.contains("Area")]
     assert e["worst"] == area_exact["Mean Abs Error"].max() and e["worst"] < 1e-9
-    i = PF.implied_scale(tables, thesis)
+    i = PF.implied_scale(thesis, tables["implied_scales"], tables["tables_at_implied_scale"])
     scales = tables["implied_scales"].set_index("table")
     assert [(r["table"], r["low"], r["high"], r["possible"]) for r in i["scales"]] == [
         (t, scales.loc[t, "s_min_mae"], scales.loc[t, "s_max_mae"], bool(scales.loc[t, "stated_possible"]))
@@ -286,7 +282,7 @@ def test_the_exact_and_implied_statements_are_the_tables(tables, full_page):
 
 def test_the_share_laws_are_the_best_held_out(tables, full_page):
     laws = tables["share_laws"]
-    found = PF.share_laws(tables)
+    found = PF.share_law_finding(tables["share_laws"])
     assert [b["lobe"] for b in found["best"]] == ["forward", "back"]
     for b in found["best"]:
         rows = laws[laws["lobe"] == b["lobe"]]
@@ -315,14 +311,14 @@ def test_the_random_claims_are_the_claim_tables():
 
 def test_the_renderer_statements_are_the_benchmarks(full_page):
     b = benchmarks()
-    acc = PF.renderer_accuracy(b)
-    configured = b["validation"].query("setting == 'configured'")
+    acc = PF.renderer_accuracy(PS.benchmarks_data(**b))
+    configured = b["renderer_validation"].query("setting == 'configured'")
     assert acc["worst"] == configured["worst"].max() and acc["mae"] == configured["mae"].max()
     assert acc["component"] == configured.loc[configured["worst"].idxmax(), "component"]
     assert (acc["n_surfaces"], acc["views"]) == (2, 315)
     assert acc["tiles"]["worst"] == 0.42 and acc["tiles"]["largest_mae"] == 0.086  # the random kinds' tiles only
-    sp = PF.speed(b)
-    total = b["table"].query("component == 'total'")
+    sp = PF.speed(PS.benchmarks_data(**b))
+    total = b["speed_accuracy"].query("component == 'total'")
     fast, naive = total[total["default"]].iloc[0], total[total["method"] == "naive"].iloc[0]
     assert (sp["fast_vps"], sp["naive_vps"], sp["speedup"]) == (fast["views_per_second"], naive["views_per_second"],
                                                                fast["speedup_vs_naive"])
@@ -369,21 +365,21 @@ def test_without_inputs_every_statement_says_why():
 
 
 def test_a_partial_run_says_what_it_lacks(tables):
-    """The tables without their exact peaks, a benchmark without a naive row or a validation, the random section
-    without its frames: each of those statements says why; the others are made."""
+    """The tables without their exact peaks, a benchmark without a naive row or a validation: each of those
+    statements says why; the others are made. The random and implicit sections shown without their frames (which a
+    page built from its inputs cannot be: a section's frames are its inputs) say so too."""
     partial = dict(tables, exact_peaks=None)
     table = speed_table().query("method != 'naive'")
-    m = measured()
-    apart = section_html(m["random_ensembles"], m["implicit_validation"])
-    page = parse(R.build_report(partial, {}, benchmarks={"png": None, "table": table}, table_aspects=ASPECTS, **apart))
+    page = parse(R.build_report({**partial, "speed_accuracy": table}, {}, table_aspects=ASPECTS))
     assert_links_land(page)
     text = {s["finding"]: s["text"] for s in page.statements}
     assert text["exact"] == "The lobe peaks were not compared with the exact reference (report.exact_check: false)."
     assert text["speed"] == "The speed/accuracy benchmark has no row of the naive method to compare with."
     assert text["accuracy"] == "The renderer's check against the exact reference at every view was not given."
-    assert text["random"] == "The random ensembles were not given."
-    assert text["implicit"] == "The implicit surface's validation was not given."
     assert text["ranking"].startswith("Tables 1–2 rank the models the other way round")
+    html = render("findings.html", s=PF.findings_section(table_aspects=ASPECTS, shown={"random": True, "implicit": True}))
+    assert "The random ensembles were not given." in html
+    assert "The implicit surface's validation was not given." in html
 
 
 def test_no_claim_row_and_no_lobe_say_why():
@@ -392,4 +388,4 @@ def test_no_claim_row_and_no_lobe_say_why():
     assert PF.random_claims(ensembles_frame(), shown=False) == {"why": "no_kind"}
     html = render("findings.html", s=_section(random=PF.random_claims(no_claim, shown=True)))
     assert "No test of the thesis's random-roughness claim could be computed" in html
-    assert PF.share_laws({"share_laws": pd.DataFrame()}) == {"why": "no_laws"}
+    assert PF.share_law_finding(pd.DataFrame()) == {"why": "no_laws"}

@@ -80,9 +80,9 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     figs = {
         "fig19_topdown": F.fig19_topdown(study),
         "fig21_specular_truncation": F.fig21_specular_truncation(study),
-        "fig23_forward_models": F.fig23_forward_models(lobes, sine, exact=exact),
+        "fig23_forward_models": F.fig23_forward_models(lobes, sine, exact_peaks=exact),
         "fig24_reflecting_areas": F.fig24_reflecting_areas(areas),
-        "fig25_back_models": F.fig25_back_models(lobes, sine, exact=exact),
+        "fig25_back_models": F.fig25_back_models(lobes, sine, exact_peaks=exact),
         "fig26_specular_aspect": F.fig26_specular_aspect(study),
         "fig27_diffuse_plate": F.fig27_diffuse_plate(study),
         "fig28_diffuse_truncation": F.fig28_diffuse_truncation(study, parts),
@@ -104,15 +104,14 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
     paths = {stem: F.save_figure(fig, fig_dir / f"{stem}.png") for stem, fig in figs.items()}
     summary = study_summary(study)
     html = R.build_report(
-        {"study_summary": summary, "timings_summary": timing_summary, "lobes": lobes,
-         "lobes_hemisphere": hemisphere_lobes(study), "diffuse_parts": parts, "exact_peaks": exact,
-         "thesis_tables": tables, "sine_refits": sine, "timings": per_sweep, "glm_summary": glm_summary,
+        {"study_summary": {"study": summary, "timings": timing_summary, "messages": messages}, "lobes_arc": lobes,
+         "lobes_hemisphere": hemisphere_lobes(study), "diffuse_three_part": parts, "exact_peaks": exact,
+         "thesis_tables": tables, "sine_refits": sine, "render_timings": per_sweep, "glm_summary": glm_summary,
          "glm_coefficients": glm_coefs, "glm_messages": glm_messages, "share_laws": laws, "model_fits": fits,
          "implied_scales": implied_scales(), "tables_at_implied_scale": tables_at_implied_scale(lobes),
-         "model_fits_summary": model_fit_summary(fits)},
-        paths, config={"grid": {"aspect": summary["aspects"]}}, messages=messages,
-        provenance={"settings": SETTINGS}, benchmarks=None,
-        explorer=explorer_data(study_columns(study), budget=DEFAULT_BUDGET),
+         "model_fits_summary": model_fit_summary(fits),
+         "explorer_data": explorer_data(study_columns(study), budget=DEFAULT_BUDGET)},
+        paths, config={"grid": {"aspect": summary["aspects"]}}, provenance={"settings": SETTINGS},
     )
     out = workdir / "roughlight_report.html"
     R.write_report(out, html)
@@ -277,8 +276,8 @@ def test_report_without_sqrt3_2_says_so(built, tmp_path):
     lobes = arc_lobes(study)
     tables, messages = thesis_tables(lobes, SETTINGS["table_aspects"], 30.0)
     assert any("√3/2" in m for m in messages)
-    html = R.build_report({"study_summary": study_summary(study), "thesis_tables": tables, "lobes": lobes},
-                          {}, messages=messages)
+    html = R.build_report({"study_summary": {"study": study_summary(study), "messages": messages},
+                           "thesis_tables": tables, "lobes_arc": lobes}, {})
     dom = _parse(html)
     assert {t["data-aspect"] for t in dom.tables if t.get("class") == "thesis-table"} == {"1"}
     assert "not in this study" in html and "Figure" in html  # missing figures are noted, not fatal

@@ -294,7 +294,7 @@ def test_a_template_names_what_it_lacks(name, png):
 
 
 def test_the_page_inlines_the_stylesheet_and_escapes_its_title():
-    html = page.build_report({}, {}, messages=["a note <with> markup"], title="roughlight <test>",
+    html = page.build_report({"study_summary": {"messages": ["a note <with> markup"]}}, {}, title="roughlight <test>",
                              followed=["report.table_aspects <follows>"])
     assert html.startswith("<!DOCTYPE html>") and html.rstrip().endswith("</html>")
     assert "<title>roughlight &lt;test&gt;</title>" in html and "<h1>roughlight &lt;test&gt;</h1>" in html
@@ -307,13 +307,26 @@ def test_the_page_inlines_the_stylesheet_and_escapes_its_title():
         assert f'<h2 id="{anchor}">' in html and f'<a href="#{anchor}">' in html, anchor
 
 
-def test_the_page_places_the_sections_rendered_apart_as_they_are():
-    """stability_section, implicit_section and random_section give HTML: the page shows it, not escaped."""
-    html = page.build_report({}, {}, stability_html='<section id="stability"><h2>Where methods fail</h2></section>',
-                             implicit_html='<h2 id="implicit">x</h2>', random_html='<h2 id="random">y</h2>')
-    assert '<section id="stability"><h2>Where methods fail</h2></section>' in html
-    assert '<h2 id="implicit">x</h2>' in html and '<h2 id="random">y</h2>' in html
-    assert "switched off" not in html.split('id="stability"')[1].split("</section>")[0]
+def test_every_section_is_data_its_template_renders_on_the_page():
+    """One contract for the page's sections (registry.SECTIONS): a function from inputs named by its parameters to
+    its template's data, which base.html includes once; no section arrives as HTML, and a section rendered alone is
+    the page's."""
+    import importlib
+    import inspect
+
+    from roughlight.report import registry
+
+    base = (TEMPLATES / "base.html").read_text(encoding="utf-8")
+    for section in registry.SECTIONS:
+        assert base.count(f"{{% with s = {section.name} %}}") == 1 and f'"{section.template}"' in base, section.name
+        build = getattr(importlib.import_module(section.path), section.build)
+        parameters = inspect.signature(build).parameters.values()
+        assert all(p.default is not p.empty for p in parameters if p.name != "section"), section.name
+        assert not any(p.name.endswith("_html") for p in parameters), section.name
+    assert "_html" not in base and "|safe" not in base
+    off = page.build_report({}, {})
+    assert '<h2 id="stability">Where methods fail</h2><p class="note">The stability scans are switched off' in off
+    assert page.render_section("models") in off and page.render_section("regressions") in off
 
 
 def test_the_table_macro_formats_and_escapes_cells():

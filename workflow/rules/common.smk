@@ -4,6 +4,7 @@ import os
 try:
     from roughlight.study import config as rl_config
     from roughlight.study import runs as rl_runs
+    from roughlight.study import plan as rl_plan
     from roughlight.report import registry as rl_registry
     from roughlight.measurements import stability as rl_stability
 except (
@@ -77,64 +78,59 @@ def check_osmesa():
         raise WorkflowError(str(exc))
 
 
-def _grid(key):
-    return [float(v) for v in config["grid"][key]]
+# The sweeps, meshes and their settings are the study's plan (roughlight.study.plan), which tests/report_chain.py
+# calls too: the builders here hand it the config and turn wildcards into grid values.
 
 
 def _value(key, text):
     """The configured grid value whose label is `text` (exact, not re-parsed)."""
-    for value in _grid(key):
+    for value in rl_plan.grid(config, key):
         if rl_config.label(value) == text:
             return value
     raise WorkflowError(f"{key} {text!r} is not in config grid.{key}")
 
 
 def rough_sweep_files():
-    return [
-        f"results/sweeps/i{rl_config.label(i)}/t{rl_config.label(t)}_a{rl_config.label(a)}.parquet"
-        for i in _grid("incidence")
-        for t in _grid("truncation")
-        for a in _grid("aspect")
-    ]
+    """One sweep per grid point (truncation x aspect) and incidence."""
+    return rl_plan.sweep_files(config, "rough")
 
 
 def random_sweep_files():
     """One sweep per random surface (surface.kind x surface.random_grid x surface.seeds) and incidence."""
-    return [
-        f"results/sweeps/i{rl_config.label(i)}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet"
-        for i in _grid("incidence")
-        for kind, t, a, seed in rl_config.random_surfaces(config)
-    ]
+    return rl_plan.sweep_files(config, "random")
+
+
+def control_sweep_files():
+    """One control (the flat plate) per incidence."""
+    return rl_plan.sweep_files(config, "control")
 
 
 def every_view_files():
     """`make every-view`: the study's sweeps of each random kind's first two seeds at the random grid's
     lowest and highest corner, at the tables' incidence, each against the reference at every view.
     """
-    incidence = rl_config.label(rl_config.report_settings(config)["table_incidence"])
-    return [
-        f"results/benchmarks/every_view/i{incidence}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet"
-        for kind, t, a, seed in rl_config.every_view_surfaces(config)
-    ]
+    return rl_plan.every_view_files(config)
 
 
 def random_mesh_files():
     """One PLY per random tile, its kind and seed in the name."""
-    return [
-        f"results/meshes/{kind}_t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.ply"
-        for kind, t, a, seed in rl_config.random_surfaces(config)
-    ]
+    return rl_plan.random_mesh_files(config)
+
+
+def mesh_files():
+    """One PLY per grid point, and the control's."""
+    return rl_plan.mesh_files(config)
 
 
 def random_surface_params(wildcards):
     """A random tile's kind, grid point, seed, and how tiles are built (surface.cells, surface.spread)."""
-    return {
-        "kind": wildcards.kind,
-        "truncation": _value("truncation", wildcards.truncation),
-        "aspect": _value("aspect", wildcards.aspect),
-        "seed": int(wildcards.seed),
-        **rl_config.random_surface_settings(config),
-    }
+    return rl_plan.surface_settings(
+        config,
+        wildcards.kind,
+        _value("truncation", wildcards.truncation),
+        _value("aspect", wildcards.aspect),
+        int(wildcards.seed),
+    )
 
 
 def random_surface_settings(wildcards):
@@ -142,28 +138,14 @@ def random_surface_settings(wildcards):
     return rl_config.random_surface_settings(config)
 
 
-def control_sweep_files():
-    return [
-        f"results/sweeps/i{rl_config.label(i)}/control.parquet"
-        for i in _grid("incidence")
-    ]
-
-
-def mesh_files():
-    files = [
-        f"results/meshes/t{rl_config.label(t)}_a{rl_config.label(a)}.ply"
-        for t in _grid("truncation")
-        for a in _grid("aspect")
-    ]
-    return files + ["results/meshes/control.ply"]
-
-
 def surface_params(wildcards):
-    return {
-        "kind": "pyramids",
-        "truncation": _value("truncation", wildcards.truncation),
-        "aspect": _value("aspect", wildcards.aspect),
-    }
+    """A grid point's regular surface."""
+    return rl_plan.surface_settings(
+        config,
+        "pyramids",
+        _value("truncation", wildcards.truncation),
+        _value("aspect", wildcards.aspect),
+    )
 
 
 def incidence_param(wildcards):
@@ -171,21 +153,16 @@ def incidence_param(wildcards):
 
 
 def sweep_params(wildcards):
-    return {
-        key: float(config["sweep"][key]) for key in ("elevation_step", "azimuth_step")
-    }
+    return rl_plan.sweep_settings(config)
 
 
 def lighting_params(wildcards):
-    return rl_config.lighting_from_config(config).as_dict()
+    return rl_plan.lighting(config)
 
 
 def control_lighting_params(wildcards):
     """The plate casts no shadows: the shadows switch does not touch the control."""
-    lighting = rl_config.lighting_from_config(config).as_dict()
-    lighting["shadows"] = False
-    lighting["specular_shadows"] = True
-    return lighting
+    return rl_plan.lighting(config, "control")
 
 
 def method_param(wildcards):
@@ -194,16 +171,12 @@ def method_param(wildcards):
 
 def render_params(wildcards):
     """The fast renderer's knobs; empty for the reference, which they do not affect."""
-    if config["render"]["method"] != "fast":
-        return {}
-    return rl_config.render_settings_from_config(config)
+    return rl_plan.render_settings(config)
 
 
 def random_render_params(wildcards):
     """The fast renderer's knobs with those of random tiles (render.random_tiles); empty for the reference."""
-    if config["render"]["method"] != "fast":
-        return {}
-    return rl_config.render_settings_from_config(config, random_tiles=True)
+    return rl_plan.render_settings(config, "random")
 
 
 def fast_render_params(wildcards):
@@ -226,7 +199,10 @@ def table_incidence_param(wildcards):
 
 
 def grid_params(wildcards):
-    return {"truncation": _grid("truncation"), "aspect": _grid("aspect")}
+    return {
+        "truncation": rl_plan.grid(config, "truncation"),
+        "aspect": rl_plan.grid(config, "aspect"),
+    }
 
 
 # the stability scans, one job each (importing roughlight.measurements.stability loads no OpenGL)
@@ -253,46 +229,38 @@ def explorer_budget(wildcards):
 def report_measurements(wildcards):
     """The report's optional inputs, switched by report.speed_accuracy, report.implicit, report.stability,
     report.explorer.enabled and surface.kind (never by which files exist): the measurements at
-    measurements.plan, the random ensembles, the explorer's data.
+    measurements.plan, the random ensembles, the explorer's data. Each is named by its file's stem (a chart:
+    its stem and _png), as the rule that writes it names it and as the page's sections take it.
     """
     plan = measurement_plan()
+    benchmarks = f"results/benchmarks/{plan}"
     inputs = {}
     if config["report"]["explorer"]["enabled"]:
-        inputs["explorer"] = "results/analysis/explorer_data.json"
+        inputs["explorer_data"] = "results/analysis/explorer_data.json"
     if config["report"]["speed_accuracy"]:
-        inputs["speed_accuracy_table"] = (
-            f"results/benchmarks/{plan}/speed_accuracy.parquet"
-        )
-        inputs["speed_accuracy_chart"] = f"results/benchmarks/{plan}/speed_accuracy.png"
-        inputs["renderer_validation"] = (
-            f"results/benchmarks/{plan}/renderer_validation.parquet"
-        )
-        inputs["arc_smoothness"] = f"results/benchmarks/{plan}/arc_smoothness.parquet"
-        inputs["renderer_validation_chart"] = (
-            f"results/benchmarks/{plan}/renderer_validation.png"
-        )
+        inputs["speed_accuracy"] = f"{benchmarks}/speed_accuracy.parquet"
+        inputs["speed_accuracy_png"] = f"{benchmarks}/speed_accuracy.png"
+        inputs["renderer_validation"] = f"{benchmarks}/renderer_validation.parquet"
+        inputs["arc_smoothness"] = f"{benchmarks}/arc_smoothness.parquet"
+        inputs["renderer_validation_png"] = f"{benchmarks}/renderer_validation.png"
     if config["report"]["implicit"]:
-        inputs["implicit_validation"] = (
-            f"results/benchmarks/{plan}/implicit_validation.parquet"
-        )
-        inputs["implicit_frames"] = f"results/benchmarks/{plan}/implicit_frames.parquet"
-        inputs["implicit_chart"] = f"results/benchmarks/{plan}/implicit.png"
-        inputs["implicit_maps_chart"] = f"results/benchmarks/{plan}/implicit_maps.png"
+        inputs["implicit_validation"] = f"{benchmarks}/implicit_validation.parquet"
+        inputs["implicit_frames"] = f"{benchmarks}/implicit_frames.parquet"
+        inputs["implicit_png"] = f"{benchmarks}/implicit.png"
+        inputs["implicit_maps_png"] = f"{benchmarks}/implicit_maps.png"
     if rl_config.random_surfaces(config):  # surface.kind lists a random kind
         inputs["random_ensembles"] = "results/analysis/random_ensembles.csv"
         inputs["random_seeds_needed"] = "results/analysis/random_seeds_needed.csv"
         inputs["random_model_fits"] = "results/analysis/random_model_fits.parquet"
-        inputs["random_ensembles_chart"] = "results/figures/random_ensembles.png"
-        inputs["random_maps_chart"] = "results/figures/random_maps.png"
-        inputs["random_accuracy"] = f"results/benchmarks/{plan}/random_accuracy.parquet"
-        inputs["tile_convergence"] = (
-            f"results/benchmarks/{plan}/tile_convergence.parquet"
-        )
-        inputs["random_tiles_chart"] = f"results/benchmarks/{plan}/random_tiles.png"
+        inputs["random_ensembles_png"] = "results/figures/random_ensembles.png"
+        inputs["random_maps_png"] = "results/figures/random_maps.png"
+        inputs["random_accuracy"] = f"{benchmarks}/random_accuracy.parquet"
+        inputs["tile_convergence"] = f"{benchmarks}/tile_convergence.parquet"
+        inputs["random_tiles_png"] = f"{benchmarks}/random_tiles.png"
     if config["report"]["stability"]:
-        inputs["stability_table"] = f"results/stability/{plan}/stability.parquet"
-        inputs["stability_safe"] = f"results/stability/{plan}/safe_domain.csv"
-        inputs["stability_chart"] = f"results/stability/{plan}/stability.png"
+        inputs["stability"] = f"results/stability/{plan}/stability.parquet"
+        inputs["safe_domain"] = f"results/stability/{plan}/safe_domain.csv"
+        inputs["stability_png"] = f"results/stability/{plan}/stability.png"
     return inputs
 
 

@@ -17,7 +17,7 @@ rule control_sweep:
     resources:
         mem_mb=1024,
     params:
-        surface={"truncation": 0.0, "aspect": 0.0},
+        surface=rl_plan.CONTROL_SURFACE,
         incidence=incidence_param,
         sweep=sweep_params,
         lighting=control_lighting_params,

@@ -2,46 +2,48 @@
 # self-contained reports/roughlight_report.html. Settings under `report:` in the config (defaults and
 # allowed values in workflow/schemas/config.schema.yaml). The figures are roughlight.report.registry.FIGURES:
 # each rule's outputs, the figure scripts and the HTML page are made from that one list; each
-# figure's caption is workflow/report/{name}.rst.
+# figure's caption is workflow/report/{name}.rst. One name per output: a table's name, as a rule's output and as
+# any rule's input, is its file's stem; a chart's is its stem and _png (rule report_html hands every input to
+# the page's sections by these names: roughlight.report.registry.SECTIONS).
 
 
 rule analysis_tables:
     input:
         study="results/study.parquet",
     output:
-        lobes="results/analysis/lobes_arc.parquet",
-        hemisphere="results/analysis/lobes_hemisphere.parquet",
-        diffuse_parts=report(
+        lobes_arc="results/analysis/lobes_arc.parquet",
+        lobes_hemisphere="results/analysis/lobes_hemisphere.parquet",
+        diffuse_three_part=report(
             "results/analysis/diffuse_three_part.csv",
             caption="../report/diffuse_three_part.rst",
             category="Tables",
             subcategory="Diffuse",
         ),
         diffuse_levels="results/analysis/diffuse_levels.csv",
-        exact="results/analysis/exact_peaks.csv",
+        exact_peaks="results/analysis/exact_peaks.csv",
         thesis_tables=report(
             "results/analysis/thesis_tables.csv",
             caption="../report/thesis_tables.rst",
             category="Tables",
             subcategory="Thesis Tables 1-2",
         ),
-        bootstrap=report(
+        thesis_tables_bootstrap=report(
             "results/analysis/thesis_tables_bootstrap.csv",
             caption="../report/thesis_tables_bootstrap.rst",
             category="Tables",
             subcategory="Thesis Tables 1-2",
         ),
-        sine=report(
+        sine_refits=report(
             "results/analysis/sine_refits.csv",
             caption="../report/sine_refits.rst",
             category="Tables",
             subcategory="Thesis Tables 1-2",
         ),
-        areas="results/analysis/reflecting_areas.csv",
+        reflecting_areas="results/analysis/reflecting_areas.csv",
         implied_scales="results/analysis/implied_scales.csv",
         tables_at_implied_scale="results/analysis/tables_at_implied_scale.csv",
-        timings="results/analysis/render_timings.csv",
-        summary="results/analysis/study_summary.json",
+        render_timings="results/analysis/render_timings.csv",
+        study_summary="results/analysis/study_summary.json",
     log:
         "results/logs/report/tables.log",
     benchmark:
@@ -61,23 +63,23 @@ rule analysis_tables:
 
 rule analysis_glm:
     input:
-        lobes="results/analysis/lobes_arc.parquet",
+        lobes_arc="results/analysis/lobes_arc.parquet",
         diffuse_levels="results/analysis/diffuse_levels.csv",
     output:
-        summary=report(
+        glm_summary=report(
             "results/analysis/glm_summary.csv",
             caption="../report/glm_summary.rst",
             category="Tables",
             subcategory="Beyond the thesis",
         ),
-        coefficients=report(
+        glm_coefficients=report(
             "results/analysis/glm_coefficients.csv",
             caption="../report/glm_coefficients.rst",
             category="Tables",
             subcategory="Beyond the thesis",
         ),
-        diagnostics="results/analysis/glm_diagnostics.csv",
-        messages="results/analysis/glm_messages.json",
+        glm_diagnostics="results/analysis/glm_diagnostics.csv",
+        glm_messages="results/analysis/glm_messages.json",
         share_laws=report(
             "results/analysis/share_laws.csv",
             caption="../report/share_laws.rst",
@@ -105,8 +107,8 @@ rule analysis_models:
     input:
         study="results/study.parquet",
     output:
-        fits="results/analysis/model_fits.parquet",
-        summary=report(
+        model_fits="results/analysis/model_fits.parquet",
+        model_fits_summary=report(
             "results/analysis/model_fits_summary.csv",
             caption="../report/model_fits_summary.rst",
             category="Tables",
@@ -134,10 +136,10 @@ rule analysis_models:
 rule figures:
     input:
         study="results/study.parquet",
-        lobes="results/analysis/lobes_arc.parquet",
-        diffuse_parts="results/analysis/diffuse_three_part.csv",
-        sine="results/analysis/sine_refits.csv",
-        exact="results/analysis/exact_peaks.csv",
+        lobes_arc="results/analysis/lobes_arc.parquet",
+        diffuse_three_part="results/analysis/diffuse_three_part.csv",
+        sine_refits="results/analysis/sine_refits.csv",
+        exact_peaks="results/analysis/exact_peaks.csv",
         reflecting_areas="results/analysis/reflecting_areas.csv",
         render_timings="results/analysis/render_timings.csv",
         glm_summary="results/analysis/glm_summary.csv",
@@ -189,22 +191,22 @@ rule analysis_random:
     input:
         study="results/study.parquet",
     output:
-        statistics="results/analysis/random_statistics.parquet",
-        ensembles=report(
+        random_statistics="results/analysis/random_statistics.parquet",
+        random_ensembles=report(
             "results/analysis/random_ensembles.csv",
             caption="../report/random_statistics.rst",
             category="Tables",
             subcategory="Random roughness",
         ),
-        seeds_needed="results/analysis/random_seeds_needed.csv",
-        model_fits="results/analysis/random_model_fits.parquet",
-        ensembles_chart=report(
+        random_seeds_needed="results/analysis/random_seeds_needed.csv",
+        random_model_fits="results/analysis/random_model_fits.parquet",
+        random_ensembles_png=report(
             "results/figures/random_ensembles.png",
             caption="../report/random_ensembles.rst",
             category="Figures",
             subcategory="Random roughness",
         ),
-        maps_chart=report(
+        random_maps_png=report(
             "results/figures/random_maps.png",
             caption="../report/random_maps.rst",
             category="Figures",
@@ -251,23 +253,23 @@ rule report_html:
     input:
         unpack(report_measurements),
         study="results/study.parquet",
-        lobes="results/analysis/lobes_arc.parquet",
-        hemisphere="results/analysis/lobes_hemisphere.parquet",
-        diffuse_parts="results/analysis/diffuse_three_part.csv",
-        exact="results/analysis/exact_peaks.csv",
+        lobes_arc="results/analysis/lobes_arc.parquet",
+        lobes_hemisphere="results/analysis/lobes_hemisphere.parquet",
+        diffuse_three_part="results/analysis/diffuse_three_part.csv",
+        exact_peaks="results/analysis/exact_peaks.csv",
         thesis_tables="results/analysis/thesis_tables.csv",
-        bootstrap="results/analysis/thesis_tables_bootstrap.csv",
-        sine="results/analysis/sine_refits.csv",
+        thesis_tables_bootstrap="results/analysis/thesis_tables_bootstrap.csv",
+        sine_refits="results/analysis/sine_refits.csv",
         implied_scales="results/analysis/implied_scales.csv",
         tables_at_implied_scale="results/analysis/tables_at_implied_scale.csv",
-        timings="results/analysis/render_timings.csv",
-        summary="results/analysis/study_summary.json",
+        render_timings="results/analysis/render_timings.csv",
+        study_summary="results/analysis/study_summary.json",
         glm_summary="results/analysis/glm_summary.csv",
         glm_coefficients="results/analysis/glm_coefficients.csv",
         glm_messages="results/analysis/glm_messages.json",
         share_laws="results/analysis/share_laws.csv",
-        fits="results/analysis/model_fits.parquet",
-        fits_summary="results/analysis/model_fits_summary.csv",
+        model_fits="results/analysis/model_fits.parquet",
+        model_fits_summary="results/analysis/model_fits_summary.csv",
         figures=[figure.path for figure in rl_registry.FIGURES],
     output:
         report(
@@ -288,7 +290,7 @@ rule report_html:
         config=config,
         settings=report_settings,
         plan=measurement_plan,
-        surface=random_surface_settings,
+        surface_settings=random_surface_settings,
         followed=followed_params,
     script:
         "../scripts/report_html.py"

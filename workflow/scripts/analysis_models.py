@@ -15,6 +15,6 @@ study = read_study(snakemake.input.study, rows="regular")  # the random ensemble
 tables = analysis_models(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])
-fits = tables["fits"]
+fits = tables["model_fits"]
 log(f"model fits: {len(fits)} surfaces; best diffuse {fits['best_diffuse'].value_counts().to_dict()}, "
     f"best specular {fits['best_specular'].value_counts().to_dict()}")

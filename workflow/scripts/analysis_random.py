@@ -18,10 +18,10 @@ study = read_study(snakemake.input.study, rows="random_points")  # all that anal
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, out[name])
-stats, summary = tables["statistics"], tables["ensembles"]
+stats, summary = tables["random_statistics"], tables["random_ensembles"]
 log(f"ensembles: {summary.groupby(['kind', 'truncation', 'aspect', 'incidence']).ngroups} random grid points, "
     f"{stats[stats.kind != 'pyramids'].groupby(['kind', 'seed', 'truncation', 'aspect', 'incidence']).ngroups} tiles")
-F.plot_random_ensembles(summary, out.ensembles_chart)
-F.plot_random_maps(study, out.maps_chart)
-log(f"model refits: {len(tables['model_fits'])} tiles and regular surfaces; charts -> {out.ensembles_chart}, "
-    f"{out.maps_chart}")
+F.plot_random_ensembles(summary, out.random_ensembles_png)
+F.plot_random_maps(study, out.random_maps_png)
+log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
+    f"{out.random_maps_png}")

@@ -17,5 +17,5 @@ log(f"study: {len(study)} rows from {snakemake.input.study}")
 tables, summary = analysis_tables(study, snakemake.params.settings, snakemake.params.lighting, log=log)
 for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])
-write_text_atomic(snakemake.output.summary, json.dumps(summary, indent=1))
+write_text_atomic(snakemake.output.study_summary, json.dumps(summary, indent=1))
 log(f"done: {len(tables['thesis_tables'])} table rows, {len(summary['messages'])} messages")

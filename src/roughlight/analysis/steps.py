@@ -1,8 +1,8 @@
 """The workflow's analysis steps as functions over tables: what each analysis rule computes, without its files.
 
 Each function takes the tables a rule reads and its settings, and returns the tables it writes, keyed by the
-rule's output names (``workflow/rules/report.smk``); the rule's script only reads, calls and writes. Tests chain
-them in memory to build the whole report for any grid.
+rule's output names (``workflow/rules/report.smk``), which are the stems of the files they are written to; the
+rule's script only reads, calls and writes. Tests chain them in memory to build the whole report for any grid.
 """
 
 from __future__ import annotations
@@ -42,17 +42,18 @@ def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=pri
 
     Returns
     -------
-    (tables, summary): DataFrames keyed by the rule's output names; the JSON summary (study, timings, messages).
+    (tables, study_summary): DataFrames keyed by the rule's output names; the JSON summary (study, timings,
+    messages).
     """
     light = Lighting(**lighting)
     aspects, incidence = settings["table_aspects"], float(settings["table_incidence"])
     m = light.light * light.specular_reflectance
     halfwidth = float(settings["lobe_halfwidth"])
     out, messages = {}, []
-    lobes = out["lobes"] = arc_lobes(study, max_halfwidth=halfwidth)
-    out["hemisphere"] = hemisphere_lobes(study, max_angle=halfwidth)
+    lobes = out["lobes_arc"] = arc_lobes(study, max_halfwidth=halfwidth)
+    out["lobes_hemisphere"] = hemisphere_lobes(study, max_angle=halfwidth)
     log(f"lobes: {len(lobes)} arc lobes")
-    out["diffuse_parts"] = diffuse_three_part(study)
+    out["diffuse_three_part"] = diffuse_three_part(study)
     out["diffuse_levels"] = diffuse_levels(study)
     if settings["exact_check"]:
         exact = exact_lobe_peaks(lobes, aspects, incidence, light)
@@ -61,17 +62,17 @@ def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=pri
     else:
         exact = pd.DataFrame(columns=SURFACE_KEYS + ["lobe", "peak", "exact_peak", "exact_peak_elevation", "error"])
         messages.append("the exact-reference check of the lobe peaks is switched off (report.exact_check)")
-    out["exact"] = exact
+    out["exact_peaks"] = exact
     tables, table_messages = thesis_tables(lobes, aspects, incidence, m=m, k=None, exact=exact if len(exact) else None)
     messages += table_messages
     out["thesis_tables"] = tables
-    out["bootstrap"] = bootstrap_tables(lobes, aspects, incidence, m=m)
-    out["sine"] = sine_refits(lobes, aspects, incidence, m=m)
+    out["thesis_tables_bootstrap"] = bootstrap_tables(lobes, aspects, incidence, m=m)
+    out["sine_refits"] = sine_refits(lobes, aspects, incidence, m=m)
     out["implied_scales"] = implied_scales()
     out["tables_at_implied_scale"] = tables_at_implied_scale(lobes, aspects, incidence)
-    out["areas"] = _reflecting_areas(study, aspects, incidence)
+    out["reflecting_areas"] = _reflecting_areas(study, aspects, incidence)
     per_sweep, timing_summary = render_timings(study)
-    out["timings"] = per_sweep
+    out["render_timings"] = per_sweep
     for msg in table_messages:
         log(msg)
     return out, {"study": study_summary(study), "timings": timing_summary, "messages": messages}
@@ -100,13 +101,14 @@ def analysis_glm(lobes: pd.DataFrame, levels: pd.DataFrame, settings: dict, ligh
         lobes, levels, collinearity_limit=float(settings["collinearity_limit"]))
     light = Lighting(**lighting)
     laws = share_law_fits(lobes, m=light.light * light.specular_reflectance)
-    return {"summary": summary, "coefficients": coefficients, "diagnostics": diagnostics, "share_laws": laws}, messages
+    return {"glm_summary": summary, "glm_coefficients": coefficients, "glm_diagnostics": diagnostics,
+            "share_laws": laws}, messages
 
 
 def analysis_models(study: pd.DataFrame, settings: dict, lighting: dict) -> dict:
     """The regular surface's study -> each analytic model fitted to each surface, and the best by band."""
     fits = analytic_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
-    return {"fits": fits, "summary": model_fit_summary(fits)}
+    return {"model_fits": fits, "model_fits_summary": model_fit_summary(fits)}
 
 
 def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict) -> dict:
@@ -118,4 +120,5 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict) -> dict
     stats = E.seed_statistics(study, lobe_halfwidth=halfwidth)
     summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, lobe_halfwidth=halfwidth))
     fits = E.ensemble_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
-    return {"statistics": stats, "ensembles": summary, "seeds_needed": E.seeds_needed(summary), "model_fits": fits}
+    return {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
+            "random_model_fits": fits}

@@ -44,12 +44,13 @@ def _held(data: dict) -> dict:
             "seeds": sum(d["seed"] is not None for d in sets)}
 
 
-def explorer_section(data: dict | None) -> dict | None:
+def explorer_section(explorer_data: dict | None = None) -> dict | None:
     """The data of ``templates/explorer.html``, or None when the explorer is switched off.
 
     Parameters
     ----------
-    data : the explorer's data (:func:`roughlight.report.explorer.explorer_data`), or None.
+    explorer_data : the explorer's data (:func:`roughlight.report.explorer.explorer_data`, as rule
+        ``explorer_data`` writes it), or None.
 
     Returns
     -------
@@ -57,6 +58,7 @@ def explorer_section(data: dict | None) -> dict | None:
     Content-Security-Policy allows), ``held`` (counts by sort), ``left_out`` (what the budget left out, with the
     kinds' names), ``bytes``, ``budget``, ``views`` (views a sweep), ``azimuths``, ``elevations`` (their count).
     """
+    data = explorer_data
     if data is None:
         return None
     script = explorer_script()

@@ -110,19 +110,20 @@ def _at_implied_scale(at_scale: pd.DataFrame, scales: pd.DataFrame) -> list[dict
     return out
 
 
-def implied_scale(tables: dict, thesis: pd.DataFrame | None) -> dict:
+def implied_scale(thesis: pd.DataFrame | None, implied_scales: pd.DataFrame | None,
+                  tables_at_implied_scale: pd.DataFrame | None) -> dict:
     """The scales of its area functions the thesis's own numbers allow (:func:`page_thesis.implied`), and our
     rows at the smallest allowed scale where the stated one is impossible."""
     if not _has_rows(thesis):
         return {"why": "no_table_aspect"}
-    shown = page_thesis.implied(tables.get("implied_scales"), tables.get("tables_at_implied_scale"))
+    shown = page_thesis.implied(implied_scales, tables_at_implied_scale)
     if shown is None:
         return {"why": "no_scales"}
     scales = shown["scales"]
     rows = [{"table": int(r["table"]), "model": r["model"], "mae": float(r["mae"]), "low": float(r["s_min_mae"]),
              "high": float(r["s_max_mae"]), "stated": float(r["stated_scale"]), "possible": bool(r["stated_possible"])}
             for _, r in scales.sort_values("stated_possible").iterrows()]
-    at = _at_implied_scale(tables["tables_at_implied_scale"], scales) if shown["at_scale"] is not None else []
+    at = _at_implied_scale(tables_at_implied_scale, scales) if shown["at_scale"] is not None else []
     return {"scales": rows, "at_scale": at, "target": "implied-scale" if at else "tables"}
 
 
@@ -130,14 +131,14 @@ def implied_scale(tables: dict, thesis: pd.DataFrame | None) -> dict:
 # over the grid
 
 
-def share_laws(tables: dict) -> dict:
+def share_law_finding(laws: pd.DataFrame | None) -> dict:
     """Per lobe and incidence, the model best held out (the one "GLMs over the grid" names) against the linear
     GLM's held-out RMSE (NaN, with the frame's ``note`` saying why, where it was not fitted); ``all_laws``: every
     best model is a share law."""
-    laws = frame_or_none(tables.get("share_laws"))
+    laws = frame_or_none(laws)
     if laws is None:
         return {"why": "no_laws"}
-    best = sections.glm_section(tables, {})["best_laws"]
+    best = sections.best_laws(laws)
     items = []
     for _, r in best.sort_values(["lobe", "incidence"], ascending=[False, True]).iterrows():
         base = laws[(laws["lobe"] == r["lobe"]) & (laws["incidence"] == r["incidence"]) & (laws["model"] == BASELINE)]
@@ -218,11 +219,11 @@ def random_claims(ensembles: pd.DataFrame | None, shown: bool) -> dict:
 # the renderers
 
 
-def renderer_accuracy(benchmarks: dict | None) -> dict:
+def renderer_accuracy(shown: dict | None) -> dict:
     """The fast renderer against the exact reference at every view (the configured setting of
     :func:`roughlight.report.page_measurements.validation_line`: its worst view and largest MAE over the
-    components) and on random tiles, as "Accuracy at every view" says them."""
-    shown = sections.benchmarks_data(benchmarks)
+    components) and on random tiles, as "Accuracy at every view" says them (``shown``: its data,
+    :func:`roughlight.report.page_sections.benchmarks_data`)."""
     if shown is None:
         return {"why": "switched_off"}
     if shown["validation"] is None:
@@ -236,13 +237,13 @@ def renderer_accuracy(benchmarks: dict | None) -> dict:
             "target": "renderer-validation"}
 
 
-def speed(benchmarks: dict | None) -> dict:
+def speed(shown: dict | None) -> dict:
     """The fast renderer at its default settings against the naive method, from the speed/accuracy benchmark
     (:func:`roughlight.measurements.speed_accuracy.run_benchmark`): views per second and the total's worst
-    error and MAE against the exact reference."""
-    if sections.benchmarks_data(benchmarks) is None:
+    error and MAE against the exact reference (``shown``: :func:`roughlight.report.page_sections.benchmarks_data`)."""
+    if shown is None:
         return {"why": "switched_off"}
-    table = frame_or_none(benchmarks.get("table"))
+    table = frame_or_none(shown["table"])
     if table is None or not {"default", "speedup_vs_naive"} <= set(table.columns):
         return {"why": "no_table"}
     total = table[table["component"] == "total"]
@@ -282,30 +283,40 @@ def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
 # the section
 
 
-def findings_section(tables: dict, benchmarks: dict | None = None, measured: dict | None = None, table_aspects=(),
-                     table_incidence: float = 30.0, shown: dict | None = None) -> dict:
+def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.DataFrame | None = None,
+                     implied_scales: pd.DataFrame | None = None, tables_at_implied_scale: pd.DataFrame | None = None,
+                     share_laws: pd.DataFrame | None = None, implicit_validation: pd.DataFrame | None = None,
+                     random_ensembles: pd.DataFrame | None = None, speed_accuracy: pd.DataFrame | None = None,
+                     speed_accuracy_png=None, renderer_validation: pd.DataFrame | None = None,
+                     arc_smoothness: pd.DataFrame | None = None, renderer_validation_png=None,
+                     random_accuracy: pd.DataFrame | None = None, table_aspects=(), table_incidence: float = 30.0,
+                     shown: dict | None = None) -> dict:
     """The data of ``templates/findings.html``: one entry a statement, in page order.
 
     Parameters
     ----------
-    tables : the analysis frames of :func:`roughlight.report.page.build_report`.
-    benchmarks : the speed/accuracy benchmark (``table``, ``validation``, ``tiles``); None: switched off.
-    measured : frames of the sections rendered apart: ``random_ensembles`` (rule ``analysis_random``),
-        ``implicit_validation`` (rule ``implicit_surface``); missing keys are said to be missing.
+    thesis_tables, exact_peaks, implied_scales, tables_at_implied_scale, share_laws : the analysis outputs.
+    implicit_validation : rule ``implicit_surface``'s validation; random_ensembles : rule ``analysis_random``'s
+        ensembles; None: the statement says they were not given.
+    speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness, renderer_validation_png,
+    random_accuracy : the speed/accuracy benchmark and "Accuracy at every view", as "Settings and provenance" shows
+        them (:func:`roughlight.report.page_sections.benchmarks_data`); none given: switched off.
     table_aspects, table_incidence : the aspects and incidence of Tables 1-2.
-    shown : which sections rendered apart are on the page: ``random``, ``implicit`` (bools).
+    shown : which sections are on the page (name -> bool): ``random``, ``implicit``.
 
     Returns
     -------
     dict: the aspects and incidence of Tables 1-2 and a dict per statement (:func:`ranking`, ...).
     """
-    measured, shown = measured or {}, shown or {}
-    thesis = tables.get("thesis_tables")
+    shown = shown or {}
+    thesis = thesis_tables
+    benchmarks = sections.benchmarks_data(speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness,
+                                          renderer_validation_png, random_accuracy)
     return {
         "table_aspects": list(table_aspects), "incidence": table_incidence,
-        "ranking": ranking(thesis), "exact": exact_law(thesis, tables.get("exact_peaks")),
-        "implied": implied_scale(tables, thesis), "laws": share_laws(tables),
-        "implicit": implicit(measured.get("implicit_validation"), bool(shown.get("implicit"))),
-        "random": random_claims(measured.get("random_ensembles"), bool(shown.get("random"))),
+        "ranking": ranking(thesis), "exact": exact_law(thesis, exact_peaks),
+        "implied": implied_scale(thesis, implied_scales, tables_at_implied_scale), "laws": share_law_finding(share_laws),
+        "implicit": implicit(implicit_validation, bool(shown.get("implicit"))),
+        "random": random_claims(random_ensembles, bool(shown.get("random"))),
         "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
     }

@@ -1,10 +1,11 @@
 """The page's sections on the measurements (:mod:`roughlight.measurements`): "Where methods fail" (the stability
 scans), "Accuracy at every view" (the renderer's validation), "An implicit rough surface" and "Random roughness".
 
-The workflow renders each of these sections apart (``stability_section``, ``implicit_section``,
-``random_section``) and hands the HTML to :func:`roughlight.report.page.build_report`. The functions here gather
-each section's data; ``templates/stability.html``, ``renderer_validation.html``, ``implicit.html`` and
-``random.html`` say it.
+Each section is a function from its inputs, named as the analysis outputs and the measurements' files are
+(:data:`roughlight.report.registry.SECTIONS`: :func:`stability_data`, :func:`implicit_data`, :func:`random_data`), to
+the data its template says (``templates/stability.html``, ``renderer_validation.html``, ``implicit.html`` and
+``random.html``); it returns None when its inputs were not given (the section is switched off).
+:func:`stability_section`, :func:`implicit_section` and :func:`random_section` render one section alone.
 """
 
 from __future__ import annotations
@@ -75,26 +76,26 @@ def renderer_validation_html(validation: pd.DataFrame, smoothness: pd.DataFrame 
 # where methods fail
 
 
-def stability_section(tables: dict, figure_png_path, plan: str = "full", renderer_validation=None) -> str:
-    """HTML fragment for the report: the safe-domain table, the figure, what fails where (with the default
-    renderer's worst view at every view when ``renderer_validation``, the frame of
-    :func:`roughlight.measurements.renderer_validation.validate_renderer`, is given).
+def stability_data(safe_domain: pd.DataFrame | None = None, stability: pd.DataFrame | None = None,
+                   stability_png=None, plan: str = "full", renderer_validation: pd.DataFrame | None = None) -> dict | None:
+    """"Where methods fail": the safe-domain table, the chart, what fails where (with the default renderer's worst
+    view at every view when ``renderer_validation``, the frame of
+    :func:`roughlight.measurements.renderer_validation.validate_renderer`, is given); None: switched off.
 
     Parameters
     ----------
-    tables : dict
-        ``"safe_domain"``: the frame of :func:`safe_domain`; optionally
-        ``"stability"``: the long frame (for the clipping numbers).
-    figure_png_path : path of the PNG from :func:`roughlight.report.figures.plot_stability`.
+    safe_domain : the frame of :func:`roughlight.measurements.stability.safe_domain`.
+    stability : the long frame of the scans (for the clipping numbers and the normals), or None.
+    stability_png : path of the PNG from :func:`roughlight.report.figures.plot_stability`.
     plan : the size the measurements ran at (:data:`roughlight.measurements.stability.PLANS`).
     """
     from ..measurements.stability import TOLERANCE, normals_table, plan_surfaces
 
+    if safe_domain is None:
+        return None
     surfaces_of = plan_surfaces(plan)
-    safe = tables["safe_domain"]
-    if not isinstance(safe, pd.DataFrame):
-        safe = pd.DataFrame(safe)
-    long = tables.get("stability")
+    safe = safe_domain if isinstance(safe_domain, pd.DataFrame) else pd.DataFrame(safe_domain)
+    long = stability
     clipped = None
     if long is not None:
         cf = long[(long["experiment"] == "clipping") & (long["metric"] == "clipped_fraction")]
@@ -104,31 +105,46 @@ def stability_section(tables: dict, figure_png_path, plan: str = "full", rendere
         if len(nt) else None
     line = validation_line(renderer_validation) \
         if renderer_validation is not None and len(renderer_validation) else None
-    return render("stability.html", s={
-        "plan": plan, "n_fast": len(surfaces_of["fast"]), "n_naive": len(surfaces_of["naive"]),
-        "tolerance": TOLERANCE, "safe": safe, "png": figure_png_path, "clipped": clipped, "line": line,
-        "normals": normals})
+    return {"plan": plan, "n_fast": len(surfaces_of["fast"]), "n_naive": len(surfaces_of["naive"]),
+            "tolerance": TOLERANCE, "safe": safe, "png": stability_png, "clipped": clipped, "line": line,
+            "normals": normals}
+
+
+def stability_section(tables: dict, figure_png_path, plan: str = "full", renderer_validation=None) -> str:
+    """"Where methods fail" alone (its HTML): :func:`stability_data` of ``tables["safe_domain"]``,
+    ``tables.get("stability")`` and the chart at ``figure_png_path``."""
+    return render("stability.html", s=stability_data(tables["safe_domain"], tables.get("stability"), figure_png_path,
+                                                     plan, renderer_validation))
 
 
 # ---------------------------------------------------------------------------
 # an implicit rough surface
 
 
-def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full",
-                     maps_png_path=None) -> str:
-    """HTML fragment: "An implicit rough surface: the thesis's goal" (validation and frame times)."""
+def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_frames: pd.DataFrame | None = None,
+                  implicit_png=None, implicit_maps_png=None, plan: str = "full") -> dict | None:
+    """"An implicit rough surface: the thesis's goal": the validation against the exact reference and the frame
+    times (rule ``implicit_surface``), with their charts; None: switched off."""
     from ..measurements.implicit_surface import summary
 
+    validation, frames = implicit_validation, implicit_frames
+    if validation is None or frames is None:
+        return None
     f = frames.groupby(["field", "method"], as_index=False).agg(
         triangles=("triangles", "first"), frame_ms=("frame_ms", "mean"), error=("error", "max"))
     explicit = f[f["method"] == "explicit"].set_index("field")["frame_ms"]
     f["speedup_vs_explicit"] = f["frame_ms"].rdiv(f["field"].map(explicit))
-    png, maps_png = existing(figure_png_path), existing(maps_png_path)
-    return render("implicit.html", s={
-        "plan": plan, "n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
-        "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
-        "png": png, "caption": caption_text("implicit") if png else None,
-        "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f})
+    png, maps_png = existing(implicit_png), existing(implicit_maps_png)
+    return {"plan": plan, "n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
+            "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
+            "png": png, "caption": caption_text("implicit") if png else None,
+            "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f}
+
+
+def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full",
+                     maps_png_path=None) -> str:
+    """"An implicit rough surface" alone (its HTML): :func:`implicit_data`."""
+    return render("implicit.html", s=implicit_data(validation, frames, figure_png_path, maps_png_path, plan))
 
 
 # ---------------------------------------------------------------------------
@@ -208,16 +224,21 @@ def _random_tiles(accuracy, convergence, tiles_png) -> dict:
             "tiles_png": tiles_png, "tiles_caption": caption_text("random_tiles") if tiles_png else None}
 
 
-def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fits: pd.DataFrame,
-                   ensembles_png=None, maps_png=None, surface_settings: dict | None = None,
-                   accuracy: pd.DataFrame | None = None, convergence: pd.DataFrame | None = None,
-                   tiles_png=None, plan: str = "full") -> str:
-    """HTML fragment: "Random roughness" (ensembles against the regular surface, the rectangular-lobe claim,
-    the analytic models refitted, seeds needed)."""
+def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_needed: pd.DataFrame | None = None,
+                random_model_fits: pd.DataFrame | None = None, random_ensembles_png=None, random_maps_png=None,
+                surface_settings: dict | None = None, random_accuracy: pd.DataFrame | None = None,
+                tile_convergence: pd.DataFrame | None = None, random_tiles_png=None, plan: str = "full") -> dict | None:
+    """"Random roughness" (ensembles against the regular surface, the rectangular-lobe claim, the analytic models
+    refitted, seeds needed, the random tiles' benchmark), from rule ``analysis_random``'s outputs and rule
+    ``random_tiles``'; None: no random kind measured."""
     from ..analysis.ensembles import ELLIPSE_FILL
 
+    ensembles, seeds_needed, model_fits = random_ensembles, random_seeds_needed, random_model_fits
+    if ensembles is None:
+        return None
     charts = [(f"fig-{stem.replace('_', '-')}", png, alt, caption_text(stem))
-              for png, stem, alt in ((ensembles_png, "random_ensembles", "ensembles"), (maps_png, "random_maps", "maps"))
+              for png, stem, alt in ((random_ensembles_png, "random_ensembles", "ensembles"),
+                                     (random_maps_png, "random_maps", "maps"))
               if existing(png)]
     shown = ensembles[[c for c in ("kind", "truncation", "aspect", "incidence", "statistic", "unit", "seeds", "mean",
                                    "boot_low", "boot_high", "regular", "difference", "pooled") if c in ensembles]]
@@ -228,10 +249,19 @@ def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fi
     modelled = {c for models in RANDOM_MODELS.values() for c, _ in models}
     opposition = [c for c in rmse if c not in modelled]
     needed = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
-    return render("random.html", s={
+    return {
         "settings": surface_settings or {}, "ellipse_fill": ELLIPSE_FILL, "tests": _claim_tests(),
         "claim": random_claim_rows(ensembles), "charts": charts, "shown": shown, "best": _best_models(fits),
         "fits": fits[keys + [c for c in rmse if c in modelled]],
         "opposition": fits[keys + opposition] if opposition else None,
         "seeds": seeds_needed[keys + ["statistic", "mean", "sd"] + needed],
-        "plan": plan, **_random_tiles(accuracy, convergence, tiles_png)})
+        "plan": plan, **_random_tiles(random_accuracy, tile_convergence, random_tiles_png)}
+
+
+def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fits: pd.DataFrame,
+                   ensembles_png=None, maps_png=None, surface_settings: dict | None = None,
+                   accuracy: pd.DataFrame | None = None, convergence: pd.DataFrame | None = None,
+                   tiles_png=None, plan: str = "full") -> str:
+    """"Random roughness" alone (its HTML): :func:`random_data`."""
+    return render("random.html", s=random_data(ensembles, seeds_needed, model_fits, ensembles_png, maps_png,
+                                               surface_settings, accuracy, convergence, tiles_png, plan))

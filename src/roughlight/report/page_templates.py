@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import base64
 import hashlib
+import inspect
 import math
 import os
 import re
@@ -226,3 +227,9 @@ def existing(path) -> str | None:
 def frame_or_none(df) -> pd.DataFrame | None:
     """A frame with rows, or None."""
     return df if df is not None and len(df) else None
+
+
+def named_arguments(function, values: dict) -> dict:
+    """What ``function``'s parameters name, taken from ``values`` by name (a name ``values`` lacks leaves its
+    parameter at its default): how a section's function is given its inputs."""
+    return {name: values[name] for name in inspect.signature(function).parameters if name in values}

@@ -145,8 +145,12 @@ def _sine(sine) -> pd.DataFrame | None:
     return s.drop(columns=["aspect_label"])
 
 
-def tables_section(tables: dict, thesis, exact, table_incidence: float) -> dict:
-    """The data of ``templates/tables.html``."""
+def tables_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.DataFrame | None = None,
+                   implied_scales: pd.DataFrame | None = None, tables_at_implied_scale: pd.DataFrame | None = None,
+                   thesis_tables_bootstrap: pd.DataFrame | None = None, sine_refits: pd.DataFrame | None = None,
+                   table_incidence: float = THESIS_INCIDENCE) -> dict:
+    """The data of ``templates/tables.html``, from the analysis outputs of rule ``analysis_tables`` by name."""
+    thesis, exact = thesis_tables, exact_peaks
     has = thesis is not None and len(thesis)
     printed = [thesis_table(thesis, table, aspect, table_incidence)
                for aspect in sorted(thesis["aspect"].unique(), reverse=True) for table in (1, 2)] if has else []
@@ -154,7 +158,7 @@ def tables_section(tables: dict, thesis, exact, table_incidence: float) -> dict:
         "incidence": table_incidence, "k": _k_values(thesis), "printed": printed,
         "findings": findings(thesis) if has else [], "exact_error": exact_error(thesis, exact) if has else None,
         "sd": sd_reading(),
-        "implied": implied(tables.get("implied_scales"), tables.get("tables_at_implied_scale")) if has else None,
-        "bootstrap": bootstrap(tables.get("bootstrap_tables")), "sine": _sine(tables.get("sine_refits")),
+        "implied": implied(implied_scales, tables_at_implied_scale) if has else None,
+        "bootstrap": bootstrap(thesis_tables_bootstrap), "sine": _sine(sine_refits),
         "exact": frame_or_none(exact),
     }

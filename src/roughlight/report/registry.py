@@ -1,4 +1,5 @@
-"""The report's figures: one list, from which the workflow, the figure scripts and the HTML page are made.
+"""The report's figures and the page's sections: two lists, from which the workflow, the figure scripts and the
+HTML page are made.
 
 Each :class:`Figure` names a PNG under ``results/figures/``, where it sits in the
 report (Snakemake's ``report()`` category and subcategory, the HTML page's
@@ -9,6 +10,12 @@ thesis saw) and ``*Ours:*`` (what we see); :func:`caption` reads them for the
 HTML page. The function that draws a figure is ``{name}`` (``fig_{name}`` for names that do not start with
 ``fig``) of its section's module of :mod:`roughlight.report.figures` (:data:`SECTION_MODULES`), and is
 importable from :mod:`roughlight.report.figures` itself too.
+
+Each :class:`Section` of the page is a function from its inputs to the data its template
+(``templates/{template}``) renders: the function names its inputs by its parameter names, which are the names
+of the analysis outputs (their files' stems; a chart's stem and ``_png``, as rule ``report_html`` names its inputs),
+of the figures (``figures``) and of the settings (``table_aspects``, ``plan``, ...). :data:`SECTIONS` lists them;
+:func:`roughlight.report.page.build_report` calls each and ``templates/base.html`` places their templates.
 """
 
 from __future__ import annotations
@@ -120,3 +127,63 @@ def caption(name: str) -> dict:
 def title(name: str) -> str:
     """A figure's title (the bold first line of its caption)."""
     return caption(name)["title"]
+
+
+@dataclass(frozen=True)
+class Section:
+    """One section of the HTML page.
+
+    Attributes
+    ----------
+    name : str
+        The section's name: the page's data for ``templates/base.html`` (which includes its template with that
+        data as ``s``). A function's parameter called ``section`` is given this name.
+    module : str
+        The module of :mod:`roughlight.report` that holds :attr:`build`.
+    build : str
+        The function that gathers the section's data from its inputs, named by its parameters; it returns a dict,
+        or None when the section's inputs were not given (the page says the section is switched off).
+    template : str
+        The template under ``templates/`` that renders the data.
+    """
+
+    name: str
+    module: str
+    build: str
+    template: str
+
+    @property
+    def path(self) -> str:
+        """The module's full name."""
+        return f"roughlight.report.{self.module}"
+
+
+#: The page's sections, in the order their data are gathered: the page's order, but for the findings, gathered last
+#: since they say which sections are on the page (``shown``).
+SECTIONS = (
+    Section("explorer", "page_explorer", "explorer_section", "explorer.html"),
+    Section("study", "page_sections", "study_section", "study.html"),
+    Section("tables", "page_thesis", "tables_section", "tables.html"),
+    Section("specular", "page_sections", "figure_section", "figures.html"),
+    Section("diffuse", "page_sections", "figure_section", "figures.html"),
+    Section("diffuse_parts", "page_sections", "diffuse_parts_section", "diffuse_parts.html"),
+    Section("pictures", "page_sections", "figure_section", "figures.html"),
+    Section("lobes", "page_sections", "lobes_section", "lobes.html"),
+    Section("glm", "page_sections", "glm_section", "glm.html"),
+    Section("models", "page_sections", "models_section", "models.html"),
+    Section("implicit", "page_measurements", "implicit_data", "implicit.html"),
+    Section("random", "page_measurements", "random_data", "random.html"),
+    Section("stability", "page_measurements", "stability_data", "stability.html"),
+    Section("regressions", "page_sections", "regressions_section", "regressions.html"),
+    Section("provenance", "page_sections", "provenance_section", "provenance.html"),
+    Section("findings", "page_findings", "findings_section", "findings.html"),
+)
+
+_SECTIONS_BY_NAME = {s.name: s for s in SECTIONS}
+
+
+def section(name: str) -> Section:
+    """The section of the page called ``name``."""
+    if name not in _SECTIONS_BY_NAME:
+        raise KeyError(f"no section {name!r} in the registry")
+    return _SECTIONS_BY_NAME[name]

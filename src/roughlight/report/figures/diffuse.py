@@ -82,14 +82,14 @@ def _truncation_curves(ax, d, parts, a, inc) -> None:
                 ax.plot(ee, y, color=color, lw=0.8, ls="--")
 
 
-def fig28_diffuse_truncation(study: pd.DataFrame, diffuse_parts: pd.DataFrame, aspects=TABLE_ASPECTS,
+def fig28_diffuse_truncation(study: pd.DataFrame, diffuse_three_part: pd.DataFrame, aspects=TABLE_ASPECTS,
                              incidence: float = THESIS_INCIDENCE):
     """Fig. 28: diffuse on the phi = 0 arc against truncation, with the fitted three-part model."""
     theme()
     diff, inc, fig, panels = arc_panels(study, "diffuse", "fig28_diffuse_truncation", 3.9, aspects, incidence)
     for ax, a in panels:
         d = select(diff, aspect=a, incidence=inc)
-        _truncation_curves(ax, d[d["coverage"] > 0], diffuse_parts, a, inc)
+        _truncation_curves(ax, d[d["coverage"] > 0], diffuse_three_part, a, inc)
         e1, e2 = diffuse_breakpoints(inc, a)
         for e in (e1, e2):
             ax.axvline(e, color="0.3", ls=":", lw=1)
@@ -133,9 +133,9 @@ def fig29_diffuse_aspect(study: pd.DataFrame, truncation: float = 1.0, incidence
     return fig
 
 
-def fig_diffuse_parts(diffuse_parts: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
+def fig_diffuse_parts(diffuse_three_part: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     """Heatmaps over (truncation, aspect) of the three-part diffuse model's parameters."""
-    parts = diffuse_parts
+    parts = diffuse_three_part
     theme()
     d = parts[np.isfinite(parts["rate"])]
     if d.empty:

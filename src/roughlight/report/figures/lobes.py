@@ -15,8 +15,9 @@ from .common import legend_below, pick_incidence, placeholder, theme
 __all__ = ["fig_lobe_geometry"]
 
 
-def fig_lobe_geometry(lobes: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
+def fig_lobe_geometry(lobes_arc: pd.DataFrame, incidence: float = THESIS_INCIDENCE):
     """Measured lobe centres against the geometric mirror directions, and lobe widths."""
+    lobes = lobes_arc
     theme()
     d = lobes[np.isfinite(lobes["peak_elevation"]) & ~lobes["plate"]].copy()
     if d.empty:

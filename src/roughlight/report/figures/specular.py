@@ -166,22 +166,24 @@ def _models_figure(lobes, sine, lobe, m, k, key, exact, aspects, incidence):
     return fig
 
 
-def fig23_forward_models(lobes: pd.DataFrame, sine: pd.DataFrame, light: float = 127.0, exact=None,
+def fig23_forward_models(lobes_arc: pd.DataFrame, sine_refits: pd.DataFrame, light: float = 127.0, exact_peaks=None,
                          aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE):
     """Fig. 23: forward lobe peak against truncation with the square area and regressed models.
 
-    ``exact``: optional :func:`roughlight.analysis.thesis.exact_lobe_peaks` frame, drawn as open circles.
+    ``exact_peaks``: optional :func:`roughlight.analysis.thesis.exact_lobe_peaks` frame, drawn as open circles.
     """
-    return _models_figure(lobes, sine, "forward", light, None, "fig23_forward_models", exact, aspects, incidence)
+    return _models_figure(lobes_arc, sine_refits, "forward", light, None, "fig23_forward_models", exact_peaks,
+                          aspects, incidence)
 
 
-def fig25_back_models(lobes: pd.DataFrame, sine: pd.DataFrame, light: float = 127.0, k: float | None = None,
-                      exact=None, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE):
+def fig25_back_models(lobes_arc: pd.DataFrame, sine_refits: pd.DataFrame, light: float = 127.0, k: float | None = None,
+                      exact_peaks=None, aspects=TABLE_ASPECTS, incidence: float = THESIS_INCIDENCE):
     """Fig. 25: back lobe peak against truncation with the triangle area and regressed models.
 
     ``k`` (the triangle area's factor) defaults to geometry, :func:`roughlight.surfaces.geometry.front_facet_share`.
     """
-    return _models_figure(lobes, sine, "back", light, k, "fig25_back_models", exact, aspects, incidence)
+    return _models_figure(lobes_arc, sine_refits, "back", light, k, "fig25_back_models", exact_peaks, aspects,
+                          incidence)
 
 
 def fig24_reflecting_areas(reflecting_areas: pd.DataFrame):

@@ -1,0 +1,132 @@
+"""The study's plan: which sweeps and meshes a validated config asks for, their files, and each sweep's settings.
+
+One builder for everything that runs a sweep: the workflow's rules (``workflow/rules/common.smk`` hands these to
+``rough_sweep``, ``random_sweep``, ``control_sweep`` and the mesh rules) and the tests' in-process chain
+(``tests/report_chain.py``) call the same functions, so that both name the same files and give each sweep the same
+settings. Every function is pure: it reads the config (:func:`roughlight.study.config.validate_config` filled its
+defaults) and returns plain types. Paths are relative to the workflow's directory.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+from . import config as rl_config
+
+__all__ = [
+    "CONTROL_SURFACE",
+    "GROUPS",
+    "Sweep",
+    "grid",
+    "sweep_settings",
+    "lighting",
+    "render_settings",
+    "surface_settings",
+    "sweeps",
+    "sweep_files",
+    "mesh_files",
+    "random_mesh_files",
+    "every_view_files",
+]
+
+#: The control's surface (the flat plate), as ``make_surface`` takes it.
+CONTROL_SURFACE = {"truncation": 0.0, "aspect": 0.0}
+#: The groups of sweeps: the control (a plate per incidence), the regular grid, the random tiles.
+GROUPS = ("control", "rough", "random")
+
+
+class Sweep(NamedTuple):
+    """One sweep of the study: its file, the surface (``make_surface``'s arguments), the light's incidence."""
+
+    path: str
+    surface: dict
+    incidence: float
+
+
+def grid(config: dict, key: str) -> list[float]:
+    """The grid's values of ``key`` (``truncation``, ``aspect`` or ``incidence``) as floats."""
+    return [float(v) for v in config["grid"][key]]
+
+
+def sweep_settings(config: dict) -> dict:
+    """The views of every sweep: ``elevation_step`` and ``azimuth_step`` (degrees)."""
+    return {key: float(config["sweep"][key]) for key in ("elevation_step", "azimuth_step")}
+
+
+def lighting(config: dict, group: str | None = None) -> dict:
+    """The lighting (:class:`roughlight.render.shading.Lighting` fields) of the study, or of a group's sweeps
+    (:data:`GROUPS`): the control's plate casts no shadows, so the shadows switch does not touch it."""
+    out = rl_config.lighting_from_config(config).as_dict()
+    if group == "control":
+        out.update(shadows=False, specular_shadows=True)
+    return out
+
+
+def render_settings(config: dict, group: str | None = None) -> dict:
+    """The fast renderer's knobs for the study's sweeps, or a group's (:data:`GROUPS`: ``random``, those of random
+    tiles, ``render.random_tiles``); empty when ``render.method`` is not the fast renderer, which they do not
+    affect."""
+    if config["render"]["method"] != "fast":
+        return {}
+    return rl_config.render_settings_from_config(config, random_tiles=group == "random")
+
+
+def surface_settings(config: dict, kind: str, truncation: float, aspect: float, seed: int | None = None) -> dict:
+    """A measured surface as ``make_surface`` takes it: a regular grid point (``pyramids``), or a random tile
+    with its seed and how tiles are built (``surface.cells``, ``surface.spread``)."""
+    if kind == "pyramids":
+        return {"kind": kind, "truncation": truncation, "aspect": aspect}
+    return {"kind": kind, "truncation": truncation, "aspect": aspect, "seed": int(seed),
+            **rl_config.random_surface_settings(config)}
+
+
+def _rough(config: dict, folder: str) -> list[Sweep]:
+    return [Sweep(f"{folder}/i{rl_config.label(i)}/t{rl_config.label(t)}_a{rl_config.label(a)}.parquet",
+                  surface_settings(config, "pyramids", t, a), i)
+            for i in grid(config, "incidence") for t in grid(config, "truncation") for a in grid(config, "aspect")]
+
+
+def _random(config: dict, folder: str) -> list[Sweep]:
+    return [Sweep(f"{folder}/i{rl_config.label(i)}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet",
+                  surface_settings(config, kind, t, a, seed), i)
+            for i in grid(config, "incidence") for kind, t, a, seed in rl_config.random_surfaces(config)]
+
+
+def sweeps(config: dict, group: str, folder: str = "results/sweeps") -> list[Sweep]:
+    """The sweeps of one group (:data:`GROUPS`): ``control`` (one plate per incidence), ``rough`` (the grid:
+    incidence x truncation x aspect) or ``random`` (each random surface of ``surface.kind`` x
+    ``surface.random_grid`` x ``surface.seeds`` at each incidence), in the workflow's order, under ``folder``."""
+    if group == "control":
+        return [Sweep(f"{folder}/i{rl_config.label(i)}/control.parquet", dict(CONTROL_SURFACE), i)
+                for i in grid(config, "incidence")]
+    if group == "rough":
+        return _rough(config, folder)
+    if group == "random":
+        return _random(config, folder)
+    raise ValueError(f"no sweep group {group!r}: one of {', '.join(GROUPS)}")
+
+
+def sweep_files(config: dict, group: str, folder: str = "results/sweeps") -> list[str]:
+    """The files of :func:`sweeps`."""
+    return [sweep.path for sweep in sweeps(config, group, folder)]
+
+
+def mesh_files(config: dict) -> list[str]:
+    """One PLY per regular grid point, and the control's."""
+    files = [f"results/meshes/t{rl_config.label(t)}_a{rl_config.label(a)}.ply"
+             for t in grid(config, "truncation") for a in grid(config, "aspect")]
+    return files + ["results/meshes/control.ply"]
+
+
+def random_mesh_files(config: dict) -> list[str]:
+    """One PLY per random tile, its kind and seed in the name."""
+    return [f"results/meshes/{kind}_t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.ply"
+            for kind, t, a, seed in rl_config.random_surfaces(config)]
+
+
+def every_view_files(config: dict) -> list[str]:
+    """``make every-view``: the study's sweeps of each random kind's first two seeds at the random grid's lowest
+    and highest corner, at the tables' incidence, each against the reference at every view."""
+    incidence = rl_config.label(rl_config.report_settings(config)["table_incidence"])
+    return [f"results/benchmarks/every_view/i{incidence}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}"
+            ".parquet" for kind, t, a, seed in rl_config.every_view_surfaces(config)]
