@@ -25,10 +25,11 @@ from functools import partial
 
 import numpy as np
 
-from ..render import shading
+from ..render import methods, shading
 from ..render import views as sweeps
 from ..surfaces.geometry import period_triangles
 from ..surfaces.surface import SQRT3_2, Surface
+from . import comparison
 
 __all__ = ["PLANS", "validation_surfaces", "validation", "frame_times", "summary", "hemisphere_maps"]
 
@@ -54,12 +55,6 @@ PLANS = {
 RANDOM_SEED = 20011
 
 
-def _plan(plan: str) -> dict:
-    if plan not in PLANS:
-        raise ValueError(f"no implicit benchmark plan {plan!r}: one of {', '.join(PLANS)}")
-    return PLANS[plan]
-
-
 def validation_surfaces(plan: str = "full") -> list[tuple[Surface, float, str]]:
     """(surface, incidence, kind) of a plan: the grid surfaces at every incidence, then random triples.
 
@@ -67,7 +62,7 @@ def validation_surfaces(plan: str = "full") -> list[tuple[Surface, float, str]]:
     truncation in [0.05, 1], aspect in [0.05, 1.2], incidence in [5, 85],
     each off the default grid's values.
     """
-    size = _plan(plan)
+    size = comparison.plan_size(PLANS, plan, "implicit benchmark")
     out = [(Surface(t, a), float(i), "grid") for i in size["incidences"] for t, a in size["grid"]]
     rng = np.random.default_rng(RANDOM_SEED)
     while sum(kind == "random" for *_, kind in out) < size["random"]:
@@ -99,7 +94,7 @@ def validation(plan: str = "full", lighting=None, log=None):
     """
     import pandas as pd
 
-    size = _plan(plan)
+    size = comparison.plan_size(PLANS, plan, "implicit benchmark")
     log = log or (lambda message: None)
     azimuth, elevation = sweeps.view_grid(*size["steps"])
     rows = []
@@ -116,7 +111,6 @@ def validation(plan: str = "full", lighting=None, log=None):
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
     """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
     from ..analysis.surface_models import facet_model
-    from ..render import methods
     from ..render.exact.reference import reference_views
 
     lighting = lighting or shading.Lighting()
@@ -136,12 +130,10 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     results["v_cavity"] = model
     rows = []
     for method, out in results.items():
-        for component in shading.COMPONENTS:
-            err = np.abs(np.asarray(out[component]) - exact[component])[seen]
+        for component, err in comparison.absolute_errors(out, exact, seen).items():
             rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
                          "kind": kind, "band": _band(surface), "method": method, "component": component,
-                         "n_views": int(seen.sum()), "mae": float(err.mean()),
-                         "p99": float(np.percentile(err, 99)), "worst": float(err.max()),
+                         "n_views": int(seen.sum()), **comparison.error_statistics(err),
                          "seconds": float(out["seconds"]), "reference_failures": int(failed.sum())})
     return rows
 
@@ -221,15 +213,13 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     """
     import pandas as pd
 
-    from ..render.exact.reference import reference_sweep
-
-    size_plan = _plan(plan)
+    size_plan = comparison.plan_size(PLANS, plan, "implicit benchmark")
     lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
     views = size_plan["frame_views"]
     el = np.array([v[0] for v in views])
     az = np.array([v[1] for v in views])
-    exact = reference_sweep(surface, incidence, az, el, lighting)["total"]
+    exact = methods.sweep("reference", surface, incidence, az, el, lighting)["total"]
     repeats = size_plan["repeats"]
     rows = []
     pictures = {} if pictures is None else pictures
@@ -312,9 +302,7 @@ def hemisphere_maps(plan: str = "full", lighting=None):
     """
     import pandas as pd
 
-    from ..render import methods
-
-    size = _plan(plan)
+    size = comparison.plan_size(PLANS, plan, "implicit benchmark")
     lighting = lighting or shading.Lighting()
     azimuth, elevation = sweeps.view_grid(*size["steps"])
     parts = []

@@ -17,8 +17,10 @@ import time
 import numpy as np
 import pandas as pd
 
+from ..render import methods
 from ..render.fast.settings import FastSettings, TileSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
+from . import comparison
 
 __all__ = ["PLANS", "tile_convergence", "convergence_summary", "random_accuracy", "random_pictures",
            "tile_pixel_scan", "TILE_SAMPLINGS", "every_view_errors", "every_view_summary"]
@@ -36,7 +38,6 @@ CONVERGENCE_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "dif
 
 
 def _sweep_frame(surface, incidence, azimuth, elevation, lighting, settings, method="fast"):
-    from ..render import methods
     from ..study.tables import sweep_table
 
     result = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
@@ -58,7 +59,7 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     from ..render.views import view_grid
     from ..study.tables import join_controls
 
-    p = PLANS[plan]
+    p = comparison.plan_size(PLANS, plan, "random tiles")
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
     settings = settings or FastSettings()
@@ -118,7 +119,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     from ..render.shading import Lighting
     from ..render.views import view_grid
 
-    p = PLANS[plan]
+    p = comparison.plan_size(PLANS, plan, "random tiles")
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
     settings = settings or FastSettings()
@@ -135,17 +136,13 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
         # a view the reference's own checks refuse is left out and counted
         exact, refused = reference_views(surface, i, azimuth, elevation, lighting)
         reference_seconds = time.perf_counter() - start
-        from ..render.fast.periodic import fast_sweep
-
-        fast = fast_sweep(surface, i, azimuth, elevation, lighting, settings)
+        fast = methods.sweep("fast", surface, i, azimuth, elevation, lighting, settings)
         compared = seen & ~refused
-        for component in ("diffuse", "specular", "total"):
-            error = np.abs(fast[component] - exact[component])[compared]
+        for component, error in comparison.absolute_errors(fast, exact, compared).items():
             rows.append({"kind": kind, "truncation": t, "aspect": a, "cells": cells if kind != "pyramids" else 0,
                          "seed": seed,
                          "component": component, "views": int(compared.sum()),
-                         "reference_refused": int((seen & refused).sum()), "mae": float(error.mean()),
-                         "p99": float(np.quantile(error, 0.99)), "worst": float(error.max()),
+                         "reference_refused": int((seen & refused).sum()), **comparison.error_statistics(error),
                          "fast_views_per_second": azimuth.size / fast["seconds"],
                          "reference_seconds": reference_seconds})
         log(f"accuracy {kind} t={t} a={a} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
@@ -209,8 +206,10 @@ def every_view_summary(errors: pd.DataFrame) -> pd.DataFrame:
                                                             refused=("exact", lambda x: bool(x.isna().any())))
         seen = view.loc[~view["refused"], "error"]
         worst = seen.idxmax() if len(seen) else (np.nan, np.nan)
+        statistics = comparison.error_statistics(seen.to_numpy(float), ("mae", "worst")) if len(seen) \
+            else {"mae": np.nan, "worst": np.nan}
         rows.append({**dict(zip([*tile, "component"], key)), "views": int(seen.size),
-                     "refused": int(view["refused"].sum()), "mae": float(seen.mean()), "worst": float(seen.max()),
+                     "refused": int(view["refused"].sum()), **statistics,
                      "worst_elevation": float(worst[0]), "worst_azimuth": float(worst[1]),
                      "views_over_one_level": int((seen > 1.0).sum()),
                      "reference_seconds": float(group["reference_seconds"].iloc[0])})
@@ -234,7 +233,7 @@ def random_pictures(plan: str = "quick", lighting=None, cells: int = 4) -> list:
     """
     from ..render.naive.procedure import render_picture
 
-    t, a, _ = PLANS[plan]["point"]
+    t, a, _ = comparison.plan_size(PLANS, plan, "random tiles")["point"]
     out = []
     for kind in ("pyramids",) + RANDOM_KINDS:
         surface = make_surface(kind, t, a, 0 if kind == "pyramids" else 1, cells=cells)
@@ -268,9 +267,7 @@ def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TIL
     pixels : pixels a cell (``render.random_tiles.pixels_per_period``)
     views : (elevation step, azimuth step), degrees
     """
-    from ..render.exact.reference import reference_sweep
-    from ..render.fast.periodic import fast_sweep
-    from ..render.shading import COMPONENTS, Lighting
+    from ..render.shading import Lighting
     from ..render.views import view_grid
 
     lighting = lighting or Lighting()
@@ -280,14 +277,14 @@ def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TIL
     rows = []
     for kind in kinds:
         tile = make_surface(kind, t, a, seed, cells=cells)
-        exact = reference_sweep(tile, i, azimuth, elevation, lighting)
+        exact = comparison.reference(tile, i, azimuth, elevation, lighting)
         for sampling in samplings:
             for p in pixels:
                 settings = FastSettings(tile=TileSettings(sampling=sampling, pixels_per_period=int(p)))
-                fast = fast_sweep(tile, i, azimuth, elevation, lighting, settings)
-                for component in COMPONENTS:
-                    error = np.abs(fast[component] - exact[component])[seen]
-                    for metric, value in (("mae", error.mean()), ("max_error", error.max())):
+                fast = methods.sweep("fast", tile, i, azimuth, elevation, lighting, settings)
+                for component, error in comparison.absolute_errors(fast, exact, seen).items():
+                    statistics = comparison.error_statistics(error, ("mae", "worst"))
+                    for metric, value in (("mae", statistics["mae"]), ("max_error", statistics["worst"])):
                         rows.append({"experiment": "tile_pixels", "method": tile_method(kind, sampling),
                                      "variable": "pixels_per_cell", "x": float(p), "setting": "",
                                      "component": component, "metric": metric, "value": float(value)})

@@ -14,10 +14,11 @@ import numpy as np
 import pandas as pd
 
 from ..analysis.thesis import SQRT3_2, TABLE_ASPECTS, THESIS_INCIDENCE
-from ..render import shading
+from ..render import methods, shading
 from ..render import views as sweeps
 from ..study.tables import regular
 from ..surfaces.surface import Surface
+from . import comparison
 
 #: Surfaces and view steps (elevation, azimuth; degrees) of each plan. ``full``: the grid's corners, edges' middles
 #: and centre, the table aspect sqrt(3)/2 and two surfaces off the grid's lines, on every view of a sweep.
@@ -36,12 +37,6 @@ GRAZING = 10.0
 #: The fast renderer's settings the validation compares besides the configured one: the default before issue 11
 #: (lattice sampling at 24 pixels a period), whose speed the default (adaptive at 28) is held to.
 FORMER_DEFAULT = {"sampling": "lattice", "pixels_per_period": 24}
-
-
-def _plan(plan: str) -> dict:
-    if plan not in PLANS:
-        raise ValueError(f"measurements.plan must be one of {sorted(PLANS)}, got {plan!r}")
-    return PLANS[plan]
 
 
 def view_errors(rendered: dict, exact: dict, azimuth, elevation) -> list[dict]:
@@ -64,13 +59,12 @@ def view_errors(rendered: dict, exact: dict, azimuth, elevation) -> list[dict]:
     seen = ~np.asarray(sweeps.is_grazing(elevation))
     grazing = seen & ((elevation < GRAZING) | (elevation > 180.0 - GRAZING))
     rows = []
-    for component in shading.COMPONENTS:
-        err = np.abs(np.asarray(rendered[component], float) - np.asarray(exact[component], float))
+    for component, err in comparison.absolute_errors(rendered, exact).items():
         k = int(np.flatnonzero(seen)[np.argmax(err[seen])])
-        rows.append({"component": component, "n_views": int(seen.sum()), "mae": float(err[seen].mean()),
-                     "p99": float(np.percentile(err[seen], 99)), "worst": float(err[k]),
+        rows.append({"component": component, "n_views": int(seen.sum()), **comparison.error_statistics(err[seen]),
                      "worst_elevation": float(elevation[k]), "worst_azimuth": float(azimuth[k]),
-                     "grazing_worst": float(err[grazing].max()) if grazing.any() else np.nan})
+                     "grazing_worst": comparison.error_statistics(err[grazing], ("worst",))["worst"]
+                     if grazing.any() else np.nan})
     return rows
 
 
@@ -87,8 +81,6 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     """
     from dataclasses import replace
 
-    from ..render.exact.reference import reference_sweep
-    from ..render.fast.periodic import fast_sweep
     from ..render.fast.settings import FastSettings
 
     settings = settings or FastSettings()
@@ -96,7 +88,7 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     runs = [("configured", settings)]
     if former != settings:
         runs.append((f"{former.sampling} {former.pixels_per_period}", former))
-    size = _plan(plan)
+    size = comparison.plan_size(PLANS, plan, "renderer validation")
     lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
     azimuth, elevation = sweeps.view_grid(*size["steps"])
@@ -105,10 +97,10 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     for truncation, aspect in size["surfaces"]:
         surface = Surface(float(truncation), float(aspect))
         start = time.perf_counter()
-        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
+        exact = methods.sweep("reference", surface, incidence, azimuth, elevation, lighting)
         reference_seconds = time.perf_counter() - start
         for name, run in runs:
-            rendered = fast_sweep(surface, incidence, azimuth, elevation, lighting, run)
+            rendered = methods.sweep("fast", surface, incidence, azimuth, elevation, lighting, run)
             for row in view_errors(rendered, exact, azimuth, elevation):
                 rows.append({"setting": name, "sampling": run.sampling, "pixels_per_period": int(run.pixels_per_period),
                              "truncation": surface.truncation, "aspect": surface.aspect, "incidence": float(incidence),
@@ -138,8 +130,6 @@ def study_accuracy(study: pd.DataFrame, lighting=None, shard: tuple[int, int] = 
     DataFrame, one row per surface x component: ``truncation``, ``aspect``, ``incidence`` and the columns of
     :func:`view_errors`.
     """
-    from ..render.exact.reference import reference_sweep
-
     lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
     rows = regular(study)
@@ -150,8 +140,8 @@ def study_accuracy(study: pd.DataFrame, lighting=None, shard: tuple[int, int] = 
         if i % int(shard[1]) != int(shard[0]):
             continue
         azimuth, elevation = sweep["azimuth"].to_numpy(float), sweep["elevation"].to_numpy(float)
-        exact = reference_sweep(Surface(float(truncation), float(aspect)), float(incidence), azimuth, elevation,
-                                lighting)
+        exact = methods.sweep("reference", Surface(float(truncation), float(aspect)), float(incidence), azimuth,
+                              elevation, lighting)
         errors = view_errors({c: sweep[c].to_numpy(float) for c in shading.COMPONENTS}, exact, azimuth, elevation)
         out += [{"truncation": float(truncation), "aspect": float(aspect), "incidence": float(incidence), **row}
                 for row in errors]
@@ -173,7 +163,6 @@ def arc_smoothness(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float 
     ``aspect``, ``incidence``, ``n_views``, ``largest_deviation`` (0-255), ``at_elevation`` (degrees) and
     ``mae``; empty when the study has none of the aspects.
     """
-    from ..render.exact.reference import reference_sweep
     from ..study.selection import arc
 
     lighting = lighting or shading.Lighting()
@@ -187,18 +176,20 @@ def arc_smoothness(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float 
         elevation = np.asarray(sorted(curves["diffuse"].loc[
             (curves["diffuse"]["truncation"] == t) & (curves["diffuse"]["aspect"] == a)
             & (curves["diffuse"]["incidence"] == i), "elevation"]), float)
-        exact = reference_sweep(Surface(float(t), float(a)), float(i), np.zeros_like(elevation), elevation, lighting)
+        exact = methods.sweep("reference", Surface(float(t), float(a)), float(i), np.zeros_like(elevation), elevation,
+                              lighting)
         seen = ~np.asarray(sweeps.is_grazing(elevation))
         if not seen.any():  # every view of the arc grazes the surface (sweep.elevation_step 180): nothing to compare
             continue
         for figure, component in figures:
             c = curves[component]
             curve = c[(c["truncation"] == t) & (c["aspect"] == a) & (c["incidence"] == i)].sort_values("elevation")
-            err = np.abs(curve["rough"].to_numpy(float) - exact[component])[seen]
-            k = int(np.argmax(err))
+            err = comparison.absolute_errors({component: curve["rough"].to_numpy(float)}, exact, seen, (component,))
+            statistics = comparison.error_statistics(err[component], ("mae", "worst"))
+            k = int(np.argmax(err[component]))
             rows.append({"figure": figure, "component": component, "truncation": float(t), "aspect": float(a),
-                         "incidence": float(i), "n_views": int(seen.sum()), "largest_deviation": float(err[k]),
-                         "at_elevation": float(elevation[seen][k]), "mae": float(err.mean())})
+                         "incidence": float(i), "n_views": int(seen.sum()), "largest_deviation": statistics["worst"],
+                         "at_elevation": float(elevation[seen][k]), "mae": statistics["mae"]})
     columns = ["figure", "component", "truncation", "aspect", "incidence", "n_views", "largest_deviation",
                "at_elevation", "mae"]
     return pd.DataFrame(rows, columns=columns)

@@ -14,11 +14,11 @@ from functools import partial
 import numpy as np
 
 from ..render import methods, shading
-from ..render.exact import reference
 from ..render.fast.settings import FastSettings
 from ..render.shading import COMPONENTS
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface
+from . import comparison
 
 __all__ = [
     "BENCH_SURFACES",
@@ -147,11 +147,9 @@ def _measure(config: Config, lit_surface, azimuth, elevation, lighting):
 
 def run_plan(plan: str = "full", lighting=None, log=None):
     """The benchmark at one of the sizes of :data:`PLANS`."""
-    if plan not in PLANS:
-        raise ValueError(f"no benchmark plan {plan!r}: one of {', '.join(PLANS)}")
     import pandas as pd
 
-    size = PLANS[plan]
+    size = comparison.plan_size(PLANS, plan, "benchmark")
     views = bench_views(*size["views"])
     table = _measured(size["configs"](), size["surfaces"], views, lighting, log, size["repeats"])
     tiles = size.get("tiles")
@@ -197,9 +195,7 @@ def _measured(configs, surfaces, views, lighting, log, repeats):
     lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
     azimuth, elevation = views if views is not None else bench_views()
-    exact = [
-        reference.reference_sweep(surface, i, azimuth, elevation, lighting) for (surface, i) in surfaces
-    ]
+    exact = [comparison.reference(surface, i, azimuth, elevation, lighting) for (surface, i) in surfaces]
     n_views = len(surfaces) * azimuth.size
     rows = []
     for config in configs:
@@ -218,21 +214,20 @@ def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting,
     Returns
     -------
     seconds : float, the fastest run's wall time over all surfaces
-    errors : dict component -> list of (n_views,) arrays, ``|value - exact|`` (0-255) per surface
+    errors : dict component -> (n_surfaces * n_views,) array, ``|value - exact|`` (0-255) over every surface's
+        views (:func:`roughlight.measurements.comparison.pooled_errors`), of the last run
     """
     _measure(config, surfaces[0], azimuth, elevation, lighting)  # warm up: context, layout, shaders
     runs = []
     for _ in range(repeats if config.method == "fast" else 1):
         seconds = 0.0
-        errors = {c: [] for c in COMPONENTS}
-        for surface, truth in zip(surfaces, exact):
+        outputs = []
+        for surface in surfaces:
             start = time.perf_counter()
-            out = _measure(config, surface, azimuth, elevation, lighting)
+            outputs.append(_measure(config, surface, azimuth, elevation, lighting))
             seconds += time.perf_counter() - start
-            for c in COMPONENTS:
-                errors[c].append(np.abs(np.asarray(out[c]) - truth[c]))
         runs.append(seconds)
-    return min(runs), errors
+    return min(runs), comparison.pooled_errors(zip(outputs, exact))
 
 
 def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> list[dict]:
@@ -241,7 +236,7 @@ def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> 
     recorded = methods.recorded(config.method, settings.tile_settings() if config.tiles else settings)
     rows = []
     for c in COMPONENTS:
-        err = np.concatenate(errors[c])
+        statistics = comparison.error_statistics(errors[c], ("mae", "worst"))
         rows.append(
             {
                 "method": "fast tiles" if config.tiles else config.method,
@@ -254,8 +249,8 @@ def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> 
                 "seconds": seconds,
                 "views_per_second": n_views / seconds,
                 "ms_per_view": 1000.0 * seconds / n_views,
-                "mae": float(err.mean()),
-                "max_error": float(err.max()),
+                "mae": statistics["mae"],
+                "max_error": statistics["worst"],
             }
         )
     return rows

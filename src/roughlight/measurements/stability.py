@@ -7,7 +7,7 @@ and low incidence. This module measures those failures on a few surfaces and
 coarse view sets, for the ``naive`` method (the thesis's procedure in
 pyrender, :func:`roughlight.render.naive.procedure.naive_sweep`) and the ``fast`` method
 (:func:`roughlight.render.fast.periodic.fast_sweep`), always against the exact
-reference (:func:`roughlight.render.exact.reference.reference_sweep`). Each measurement is
+reference (:func:`roughlight.measurements.comparison.reference`). Each measurement is
 a *scan*: one knob varied over its values (a *sweep* is one surface seen from
 every view). Its chart is drawn by :mod:`roughlight.report.figures` and its report
 section written by :mod:`roughlight.report.page`.
@@ -36,12 +36,12 @@ import pandas as pd
 
 from ..render import methods as registry
 from ..render import shading
-from ..render.exact import reference
 from ..render.exact.settings import ReferenceSettings
 from ..render.fast.settings import FastSettings
 from ..render.naive.settings import NaiveSettings
 from ..render.shading import COMPONENTS, SHADINGS
 from ..surfaces.surface import PLATE, SQRT3_2, Surface
+from . import comparison
 
 __all__ = [
     "TOLERANCE",
@@ -108,35 +108,18 @@ def _jitters(n, seed=0):
     return [tuple(j) for j in np.random.default_rng(seed).uniform(-0.5, 0.5, (n, 2))]
 
 
-_TRUTHS: dict = {}
-
-
-def _truth(lit_surface, azimuth, elevation, lighting):
-    """The reference sweep of one (Surface, incidence), once per (surface, views, lighting) in a process."""
-    surface, incidence = lit_surface
-    key = (surface, float(incidence), azimuth.tobytes(), elevation.tobytes(), lighting)
-    if key not in _TRUTHS:
-        if len(_TRUTHS) > 512:
-            _TRUTHS.clear()
-        _TRUTHS[key] = reference.reference_sweep(surface, incidence, azimuth, elevation, lighting)
-    return _TRUTHS[key]
-
-
 def _compare(surfaces, azimuth, elevation, lighting, run):
-    """``run(surface, incidence)`` against the reference on every (Surface, incidence) of ``surfaces``.
+    """``run(surface, incidence)`` against the reference (:func:`roughlight.measurements.comparison.reference`)
+    on every (Surface, incidence) of ``surfaces``.
 
     Returns ({component: |error| over every surface's views, 0-255}, mean coverage, [outputs]).
     """
-    errors = {c: [] for c in COMPONENTS}
-    coverage, outputs = [], []
-    for lit_surface in surfaces:
-        truth = _truth(lit_surface, azimuth, elevation, lighting)
-        out = run(*lit_surface)
-        for c in COMPONENTS:
-            errors[c].append(np.abs(np.asarray(out[c], float) - truth[c]))
-        coverage.append(out["coverage"])
-        outputs.append(out)
-    return {c: np.concatenate(v) for c, v in errors.items()}, float(np.concatenate(coverage).mean()), outputs
+    truths, outputs = [], []
+    for surface, incidence in surfaces:
+        truths.append(comparison.reference(surface, incidence, azimuth, elevation, lighting))
+        outputs.append(run(surface, incidence))
+    coverage = float(np.concatenate([out["coverage"] for out in outputs]).mean())
+    return comparison.pooled_errors(zip(outputs, truths)), coverage, outputs
 
 
 def _rows(experiment, method, variable, x, setting, errors, extra=None, per_component=None):
@@ -145,9 +128,9 @@ def _rows(experiment, method, variable, x, setting, errors, extra=None, per_comp
     base = dict(experiment=experiment, method=method, variable=variable, x=float(x), setting=setting)
     rows = []
     for c, err in errors.items():
-        err = np.asarray(err, float)
-        rows.append({**base, "component": c, "metric": "mae", "value": float(err.mean())})
-        rows.append({**base, "component": c, "metric": "max_error", "value": float(err.max())})
+        statistics = comparison.error_statistics(err, ("mae", "worst"))
+        rows.append({**base, "component": c, "metric": "mae", "value": statistics["mae"]})
+        rows.append({**base, "component": c, "metric": "max_error", "value": statistics["worst"]})
     for metric, value in (extra or {}).items():
         rows.append({**base, "component": "all", "metric": metric, "value": float(value)})
     for metric, values in (per_component or {}).items():
@@ -311,11 +294,11 @@ def normals_scan(surfaces=NORMALS_SURFACES, models=SHADINGS, lighting=None, view
             flat = outputs
         per = {}
         if flat is not None:
-            per["mae_vs_flat"] = {c: np.mean(np.concatenate([np.abs(o[c] - f[c]) for o, f in zip(outputs, flat)]))
-                                  for c in COMPONENTS}
+            per["mae_vs_flat"] = {c: comparison.error_statistics(err, ("mae",))["mae"]
+                                  for c, err in comparison.pooled_errors(zip(outputs, flat)).items()}
         ratios = []
-        for lit_surface, out in zip(surfaces, outputs):
-            peak = float(np.max(_truth(lit_surface, az, el, lighting)["specular"]))
+        for (surface, incidence), out in zip(surfaces, outputs):
+            peak = float(np.max(comparison.reference(surface, incidence, az, el, lighting)["specular"]))
             if peak > 0.5:
                 ratios.append(float(np.max(out["specular"])) / peak)
         per["highlight_ratio"] = {"specular": np.mean(ratios) if ratios else np.nan}
@@ -362,8 +345,8 @@ def clipping_scan(surfaces=((PLATE, 30.0),) + SURFACES, lights=(127.0, 255.0),
         lobes = {}
         for light in lights:
             lighting = shading.Lighting(**{**base, "light": float(light)})
-            q = reference.reference_sweep(surface, i, az, el, lighting, ReferenceSettings(quantized=True))
-            raw = reference.reference_sweep(surface, i, az, el, lighting, ReferenceSettings(quantized=False))
+            q = registry.sweep("reference", surface, i, az, el, lighting, ReferenceSettings(quantized=True))
+            raw = registry.sweep("reference", surface, i, az, el, lighting, ReferenceSettings(quantized=False))
             clipped = (raw["total"] - q["total"]) > 0.5
             rows.append(dict(experiment="clipping", method="reference", variable="light", x=light, setting=name,
                              component="total", metric="clipped_fraction", value=float(clipped.mean())))
@@ -435,9 +418,7 @@ def run_measurement(name, lighting=None, plan: str = "full") -> pd.DataFrame:
     """One measurement of :data:`MEASUREMENTS` at the size of ``plan`` (:data:`PLANS`; long frame)."""
     if name not in MEASUREMENTS:
         raise ValueError(f"no stability measurement {name!r}: one of {', '.join(MEASUREMENTS)}")
-    if plan not in PLANS:
-        raise ValueError(f"no stability plan {plan!r}: one of {', '.join(PLANS)}")
-    return MEASUREMENTS[name](lighting=lighting, **PLANS[plan][name])
+    return MEASUREMENTS[name](lighting=lighting, **comparison.plan_size(PLANS, plan, "stability")[name])
 
 
 def _worst(frame, experiment, method, setting=None):
