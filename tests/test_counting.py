@@ -6,7 +6,7 @@ import shapely
 
 from roughlight.render import shading
 from roughlight.render.exact import clipping, reference
-from roughlight.render.fast import counting, shares
+from roughlight.render.fast import counting, periodic, sampling, shares
 from roughlight.render.fast.settings import FastSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.roughness import RandomSurface
@@ -30,8 +30,10 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
     regions = shares.facet_regions(tile, 30.0, shadows)
     views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
     shears = views[:, :2] / views[:, 2:3]
-    plan = counting.region_plan_areas(regions)
-    visible, total, per_tile = counting.counted_pixels(tile, regions, views, shears, np.arange(len(views)), settings)
+    plan = shares.region_plan_areas(regions)
+    drawn = sampling.tile_pass(np.arange(len(views)), settings.sampling_matrix(), settings)
+    visible, total, per_tile = counting.counted_pixels(tile.height, regions, views, shears, drawn,
+                                                       settings.shadow_map_size)
     expected, areas = shares.counts_and_areas(regions, shears, settings.sampling_matrix())
     assert per_tile == abs(round(np.linalg.det(settings.sampling_matrix())))
     difference = np.abs(total - expected)
@@ -39,7 +41,7 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
     assert np.corrcoef(total.ravel(), expected.ravel())[0, 1] > 0.9999
     assert np.all(visible <= total) and np.all(visible.sum(axis=1) == per_tile)
     # the exact projected areas are the polygons' (shoelace over the projected rings)
-    np.testing.assert_allclose(counting.projected_areas(regions, plan, shears), areas, atol=1e-12)
+    np.testing.assert_allclose(shares.projected_areas(regions, plan, shears), areas, atol=1e-12)
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -54,7 +56,7 @@ def test_region_triangles_cover_each_region_exactly(kind):
     twice = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
     assert np.all(twice >= 0)
     np.testing.assert_allclose(np.bincount(owner, 0.5 * twice, minlength=len(regions.rings)),
-                               counting.region_plan_areas(regions), atol=1e-12)
+                               shares.region_plan_areas(regions), atol=1e-12)
     facet = regions.facet[owner]
     heights = regions.alpha[facet, None] * tris[..., 0] + regions.beta[facet, None] * tris[..., 1]
     spread = (tris[..., 2] - heights).max(axis=1) - (tris[..., 2] - heights).min(axis=1)
@@ -65,7 +67,7 @@ def test_region_triangles_cover_each_region_exactly(kind):
 def test_shares_are_the_exact_areas_where_nothing_is_hidden(kind):
     tile = RandomSurface(kind, 0.5, 0.5, seed=2, cells=2)
     views = _views([90.0, 80.0], [0.0, 45.0])
-    lit, shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(), FastSettings().tile_settings()
+    lit, shadow, regions = periodic.counted_shares(tile, 30.0, views, Lighting(), FastSettings().tile_settings()
                                                    .for_tile(tile.cells))
     np.testing.assert_allclose((lit + shadow).sum(axis=1), 1.0, atol=1e-12)
     exact_lit, exact_shadow = shares.area_shares(regions, views[:, :2] / views[:, 2:3])
@@ -135,7 +137,7 @@ def test_the_reference_skips_only_copies_that_overlap_in_no_area(kind):
 
 
 def test_views_near_the_horizon_are_counted_at_more_pixels():
-    """counted_shares counts views within GRAZING_BAND of the horizon at tile_grazing_scale times the pixels, the
+    """counted_shares counts views within GRAZING_BAND of the horizon at the tile grazing_scale times the pixels, the
     others as configured: changing the scale changes the grazing views' shares only."""
     from dataclasses import replace
 
@@ -143,19 +145,19 @@ def test_views_near_the_horizon_are_counted_at_more_pixels():
     views = _views([5.0, 175.0, 45.0, 120.0], [15.0, 60.0, 15.0, 100.0])
     settings = FastSettings().tile_settings().for_tile(tile.cells)
     plain, fine = (replace(settings, tile=replace(settings.tile, grazing_scale=scale)) for scale in (1.0, 2.0))
-    plain_lit, plain_shadow, regions = counting.counted_shares(tile, 30.0, views, Lighting(), plain)
-    fine_lit, fine_shadow, _ = counting.counted_shares(tile, 30.0, views, Lighting(), fine, regions)
+    plain_lit, plain_shadow, regions = periodic.counted_shares(tile, 30.0, views, Lighting(), plain)
+    fine_lit, fine_shadow, _ = periodic.counted_shares(tile, 30.0, views, Lighting(), fine, regions)
     np.testing.assert_array_equal(plain_lit[2:], fine_lit[2:])
     np.testing.assert_array_equal(plain_shadow[2:], fine_shadow[2:])
     assert np.abs(plain_lit[:2] - fine_lit[:2]).max() > 0
-    assert counting.grazing_settings(settings).pixels_per_period == round(1.25 * settings.pixels_per_period)
+    assert sampling.grazing_settings(settings).pixels_per_period == round(1.25 * settings.pixels_per_period)
 
 
 def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
     """oriented_lattices turns the pixel rows so that each azimuth crosses them at the golden slope (folded into
     [0, 45] degrees by the pixel grid's symmetries), at the asked density; counting_passes draws the views within
-    ORIENTED_BAND of the horizon that way, and the others on the tile's own lattice, and counts every fragment
-    except within GRAZING_BAND."""
+    ORIENTED_BAND of the horizon that way (within GRAZING_BAND at the grazing density), and the others on the
+    tile's own lattice, unshifted and unweighted, and counts every fragment except within GRAZING_BAND."""
     from roughlight.render.fast.sampling import GOLDEN_ANGLE, oriented_lattices
 
     azimuth = np.arange(0.0, 360.0, 2.5)
@@ -168,12 +170,16 @@ def test_each_view_near_the_horizon_gets_a_lattice_turned_to_its_azimuth():
 
     settings = FastSettings().tile_settings().for_tile(4)
     views = _views([5.0, 15.0, 45.0, 165.0, 175.0], [30.0, 30.0, 30.0, 120.0, 120.0])
-    passes = counting.counting_passes(views, np.arange(5), settings)
-    drawn = {int(v): (s.pixels_per_period, tuple(m.ravel()), totals) for part, s, m, totals in passes for v in part}
+    passes = sampling.counting_passes(views, np.arange(5), settings)
+    drawn = {int(v): (round(abs(np.linalg.det(p.matrix))), tuple(p.matrix.ravel()), p.totals)
+             for p in passes for v in p.members}
     assert sorted(drawn) == [0, 1, 2, 3, 4]
-    assert drawn[2] == (settings.pixels_per_period, tuple(settings.sampling_matrix().ravel()), True)
+    assert drawn[2][1:] == (tuple(settings.sampling_matrix().ravel()), True)
     assert drawn[1][1] != drawn[2][1] and drawn[3][1] == drawn[1][1]  # azimuths 30 and 120: one lattice
-    assert drawn[0][0] == drawn[4][0] == counting.grazing_settings(settings).pixels_per_period
+    for v in (0, 1):  # each at its density: the grazing views at grazing_settings' pixels
+        density = (sampling.grazing_settings(settings) if v == 0 else settings).pixels_per_period ** 2
+        assert abs(drawn[v][0] - density) <= 0.1 * density and drawn[4][0] == drawn[0][0]
+    assert all(np.array_equal(p.shift, np.zeros(2)) and np.all(p.weights == 1) for p in passes)
     # within GRAZING_BAND only the visible pixels are counted
     assert [drawn[v][2] for v in range(5)] == [False, True, True, True, False]
 
@@ -220,7 +226,9 @@ def test_views_counted_without_totals_see_what_the_counted_pass_sees():
     shears = views[:, :2] / views[:, 2:3]
     triangles = counting.region_triangles(regions)
     both = [list(counting.counted_batches(tile.height, triangles, len(regions.rings), views, shears,
-                                           np.arange(3), settings, totals=totals)) for totals in (True, False)]
+                                           sampling.tile_pass(np.arange(3), settings.sampling_matrix(), settings,
+                                                              totals), settings.shadow_map_size))
+            for totals in (True, False)]
     (_, counted, total, _), = both[0]
     (_, seen, none, _), = both[1]
     assert none is None and total.sum() > 3 * counted.sum() > 0

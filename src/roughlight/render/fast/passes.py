@@ -1,13 +1,14 @@
 """The OpenGL passes a sweep of the fast method draws (pyrender over OSMesa): the period as instanced lattice
-copies, the pass state, the periodic shadow map, each batch's instance matrices and the lighting uniforms.
+copies, the pass state, the periodic shadow map, each batch's instance matrices, the viewport's and the
+lighting's uniforms.
 
 :mod:`roughlight.render.fast.periodic` draws values or facet identities with them, :mod:`roughlight.render.fast.counting`
-counts each region's pixels. Coordinates and the instance matrices are ``shaders/periodic.vert``'s.
+counts each region's pixels. Coordinates and the instance matrices are ``shaders/periodic.vert``'s. What is drawn
+on which lattice, and where in the framebuffer, is planned in numpy (:mod:`roughlight.render.fast.sampling`).
 """
 
 from __future__ import annotations
 
-import math
 from typing import NamedTuple
 
 import numpy as np
@@ -16,7 +17,7 @@ from ...surfaces import geometry
 from ...surfaces.surface import Surface
 from .. import shading
 from ..gl.context import GLTF, Context, Primitive, gl, set_material_uniforms
-from .sampling import lattice_copies, tile_layout
+from .sampling import lattice_copies
 from .settings import FastSettings
 
 #: Vertex attribute locations of ``periodic.vert`` (pyrender numbers them in order: position, normal,
@@ -93,38 +94,47 @@ def begin_pass(framebuffer, width: int, height: int, clear_bits) -> None:
     gl.glDisable(gl.GL_SCISSOR_TEST)
 
 
-def shadow_pass(ctx: Context, surface: Surface, light_dir, depth_scale):
-    height = surface.height
+def depth_scale(height: float) -> float:
+    """1 / the surface's ``height`` (periods), slightly more: maps heights to depths in [0, 1) (``periodic.vert``)."""
+    return 1.0 / max(height * 1.001, 1e-6)
+
+
+def set_viewport_uniforms(program, matrix, width: int, height: int, shift, depth: float) -> None:
+    """The uniforms ``periodic.vert`` maps a copy into its tile with, on the bound ``program``.
+
+    Parameters
+    ----------
+    matrix : (2, 2) array
+        Cell coordinates to window pixels (integers).
+    width, height : int
+        The viewport, pixels.
+    shift : (2,) array
+        The surface's shift in periods.
+    depth : float
+        :func:`depth_scale` of the surface.
+    """
+    program.set_uniform("sampling", np.asarray(matrix).astype(np.float32))
+    program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height], np.float32))
+    program.set_uniform("surface_shift", np.asarray(shift).astype(np.float32))
+    program.set_uniform("depth_scale", float(depth))
+
+
+def shadow_pass(ctx: Context, surface: Surface, light_dir, depth: float) -> None:
+    """Draw the periodic shadow map of ``surface`` under the light ``light_dir`` ((3,), unit, ``L_z > 0``): one
+    period of light-oblique coordinates, ``ctx.shadow_size`` texels a side, holding the depth (:func:`depth_scale`
+    ``depth``) of the first surface along each light ray (:meth:`roughlight.render.gl.context.Context.shadow_map`)."""
     shear = light_dir[:2] / light_dir[2]
-    _, copies = lattice_copies(height * shear[None, :])
+    _, copies = lattice_copies(surface.height * shear[None, :])
     poses = copy_poses(copies, shear, light_dir, np.zeros(2))
-    begin_pass(ctx.shadow_fbo, ctx.shadow_size, ctx.shadow_size, gl.GL_DEPTH_BUFFER_BIT)
+    size = ctx.shadow_size
+    begin_pass(ctx.shadow_map()[0], size, size, gl.GL_DEPTH_BUFFER_BIT)
     period = primitive(surface, poses)
     program = ctx.programs.get_program("periodic.vert", "periodic_depth.frag", defines=ATTRIBUTES)
     program._bind()
-    program.set_uniform("depth_scale", float(depth_scale))
-    program.set_uniform("sampling", np.eye(2, dtype=np.float32) * ctx.shadow_size)
-    program.set_uniform("ndc_scale", np.full(2, 2.0 / ctx.shadow_size, np.float32))
-    program.set_uniform("surface_shift", np.zeros(2, np.float32))
+    set_viewport_uniforms(program, np.eye(2) * size, size, size, np.zeros(2), depth)
     draw(ctx, period, program)
     program._unbind()
     gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
-
-
-_LAYOUTS: dict = {}
-
-
-def cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
-    """:func:`roughlight.render.fast.sampling.tile_layout` for at least ``n_views``: the count is rounded up to a step of
-    2^(1/4) (at most 19% spare slots), so that sweeps drawing slightly different numbers of views with one
-    lattice (adaptive sampling) share a layout; the caller uses the first slots."""
-    n_views = int(math.ceil(2.0 ** (math.ceil(4.0 * math.log2(max(int(n_views), 1))) / 4.0)))
-    key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
-    if key not in _LAYOUTS:
-        if len(_LAYOUTS) >= 64:
-            _LAYOUTS.clear()
-        _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
-    return _LAYOUTS[key]
 
 
 class Scene(NamedTuple):
@@ -148,20 +158,22 @@ class Scene(NamedTuple):
 
 
 def make_scene(ctx: Context, surface, light_dir, lighting, settings, regions) -> Scene:
-    """Set up what every pass of the sweep draws with: the shadow map (drawn once, the light does not move)
-    and the program (with facet identities for adaptive sampling)."""
+    """Set up what every pass of the sweep draws with: the shadow map (drawn once, the light does not move; the
+    context's map is built even without shadows, the program samples it) and the program (with facet identities
+    for adaptive sampling)."""
     height = surface.height
-    depth_scale = 1.0 / max(height * 1.001, 1e-6)
+    depth = depth_scale(height)
+    ctx.shadow_map()
     shadow_mode = 0
     if lighting.shadows and height > 0:
         if light_dir[2] < 1e-9:
             shadow_mode = 2
         else:
             shadow_mode = 1
-            shadow_pass(ctx, surface, light_dir, depth_scale)
+            shadow_pass(ctx, surface, light_dir, depth)
     defines = {**ATTRIBUTES, "FACET_IDS": 1} if regions is not None else ATTRIBUTES
     program = ctx.programs.get_program("periodic.vert", "periodic.frag", defines=defines)
-    return Scene(surface, height, light_dir, lighting, settings, ctx, program, shadow_mode, depth_scale, regions)
+    return Scene(surface, height, light_dir, lighting, settings, ctx, program, shadow_mode, depth, regions)
 
 
 def batch_poses(height: float, views, shears, idx, slots, shift) -> np.ndarray:
@@ -178,16 +190,16 @@ def batch_poses(height: float, views, shears, idx, slots, shift) -> np.ndarray:
     return poses
 
 
-def surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:
-    """(2,) the surface's shift in periods that a camera shift by ``jitter`` pixels is, drawn with ``matrix``."""
-    return -np.linalg.solve(np.asarray(matrix, float), np.asarray(jitter, float))
-
-
-def set_lighting_uniforms(program, lighting, light_dir, shadow_mode, ctx, settings, depth_scale, height):
-    set_material_uniforms(program, lighting, light_dir)
-    program.set_uniform("shadow_mode", int(shadow_mode))
-    program.set_uniform("shadow_size", int(ctx.shadow_size))
+def set_lighting_uniforms(program, scene: Scene) -> None:
+    """The lighting equation's and the shadow test's uniforms of ``scene`` on the bound ``periodic.frag``
+    ``program``, and its shadow map on texture unit 0."""
+    set_material_uniforms(program, scene.lighting, scene.light_dir)
+    program.set_uniform("shadow_mode", int(scene.shadow_mode))
+    program.set_uniform("shadow_size", int(scene.ctx.shadow_size))
+    light_dir = scene.light_dir
     lz = max(float(light_dir[2]), 1e-12)
     program.set_uniform("light_shear", np.array([light_dir[0] / lz, light_dir[1] / lz], np.float32))
-    program.set_uniform("depth_scale", float(depth_scale))
-    program.set_uniform("shadow_bias", float(settings.shadow_bias * max(height, 1e-6)))
+    program.set_uniform("shadow_bias", float(scene.settings.shadow_bias * max(scene.height, 1e-6)))
+    gl.glActiveTexture(gl.GL_TEXTURE0)
+    gl.glBindTexture(gl.GL_TEXTURE_2D, scene.ctx.shadow_map()[1])
+    program.set_uniform("shadow_map", 0)

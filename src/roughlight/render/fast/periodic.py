@@ -29,6 +29,12 @@ view, with one instanced draw call:
 pyrender provides the OSMesa context, the vertex buffers with instancing and
 the shader programs (:mod:`roughlight.render.gl.context`); its stock shader
 (metallic-roughness PBR with gamma) is not the study's equation and is not used.
+
+This module runs a sweep: it takes its plan from numpy (which views are exact and on which lattices the others
+are drawn: :func:`roughlight.render.fast.shares.adaptive_plan`,
+:func:`roughlight.render.fast.sampling.one_lattice`, :func:`roughlight.render.fast.sampling.counting_passes`),
+draws it (:mod:`roughlight.render.fast.passes`, :mod:`roughlight.render.fast.counting`) and weights each
+region's share by its 8-bit values.
 """
 
 from __future__ import annotations
@@ -38,18 +44,8 @@ import numpy as np
 from ...surfaces.surface import Surface
 from .. import shading, sweep
 from ..gl.context import context, gl
-from . import shares
-from .passes import (
-    Scene,
-    batch_poses,
-    begin_pass,
-    cached_layout,
-    draw,
-    make_scene,
-    primitive,
-    set_lighting_uniforms,
-    surface_shift,
-)
+from . import sampling, shares
+from .passes import Scene, batch_poses, begin_pass, draw, make_scene, primitive, set_lighting_uniforms, set_viewport_uniforms
 from .settings import FastSettings
 
 
@@ -101,85 +97,103 @@ def fast_sweep(
 
 def _counted_views(out, surface, incidence, todo, views, lighting, settings) -> None:
     """Fill ``out`` at the non-grazing views ``todo`` of a random tile with adaptive sampling: each region's share
-    counted on the GL side (:func:`roughlight.render.fast.counting.counted_shares`), weighted by its 8-bit values."""
-    from .counting import counted_shares
-
-    regions = _adaptive_regions(surface, incidence, lighting)
+    counted on the GL side (:func:`counted_shares`), weighted by its 8-bit values."""
+    regions = shares.adaptive_regions(surface, incidence, lighting.shadows)
     lit, shadow, _ = counted_shares(surface, incidence, views, lighting, settings, regions)
     _add_from_shares(out, todo, 1.0, regions, views, lit, shadow, shading.light_direction(incidence), lighting, 1.0)
+
+
+def counted_shares(surface, incidence: float, views, lighting, settings, regions=None):
+    """Each facet's lit and shadowed share of each view's image, for a random tile (:mod:`roughlight.render.fast.counting`).
+
+    Where nothing is hidden (:func:`roughlight.render.fast.shares.exact_views`) they are the exact projected
+    areas (:func:`roughlight.render.fast.shares.projected_areas`); the other views are counted on the GL side on
+    the lattices of :func:`roughlight.render.fast.sampling.counting_passes`
+    (:func:`roughlight.render.fast.counting.counted_batches`), each region's count corrected by its exact area
+    (:func:`roughlight.render.fast.shares.normalised_shares`).
+
+    Parameters
+    ----------
+    surface : RandomSurface
+        Drawn as one period.
+    incidence : float
+        Light elevation, degrees in [0, 90] (light at azimuth 0).
+    views : (V, 3) array
+        Unit vectors toward the detector, none grazing (``V_z > 0``).
+    lighting : Lighting
+        Only whether it casts shadows matters here (the values come from :func:`roughlight.render.shading.facet_sum`).
+    settings : FastSettings
+        The tile's own (:meth:`FastSettings.for_surface`): its ``pixels_per_period`` is per tile.
+    regions : Regions, optional
+        :func:`roughlight.render.fast.shares.facet_regions` of the tile under this light (computed when not given).
+
+    Returns
+    -------
+    lit, shadow : (V, F) arrays
+        Each facet's lit and shadowed share (summing to 1 a view).
+    regions : Regions
+    """
+    from .counting import counted_batches, region_triangles
+
+    regions = regions if regions is not None else shares.facet_regions(surface, incidence, lighting.shadows)
+    views = np.atleast_2d(np.asarray(views, float))
+    shears = views[:, :2] / views[:, 2:3]
+    plan = shares.region_plan_areas(regions)
+    lit, shadow = np.zeros((len(views), len(regions.normals))), np.zeros((len(views), len(regions.normals)))
+    whole = np.flatnonzero(shares.exact_views(regions, shears))
+    for first in range(0, whole.size, 1024):  # (views, regions) arrays a batch at a time
+        idx = whole[first:first + 1024]
+        _store(lit, shadow, idx, shares.projected_areas(regions, plan, shears[idx]))
+    hidden = np.setdiff1d(np.arange(len(views)), whole)
+    triangles = region_triangles(regions) if hidden.size else None
+    for drawn in sampling.counting_passes(views, hidden, settings):
+        for idx, visible, total, per_tile in counted_batches(surface.height, triangles, len(regions.rings), views,
+                                                              shears, drawn, settings.shadow_map_size):
+            areas = None if total is None else shares.projected_areas(regions, plan, shears[idx])
+            _store(lit, shadow, idx, shares.normalised_shares(visible, per_tile, total, areas))
+    return lit, shadow, regions
+
+
+def _store(lit, shadow, idx, share) -> None:
+    """Put the (n, R) region shares ``share`` of the views ``idx`` into the (V, F) ``lit`` and ``shadow`` (a random
+    tile's regions alternate lit and shadowed, facet by facet)."""
+    lit[idx] = share[:, 0::2]
+    shadow[idx] = share[:, 1::2]
 
 
 def _render_views(out, surface, incidence, todo, views, lighting, settings) -> None:
     """Fill ``out`` at the non-grazing views ``todo`` (their (V, 3) unit ``views``).
 
-    Adaptive sampling first takes the views where nothing is hidden from their exact areas and groups the
-    rest by lattice (:func:`_adaptive_groups`); lattice and grid sampling draw every view on the one
-    sampling matrix. Each group is then drawn in as many framebuffer passes as its layout needs.
+    Adaptive sampling first takes the views where nothing is hidden from their exact areas and draws the rest
+    on the lattices of its plan (:func:`roughlight.render.fast.shares.adaptive_plan`); lattice and grid sampling
+    draw every view on the one sampling matrix (:func:`roughlight.render.fast.sampling.one_lattice`). Each
+    lattice is then drawn in as many framebuffer passes as its layout needs.
     """
-    shears = views[:, :2] / views[:, 2:3]
     light_dir = shading.light_direction(incidence)
     regions = None
     if settings.sampling == "adaptive":
-        regions = _adaptive_regions(surface, incidence, lighting)
-        todo, views, shears, groups = _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting,
-                                                       settings)
-        if todo.size == 0:
-            return
+        regions = shares.adaptive_regions(surface, incidence, lighting.shadows)
+        plan = shares.adaptive_plan(regions, views, light_dir, lighting, settings)
+        _add_from_shares(out, todo[plan.exact], 1.0, regions, views[plan.exact], plan.lit, plan.shadow, light_dir,
+                         lighting, 1.0)
+        todo, views, drawn = todo[~plan.exact], views[~plan.exact], plan.passes
     else:
-        groups = [_lattice_group(0, settings.sampling_matrix(), np.zeros((1, todo.size), int),
-                                 np.zeros(todo.size, bool))]
-    groups = [g for g in groups if g[1].size]
-    layouts = [cached_layout(m, idx.size, int(settings.max_framebuffer)) for m, idx, _ in groups]
-    ctx = context(max(lay[0] for lay in layouts), max(lay[1] for lay in layouts), int(settings.shadow_map_size))
+        drawn = sampling.one_lattice(todo.size, settings)
+    if not drawn:
+        return
+    shears = views[:, :2] / views[:, 2:3]
+    ctx = context(max(p.layout[0] for p in drawn), max(p.layout[1] for p in drawn), int(settings.shadow_map_size))
     scene = make_scene(ctx, surface, light_dir, lighting, settings, regions)
-    for group, layout in zip(groups, layouts):
-        _draw_group(out, scene, todo, views, shears, group, layout)
+    for lattice in drawn:
+        _draw_group(out, scene, todo, views, shears, lattice)
 
 
-def _adaptive_regions(surface, incidence: float, lighting):
-    """The surface's facet regions (:func:`roughlight.render.fast.shares.facet_regions`) for adaptive sampling,
-    which takes at most :data:`roughlight.render.fast.shares.MAX_FACETS` facets a period."""
-    regions = shares.facet_regions(surface, incidence, lighting.shadows)
-    if len(regions.normals) > shares.MAX_FACETS:
-        raise ValueError(f"render.sampling: adaptive takes at most {shares.MAX_FACETS} facets a period, "
-                         f"this surface has {len(regions.normals)}; use lattice")
-    return regions
-
-
-def _adaptive_groups(out, regions, todo, views, shears, light_dir, lighting, settings):
-    """Adaptive sampling's plan: the views left to draw and, for each candidate lattice, its pass.
-
-    Where every facet faces the view nothing is hidden: each region's share is its exact area, added to
-    ``out`` unrendered. Each of the others is drawn on its best lattice
-    (:func:`roughlight.render.fast.shares.choose_lattices`), and on the next best too, averaged, where even the best
-    may be off by ``settings.average_lattices_above`` levels.
-
-    Returns
-    -------
-    todo, views, shears : the views left to draw, (V,), (V, 3) and (V, 2)
-    groups : list of :func:`_lattice_group` passes, one a candidate lattice; empty when no view is left
-    """
-    whole = shares.all_facing(regions, shears)
-    _exact_values(out, todo[whole], regions, shears[whole], views[whole], light_dir, lighting)
-    todo, views, shears = todo[~whole], views[~whole], shears[~whole]
-    if todo.size == 0:
-        return todo, views, shears, []
-    matrices = shares.candidate_lattices(int(settings.pixels_per_period))
-    shifts = [surface_shift(m, settings.jitter) for m in matrices]
-    values = shares.region_values(regions, light_dir, views, lighting)
-    order, score = shares.choose_lattices(regions, shears, matrices, shifts, values)
-    many = score >= float(settings.average_lattices_above)
-    return todo, views, shears, [_lattice_group(k, m, order, many) for k, m in enumerate(matrices)]
-
-
-def _draw_group(out, scene: Scene, todo, views, shears, group, layout) -> None:
-    """Draw one lattice's views (``group``, a :func:`_lattice_group`) a framebuffer at a time and store their
-    values in ``out`` at ``todo`` of them. ``views`` (V, 3) and ``shears`` (V, 2) are all the drawn views';
-    ``layout`` is the lattice's :func:`roughlight.render.fast.sampling.tile_layout`."""
-    matrix, members, weights = group
-    width, height_px, slots, pixel_order = layout
+def _draw_group(out, scene: Scene, todo, views, shears, lattice) -> None:
+    """Draw one lattice's views (``lattice``, a :class:`roughlight.render.fast.sampling.LatticePass`) a
+    framebuffer at a time and add their values, times their weights, to ``out`` at ``todo`` of them. ``views``
+    (V, 3) and ``shears`` (V, 2) are all the drawn views'."""
+    matrix, shift, members, weights, (width, height_px, slots, pixel_order), _ = lattice
     per_tile = len(pixel_order) // len(slots)
-    shift = surface_shift(matrix, scene.settings.jitter)
     for first in range(0, members.size, len(slots)):
         idx, weight = members[first:first + len(slots)], weights[first:first + len(slots)]
         poses = batch_poses(scene.height, views, shears, idx, slots, shift)
@@ -200,14 +214,8 @@ def _render_batch(scene: Scene, poses, matrix, shift, width: int, height_px: int
     program = scene.program
     begin_pass(0, width, height_px, gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
     program._bind()
-    set_lighting_uniforms(program, scene.lighting, scene.light_dir, scene.shadow_mode, scene.ctx, scene.settings,
-                          scene.depth_scale, scene.height)
-    program.set_uniform("sampling", matrix.astype(np.float32))
-    program.set_uniform("ndc_scale", np.array([2.0 / width, 2.0 / height_px], np.float32))
-    program.set_uniform("surface_shift", shift.astype(np.float32))
-    gl.glActiveTexture(gl.GL_TEXTURE0)
-    gl.glBindTexture(gl.GL_TEXTURE_2D, scene.ctx.shadow_tex)
-    program.set_uniform("shadow_map", 0)
+    set_lighting_uniforms(program, scene)
+    set_viewport_uniforms(program, matrix, width, height_px, shift, scene.depth_scale)
     draw(scene.ctx, primitive(scene.surface, poses), program)
     program._unbind()
     gl.glFinish()
@@ -223,17 +231,6 @@ def _tile_means(out, target, tiles_px, per_tile: int) -> None:
     out["specular"][target] = means[:, 1]
     out["total"][target] = means[:, 2]
     out["coverage"][target] = means[:, 3] / 255.0
-
-
-def _lattice_group(k, matrix, order, many):
-    """Lattice ``k``'s pass: (matrix, the views it draws, each one's weight in its value).
-
-    ``order`` (K, V): each view's best lattices, best first; ``many`` (V,) bool: the views drawn on all K, each
-    with weight 1 / K; the others are drawn on their best alone, with weight 1.
-    """
-    drawn = (order[0] == k) | (many & np.any(order[1:] == k, axis=0))
-    members = np.flatnonzero(drawn)
-    return matrix, members, np.where(many[members], 1.0 / len(order), 1.0)
 
 
 def _tile_pixels(raw: bytes, pixel_order: np.ndarray, n_tiles: int) -> np.ndarray:
@@ -253,14 +250,6 @@ def _adaptive_values(out, target, weight, ids, regions, shear, views, matrix, sh
     lit, shadow = shares.ratio_shares(pixel_counts, regions, shear, matrix, shift)
     _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting,
                      1.0 - histogram[:, 0] / ids.shape[1])
-
-
-def _exact_values(out, target, regions, shear, views, light_dir, lighting) -> None:
-    """Add to ``out`` at ``target``, views where nothing is hidden: each facet's exact lit and shadowed areas
-    (:func:`roughlight.render.fast.shares.area_shares`) weighted by its 8-bit values
-    (:func:`roughlight.render.shading.facet_sum`)."""
-    lit, shadow = shares.area_shares(regions, shear)
-    _add_from_shares(out, target, 1.0, regions, views, lit, shadow, light_dir, lighting, 1.0)
 
 
 def _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting, coverage) -> None:

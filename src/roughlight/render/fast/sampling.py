@@ -1,22 +1,61 @@
-"""How the fast renderer samples one period of the surface: lattices, copies and the tile layout.
+"""How the fast renderer samples one period of the surface: the lattices, which views are drawn on which, the
+lattice copies and the tile layout.
 
 Each view's tile in the framebuffer shows exactly one period of the projected
 image of the infinite periodic surface (see :mod:`roughlight.render.fast.periodic`). The
 integer sampling matrix maps cell coordinates to window pixels; ``lattice``
 sampling rotates it so that no row of pixel centres runs along the facets'
-axis-aligned or diagonal edges. Pure numpy: no OpenGL is loaded here. The knobs
-are :class:`roughlight.render.fast.settings.FastSettings`.
+axis-aligned or diagonal edges. Every lattice the renderer draws on is made here: the configured one
+(:func:`sampling_matrix`), the adaptive sampling's candidates (:func:`candidate_lattices`, scored by
+:func:`roughlight.render.fast.shares.choose_lattices`) and the random tiles' lattices turned to each view's
+azimuth (:func:`oriented_lattices`, :func:`counting_passes`). What is drawn on one lattice is a
+:class:`LatticePass`, with its tile layout. Pure numpy: no OpenGL is loaded here. The knobs are
+:class:`roughlight.render.fast.settings.FastSettings`.
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from dataclasses import replace
+from typing import NamedTuple
 
 import numpy as np
 
 #: Pixel sampling patterns of the fast renderer (``render.sampling``).
 SAMPLINGS = ("lattice", "grid", "adaptive")
+
+#: Largest framebuffer side (pixels) of the random tiles' counting pass. A 4096-pixel framebuffer holds four times
+#: the views a pass, but with its depth buffer and the counts it took a heightfield tile sweep to 1.2 GB; at 2048
+#: it stays under 0.75 GB and is no slower (random heightfield t 0.5, a 1, seed 2: 1.22 GB in 6.2 s against
+#: 0.73 GB in 5.9 s, one llvmpipe thread).
+FRAMEBUFFER = 2048
+
+#: Views within this many degrees of the horizon are counted at ``TileSettings.grazing_scale`` times the
+#: pixels (:func:`counting_passes`).
+GRAZING_BAND = 10.0
+
+#: Views within this many degrees of the horizon are each drawn on their own rotated lattice
+#: (:func:`counting_passes`).
+ORIENTED_BAND = 30.0
+
+
+class LatticePass(NamedTuple):
+    """Views drawn on one lattice: a pass of the GL side (:mod:`roughlight.render.fast.periodic`,
+    :mod:`roughlight.render.fast.counting`), as many framebuffers as its layout needs."""
+
+    #: (2, 2) int array, cell coordinates to window pixels
+    matrix: np.ndarray
+    #: (2,) the surface's shift in periods (:func:`surface_shift`)
+    shift: np.ndarray
+    #: (n,) int array, the views drawn (indices into the caller's views)
+    members: np.ndarray
+    #: (n,) float array, each view's weight in its value (1, or 1 / K for a view drawn on K lattices)
+    weights: np.ndarray
+    #: :func:`cached_layout` of the lattice for ``n`` views: width, height, slots, pixel_order
+    layout: tuple
+    #: counting only: count every fragment (False: the visible pixels alone)
+    totals: bool = True
 
 
 def lattice_copies(shifts, margin: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -158,6 +197,135 @@ def oriented_lattices(pixels_per_period: int, azimuth) -> tuple[tuple[np.ndarray
     relative = np.mod(np.asarray(azimuth, float)[:, None] - angle[None, :], 90.0)
     folded = np.minimum(relative, 90.0 - relative)
     return matrices, np.argmin(np.abs(folded - GOLDEN_ANGLE), axis=1)
+
+
+def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
+    """The adaptive sampling's candidate lattices.
+
+    ``n`` rotated-square sampling matrices ``[[p, q], [-q, p]]`` of :func:`lattice_pairs` (``p^2 + q^2`` within
+    10% of ``pixels_per_period^2``, ``gcd(p, q) = 1``, ``p + q`` odd), their angles ``atan(q / p)`` spread over
+    [0, 45] degrees; the default lattice (:func:`sampling_matrix`) comes first. Fewer at very low densities.
+    """
+    size = int(pixels_per_period) ** 2
+    found = {}
+    for p, q in lattice_pairs(pixels_per_period):
+        if 1 <= q < p:
+            angle = math.degrees(math.atan2(q, p))
+            key = round(angle)
+            if key not in found or abs(p * p + q * q - size) < abs(sum(x * x for x in found[key][1:]) - size):
+                found[key] = (angle, p, q)
+    default = sampling_matrix(int(pixels_per_period), "lattice")
+    out = [default]
+    wanted = np.linspace(0.0, 45.0, n + 1)[1:] - 45.0 / (2 * n)
+    options = sorted(found.values())
+    for target in wanted if options else ():  # none at very low densities: the default lattice alone
+        angle, p, q = min(options, key=lambda o: abs(o[0] - target))
+        matrix = np.array([[p, q], [-q, p]])
+        if not any(np.array_equal(matrix, m) for m in out) and len(out) < n:
+            out.append(matrix)
+    return out
+
+
+def surface_shift(matrix: np.ndarray, jitter) -> np.ndarray:
+    """(2,) the surface's shift in periods that a camera shift by ``jitter`` pixels is, drawn with ``matrix``."""
+    return -np.linalg.solve(np.asarray(matrix, float), np.asarray(jitter, float))
+
+
+def lattice_passes(matrices, shifts, order, many, max_framebuffer: int) -> list[LatticePass]:
+    """Adaptive sampling: each lattice's pass, given each view's best lattices.
+
+    Parameters
+    ----------
+    matrices, shifts : lists of (2, 2) int and (2,) float arrays
+        The candidates (:func:`candidate_lattices`) and the surface shift each is drawn with.
+    order : (K, V) int array
+        Each view's best lattices, best first (indices into ``matrices``).
+    many : (V,) bool array
+        The views drawn on all K, each with weight 1 / K; the others are drawn on their best alone, weight 1.
+    max_framebuffer : int
+        Largest framebuffer side, pixels.
+
+    Returns
+    -------
+    list of LatticePass
+        One a lattice that draws any view, in the order of ``matrices``.
+    """
+    out = []
+    for k, (matrix, shift) in enumerate(zip(matrices, shifts)):
+        members = np.flatnonzero((order[0] == k) | (many & np.any(order[1:] == k, axis=0)))
+        if members.size:
+            weights = np.where(many[members], 1.0 / len(order), 1.0)
+            out.append(LatticePass(matrix, shift, members, weights,
+                                   cached_layout(matrix, members.size, int(max_framebuffer))))
+    return out
+
+
+def one_lattice(n_views: int, settings) -> list[LatticePass]:
+    """Lattice and grid sampling: every one of ``n_views`` views drawn on ``settings.sampling_matrix()``, shifted
+    by ``settings.jitter`` (none when ``n_views`` is 0)."""
+    matrix = settings.sampling_matrix()
+    order, many = np.zeros((1, int(n_views)), int), np.zeros(int(n_views), bool)
+    return lattice_passes([matrix], [surface_shift(matrix, settings.jitter)], order, many,
+                          int(settings.max_framebuffer))
+
+
+def counting_passes(views, hidden, settings) -> list[LatticePass]:
+    """How a random tile's views ``hidden`` (indices into the (V, 3) unit ``views``) are counted: one pass a
+    lattice and density, unshifted, each view with weight 1, laid out at most :data:`FRAMEBUFFER` a side.
+
+    Views more than :data:`ORIENTED_BAND` degrees above the horizon are drawn on the tile's lattice
+    (``settings.sampling_matrix()``). Nearer the horizon each view is drawn on the rotated lattice across whose
+    rows its azimuth runs at the golden slope (:func:`oriented_lattices`): there the image is stretched along the
+    azimuth, and on a fixed lattice the views whose azimuth ran near a row (as azimuth 30 on the tile's lattice,
+    turned 31.7 degrees) were off by more than a level. Within :data:`GRAZING_BAND` of the horizon they are also
+    drawn at ``settings.tile.grazing_scale`` times the pixels (:func:`grazing_settings`), and only their visible
+    pixels are counted (``totals`` False): there a region's visible part is the top of a projection stretched over
+    many periods, whose own edges the total no longer cancels, and its fragments were most of a sweep's (more
+    than ten for each visible one).
+    """
+    sin_e = np.abs(views[hidden, 2])
+    oriented = sin_e < np.sin(np.radians(ORIENTED_BAND))
+    grazing = sin_e < np.sin(np.radians(GRAZING_BAND))
+    parts = [(hidden[~oriented], settings.sampling_matrix(), True)]
+    for part, part_settings, totals in ((hidden[oriented & ~grazing], settings, True),
+                                        (hidden[grazing], grazing_settings(settings), False)):
+        azimuth = np.degrees(np.arctan2(views[part, 1], views[part, 0]))
+        matrices, choice = oriented_lattices(int(part_settings.pixels_per_period), azimuth)
+        parts += [(part[choice == k], matrix, totals) for k, matrix in enumerate(matrices)]
+    return [tile_pass(part, matrix, settings, totals) for part, matrix, totals in parts if part.size]
+
+
+def tile_pass(members, matrix, settings, totals: bool = True) -> LatticePass:
+    """A random tile's counting pass of the views ``members`` on ``matrix``: unshifted, each view with weight 1,
+    laid out in at most ``settings.max_framebuffer`` and :data:`FRAMEBUFFER` pixels a side."""
+    members = np.asarray(members)
+    side = min(int(settings.max_framebuffer), FRAMEBUFFER)
+    return LatticePass(matrix, np.zeros(2), members, np.ones(members.size),
+                       cached_layout(matrix, members.size, side), totals)
+
+
+def grazing_settings(settings):
+    """The settings of a random tile's views within :data:`GRAZING_BAND` of the horizon:
+    ``settings.tile.grazing_scale`` times the pixels."""
+    scale = float(settings.tile.grazing_scale)
+    return settings if scale == 1.0 else replace(
+        settings, pixels_per_period=int(round(int(settings.pixels_per_period) * scale)))
+
+
+_LAYOUTS: dict = {}
+
+
+def cached_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):
+    """:func:`tile_layout` for at least ``n_views``: the count is rounded up to a step of 2^(1/4) (at most 19%
+    spare slots), so that sweeps drawing slightly different numbers of views with one lattice (adaptive sampling)
+    share a layout; the caller uses the first slots."""
+    n_views = int(math.ceil(2.0 ** (math.ceil(4.0 * math.log2(max(int(n_views), 1))) / 4.0)))
+    key = (tuple(np.asarray(matrix).ravel()), n_views, max_framebuffer)
+    if key not in _LAYOUTS:
+        if len(_LAYOUTS) >= 64:
+            _LAYOUTS.clear()
+        _LAYOUTS[key] = tile_layout(matrix, n_views, max_framebuffer)
+    return _LAYOUTS[key]
 
 
 def tile_layout(matrix: np.ndarray, n_views: int, max_framebuffer: int):

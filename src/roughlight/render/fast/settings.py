@@ -41,7 +41,7 @@ class TileSettings:
         Shadow texels a cell (coarser than the regular surface's: a 4-cell tile's at 512 texels a cell is 2048
         texels a side, which every fragment reads at random).
     grazing_scale : float
-        Adaptive sampling: views within :data:`roughlight.render.fast.counting.GRAZING_BAND` degrees of the
+        Adaptive sampling: views within :data:`roughlight.render.fast.sampling.GRAZING_BAND` degrees of the
         horizon are counted at this many times ``pixels_per_period`` (rounded). There the facets facing the
         detector are stretched and long edges of whatever hides them cross the tile; at 16 pixels a cell a few
         such views were more than one 8-bit level off, at 20 none of the checked ones.

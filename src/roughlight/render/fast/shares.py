@@ -20,17 +20,31 @@ thesis's "jagged peaks", Ch. IV.A). Two corrections, both exact geometry and no 
   1.11 times it (issue 11). Where even the best lattice scores at or above a threshold the view is drawn on
   its three best lattices and the values averaged: their errors are nearly independent.
 
+Which views are exact: where every facet faces the view nothing is hidden and each region's share is its exact
+projected area, unrendered (:func:`exact_views`). A facet faces the view where its area ratio (:func:`area_ratio`,
+the one formula) exceeds :data:`FACING`. :func:`adaptive_plan` puts it together for the regular surface: the exact
+views' shares and, for the others, the lattices they are drawn on (:mod:`roughlight.render.fast.sampling`).
+
 Coordinates: plan ``(x, y, z)`` of one period; a view's plan shift ``d = (V_x / V_z, V_y / V_z)``; the oblique
 ("cell") coordinates ``(x, y) - z d`` in periods, and pixel coordinates ``matrix @ (cell + shift)`` whose integer
-points plus one half are the tile's pixel centres (:mod:`roughlight.render.fast.sampling`).
+points plus one half are the tile's pixel centres (:mod:`roughlight.render.fast.sampling`). Pure numpy (and
+shapely): no OpenGL is loaded here.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
+
+from .sampling import LatticePass, candidate_lattices, lattice_passes, surface_shift
+
+__all__ = ["Regions", "facet_regions", "adaptive_regions", "area_ratio", "front_facing", "exact_views",
+           "area_shares", "region_plan_areas", "projected_areas", "counts_and_areas", "normalised_shares",
+           "ratio_shares", "region_values", "edge_steps", "value_discrepancy", "choose_lattices", "AdaptivePlan",
+           "adaptive_plan", "candidate_lattices", "unique_edges", "facet_edges", "MAX_FACETS", "AVERAGED", "FACING"]
 
 #: Largest number of facets whose (facet, lit) identity fits two 8-bit channels (2 F + 1 < 65536).
 MAX_FACETS = 32767
@@ -45,6 +59,12 @@ AVERAGED = 3
 #: near the horizon an edge spans tens of periods of the image, of which only the top can be seen past the rows
 #: in front (scoring the rest costs most of the choice's time and changes no view's worst error, issue 11).
 SCORED_PERIODS = 4.0
+
+#: A facet faces a view where its area ratio (:func:`area_ratio`) exceeds this: the one facing test of the fast
+#: renderer (which views are exact, which edges and regions count, which projected areas are not 0). The exact
+#: reference's own test (:data:`roughlight.render.exact.clipping.EDGE_ON`, 1e-12) is smaller; the two disagree only
+#: on a facet whose projection is within 1e-9 of edge-on, whose area (below 1e-9 of a period) no 8-bit value sees.
+FACING = 1e-9
 
 
 @dataclass(frozen=True)
@@ -105,6 +125,16 @@ def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
                    np.asarray(surf.alpha, float), np.asarray(surf.beta, float))
 
 
+def adaptive_regions(surface, incidence: float, shadows: bool) -> Regions:
+    """:func:`facet_regions` for adaptive sampling, which takes at most :data:`MAX_FACETS` facets a period (the
+    facet identities the framebuffer holds); raises ``ValueError`` naming the surface's count beyond that."""
+    regions = facet_regions(surface, incidence, shadows)
+    if len(regions.normals) > MAX_FACETS:
+        raise ValueError(f"render.sampling: adaptive takes at most {MAX_FACETS} facets a period, "
+                         f"this surface has {len(regions.normals)}; use lattice")
+    return regions
+
+
 def facet_edges(regions: Regions):
     """Every ring edge: start (E, 3), end (E, 3), region (E,)."""
     start, end, owner = [], [], []
@@ -152,11 +182,24 @@ def unique_edges(regions: Regions):
     return start[kept], end[kept], sides[kept]
 
 
+def area_ratio(regions: Regions, shear) -> np.ndarray:
+    """(V, F) each facet's area ratio along each view: ``det = 1 - alpha d_x - beta d_y``, its projected area over
+    its plan area (the projection along the view is affine on a facet; negative where the facet faces away).
+
+    Parameters
+    ----------
+    regions : Regions
+        Its ``alpha``, ``beta`` (F,): the facets' planes ``z = alpha x + beta y + gamma``.
+    shear : (V, 2) array
+        Each view's plan shift ``d = (V_x / V_z, V_y / V_z)``.
+    """
+    return 1.0 - regions.alpha[None, :] * shear[:, 0:1] - regions.beta[None, :] * shear[:, 1:2]
+
+
 def front_facing(regions: Regions, owner, shear) -> np.ndarray:
-    """(V, E) True where the edge's facet faces the view (its projection has positive area)."""
-    f = regions.facet[owner]
-    det = 1.0 - regions.alpha[f][None, :] * shear[:, 0:1] - regions.beta[f][None, :] * shear[:, 1:2]
-    return det > 1e-9
+    """(V, E) True where the facet of the region ``owner`` (E,) faces the view: its area ratio exceeds
+    :data:`FACING` (its projection has positive area)."""
+    return area_ratio(regions, shear)[:, regions.facet[owner]] > FACING
 
 
 def all_facing(regions: Regions, shear) -> np.ndarray:
@@ -164,10 +207,18 @@ def all_facing(regions: Regions, shear) -> np.ndarray:
 
     The surface is a continuous periodic height field, so when every facet's projection keeps its orientation the
     projection of one period covers the unit cell once: every region is seen whole and its share of the image is
-    its exact projected area (:func:`area_shares`), with no rendering.
+    its exact projected area (:func:`area_shares`, :func:`projected_areas`), with no rendering.
     """
     shear = np.atleast_2d(np.asarray(shear, float))
     return np.all(front_facing(regions, np.arange(len(regions.facet)), shear), axis=1)
+
+
+def exact_views(regions: Regions, shear, batch: int = 1024) -> np.ndarray:
+    """(V,) bool :func:`all_facing`, ``batch`` views at a time (a (views, regions) array whole takes gigabytes on
+    large random tiles): the views whose shares are their exact projected areas, unrendered."""
+    shear = np.atleast_2d(np.asarray(shear, float))
+    return np.concatenate([all_facing(regions, shear[i:i + batch]) for i in range(0, len(shear), batch)]
+                          or [np.zeros(0, bool)])
 
 
 def area_shares(regions: Regions, shear):
@@ -199,6 +250,35 @@ def _areas(regions: Regions, shear) -> np.ndarray:
     key = np.arange(n_views)[:, None] * n_regions + owner[None, :]
     areas = np.bincount(key.ravel(), weights=0.5 * cross.ravel(), minlength=n_views * n_regions)
     return areas.reshape(n_views, n_regions)
+
+
+def region_plan_areas(regions: Regions) -> np.ndarray:
+    """(R,) each region's plan area (periods^2): its rings' shoelace sums, holes (clockwise) subtracted."""
+    out = np.zeros(len(regions.rings))
+    for r, rings in enumerate(regions.rings):
+        for ring in rings:
+            x, y = ring[:, 0], ring[:, 1]
+            out[r] += 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return out
+
+
+def projected_areas(regions: Regions, plan_areas, shears) -> np.ndarray:
+    """(V, R) each region's projected area along each view: its plan area times its facet's :func:`area_ratio`,
+    0 where the facet does not face the view (periods^2; a view's areas sum to 1 where nothing is hidden).
+
+    The random tiles' exact areas; the regular surface's (:func:`area_shares`, :func:`counts_and_areas`) are the
+    shoelace of the projected rings, the polygon whose pixel centres are counted. The two agree to 1e-12.
+
+    Parameters
+    ----------
+    regions : Regions
+    plan_areas : (R,) array
+        :func:`region_plan_areas`.
+    shears : (V, 2) array
+        Each view's plan shift ``d = (V_x / V_z, V_y / V_z)``.
+    """
+    det = area_ratio(regions, shears)
+    return plan_areas[None, :] * np.where(det > FACING, det, 0.0)[:, regions.facet]
 
 
 def _facet_shares(share, regions: Regions):
@@ -376,32 +456,6 @@ def _star_discrepancy(x0, y0, x1, y1, valid) -> np.ndarray:
     return star
 
 
-def candidate_lattices(pixels_per_period: int, n: int = 6) -> list[np.ndarray]:
-    """``n`` rotated-square sampling matrices ``[[p, q], [-q, p]]`` with ``p^2 + q^2`` within 10% of
-    ``pixels_per_period^2`` (``gcd(p, q) = 1``, ``p + q`` odd, as :func:`roughlight.render.fast.sampling.sampling_matrix`),
-    their angles ``atan(q / p)`` spread over [0, 45] degrees; the default lattice comes first."""
-    from .sampling import lattice_pairs, sampling_matrix
-
-    size = int(pixels_per_period) ** 2
-    found = {}
-    for p, q in lattice_pairs(pixels_per_period):
-        if 1 <= q < p:
-            angle = math.degrees(math.atan2(q, p))
-            key = round(angle)
-            if key not in found or abs(p * p + q * q - size) < abs(sum(x * x for x in found[key][1:]) - size):
-                found[key] = (angle, p, q)
-    default = sampling_matrix(int(pixels_per_period), "lattice")
-    out = [default]
-    wanted = np.linspace(0.0, 45.0, n + 1)[1:] - 45.0 / (2 * n)
-    options = sorted(found.values())
-    for target in wanted if options else ():  # none at very low densities: the default lattice alone
-        angle, p, q = min(options, key=lambda o: abs(o[0] - target))
-        matrix = np.array([[p, q], [-q, p]])
-        if not any(np.array_equal(matrix, m) for m in out) and len(out) < n:
-            out.append(matrix)
-    return out
-
-
 def choose_lattices(regions: Regions, shear, matrices, shifts, values):
     """The lattices with the smallest :func:`value_discrepancy` for each view, best first.
 
@@ -451,9 +505,71 @@ def ratio_shares(pixel_counts, regions: Regions, shear, matrix, shift=(0.0, 0.0)
     pixel_counts = np.asarray(pixel_counts, float)
     counts, areas = counts_and_areas(regions, shear, matrix, shift)
     n_pixels = abs(round(np.linalg.det(np.asarray(matrix, float))))
-    plain = pixel_counts / n_pixels
-    # a region seen whole has as many pixels as its projection holds: the ratio then gives its exact area
-    share = np.where(counts > 0.5, areas * pixel_counts / np.maximum(counts, 1.0), plain)
-    total = share.sum(axis=1, keepdims=True)
-    share = np.where(total > 0, share / np.where(total > 0, total, 1.0), 0.0)
-    return _facet_shares(share, regions)
+    return _facet_shares(normalised_shares(pixel_counts, n_pixels, counts, areas), regions)
+
+
+def normalised_shares(visible, per_tile: int, total=None, areas=None) -> np.ndarray:
+    """(V, R) each region's share of each view's image from its pixel counts, summing to 1 a view (0 where a view
+    shows nothing).
+
+    Parameters
+    ----------
+    visible : (V, R) float array
+        Pixels of each view's tile showing each region's visible part.
+    per_tile : int
+        A tile's pixels.
+    total, areas : (V, R) float arrays, optional
+        Pixel centres in each region's whole projection and its exact projected area (periods^2). Where the
+        total is at least one, the share is ``areas * visible / total`` (a region seen whole has as many pixels
+        as its projection holds: the ratio then gives its exact area); elsewhere, or without them, it is
+        ``visible / per_tile``.
+    """
+    plain = visible / per_tile
+    share = plain if total is None else np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), plain)
+    sums = share.sum(axis=1, keepdims=True)
+    return np.where(sums > 0, share / np.where(sums > 0, sums, 1.0), 0.0)
+
+
+class AdaptivePlan(NamedTuple):
+    """Adaptive sampling's plan of one sweep of the regular surface (:func:`adaptive_plan`)."""
+
+    #: (V,) bool, the views where nothing is hidden
+    exact: np.ndarray
+    #: (n_exact, F) each facet's lit and shadowed share in those views, their exact projected areas
+    lit: np.ndarray
+    shadow: np.ndarray
+    #: the other views' lattice passes; their ``members`` index the views where ``exact`` is False
+    passes: list[LatticePass]
+
+
+def adaptive_plan(regions: Regions, views, light_dir, lighting, settings) -> AdaptivePlan:
+    """Which views are exact and on which lattices the others are drawn, for adaptive sampling.
+
+    Where every facet faces the view nothing is hidden: each region's share is its exact area
+    (:func:`area_shares`). Each of the others is drawn on its best lattice of
+    :func:`roughlight.render.fast.sampling.candidate_lattices` (:func:`choose_lattices`), and on the next best too,
+    averaged, where even the best may be off by ``settings.average_lattices_above`` levels.
+
+    Parameters
+    ----------
+    regions : Regions
+        :func:`adaptive_regions` of the surface under this light.
+    views : (V, 3) array
+        Unit vectors toward the detector, none grazing.
+    light_dir : (3,) array
+        Unit vector toward the light.
+    lighting : Lighting
+    settings : FastSettings
+    """
+    shears = views[:, :2] / views[:, 2:3]
+    whole = all_facing(regions, shears)
+    lit, shadow = area_shares(regions, shears[whole])
+    views, shears = views[~whole], shears[~whole]
+    if len(views) == 0:
+        return AdaptivePlan(whole, lit, shadow, [])
+    matrices = candidate_lattices(int(settings.pixels_per_period))
+    shifts = [surface_shift(m, settings.jitter) for m in matrices]
+    values = region_values(regions, light_dir, views, lighting)
+    order, score = choose_lattices(regions, shears, matrices, shifts, values)
+    many = score >= float(settings.average_lattices_above)
+    return AdaptivePlan(whole, lit, shadow, lattice_passes(matrices, shifts, order, many, settings.max_framebuffer))
