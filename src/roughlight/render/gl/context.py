@@ -164,7 +164,19 @@ def set_material_uniforms(program, lighting, light_dir) -> None:
 
 
 class Context:
-    """One OSMesa context of a fixed framebuffer size, with its programs and shadow target."""
+    """One OSMesa context of a fixed framebuffer size, with its programs and, once the fast renderer asks for it,
+    its periodic shadow map (:meth:`shadow_map`).
+
+    Attributes
+    ----------
+    width, height : int
+        The framebuffer, pixels.
+    programs : ShaderCache
+    shadow_size : int
+        Texels a side of the shadow map, built only by :meth:`shadow_map`: the fast renderer's drawing pass
+        (:mod:`roughlight.render.fast.passes`). The implicit shader's and the random tiles' counting contexts
+        never build one.
+    """
 
     def __init__(self, width: int, height: int, shadow_map_size: int):
         self.width, self.height = int(width), int(height)
@@ -178,38 +190,46 @@ class Context:
             raise OSMesaUnavailable(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
         self.programs = ShaderCache()
         self.shadow_size = int(shadow_map_size)
-        # periodic shadow map: a depth texture, one period of light-oblique coordinates
-        self.shadow_tex = gl.glGenTextures(1)
-        gl.glBindTexture(gl.GL_TEXTURE_2D, self.shadow_tex)
-        gl.glTexImage2D(
-            gl.GL_TEXTURE_2D, 0, gl.GL_DEPTH_COMPONENT24, self.shadow_size, self.shadow_size, 0,
-            gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT, None,
-        )
-        for pname, value in (
-            (gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST),
-            (gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST),
-            (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT),
-            (gl.GL_TEXTURE_WRAP_T, gl.GL_REPEAT),
-            (gl.GL_TEXTURE_COMPARE_MODE, gl.GL_NONE),
-        ):
-            gl.glTexParameteri(gl.GL_TEXTURE_2D, pname, value)
-        self.shadow_fbo = gl.glGenFramebuffers(1)
-        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, self.shadow_fbo)
-        gl.glFramebufferTexture2D(
-            gl.GL_FRAMEBUFFER, gl.GL_DEPTH_ATTACHMENT, gl.GL_TEXTURE_2D, self.shadow_tex, 0
-        )
-        gl.glDrawBuffer(gl.GL_NONE)
-        gl.glReadBuffer(gl.GL_NONE)
-        status = gl.glCheckFramebufferStatus(gl.GL_FRAMEBUFFER)
-        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
-        if status != gl.GL_FRAMEBUFFER_COMPLETE:
-            raise RuntimeError(f"shadow framebuffer incomplete (status {status})")
+        self._shadow = None  # (framebuffer, depth texture), built by shadow_map()
+
+    def shadow_map(self) -> tuple:
+        """The periodic shadow map, built on the first call: ``(framebuffer, texture)`` GL names of a depth
+        texture of ``shadow_size`` texels a side (nearest filtering, wrapped: one period of light-oblique
+        coordinates) and the framebuffer that draws into it. Call with the context current."""
+        if self._shadow is None:
+            tex = gl.glGenTextures(1)
+            gl.glBindTexture(gl.GL_TEXTURE_2D, tex)
+            gl.glTexImage2D(
+                gl.GL_TEXTURE_2D, 0, gl.GL_DEPTH_COMPONENT24, self.shadow_size, self.shadow_size, 0,
+                gl.GL_DEPTH_COMPONENT, gl.GL_FLOAT, None,
+            )
+            for pname, value in (
+                (gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST),
+                (gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST),
+                (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT),
+                (gl.GL_TEXTURE_WRAP_T, gl.GL_REPEAT),
+                (gl.GL_TEXTURE_COMPARE_MODE, gl.GL_NONE),
+            ):
+                gl.glTexParameteri(gl.GL_TEXTURE_2D, pname, value)
+            fbo = gl.glGenFramebuffers(1)
+            gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, fbo)
+            gl.glFramebufferTexture2D(gl.GL_FRAMEBUFFER, gl.GL_DEPTH_ATTACHMENT, gl.GL_TEXTURE_2D, tex, 0)
+            gl.glDrawBuffer(gl.GL_NONE)
+            gl.glReadBuffer(gl.GL_NONE)
+            status = gl.glCheckFramebufferStatus(gl.GL_FRAMEBUFFER)
+            gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+            self._shadow = (fbo, tex)
+            if status != gl.GL_FRAMEBUFFER_COMPLETE:
+                raise RuntimeError(f"shadow framebuffer incomplete (status {status})")
+        return self._shadow
 
     def delete(self):
         self.platform.make_current()
         self.programs.clear()
-        gl.glDeleteFramebuffers(1, [self.shadow_fbo])
-        gl.glDeleteTextures([self.shadow_tex])
+        if self._shadow is not None:
+            gl.glDeleteFramebuffers(1, [self._shadow[0]])
+            gl.glDeleteTextures([self._shadow[1]])
+            self._shadow = None
         self.platform.delete_context()
 
 
@@ -218,8 +238,9 @@ CONTEXTS: dict = {}
 
 
 def context(width: int, height: int, shadow_map_size: int) -> Context:
-    """An OSMesa context whose framebuffer holds at least ``width`` x ``height`` pixels, with a shadow map of
-    ``shadow_map_size`` texels a side: the live one when it is large enough (callers draw into their own
+    """An OSMesa context whose framebuffer holds at least ``width`` x ``height`` pixels, whose shadow map (built
+    when the fast renderer first draws in it, :meth:`Context.shadow_map`) is ``shadow_map_size`` texels a side:
+    the live one when it is large enough (callers draw into their own
     viewport of it), else a new one as large as both (OSMesa buffers are fixed at creation; one at a time)."""
     for (w, h, size), ctx in CONTEXTS.items():
         if size == shadow_map_size and w >= width and h >= height:
