@@ -18,12 +18,17 @@ export PYOPENGL_PLATFORM := osmesa
 
 setup: system-deps $(STAMP)
 
+# OpenGL headless, both platforms (render.platform): OSMesa (libosmesa6) and EGL's device route (libegl1 with
+# Mesa's EGL and drivers, whose software device is llvmpipe; on GPU nodes the driver's EGL takes its place)
+EGL_PACKAGES := libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0
 system-deps:
-	@if ! ldconfig -p | grep -q 'libOSMesa\.so'; then \
-		echo "installing Debian's libosmesa6 (OSMesa, software OpenGL)"; \
-		$(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libosmesa6 >/dev/null; \
+	@if ! ldconfig -p | grep -q 'libOSMesa\.so' || ! ldconfig -p | grep -q 'libEGL\.so\.1' \
+		|| ! ldconfig -p | grep -q 'libOpenGL\.so\.0' || ! ls /usr/share/glvnd/egl_vendor.d/*mesa* >/dev/null 2>&1; then \
+		echo "installing Debian's libosmesa6 and EGL (software OpenGL: OSMesa and EGL)"; \
+		$(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libosmesa6 $(EGL_PACKAGES) >/dev/null; \
 	fi
 	@ldconfig -p | grep -q 'libOSMesa\.so' || { echo "libOSMesa is still missing: install Debian's libosmesa6" >&2; exit 1; }
+	@ldconfig -p | grep -q 'libEGL\.so\.1' || { echo "libEGL is still missing: install Debian's $(EGL_PACKAGES)" >&2; exit 1; }
 
 $(STAMP): requirements.lock pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)

@@ -22,7 +22,7 @@ check_results_writable()
 onstart:
     acquire_run_lock()
     check_results_writable(probe=True)
-    check_osmesa()
+    check_gl_platform()
     log_followed()
 
 

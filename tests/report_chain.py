@@ -20,7 +20,7 @@ from roughlight.report import page as R
 from roughlight.report.explorer import explorer_data, study_columns
 from roughlight.study import config as rl_config
 from roughlight.study import plan
-from roughlight.study.tables import aggregate, regular, run_sweep
+from roughlight.study.tables import aggregate, regular, renderers, run_sweep
 from roughlight.surfaces.roughness import make_surface
 
 from .conftest import REPO
@@ -73,7 +73,9 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
         F.plot_random_maps(study, workdir / "figures" / "random_maps.png")
     if cfg["report"]["explorer"]["enabled"]:  # rule explorer_data
         outputs["explorer_data"] = explorer_data(study_columns(study), budget=cfg["report"]["explorer"]["budget"])
-    return R.build_report(outputs, figures, config=cfg, provenance={"settings": settings}, followed=followed,
+    ran_on = renderers(sorted((workdir / "results" / "sweeps").rglob("*.parquet")))  # as study_table records them
+    return R.build_report(outputs, figures, config=cfg, provenance={"settings": settings, "renderers": ran_on},
+                          followed=followed,
                           surface_settings=rl_config.random_surface_settings(cfg),
                           table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"])
 

@@ -41,6 +41,7 @@ from roughlight.analysis.thesis import (
 )
 from roughlight.analysis.timings import render_timings
 from roughlight.render import pictures
+from roughlight.render.gl import context as gl_context
 from roughlight.render.shading import Lighting
 from roughlight.report import figures as F
 from roughlight.report import page as R
@@ -111,7 +112,8 @@ def build_report_from_study(study: pd.DataFrame, workdir: Path, render: bool = T
          "implied_scales": implied_scales(), "tables_at_implied_scale": tables_at_implied_scale(lobes),
          "model_fits_summary": model_fit_summary(fits),
          "explorer_data": explorer_data(study_columns(study), budget=DEFAULT_BUDGET)},
-        paths, config={"grid": {"aspect": summary["aspects"]}}, provenance={"settings": SETTINGS},
+        paths, config={"grid": {"aspect": summary["aspects"]}},
+        provenance={"settings": SETTINGS, "renderers": [gl_context.renderer()]},  # what make_study rendered on
     )
     out = workdir / "roughlight_report.html"
     R.write_report(out, html)
@@ -184,8 +186,10 @@ def _loaded_in_chromium(html_path: Path, workdir: Path):
         browser.open(html_path)
         check = browser.evaluate(IMAGE_CHECK)
         dom = _parse(browser.evaluate("document.documentElement.outerHTML"))
+        shown = browser.evaluate("(() => { const e = document.getElementById('renderers');"
+                                 " return e && e.offsetHeight > 0 ? e.innerText : null; })()")
     dom.check = {"data-total": str(check["total"]), "data-loaded": str(check["loaded"]),
-                 "data-bad": json.dumps(check["bad"])}
+                 "data-bad": json.dumps(check["bad"]), "renderers": shown}
     return dom
 
 
@@ -221,6 +225,8 @@ def test_report_in_headless_chromium(built):
     total = int(dom.check["data-total"])
     assert total == len(registry.FIGURES)
     assert json.loads(dom.check["data-bad"]) == [] and int(dom.check["data-loaded"]) == total
+    # the provenance shows what the sweeps ran on (each sweep's record, study.parquet's in the workflow)
+    assert "llvmpipe" in dom.check["renderers"] and "osmesa" in dom.check["renderers"]
     # Tables 1 and 2, for both aspects, with the thesis's rows and columns
     printed = [t for t in dom.tables if t.get("class") == "thesis-table"]
     assert {(t["data-table"], t["data-aspect"]) for t in printed} == {("1", "1"), ("2", "1"), ("1", "√3/2"),
@@ -325,6 +331,9 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     assert html.count('class="thesis-table"') == 4 and html.count("<img ") == len(registry.FIGURES)
     for figure in registry.FIGURES:  # every caption of the registry is on the page
         assert f'id="fig-{figure.name}"' in html
+    # the provenance lists what the sweeps ran on, from the study table's record
+    ran_on = re.search(r'<ul id="renderers">(.*?)</ul>', html, re.S).group(1)
+    assert "llvmpipe" in ran_on and "osmesa" in ran_on
     lint = subprocess.run(snakemake + ["--lint"], capture_output=True, text=True, env=env, timeout=300)
     text = lint.stdout + lint.stderr
     assert "report.smk" not in text, text[-3000:]

@@ -8,7 +8,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from roughlight.study.tables import STUDY_COLUMNS
+from roughlight.study.tables import STUDY_COLUMNS, renderers
 
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
@@ -70,6 +70,9 @@ def test_tiny_study_end_to_end(workflow_dir):
     assert row["phase"] == pytest.approx(0.0, abs=1e-9)
     assert (study["render_seconds"] > 0).all()
     assert (workflow_dir / "results" / "meshes" / "t1_a1.ply").exists()
+    # the study table records what its sweeps ran on (the report's provenance lists it)
+    ran_on = renderers([workflow_dir / "results" / "study.parquet"])
+    assert len(ran_on) == 1 and "llvmpipe" in ran_on[0] and ran_on[0].endswith(", osmesa")
 
     # nothing changed: nothing to do
     assert planned_jobs(workflow_dir) == {}
@@ -89,6 +92,13 @@ def test_tiny_study_end_to_end(workflow_dir):
     # a lighting change re-renders everything that sees the light
     cfg["render"] = {"shadows": True}
     cfg["material"] = {"shininess": 32}
+    write_config(workflow_dir, cfg)
+    jobs = planned_jobs(workflow_dir)
+    assert jobs.get("rough_sweep") == 3 and jobs.get("control_sweep") == 1
+
+    # the OpenGL platform reaches every rendering job through its params: a change re-renders every sweep
+    cfg["material"] = {"shininess": 64}
+    cfg["render"] = {"platform": "egl"}
     write_config(workflow_dir, cfg)
     jobs = planned_jobs(workflow_dir)
     assert jobs.get("rough_sweep") == 3 and jobs.get("control_sweep") == 1

@@ -47,12 +47,13 @@ def write_text_atomic(path, text: str) -> None:
             fh.write(text)
 
 
-def write_frame(frame, path) -> None:
+def write_frame(frame, path, metadata: dict | None = None) -> None:
     """Write a table atomically as CSV or Parquet (by the file's extension).
 
     ``frame`` is a pandas DataFrame, or for Parquet also a ``pyarrow.Table``
     (the sweeps keep their dictionary-encoded columns that way). Parquet is
-    written with zstd compression, without the DataFrame's index.
+    written with zstd compression, without the DataFrame's index, and with
+    ``metadata`` (str to str) added to the file's key-value metadata.
     """
     path = os.fspath(path)
     with atomic_path(path) as tmp:
@@ -61,9 +62,11 @@ def write_frame(frame, path) -> None:
             import pyarrow.parquet as pq
 
             if isinstance(frame, pa.Table):
+                if metadata:
+                    frame = frame.replace_schema_metadata({**(frame.schema.metadata or {}), **metadata})
                 pq.write_table(frame, tmp, compression="zstd")
             else:
-                _write_pandas_parquet(frame, tmp)
+                _write_pandas_parquet(frame, tmp, metadata)
         elif path.endswith(".csv"):
             frame.to_csv(tmp, index=False)
         else:
@@ -74,7 +77,7 @@ def write_frame(frame, path) -> None:
 ROW_GROUP_ROWS = 1024 * 1024
 
 
-def _write_pandas_parquet(frame, path) -> None:
+def _write_pandas_parquet(frame, path, metadata: dict | None = None) -> None:
     """Write a DataFrame to Parquet a row group at a time (zstd, no index): the same file as converting it whole
     and writing that, without holding the whole frame twice (the study table, 3 million rows, took 0.5 GB more)."""
     import pyarrow as pa
@@ -84,6 +87,8 @@ def _write_pandas_parquet(frame, path) -> None:
     try:
         for start in range(0, max(len(frame), 1), ROW_GROUP_ROWS):
             part = pa.Table.from_pandas(frame.iloc[start:start + ROW_GROUP_ROWS], preserve_index=False)
+            if metadata:
+                part = part.replace_schema_metadata({**(part.schema.metadata or {}), **metadata})
             if writer is None:
                 writer = pq.ParquetWriter(path, part.schema, compression="zstd")
             writer.write_table(part)

@@ -21,6 +21,7 @@ rule speed_accuracy:
     resources:
         mem_mb=2048,
     params:
+        gl=gl_params,
         lighting=lighting_params,
     script:
         "../scripts/speed_accuracy.py"
@@ -49,6 +50,7 @@ rule renderer_validation:
     resources:
         mem_mb=4096,
     params:
+        gl=gl_params,
         lighting=lighting_params,
         render=fast_render_params,
         table_aspects=table_aspects_param,
@@ -85,6 +87,7 @@ rule implicit_surface:
     resources:
         mem_mb=4096,
     params:
+        gl=gl_params,
         lighting=lighting_params,
     script:
         "../scripts/implicit_surface.py"
@@ -112,6 +115,7 @@ rule random_tiles:
     resources:
         mem_mb=4096,
     params:
+        gl=gl_params,
         lighting=lighting_params,
         render=fast_tile_render_params,
     script:
@@ -136,6 +140,7 @@ rule random_every_view:
     resources:
         mem_mb=2048,
     params:
+        gl=gl_params,
         surface=random_surface_params,
         incidence=incidence_param,
         lighting=lighting_params,

@@ -68,13 +68,19 @@ def check_results_writable(directory="results", probe=False):
         raise WorkflowError(rl_runs.not_writable_message(directory, problem))
 
 
-def check_osmesa():
-    """Stop before any job if libOSMesa (software OpenGL, every renderer and picture) is missing or broken."""
-    from roughlight.render.gl import osmesa
+def check_gl_platform():
+    """Stop before any job if the chosen OpenGL platform (render.platform: every renderer and picture) is missing
+    or broken: libOSMesa for osmesa, libEGL with a device for egl."""
+    from snakemake.logging import logger
+
+    from roughlight.render.gl import egl, osmesa
 
     try:
-        osmesa.check_osmesa()
-    except osmesa.OSMesaUnavailable as exc:
+        if config["render"]["platform"] == "egl":
+            logger.info(f"OpenGL through EGL: {egl.check_egl(config['render']['egl_device'])}")
+        else:
+            osmesa.check_osmesa()
+    except (osmesa.OSMesaUnavailable, egl.EGLUnavailable) as exc:
         raise WorkflowError(str(exc))
 
 
@@ -167,6 +173,11 @@ def control_lighting_params(wildcards):
 
 def method_param(wildcards):
     return config["render"]["method"]
+
+
+def gl_params(wildcards):
+    """The OpenGL platform a rendering job uses (render.platform, render.egl_device): workflow/scripts/_gl.py."""
+    return {key: config["render"][key] for key in ("platform", "egl_device")}
 
 
 def render_params(wildcards):

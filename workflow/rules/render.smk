@@ -17,6 +17,7 @@ rule control_sweep:
     resources:
         mem_mb=1024,
     params:
+        gl=gl_params,
         surface=rl_plan.CONTROL_SURFACE,
         incidence=incidence_param,
         sweep=sweep_params,
@@ -43,6 +44,7 @@ rule rough_sweep:
     resources:
         mem_mb=1024,
     params:
+        gl=gl_params,
         surface=surface_params,
         incidence=incidence_param,
         sweep=sweep_params,
@@ -69,6 +71,7 @@ rule random_sweep:
     resources:
         mem_mb=2048,
     params:
+        gl=gl_params,
         surface=random_surface_params,
         incidence=incidence_param,
         sweep=sweep_params,

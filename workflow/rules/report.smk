@@ -177,6 +177,7 @@ rule render_figures:
     resources:
         mem_mb=2048,
     params:
+        gl=gl_params,
         lighting=lighting_params,
         render=render_params,
         elevation_step=float(config["sweep"]["elevation_step"]),

@@ -21,6 +21,7 @@ rule stability_measurement:
     resources:
         mem_mb=2048,
     params:
+        gl=gl_params,
         lighting=lighting_params,
     script:
         "../scripts/stability_measurement.py"
@@ -47,6 +48,7 @@ rule stability:
     resources:
         mem_mb=2048,
     params:
+        gl=gl_params,
         lighting=lighting_params,
     script:
         "../scripts/stability.py"

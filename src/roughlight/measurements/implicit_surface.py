@@ -166,10 +166,10 @@ class _Field:
         self.scene = NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
         # the patch is centred on the origin; the implicit field spans [0, N]^2 (same surface, shifted
         # by whole periods when N is even)
-        from ..render.gl.context import import_pyrender, release_contexts
+        from ..render.gl.context import offscreen_renderer, release_contexts
 
         release_contexts()
-        self.renderer = import_pyrender().OffscreenRenderer(size, size)
+        self.renderer = offscreen_renderer(size, size)
         self.renderer._renderer._program_cache = CompiledShaders()
         self.triangles = int(field_size * field_size * len(period_triangles(surface)[0]))
 

@@ -19,7 +19,10 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
-__all__ = ["Method", "METHODS", "NAMES", "method", "settings", "sweep", "recorded"]
+__all__ = ["Method", "METHODS", "NAMES", "NO_OPENGL", "method", "settings", "sweep", "recorded"]
+
+#: What the exact reference runs on, as a sweep records it.
+NO_OPENGL = "exact (no OpenGL)"
 
 
 def _load(path: str):
@@ -41,12 +44,15 @@ class Method:
         ``"module:class"`` of its settings.
     fixed : tuple of (str, value)
         Settings the name fixes (the implicit methods' ``model``).
+    opengl : bool
+        Whether it renders through OpenGL (all but the exact reference).
     """
 
     name: str
     sweeper: str
     settings_type: str
     fixed: tuple = ()
+    opengl: bool = True
 
     def settings(self, knobs: dict | None = None):
         """The method's settings from ``knobs`` (the config's keys for it; None or {}: its defaults), checked."""
@@ -68,8 +74,10 @@ class Method:
         return settings
 
     def sweep(self, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
-        """Measure a sweep (:func:`sweep`)."""
-        return _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, self.checked(settings))
+        """Measure a sweep (:func:`sweep`), with what it ran on (``renderer``)."""
+        out = _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, self.checked(settings))
+        out["renderer"] = _load("roughlight.render.gl.context:renderer")() if self.opengl else NO_OPENGL
+        return out
 
     def recorded(self, settings=None, surface=None) -> dict:
         """How the method sampled ``surface`` (:func:`recorded`)."""
@@ -84,7 +92,7 @@ METHODS = {
         Method("naive", "roughlight.render.naive.procedure:naive_sweep",
                "roughlight.render.naive.settings:NaiveSettings"),
         Method("reference", "roughlight.render.exact.reference:reference_sweep",
-               "roughlight.render.exact.settings:ReferenceSettings"),
+               "roughlight.render.exact.settings:ReferenceSettings", opengl=False),
         Method("implicit_exact", "roughlight.render.implicit.shader:implicit_sweep",
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "exact"),)),
         Method("implicit_correction", "roughlight.render.implicit.shader:implicit_sweep",
@@ -127,7 +135,9 @@ def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, sett
     -------
     dict
         ``diffuse``, ``specular``, ``total`` and ``coverage``: (n_views,) arrays (0-255; coverage 0-1);
-        ``seconds``: wall time of the sweep (:data:`roughlight.render.sweep.RESULT`).
+        ``seconds``: wall time of the sweep (:data:`roughlight.render.sweep.RESULT`); ``renderer``: what it ran on
+        (:func:`roughlight.render.gl.context.renderer`: the GL renderer, its OpenGL version and the platform;
+        :data:`NO_OPENGL` for the exact reference).
     """
     return method(name).sweep(surface, incidence, azimuth, elevation, lighting, settings)
 

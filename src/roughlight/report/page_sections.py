@@ -234,7 +234,8 @@ def provenance_section(render_timings: pd.DataFrame | None = None, study_summary
                        renderer_validation_png=None, random_accuracy: pd.DataFrame | None = None) -> dict:
     """"Settings and provenance": timings, the speed/accuracy benchmark with its "Accuracy at every view"
     (:func:`benchmarks_data`), settings and configuration as YAML, package versions (``provenance["versions"]``,
-    else those installed), inputs."""
+    else those installed), inputs, and what the sweeps were rendered on (``provenance["renderers"]``: the GL
+    renderer, OpenGL version and platform of each, :func:`roughlight.study.tables.renderers`)."""
     import yaml
 
     provenance = provenance or {}
@@ -253,4 +254,5 @@ def provenance_section(render_timings: pd.DataFrame | None = None, study_summary
         "config": yaml.safe_dump(_plain(config), sort_keys=False) if config else None,
         "versions": pd.DataFrame(sorted(versions.items()), columns=["package", "version"]),
         "inputs": pd.DataFrame(inputs) if inputs else None,
+        "renderers": list(provenance.get("renderers") or []),
     }

@@ -128,8 +128,32 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
         "render_seconds": np.full(rows, float(result["seconds"])),
     }
     names = list(columns)
-    return pa.Table.from_arrays([c if isinstance(c, pa.Array) else _column(c) for c in columns.values()],
-                                names=names)
+    table = pa.Table.from_arrays([c if isinstance(c, pa.Array) else _column(c) for c in columns.values()],
+                                 names=names)
+    return table.replace_schema_metadata({RENDERER_KEY: str(result.get("renderer", ""))})
+
+
+#: The Parquet metadata key of what a sweep ran on (:func:`roughlight.render.methods.sweep`'s ``renderer``);
+#: the study table holds those of all its sweeps under :data:`RENDERERS_KEY`, as a JSON list.
+RENDERER_KEY = "roughlight.renderer"
+RENDERERS_KEY = "roughlight.renderers"
+
+
+def renderers(paths) -> list[str]:
+    """What the sweeps (or study tables) at ``paths`` ran on, each once, sorted: from their Parquet metadata
+    (:data:`RENDERER_KEY`, :data:`RENDERERS_KEY`); a file written before it was recorded adds nothing."""
+    import json
+
+    import pyarrow.parquet as pq
+
+    found = set()
+    for path in paths:
+        meta = pq.read_schema(path).metadata or {}
+        if RENDERER_KEY.encode() in meta and meta[RENDERER_KEY.encode()]:
+            found.add(meta[RENDERER_KEY.encode()].decode())
+        if RENDERERS_KEY.encode() in meta:
+            found.update(json.loads(meta[RENDERERS_KEY.encode()]))
+    return sorted(found)
 
 
 def _column(values: np.ndarray):

@@ -1,10 +1,14 @@
-"""OpenGL for the renderers: OSMesa, the parts of pyrender they use, shader programs, contexts.
+"""OpenGL for the renderers: the headless platform, the parts of pyrender they use, shader programs, contexts.
 
-This is the one module that loads OpenGL. It selects PyOpenGL's OSMesa
-platform (``PYOPENGL_PLATFORM=osmesa``, unless the caller chose another
-before), turns PyOpenGL's bare import errors into one message that says what
-to install, and loads only the parts of pyrender the fast method needs (see
-:func:`import_pyrender_core`). The GL methods import it (the fast renderer, :mod:`roughlight.render.fast`; the
+This is the one module that loads OpenGL. It takes PyOpenGL's platform from
+``PYOPENGL_PLATFORM`` (:data:`PLATFORMS`: ``osmesa``, the default, or ``egl``,
+:mod:`roughlight.render.gl.egl`; a workflow job sets it from ``render.platform``
+before anything loads OpenGL), turns PyOpenGL's bare import errors into one
+message that says what to install, makes every context (the GL methods' and
+pyrender's for the naive method, :func:`offscreen_renderer`) on that platform,
+refuses one older than OpenGL 4.3 (:func:`check_version`), and loads only the
+parts of pyrender the fast method needs (see :func:`import_pyrender_core`).
+The GL methods import it (the fast renderer, :mod:`roughlight.render.fast`; the
 naive procedure, :mod:`roughlight.render.naive.procedure`; the implicit shader,
 :mod:`roughlight.render.implicit.shader`), and only when they render (the registry,
 :mod:`roughlight.render.methods`, imports a method on first use), so measuring with the
@@ -19,7 +23,11 @@ from __future__ import annotations
 
 import os
 
-os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+#: The headless platforms (``render.platform``).
+PLATFORMS = ("osmesa", "egl")
+PLATFORM = os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
+if PLATFORM not in PLATFORMS:
+    raise ValueError(f"PYOPENGL_PLATFORM (render.platform) must be one of {PLATFORMS}, got {PLATFORM!r}")
 
 import importlib  # noqa: E402
 import importlib.util  # noqa: E402
@@ -27,15 +35,22 @@ import re  # noqa: E402
 import sys  # noqa: E402
 import types  # noqa: E402
 
+from . import egl  # noqa: E402
 from .osmesa import HELP as _OSMESA_HELP  # noqa: E402
 from .osmesa import OSMesaUnavailable, check_osmesa  # noqa: E402
+
+#: The error a platform that cannot start raises: the message says what to install.
+Unavailable = egl.EGLUnavailable if PLATFORM == "egl" else OSMesaUnavailable
+_HELP = egl.HELP if PLATFORM == "egl" else _OSMESA_HELP
 
 try:
     from OpenGL import GL as gl  # noqa: E402
 except (ImportError, AttributeError, OSError) as _exc:  # PyOpenGL's own errors do not say what to do
-    if os.environ.get("PYOPENGL_PLATFORM") == "osmesa":
+    if PLATFORM == "osmesa":
         check_osmesa()  # raises OSMesaUnavailable naming the missing or broken library
-    raise OSMesaUnavailable(f"PyOpenGL could not load ({type(_exc).__name__}: {_exc}): {_OSMESA_HELP}") from _exc
+    else:
+        egl.check_egl()
+    raise Unavailable(f"PyOpenGL could not load ({type(_exc).__name__}: {_exc}): {_HELP}") from _exc
 
 
 def import_pyrender_core():
@@ -94,13 +109,92 @@ __all__ = [
     "Context",
     "context",
     "release_contexts",
+    "PLATFORMS",
+    "PLATFORM",
+    "Unavailable",
+    "REQUIRED_VERSION",
+    "check_version",
+    "new_platform",
+    "start_platform",
+    "renderer",
+    "offscreen_renderer",
     "import_pyrender",
 ]
 
 SHADER_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "shaders")  # render/shaders
 
 #: What to do when OpenGL cannot start: the one message a sweep job ends with.
-OSMESA_HELP = "could not create an OpenGL 3.3 core context with OSMesa (software rendering): " + _OSMESA_HELP
+OSMESA_HELP = "could not create an OpenGL core context with OSMesa (software rendering): " + _OSMESA_HELP
+#: The oldest OpenGL the renderers run on: the random tiles' counting pass (``periodic_count.frag``) needs
+#: shader storage buffers with ``atomicAdd`` in the fragment stage and ``early_fragment_tests``.
+REQUIRED_VERSION = (4, 3)
+
+#: The renderer and OpenGL version of this process's contexts (:func:`renderer`), once one is made.
+_DESCRIBED: dict = {}
+
+
+def check_version(version: str, renderer: str = "") -> tuple[int, int]:
+    """The (major, minor) of a ``GL_VERSION`` string (``"4.5 (Core Profile) Mesa 22.3.6"``), refused below
+    :data:`REQUIRED_VERSION` with a message naming what is missing."""
+    found = re.match(r"\s*(\d+)\.(\d+)", version or "")
+    if not found:
+        raise Unavailable(f"OpenGL reported no version ({version!r}) on {renderer or 'this platform'}: {_HELP}")
+    major_minor = (int(found.group(1)), int(found.group(2)))
+    if major_minor < REQUIRED_VERSION:
+        raise Unavailable(
+            f"OpenGL {version} on {renderer or PLATFORM} is older than 4.3 core, which the renderers need (shader "
+            f"storage buffers and atomicAdd in fragment shaders, for counting random tiles' pixels): use a newer "
+            f"driver or Mesa, or render.platform {'osmesa' if PLATFORM == 'egl' else 'egl'}"
+        )
+    return major_minor
+
+
+def new_platform(width: int, height: int):
+    """A platform (pyrender's interface) of ``width`` x ``height`` pixels on :data:`PLATFORM`, not yet started."""
+    if PLATFORM == "egl":
+        return egl.EGLPlatform(width, height)
+    return OSMesaPlatform(width, height)
+
+
+def start_platform(platform) -> None:
+    """Make ``platform``'s context, make it current and check its OpenGL version (:func:`check_version`)."""
+    try:
+        platform.init_context()
+        if PLATFORM == "osmesa" and not platform._context:
+            raise RuntimeError("OSMesaCreateContextAttribs returned no context")
+        platform.make_current()
+    except Unavailable:
+        raise
+    except Exception as exc:
+        help_text = OSMESA_HELP if PLATFORM == "osmesa" else egl.HELP
+        raise Unavailable(f"{help_text} ({type(exc).__name__}: {exc})") from exc
+    if not _DESCRIBED:
+        name, version = (gl.glGetString(key).decode() for key in (gl.GL_RENDERER, gl.GL_VERSION))
+        check_version(version, name)
+        _DESCRIBED.update(renderer=name, version=version, platform=PLATFORM)
+
+
+def renderer() -> str:
+    """What this process renders on, for the study's provenance: ``"llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5
+    (Core Profile) Mesa 22.3.6, osmesa"``; empty before any context is made."""
+    if not _DESCRIBED:
+        return ""
+    return f"{_DESCRIBED['renderer']}, OpenGL {_DESCRIBED['version']}, {_DESCRIBED['platform']}"
+
+
+def offscreen_renderer(width: int, height: int):
+    """pyrender's OffscreenRenderer (the naive method's) on this process's platform (:func:`new_platform`):
+    drawing into framebuffer 0 as OSMesa's, never pyrender's multisampled buffer, and on EGL never terminating
+    the display other contexts share."""
+    pyrender = import_pyrender()
+
+    class OffscreenRenderer(pyrender.OffscreenRenderer):
+        def _create(self):
+            self._platform = new_platform(self.viewport_width, self.viewport_height)
+            start_platform(self._platform)
+            self._renderer = pyrender.Renderer(self.viewport_width, self.viewport_height)
+
+    return OffscreenRenderer(int(width), int(height))
 
 
 _INCLUDE = re.compile(r'^#include\s+"([A-Za-z0-9_.]+)"\s*$', re.MULTILINE)
@@ -164,7 +258,8 @@ def set_material_uniforms(program, lighting, light_dir) -> None:
 
 
 class Context:
-    """One OSMesa context of a fixed framebuffer size, with its programs and, once the fast renderer asks for it,
+    """One context (OSMesa's or EGL's, :data:`PLATFORM`) of a fixed framebuffer size, with its programs and, once
+    the fast renderer asks for it,
     its periodic shadow map (:meth:`shadow_map`).
 
     Attributes
@@ -180,14 +275,8 @@ class Context:
 
     def __init__(self, width: int, height: int, shadow_map_size: int):
         self.width, self.height = int(width), int(height)
-        self.platform = OSMesaPlatform(self.width, self.height)
-        try:
-            self.platform.init_context()
-            if not self.platform._context:
-                raise RuntimeError("OSMesaCreateContextAttribs returned no context")
-            self.platform.make_current()
-        except Exception as exc:
-            raise OSMesaUnavailable(f"{OSMESA_HELP} ({type(exc).__name__}: {exc})") from exc
+        self.platform = new_platform(self.width, self.height)
+        start_platform(self.platform)
         self.programs = ShaderCache()
         self.shadow_size = int(shadow_map_size)
         self._shadow = None  # (framebuffer, depth texture), built by shadow_map()
@@ -233,7 +322,7 @@ class Context:
         self.platform.delete_context()
 
 
-#: The fast method's live OSMesa contexts, by (width, height, shadow map size): one at a time.
+#: The GL methods' live contexts, by (width, height, shadow map size): one at a time.
 CONTEXTS: dict = {}
 
 
@@ -241,7 +330,7 @@ def context(width: int, height: int, shadow_map_size: int) -> Context:
     """An OSMesa context whose framebuffer holds at least ``width`` x ``height`` pixels, whose shadow map (built
     when the fast renderer first draws in it, :meth:`Context.shadow_map`) is ``shadow_map_size`` texels a side:
     the live one when it is large enough (callers draw into their own
-    viewport of it), else a new one as large as both (OSMesa buffers are fixed at creation; one at a time)."""
+    viewport of it), else a new one as large as both (framebuffer 0 is fixed at creation; one at a time)."""
     for (w, h, size), ctx in CONTEXTS.items():
         if size == shadow_map_size and w >= width and h >= height:
             ctx.platform.make_current()
@@ -256,7 +345,7 @@ def context(width: int, height: int, shadow_map_size: int) -> Context:
 
 
 def release_contexts() -> None:
-    """Delete the fast method's OSMesa contexts (before the naive method makes its own: one at a time)."""
+    """Delete the GL methods' contexts (before the naive method makes its own: one at a time)."""
     for ctx in list(CONTEXTS.values()):
         ctx.delete()
     CONTEXTS.clear()

@@ -19,7 +19,7 @@ import numpy as np
 from ...surfaces import geometry
 from ...surfaces.surface import Surface
 from .. import shading, sweep
-from ..gl.context import SHADER_DIR, Program, PyrenderShaderCache, import_pyrender, release_contexts
+from ..gl.context import SHADER_DIR, Program, PyrenderShaderCache, import_pyrender, offscreen_renderer, release_contexts
 from ..shading import SHADINGS
 from .settings import NaiveSettings
 
@@ -192,7 +192,7 @@ def _naive_renderer(size):
             other.delete()
         NAIVE_RENDERERS.clear()
         release_contexts()  # the fast method's too: one OSMesa context at a time
-        renderer = import_pyrender().OffscreenRenderer(*size)
+        renderer = offscreen_renderer(*size)
         renderer._renderer._program_cache = _PyrenderShaders()
         NAIVE_RENDERERS[size] = renderer
     return renderer
