@@ -14,7 +14,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium slurm study test cluster-test bench every-view style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test bench every-view budget style lint clean
 
 setup: system-deps $(STAMP)
 
@@ -81,6 +81,11 @@ every-view: setup
 style: setup
 	$(BIN)/ruff check src tests workflow/scripts
 	$(BIN)/snakefmt --check Snakefile workflow/rules
+
+# the default workflow from a clean results/ (in a temporary copy of this tree: yours stay) against its budgets:
+# wall time, the largest job's memory, the time by part (docs/budgets.md)
+budget: setup
+	$(BIN)/python tests/budget.py --cores $(CORES)
 
 lint: style
 	$(BIN)/snakemake --lint

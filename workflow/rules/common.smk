@@ -77,7 +77,9 @@ def check_gl_platform():
 
     try:
         if config["render"]["platform"] == "egl":
-            logger.info(f"OpenGL through EGL: {egl.check_egl(config['render']['egl_device'])}")
+            logger.info(
+                f"OpenGL through EGL: {egl.check_egl(config['render']['egl_device'])}"
+            )
         else:
             osmesa.check_osmesa()
     except (osmesa.OSMesaUnavailable, egl.EGLUnavailable) as exc:

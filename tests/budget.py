@@ -1,0 +1,111 @@
+"""The default workflow against its budgets: wall time, the largest job, and the time by part.
+
+    python tests/budget.py            # (or `make budget`) a fresh copy of this tree, `snakemake --cores 2`
+    python tests/budget.py --run DIR  # an existing finished run's results/ (its wall time as --wall S)
+
+The run happens in a temporary copy of the working tree (tracked and untracked files, without results/, reports/,
+.snakemake/ and .venv/), so the user's own results stay as they are. The jobs' times and memory come from their
+Snakemake benchmark files (``s`` and ``max_rss``). Prints a table; exits 0 either way (``--strict``: 1 when a budget
+is exceeded), since the point is that the next change that adds work sees what it costs (docs/budgets.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pandas as pd
+
+ROOT = Path(__file__).resolve().parents[1]
+#: The budgets (docs/budgets.md): the default workflow's wall seconds on 2 cores, and one job's peak memory, MB.
+WALL_BUDGET_S = 180.0
+JOB_BUDGET_MB = 1024.0
+SKIP = {"results", "reports", ".snakemake", ".venv", ".git", "__pycache__", ".pytest_cache", ".ruff_cache"}
+
+
+def part(path: str) -> str:
+    """The part of the workflow a benchmark file belongs to (relative to results/logs/)."""
+    parts = Path(path).parts
+    if parts[0] == "sweeps":
+        return "random tile sweeps" if len(parts) > 3 else "regular and control sweeps"
+    names = {"report": "report", "stability": "stability scans", "benchmarks": "benchmarks", "study": "study table"}
+    return names.get(parts[0], parts[0])
+
+
+def jobs(run: Path) -> pd.DataFrame:
+    """One row a job: ``part``, ``job`` (its benchmark file under results/logs/), ``seconds``, ``max_rss_mb``."""
+    rows = []
+    logs = run / "results" / "logs"
+    for f in sorted(logs.rglob("*.benchmark.tsv")):
+        bench = pd.read_csv(f, sep="\t").iloc[0]
+        rel = str(f.relative_to(logs)).removesuffix(".benchmark.tsv")
+        rss = pd.to_numeric(bench.get("max_rss"), errors="coerce")
+        rows.append({"part": part(rel), "job": rel, "seconds": float(bench["s"]), "max_rss_mb": float(rss)})
+    if not rows:
+        raise SystemExit(f"{logs}: no benchmark files (is it a finished run?)")
+    return pd.DataFrame(rows)
+
+
+def summary(table: pd.DataFrame, wall: float) -> str:
+    """The budget table: wall time and the largest job beside their budgets, then the time by part."""
+    largest = table.loc[table["max_rss_mb"].idxmax()]
+    by_part = (table.groupby("part")["seconds"].agg(jobs="count", job_seconds="sum", median="median", longest="max")
+               .sort_values("job_seconds", ascending=False).round(2))
+    lines = [
+        f"wall time      {wall:8.1f} s    budget {WALL_BUDGET_S:.0f} s    {'OVER' if wall > WALL_BUDGET_S else 'ok'}",
+        f"largest job    {largest['max_rss_mb']:8.0f} MB   budget {JOB_BUDGET_MB:.0f} MB   "
+        f"{'OVER' if largest['max_rss_mb'] > JOB_BUDGET_MB else 'ok'}  ({largest['job']})",
+        f"all jobs       {table['seconds'].sum():8.1f} s    = {table['seconds'].sum() / (2 * wall):.0%} of 2 cores",
+        "",
+        by_part.to_string(),
+    ]
+    return "\n".join(lines)
+
+
+def fresh_run(cores: int) -> tuple[Path, float]:
+    """Copy the working tree to a temporary directory and run the default workflow there; (its dir, wall s)."""
+    where = Path(tempfile.mkdtemp(prefix="roughlight-budget-"))
+    shutil.copytree(ROOT, where, ignore=lambda d, names: [n for n in names if n in SKIP], symlinks=True,
+                    dirs_exist_ok=True)
+    snakemake = str(Path(sys.executable).with_name("snakemake"))
+    env = {**os.environ, "PYOPENGL_PLATFORM": os.environ.get("PYOPENGL_PLATFORM", "osmesa")}
+    start = time.perf_counter()
+    done = subprocess.run([snakemake, "--cores", str(cores)], cwd=where, env=env, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if done.returncode != 0:
+        raise SystemExit(f"the workflow failed in {where}:\n{done.stderr[-3000:]}")
+    return where, wall
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--run", type=Path, help="a finished run's directory instead of a fresh run")
+    parser.add_argument("--wall", type=float, help="with --run: its wall time, seconds")
+    parser.add_argument("--cores", type=int, default=2)
+    parser.add_argument("--strict", action="store_true", help="exit 1 when a budget is exceeded")
+    parser.add_argument("--keep", action="store_true", help="keep the fresh run's directory")
+    args = parser.parse_args(argv)
+    if args.run:
+        if args.wall is None:
+            parser.error("--run needs --wall (the run's wall time, seconds)")
+        run, wall = args.run, args.wall
+    else:
+        run, wall = fresh_run(args.cores)
+    table = jobs(run)
+    print(summary(table, wall))
+    if not args.run:
+        print(f"\n(the run: {run})" if args.keep else "")
+        if not args.keep:
+            shutil.rmtree(run, ignore_errors=True)
+    over = wall > WALL_BUDGET_S or table["max_rss_mb"].max() > JOB_BUDGET_MB
+    return 1 if (args.strict and over) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
