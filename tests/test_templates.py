@@ -145,10 +145,12 @@ def case_provenance(png):
          "timings": None, "figures": [],
          "benchmarks": {"png": png, "table": pd.DataFrame({"label": ["<l>"]}), "validation": None},
          "settings": "hapke_max_phase: 60\nnote: a <b>\n", "config": None,
-         "versions": pd.DataFrame({"package": ["numpy"], "version": ["<2>"]}), "inputs": None}
+         "versions": pd.DataFrame({"package": ["numpy"], "version": ["<2>"]}), "inputs": None,
+         "renderers": ["llvmpipe <x>, OpenGL 4.5, egl"]}
     return {"s": s}, ["2 sweeps, 10 views, 1.3 s in all (median 0.50 s, max 0.75 s for t &lt;1&gt;); 8 views/s",
                       'id="fig-speed-accuracy"', f"Speed against accuracy of the renderer ({png}).", "&lt;l&gt;",
-                      "<pre>hapke_max_phase: 60\nnote: a &lt;b&gt;\n</pre>", "&lt;2&gt;", 'id="versions"'], ["<b>", "<1>"]
+                      "<pre>hapke_max_phase: 60\nnote: a &lt;b&gt;\n</pre>", "&lt;2&gt;", 'id="versions"',
+                      '<ul id="renderers"><li>llvmpipe &lt;x&gt;, OpenGL 4.5, egl</li></ul>'], ["<b>", "<1>", "<x>"]
 
 
 def case_renderer_validation(png):
