@@ -90,9 +90,13 @@ def test_thedevice_index_reaches_a_job_through_its_environment(monkeypatch):
         egl.device_index()
 
 
-def test_a_missing_egl_is_named_with_what_to_install():
+def test_a_missing_or_broken_egl_is_named_with_what_to_install(broken_osmesa, tmp_path):
     with pytest.raises(egl.EGLUnavailable, match="libEGL is missing .*libegl1"):
         egl.check_egl(names=("libNoSuchEGL.so.1",))
+    broken = tmp_path / "libEGL.so.1"  # a real shared library without EGL in it
+    broken.write_bytes((broken_osmesa / "libOSMesa.so").read_bytes())
+    with pytest.raises(egl.EGLUnavailable, match="libEGL is broken: .* lacks eglGetProcAddress.*libegl1"):
+        egl.check_egl(names=(str(broken),))
     assert "EGL device 0" in egl.check_egl()  # this machine's: Mesa's software device
 
 

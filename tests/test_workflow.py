@@ -210,6 +210,17 @@ def test_broken_osmesa_stops_before_any_job_and_keeps_what_was_computed(workflow
     assert "libOSMesa is broken" in text and "apt-get install libosmesa6" in text
     assert not (workflow_dir / "results" / "sweeps" / "i30" / "t0.5_a1.parquet").exists()
     assert table.read_bytes() == kept
+    # the same with render.platform egl and a broken libEGL first on the library path
+    broken_egl = broken_osmesa.parent / "broken_egl"
+    broken_egl.mkdir()
+    (broken_egl / "libEGL.so.1").write_bytes((broken_osmesa / "libOSMesa.so").read_bytes())
+    write_config(workflow_dir, {**cfg, "render": {"platform": "egl"}})
+    proc = snakemake(workflow_dir, STUDY, check=False, env={**os.environ, "LD_LIBRARY_PATH": str(broken_egl)})
+    text = proc.stdout + proc.stderr
+    assert proc.returncode != 0 and "libEGL is broken" in text and "libegl1" in text
+    assert not (workflow_dir / "results" / "sweeps" / "i30" / "t0.5_a1.parquet").exists()
+    assert table.read_bytes() == kept
+    write_config(workflow_dir, cfg)
     snakemake(workflow_dir, STUDY)  # with the library path mended, the rerun does only the new work
     assert len(pd.read_parquet(table)) == 3 * 21 * 3
 
