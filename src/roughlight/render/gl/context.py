@@ -125,6 +125,7 @@ SHADER_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file
 
 #: What to do when OpenGL cannot start: the one message a sweep job ends with.
 OSMESA_HELP = "could not create an OpenGL core context with OSMesa (software rendering): " + _OSMESA_HELP
+_START_HELP = OSMESA_HELP if PLATFORM == "osmesa" else egl.HELP
 #: The oldest OpenGL the renderers run on: the random tiles' counting pass (``periodic_count.frag``) needs
 #: shader storage buffers with ``atomicAdd`` in the fragment stage and ``early_fragment_tests``.
 REQUIRED_VERSION = (4, 3)
@@ -166,8 +167,7 @@ def start_platform(platform) -> None:
     except Unavailable:
         raise
     except Exception as exc:
-        help_text = OSMESA_HELP if PLATFORM == "osmesa" else egl.HELP
-        raise Unavailable(f"{help_text} ({type(exc).__name__}: {exc})") from exc
+        raise Unavailable(f"{_START_HELP} ({type(exc).__name__}: {exc})") from exc
     if not _DESCRIBED:
         name, version = (gl.glGetString(key).decode() for key in (gl.GL_RENDERER, gl.GL_VERSION))
         check_version(version, name)

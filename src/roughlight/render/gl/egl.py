@@ -22,7 +22,7 @@ from __future__ import annotations
 import ctypes
 import logging
 import os
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 __all__ = ["HELP", "EGLUnavailable", "Device", "check_egl", "devices", "device_index", "choose_device", "EGLPlatform"]
 
@@ -67,11 +67,14 @@ class Device:
         Its extension string; Mesa's software device has ``EGL_MESA_device_software``.
     drm_file : str or None
         Its DRM device file (``/dev/dri/card0``), when it has one.
+    handle : int or None
+        EGL's ``EGLDeviceEXT`` for it (None for a device not enumerated by :func:`devices`).
     """
 
     index: int
     extensions: str
     drm_file: str | None = None
+    handle: int | None = field(default=None, compare=False, repr=False)
 
     @property
     def software(self) -> bool:
@@ -145,12 +148,9 @@ def devices(lib=None) -> list[Device]:
     out = []
     for k in range(count.value):
         drm = string(handles[k], _DRM_DEVICE_FILE)
-        out.append(Device(k, (string(handles[k], _EXTENSIONS) or b"").decode(), drm.decode() if drm else None))
-    _HANDLES[:] = list(handles)
+        out.append(Device(k, (string(handles[k], _EXTENSIONS) or b"").decode(), drm.decode() if drm else None,
+                          handles[k]))
     return out
-
-
-_HANDLES: list = []
 
 
 def device_index() -> int | None:
@@ -208,7 +208,7 @@ class _Display:
             lib = _library()[0]
             device = choose_device(devices(lib), device_index())
             display = _extension(lib, b"eglGetPlatformDisplayEXT", ctypes.c_void_p, ctypes.c_int, ctypes.c_void_p,
-                                 ctypes.c_void_p)(_PLATFORM_DEVICE, _HANDLES[device.index], None)
+                                 ctypes.c_void_p)(_PLATFORM_DEVICE, device.handle, None)
             _prototypes(lib)
             major, minor = ctypes.c_int(), ctypes.c_int()
             if not display or not lib.eglInitialize(display, ctypes.byref(major), ctypes.byref(minor)):
