@@ -9,7 +9,7 @@ import pytest
 from roughlight import atomic
 from roughlight.render import views as sweeps
 from roughlight.render.shading import COMPONENTS, Lighting
-from roughlight.study.tables import STUDY_COLUMNS, aggregate
+from roughlight.study.tables import STUDY_COLUMNS, aggregate, write_study
 from roughlight.study.tables import sweep_table as make_sweep_table
 from roughlight.surfaces.roughness import make_surface
 
@@ -87,3 +87,37 @@ def test_frames_are_written_a_row_group_at_a_time(tmp_path, monkeypatch):
     pd.testing.assert_frame_equal(pd.read_parquet(tmp_path / "frame.parquet"), frame)
     atomic.write_frame(frame.iloc[:0], tmp_path / "empty.parquet")
     assert len(pd.read_parquet(tmp_path / "empty.parquet")) == 0
+
+
+@pytest.mark.parametrize("group_rows", [7_000, 1_000_000])
+def test_the_study_is_written_a_sweep_at_a_time_as_the_whole_table_would_be(tmp_path, monkeypatch, group_rows):
+    """write_study never holds the table (issue 35: the study job at 1,063 MB), yet writes the aggregate's file byte
+    for byte, row groups cut across sweeps included (7,000 rows: a group ends inside the third of the sweeps)."""
+    monkeypatch.setattr(atomic, "ROW_GROUP_ROWS", group_rows)
+    rough, control = _sweep_files(tmp_path)
+    meta = {"roughlight.renderers": "[]"}
+    rows = write_study(rough, control, tmp_path / "streamed.parquet", metadata=meta)
+    atomic.write_frame(aggregate(rough, control), tmp_path / "whole.parquet", metadata=meta)
+    assert rows == len(pd.read_parquet(tmp_path / "whole.parquet"))
+    assert pq.ParquetFile(tmp_path / "streamed.parquet").metadata.num_row_groups == -(-rows // group_rows)
+    assert (tmp_path / "streamed.parquet").read_bytes() == (tmp_path / "whole.parquet").read_bytes()
+
+
+def test_sweeps_of_other_settings_concatenate_as_pandas_does(tmp_path):
+    """A sweep drawn with other settings (here lattice sampling) has labels of its own: the column becomes what
+    pandas.concat makes of the sweeps, in every row."""
+    rough, control = _sweep_files(tmp_path)
+    other = _sweep(make_surface("pyramids", 0.2, 0.2), 30.0, 7)
+    other = other.set_column(other.schema.get_field_index("sampling"), "sampling",
+                             pa.array(["lattice"] * other.num_rows).dictionary_encode())
+    pq.write_table(other, tmp_path / "lattice.parquet")
+    study = aggregate(rough + [tmp_path / "lattice.parquet"], control)
+    expected = pd.concat([pd.read_parquet(p)["sampling"] for p in rough + [tmp_path / "lattice.parquet"]])
+    assert study["sampling"].dtype == expected.dtype
+    assert sorted(set(study["sampling"].astype(str))) == ["adaptive", "lattice"]
+
+
+def test_two_sweeps_of_one_surface_and_light_stop_the_study(tmp_path):
+    rough, control = _sweep_files(tmp_path)
+    with pytest.raises(ValueError, match="measure the same surface under the same light"):
+        aggregate(rough + rough[:1], control)

@@ -7,15 +7,14 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight.atomic import write_frame  # noqa: E402
-from roughlight.study.tables import RENDERERS_KEY, aggregate, renderers  # noqa: E402
+from roughlight.study.tables import RENDERERS_KEY, renderers, write_study  # noqa: E402
 
 log = _log.setup(snakemake)
 sweep_paths = list(snakemake.input.rough) + list(snakemake.input.random) + list(snakemake.input.control)
-study = aggregate(list(snakemake.input.rough) + list(snakemake.input.random), snakemake.input.control)
 ran_on = renderers(sweep_paths)
-write_frame(study, snakemake.output[0], metadata={RENDERERS_KEY: json.dumps(ran_on)})
+rows = write_study(list(snakemake.input.rough) + list(snakemake.input.random), snakemake.input.control,
+                   snakemake.output[0], metadata={RENDERERS_KEY: json.dumps(ran_on)})
 log(f"rendered on: {'; '.join(ran_on) or 'not recorded'}")
 sweeps = len(snakemake.input.rough) + len(snakemake.input.random)
-log(f"study table: {len(study)} rows ({len(study) // 3} views of {sweeps} sweeps, {len(snakemake.input.random)} of "
+log(f"study table: {rows} rows ({rows // 3} views of {sweeps} sweeps, {len(snakemake.input.random)} of "
     f"them random tiles) -> {snakemake.output[0]}")
