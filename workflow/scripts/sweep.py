@@ -26,3 +26,4 @@ run_sweep(
     render=snakemake.params.render,
     log=log,
 )
+_log.end_job()
