@@ -1,9 +1,19 @@
 # Where methods fail: each method against the exact reference as pixels per period, view
 # elevation, incidence, shadow bias and map size, shininess, shading normals and the source's
-# level (clipping at 255) vary. One job per scan (both cores busy; an interrupted run keeps the
-# scans already written), then one job for the table, the safe domain and the chart. The size
-# is named by the folder: `quick` (the default workflow's report, measurements.plan) or `full`
-# (`make bench`).
+# level (clipping at 255) vary. The scans run in the jobs the plan names
+# (roughlight.measurements.stability.JOBS): at `full` (`make bench`) one job per scan (both
+# cores busy; an interrupted run keeps the scans already written), at `quick` (the default
+# workflow's report, measurements.plan) all in one job (each scan takes seconds, about what a
+# job's start-up costs); then one job for the table, the safe domain and the chart. The size
+# is named by the folder.
+
+
+def stability_job_files(wildcards):
+    """The scans' files of a plan: one per job of roughlight.measurements.stability.JOBS."""
+    return [
+        f"results/stability/{wildcards.plan}/measurements/{job}.parquet"
+        for job in rl_stability.JOBS[wildcards.plan]
+    ]
 
 
 rule stability_measurement:
@@ -14,7 +24,7 @@ rule stability_measurement:
     benchmark:
         "results/logs/stability/{plan}/{measurement}.benchmark.tsv"
     wildcard_constraints:
-        measurement="|".join(STABILITY_MEASUREMENTS),
+        measurement="|".join(dict.fromkeys(sum(rl_stability.JOBS.values(), ()))),
     conda:
         "../../envs/render.yaml"
     threads: 1
@@ -29,7 +39,7 @@ rule stability_measurement:
 
 rule stability:
     input:
-        stability_measurement_files,
+        stability_job_files,
     output:
         table="results/stability/{plan}/stability.parquet",
         safe="results/stability/{plan}/safe_domain.csv",

@@ -1,4 +1,5 @@
-"""Snakemake adapter: one stability measurement (roughlight.measurements.stability.MEASUREMENTS) to Parquet."""
+"""Snakemake adapter: one job of the stability measurements (roughlight.measurements.stability.JOBS: one
+measurement, or all of them) to Parquet."""
 import os
 import sys
 import time
@@ -20,6 +21,6 @@ log = _log.setup(snakemake)
 name, plan = snakemake.wildcards.measurement, snakemake.wildcards.plan
 log(f"stability measurement {name} ({plan} plan): started")
 start = time.perf_counter()
-table = stability.run_measurement(name, lighting=shading.Lighting(**snakemake.params.lighting), plan=plan)
+table = stability.run_job(name, lighting=shading.Lighting(**snakemake.params.lighting), plan=plan)
 write_frame(table, snakemake.output[0])
 log(f"stability measurement {name}: {len(table)} rows in {time.perf_counter() - start:.1f} s")

@@ -55,6 +55,8 @@ __all__ = [
     "clipping_scan",
     "MEASUREMENTS",
     "run_measurement",
+    "JOBS",
+    "run_job",
     "safe_domain",
     "normals_table",
 ]
@@ -372,7 +374,7 @@ def tile_pixel_scan(lighting=None, **sizes) -> pd.DataFrame:
     return scan(lighting=lighting, **sizes)
 
 
-#: The measurements, by name: each is one job of the workflow's stability rules.
+#: The measurements, by name (the workflow runs them in the jobs :data:`JOBS` names).
 MEASUREMENTS = {
     "pixels": pixel_scan,
     "elevation": elevation_scan,
@@ -419,6 +421,21 @@ def run_measurement(name, lighting=None, plan: str = "full") -> pd.DataFrame:
     if name not in MEASUREMENTS:
         raise ValueError(f"no stability measurement {name!r}: one of {', '.join(MEASUREMENTS)}")
     return MEASUREMENTS[name](lighting=lighting, **comparison.plan_size(PLANS, plan, "stability")[name])
+
+
+#: The jobs of the workflow's rule ``stability_measurement`` at each plan, one file each
+#: (``results/stability/{plan}/measurements/{job}.parquet``): a measurement's name runs that measurement, ``all``
+#: every one in one process (:func:`run_job`). ``full``: one job a measurement (minutes each: both cores busy, and
+#: an interrupted run keeps the scans already written); ``quick``: one job for all (seconds each, about what a
+#: job's own start-up costs: the interpreter, the imports, the OpenGL context, the renderers' shaders).
+JOBS = {"full": tuple(MEASUREMENTS), "quick": ("all",)}
+
+
+def run_job(job, lighting=None, plan: str = "full") -> pd.DataFrame:
+    """One job of :data:`JOBS`: the measurement ``job`` names, or ``all`` of them in :data:`MEASUREMENTS`' order,
+    at the size of ``plan`` (:func:`run_measurement`), as one long frame."""
+    names = tuple(MEASUREMENTS) if job == "all" else (job,)
+    return pd.concat([run_measurement(name, lighting, plan) for name in names], ignore_index=True)
 
 
 def _worst(frame, experiment, method, setting=None):
