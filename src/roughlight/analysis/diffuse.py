@@ -12,9 +12,10 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..study.selection import SURFACE_KEYS, arc, solid_angle_weights, surface_grids
+from ..study.selection import SURFACE_KEYS, solid_angle_weights
 from ..surfaces.geometry import side_slope_deg
 from ..surfaces.surface import is_plate
+from .grids import arc, surface_value_grids
 
 
 def diffuse_breakpoints(incidence: float, aspect: float) -> tuple[float, float]:
@@ -166,15 +167,13 @@ def diffuse_levels(study: pd.DataFrame) -> pd.DataFrame:
     ``control_level`` (the plate's), ``ratio`` (rough / control).
     """
     rows = []
-    controls = {key: v for key, _, _, v in surface_grids(study, "diffuse", "control")}
-    coverage = {key: v for key, _, _, v in surface_grids(study, "diffuse", "coverage")}
-    for key, az, el, vals in surface_grids(study, "diffuse"):
+    for key, az, el, grids in surface_value_grids(study, "diffuse", ("rough", "control", "coverage")):
+        vals, cv, seen = grids["rough"], grids["control"], grids["coverage"] > 0
         w = solid_angle_weights(az, el)
         # views that see no surface (the grazing ones, coverage 0) measure nothing: out of the average
-        ok = np.isfinite(vals) & (coverage[key] > 0)
+        ok = np.isfinite(vals) & seen
         level = float(np.sum(w[ok] * vals[ok]) / np.sum(w[ok]))
-        cv = controls[key]
-        cok = np.isfinite(cv) & (coverage[key] > 0)
+        cok = np.isfinite(cv) & seen
         control = float(np.sum(w[cok] * cv[cok]) / np.sum(w[cok]))
         rows.append({"truncation": key[0], "aspect": key[1], "incidence": key[2], "diffuse_level": level,
                      "control_level": control, "ratio": level / control if control > 0 else np.nan})

@@ -29,7 +29,8 @@ import numpy as np
 import pandas as pd
 
 from ..render.shading import view_direction
-from ..study.selection import SURFACE_KEYS, surface_grids
+from ..study.selection import SURFACE_KEYS
+from .grids import surface_grids
 
 __all__ = [
     "ENSEMBLE_KEYS",

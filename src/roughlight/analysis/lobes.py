@@ -23,9 +23,10 @@ import numpy as np
 import pandas as pd
 
 from ..render.shading import light_direction, phase_angle, view_direction
-from ..study.selection import SURFACE_KEYS, arc, solid_angle_weights, surface_grids
+from ..study.selection import SURFACE_KEYS, solid_angle_weights
 from ..surfaces.geometry import facets, lobe_centres
 from ..surfaces.surface import is_plate
+from .grids import arc, surface_grids
 
 #: A lobe whose peak is below this (0-255 scale) is "no lobe" (less than an 8-bit step).
 MIN_LOBE_PEAK = 0.5

@@ -18,9 +18,10 @@ import seaborn as sns  # noqa: E402
 from matplotlib.transforms import Bbox, offset_copy  # noqa: E402
 from PIL import Image  # noqa: E402
 
+from ...analysis.grids import arc  # noqa: E402
 from ...analysis.thesis import THESIS_INCIDENCE  # noqa: E402
 from ...atomic import atomic_path  # noqa: E402
-from ...study.selection import ASPECT_TOL, arc, find_aspect  # noqa: E402
+from ...study.selection import ASPECT_TOL, find_aspect  # noqa: E402
 from ...surfaces.surface import aspect_label  # noqa: E402
 from ..registry import title as figure_title  # noqa: E402
 

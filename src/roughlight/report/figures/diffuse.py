@@ -9,8 +9,9 @@ import numpy as np
 import pandas as pd
 
 from ...analysis.diffuse import continuous_part, diffuse_breakpoints, exponential_part
+from ...analysis.grids import arc
 from ...analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE
-from ...study.selection import ASPECT_TOL, arc
+from ...study.selection import ASPECT_TOL
 from ...surfaces.surface import aspect_label
 from ..registry import title as figure_title
 from .common import (

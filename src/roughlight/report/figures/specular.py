@@ -11,10 +11,11 @@ import pandas as pd
 import seaborn as sns
 
 from ...analysis.areas import front_facet_share
+from ...analysis.grids import arc, surface_grids
 from ...analysis.lobes import MIN_LOBE_PEAK, lobe_directions
 from ...analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE, table_data, thesis_model_predictions
 from ...render.shading import phase_angle, view_direction
-from ...study.selection import ASPECT_TOL, arc, surface_grids
+from ...study.selection import ASPECT_TOL
 from ...surfaces.geometry import lobe_centres
 from ...surfaces.surface import SQRT3_2, aspect_label, is_plate
 from ..registry import title as figure_title
