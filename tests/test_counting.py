@@ -233,3 +233,17 @@ def test_views_counted_without_totals_see_what_the_counted_pass_sees():
     (_, seen, none, _), = both[1]
     assert none is None and total.sum() > 3 * counted.sum() > 0
     np.testing.assert_array_equal(seen, counted)
+
+
+def test_a_tiles_regions_are_computed_once_and_cannot_be_changed():
+    """facet_regions keeps a process's recent tiles under their lights (a tile's exact regions take seconds and
+    the measurements draw one tile many times): the same tile and light give the kept regions, read-only; another
+    light or shadows give their own."""
+    tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=4, cells=2)
+    first = shares.facet_regions(tile, 30.0, True)
+    assert shares.facet_regions(RandomSurface("random_pyramids", 1.0, 1.0, seed=4, cells=2), 30, True) is first
+    assert shares.facet_regions(tile, 30.0, False) is not first and shares.facet_regions(tile, 45.0, True) is not first
+    with pytest.raises(ValueError, match="read-only"):
+        first.normals[0, 0] = 0.0
+    with pytest.raises(ValueError, match="read-only"):
+        next(ring for rings in first.rings for ring in rings)[0, 0] = 0.0

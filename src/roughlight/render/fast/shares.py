@@ -33,6 +33,7 @@ shapely): no OpenGL is loaded here.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -95,7 +96,27 @@ class Regions:
 
 
 def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
-    """The lit and shadowed part of every facet (exact polygon clipping of the light's view, once a sweep)."""
+    """The lit and shadowed part of every facet (exact polygon clipping of the light's view, once a sweep).
+
+    Kept for the process's last :data:`KEPT_REGIONS` surfaces and lights (a random tile's take seconds, and the
+    measurements and tests draw one tile under one light many times): the arrays come back read-only."""
+    return _kept_regions(surface, float(incidence), bool(shadows))
+
+
+#: How many surfaces' and lights' :func:`facet_regions` a process keeps.
+KEPT_REGIONS = 16
+
+
+@functools.lru_cache(maxsize=KEPT_REGIONS)
+def _kept_regions(surface, incidence: float, shadows: bool) -> Regions:
+    regions = _facet_regions(surface, incidence, shadows)
+    for values in (regions.facet, regions.lit, regions.normals, regions.alpha, regions.beta,
+                   *(ring for rings in regions.rings for ring in rings)):
+        values.setflags(write=False)
+    return regions
+
+
+def _facet_regions(surface, incidence: float, shadows: bool) -> Regions:
     import shapely
     from shapely.geometry.polygon import orient
 
