@@ -72,6 +72,8 @@ renderer, not an error of the reference.
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import shapely
 import shapely.errors
@@ -264,6 +266,14 @@ class LitScene:
 # public API
 
 
+
+@functools.lru_cache(maxsize=16)
+def lit_scene(surface: Surface, incidence: float, shadows: bool) -> LitScene:
+    """:class:`LitScene` of ``surface`` under the light at ``incidence``, kept for the process's last 16: a random
+    tile's takes about a second, and the fast method's regions, the exact reference and the measurements ask for
+    one tile under one light many times. A scene is never changed once made."""
+    return LitScene(surface, float(incidence), bool(shadows))
+
 def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
     """Lit part of each facet of one period, as a region of its plan footprint.
 
@@ -285,7 +295,7 @@ def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
         the facet is wholly shadowed. The facet's true lit area is the plan
         area divided by its normal's ``z``.
     """
-    scene = LitScene(surface, incidence, shadows)
+    scene = lit_scene(surface, incidence, shadows)
     return dict(zip(scene.surf.names, scene.lit))
 
 
@@ -314,7 +324,7 @@ def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=T
         top of the full pyramid, the sides of the plate) are absent. "Lit"
         means reached by the light with ``N.L > 0``.
     """
-    scene = LitScene(surface, incidence, shadows)
+    scene = lit_scene(surface, incidence, shadows)
     views = sweep_views(azimuth, elevation)
     if len(views) != 1:
         raise ValueError("visible_lit_areas takes one view; use reference_sweep for many")
@@ -364,7 +374,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     """
     lighting = Lighting() if lighting is None else lighting
     quantized = (settings or ReferenceSettings()).quantized
-    scene = LitScene(surface, incidence, lighting.shadows)
+    scene = lit_scene(surface, incidence, lighting.shadows)
 
     def step(out, views, incidence, lighting):
         measured = views.measured

@@ -121,9 +121,9 @@ def _facet_regions(surface, incidence: float, shadows: bool) -> Regions:
     from shapely.geometry.polygon import orient
 
     from ..exact.clipping import area_parts
-    from ..exact.reference import LitScene
+    from ..exact.reference import lit_scene
 
-    scene = LitScene(surface, incidence, shadows)
+    scene = lit_scene(surface, incidence, shadows)
     surf = scene.surf
     facet, lit_flag, rings = [], [], []
     for f in range(len(surf.names)):
