@@ -1,4 +1,4 @@
-"""roughlight.analysis.inputs: only the study columns a job reads, the same frame as read_study's."""
+"""read_study's columns: only the study columns a job reads (roughlight.analysis.inputs), the same frame."""
 
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from roughlight.analysis.inputs import STUDY_COLUMNS, read_regular_study
+from roughlight.analysis.inputs import STUDY_COLUMNS
 from roughlight.study.tables import read_study
 
 
@@ -31,13 +31,16 @@ def study_file(tmp_path, with_kind=True):
 
 
 @pytest.mark.parametrize("with_kind", [True, False])
-def test_read_regular_study_is_read_study_with_fewer_columns(tmp_path, with_kind):
+def test_reading_a_jobs_columns_is_reading_all_and_selecting_them(tmp_path, with_kind):
     path = study_file(tmp_path, with_kind)
-    for columns in STUDY_COLUMNS.values():
-        pd.testing.assert_frame_equal(read_regular_study(path, columns), read_study(path, rows="regular")[columns],
-                                      check_exact=True)
+    for rows in ("regular", "random_points", "all"):
+        for columns in STUDY_COLUMNS.values():
+            if not with_kind and "kind" in columns:  # a table from before random tiles: analysis_random never runs
+                continue
+            pd.testing.assert_frame_equal(read_study(path, rows=rows, columns=columns),
+                                          read_study(path, rows=rows)[columns], check_exact=True)
 
 
-def test_read_regular_study_names_a_missing_column(tmp_path):
+def test_a_missing_column_is_named(tmp_path):
     with pytest.raises(KeyError, match="glossiness"):
-        read_regular_study(study_file(tmp_path), ["rough", "glossiness"])
+        read_study(study_file(tmp_path), rows="regular", columns=["rough", "glossiness"])

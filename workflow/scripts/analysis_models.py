@@ -6,13 +6,14 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight.analysis.inputs import STUDY_COLUMNS, read_regular_study  # noqa: E402
+from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_models  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
+from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 # the regular surface (the random ensembles: analysis_random.py), only the columns the models read
-study = read_regular_study(snakemake.input.study, STUDY_COLUMNS["analysis_models"])
+study = read_study(snakemake.input.study, rows="regular", columns=STUDY_COLUMNS["analysis_models"])
 tables = analysis_models(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])

@@ -7,6 +7,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
+from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
@@ -14,7 +15,7 @@ from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 out = snakemake.output
-study = read_study(snakemake.input.study, rows="random_points")  # all that analysis_random reads
+study = read_study(snakemake.input.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting)
 for name, frame in tables.items():
     write_frame(frame, out[name])

@@ -12,9 +12,10 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight.analysis.inputs import STUDY_COLUMNS, read_regular_study  # noqa: E402
+from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.atomic import read_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
+from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 
@@ -28,7 +29,7 @@ class Inputs(dict):
     def __missing__(self, name):
         path = snakemake.input[name]
         if name == "study":  # the thesis's figures are of the regular surface; the random ones: analysis_random.py
-            frame = read_regular_study(path, STUDY_COLUMNS["figures"])
+            frame = read_study(path, rows="regular", columns=STUDY_COLUMNS["figures"])
         else:
             frame = pd.read_parquet(path) if path.endswith(".parquet") else read_frame(path)
         self[name] = frame
