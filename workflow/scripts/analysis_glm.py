@@ -21,3 +21,4 @@ for name, frame in tables.items():
 write_text_atomic(snakemake.output.glm_messages, json.dumps(messages, indent=1))
 log(f"GLMs: {tables['glm_summary'][['response', 'status', 'converged']].to_dict('records')}")
 log(f"share laws: {tables['share_laws'][['lobe', 'model', 'rmse', 'rmse_held_out']].round(3).to_dict('records')}")
+_log.end_job()

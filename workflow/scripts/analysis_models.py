@@ -20,3 +20,4 @@ for name, frame in tables.items():
 fits = tables["model_fits"]
 log(f"model fits: {len(fits)} surfaces; best diffuse {fits['best_diffuse'].value_counts().to_dict()}, "
     f"best specular {fits['best_specular'].value_counts().to_dict()}")
+_log.end_job()

@@ -26,3 +26,4 @@ F.plot_random_ensembles(summary, out.random_ensembles_png)
 F.plot_random_maps(study, out.random_maps_png)
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
+_log.end_job()

@@ -21,3 +21,4 @@ for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])
 write_text_atomic(snakemake.output.study_summary, json.dumps(summary, indent=1))
 log(f"done: {len(tables['thesis_tables'])} table rows, {len(summary['messages'])} messages")
+_log.end_job()

@@ -20,3 +20,4 @@ errors = every_view_errors(read_frame(snakemake.input[0]), make_surface(**snakem
                            snakemake.params.incidence, Lighting(**snakemake.params.lighting))
 write_frame(errors, snakemake.output[0])
 log(every_view_summary(errors).round(4).to_string())
+_log.end_job()

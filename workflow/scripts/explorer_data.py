@@ -16,3 +16,4 @@ write_text_atomic(snakemake.output[0], json.dumps(data))
 left = sum(g["count"] for g in data["left_out"])
 log(f"explorer: {len(data['datasets'])} of {data['offered']} sweeps held in {data['bytes']:,} bytes "
     f"(budget {data['budget']:,}); {left} left out -> {snakemake.output[0]}")
+_log.end_job()

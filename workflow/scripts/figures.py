@@ -39,3 +39,4 @@ class Inputs(dict):
 for name, fig in F.drawn_figures(Inputs(), snakemake.params.settings):
     F.save_figure(fig, snakemake.output[name])
     log(f"{name} -> {snakemake.output[name]}")
+_log.end_job()

@@ -40,3 +40,4 @@ for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
     _, views = pictures.PICTURE_SETS[stem]
     F.save_figure(F.fig_pictures(stem, pictures.surface_pictures(views, lighting=picture_lighting)), out[stem])
     log(f"{stem} -> {out[stem]}")
+_log.end_job()

@@ -24,3 +24,4 @@ html = R.build_report(inputs, config=dict(params.config), provenance=provenance,
                       table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"])
 R.write_report(snakemake.output[0], html)
 log(f"report: {len(html) / 1e6:.1f} MB -> {snakemake.output[0]}")
+_log.end_job()

@@ -18,3 +18,4 @@ log(f"rendered on: {'; '.join(ran_on) or 'not recorded'}")
 sweeps = len(snakemake.input.rough) + len(snakemake.input.random)
 log(f"study table: {rows} rows ({rows // 3} views of {sweeps} sweeps, {len(snakemake.input.random)} of "
     f"them random tiles) -> {snakemake.output[0]}")
+_log.end_job()

@@ -22,3 +22,4 @@ for path in snakemake.output:
     mesh = geometry.period_mesh(surface)
     geometry.export_mesh_atomic(mesh, path)
     log(f"{path}: {len(mesh.faces)} triangles, truncation={surface.truncation}, aspect={surface.aspect}")
+_log.end_job()
