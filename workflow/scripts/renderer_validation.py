@@ -17,7 +17,6 @@ from roughlight.measurements import renderer_validation  # noqa: E402
 from roughlight.render import shading  # noqa: E402
 from roughlight.render.fast.settings import FastSettings  # noqa: E402
 from roughlight.report import figures  # noqa: E402
-from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
@@ -25,10 +24,11 @@ settings = FastSettings.from_config(snakemake.params.render)
 validation = renderer_validation.validate_renderer(snakemake.wildcards.plan, lighting=lighting, settings=settings,
                                                    log=log)
 write_frame(validation, snakemake.output.validation)
-smoothness = renderer_validation.arc_smoothness(read_study(snakemake.input.study, rows="regular"),
+smoothness = renderer_validation.arc_smoothness(renderer_validation.read_arcs(snakemake.input.study),
                                                 aspects=snakemake.params.table_aspects,
                                                 incidence=snakemake.params.table_incidence, lighting=lighting)
 write_frame(smoothness, snakemake.output.smoothness)
 figures.plot_renderer_validation(validation, smoothness, snakemake.output.chart)
 log(renderer_validation.validation_summary(validation).round(3).to_string())
 log(smoothness.round(3).to_string())
+_log.end_job()  # outputs written: leave without the interpreter's teardown

@@ -195,6 +195,29 @@ def arc_smoothness(study: pd.DataFrame, aspects=TABLE_ASPECTS, incidence: float 
     return pd.DataFrame(rows, columns=columns)
 
 
+#: The study table's columns :func:`arc_smoothness` reads.
+ARC_COLUMNS = ("kind", "truncation", "aspect", "incidence", "azimuth", "elevation", "phase", "component", "rough",
+               "control", "coverage")
+
+
+def read_arcs(path) -> pd.DataFrame:
+    """The rows of a study table (``results/study.parquet``) that :func:`arc_smoothness` reads: the regular
+    surface's views on the light's plane (azimuth 0, as :func:`roughlight.study.selection.arc` takes them), only
+    the columns it reads (:data:`ARC_COLUMNS`). The default study's regular rows whole are a 0.42 GB frame
+    (:func:`roughlight.study.tables.read_study`); its arcs are 1/36 of them."""
+    import pyarrow.dataset as ds
+
+    study = ds.dataset(path, format="parquet")
+    names = set(study.schema.names)
+    on_plane = (ds.field("azimuth") >= -1e-8) & (ds.field("azimuth") <= 1e-8)  # np.isclose(azimuth, 0.0)
+    if "kind" in names:
+        on_plane &= ds.field("kind") == "pyramids"
+    # scanned a batch at a time, one read ahead: only the rows kept are ever held whole
+    scan = study.scanner(columns=[c for c in ARC_COLUMNS if c in names], filter=on_plane, use_threads=False,
+                         batch_readahead=1, fragment_readahead=1)
+    return scan.to_table().to_pandas()
+
+
 def validation_summary(validation: pd.DataFrame) -> pd.DataFrame:
     """Per setting and component, over the surfaces: the worst view, the largest p99, the largest and median MAE,
     the worst grazing view (0-255) and the median views per second of a sweep."""
