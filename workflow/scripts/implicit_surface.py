@@ -32,3 +32,4 @@ with atomic_path(snakemake.output.maps_chart) as tmp:
     figures.plot_implicit_maps(maps, tmp)
 log(implicit_bench.summary(validation).round(4).to_string())
 log(frames.round(3).to_string())
+_log.end_job()  # outputs written: leave without the interpreter's teardown

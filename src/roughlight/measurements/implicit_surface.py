@@ -108,6 +108,26 @@ def validation(plan: str = "full", lighting=None, log=None):
     return pd.DataFrame(rows)
 
 
+#: Sweeps of the reference and the implicit models kept in a process (:func:`_sweep`).
+_SWEEPS: dict = {}
+
+
+def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, lighting) -> dict:
+    """``methods.sweep(method, ...)``, computed once per surface, light, views and lighting in a process: the
+    validation and the hemisphere maps share their surfaces' sweeps where their plan's views are the same (the
+    quick plan's full pyramid at incidence 30). The reference through :func:`roughlight.measurements.comparison.
+    reference`'s cache. Shared between callers: read it, do not change it."""
+    if method == "reference":
+        return comparison.reference(surface, incidence, azimuth, elevation, lighting)
+    azimuth, elevation = np.asarray(azimuth, float), np.asarray(elevation, float)
+    key = (method, surface, float(incidence), azimuth.shape, azimuth.tobytes(), elevation.tobytes(), lighting)
+    if key not in _SWEEPS:
+        if len(_SWEEPS) >= comparison.REFERENCE_CACHE_SIZE:
+            _SWEEPS.clear()
+        _SWEEPS[key] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting)
+    return _SWEEPS[key]
+
+
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
     """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
     from ..analysis.surface_models import facet_model
@@ -116,11 +136,15 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     lighting = lighting or shading.Lighting()
     seen = ~np.asarray(sweeps.is_grazing(elevation))
     # a view the reference's own checks refuse is left out of the comparison and counted
-    exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting)
+    try:
+        exact = _sweep("reference", surface, incidence, azimuth, elevation, lighting)
+        failed = np.zeros(np.size(azimuth), bool)
+    except RuntimeError:
+        exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting)
     seen &= ~failed
     results = {}
     for method in VALIDATED[:3]:
-        results[method] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting)
+        results[method] = _sweep(method, surface, incidence, azimuth, elevation, lighting)
     start = time.perf_counter()
     model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
                         lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
@@ -308,7 +332,7 @@ def hemisphere_maps(plan: str = "full", lighting=None):
     parts = []
     for surface, incidence in MAP_SURFACES:
         for method in ("reference", "implicit_exact", "implicit_correction"):
-            out = methods.sweep(method, surface, incidence, azimuth, elevation, lighting)
+            out = _sweep(method, surface, incidence, azimuth, elevation, lighting)
             parts.append(pd.DataFrame({"truncation": surface.truncation, "aspect": surface.aspect,
                                        "incidence": incidence, "azimuth": azimuth, "elevation": elevation,
                                        "method": method, **{c: out[c] for c in shading.COMPONENTS}}))
