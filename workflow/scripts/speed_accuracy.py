@@ -23,3 +23,4 @@ write_frame(table, snakemake.output.table)
 with atomic_path(snakemake.output.chart) as tmp:
     figures.plot_speed_accuracy(table, tmp)
 log(table[table.component != "total"].round(4).to_string())
+_log.end_job()  # outputs written: leave without the interpreter's teardown
