@@ -26,3 +26,4 @@ with atomic_path(snakemake.output.chart) as tmp:
     figures.plot_stability(table, tmp, stability.normals_pictures(lighting=lighting))
 write_frame(table, snakemake.output.table)
 log(safe.to_string())
+_log.end_job()  # outputs written: leave without the interpreter's teardown

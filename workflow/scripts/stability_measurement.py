@@ -24,3 +24,4 @@ start = time.perf_counter()
 table = stability.run_job(name, lighting=shading.Lighting(**snakemake.params.lighting), plan=plan)
 write_frame(table, snakemake.output[0])
 log(f"stability measurement {name}: {len(table)} rows in {time.perf_counter() - start:.1f} s")
+_log.end_job()  # outputs written: leave without the interpreter's teardown
