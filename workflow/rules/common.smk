@@ -211,21 +211,21 @@ def table_incidence_param(wildcards):
     return rl_config.report_settings(config)["table_incidence"]
 
 
-def grid_params(wildcards):
-    return {
-        "truncation": rl_plan.grid(config, "truncation"),
-        "aspect": rl_plan.grid(config, "aspect"),
-    }
+def mesh_params(wildcards):
+    """Every mesh file's surface (rl_plan.meshes): a changed grid, seed or tile setting rewrites the meshes."""
+    return rl_plan.meshes(config)
 
 
-# the stability scans, one job each (importing roughlight.measurements.stability loads no OpenGL)
-STABILITY_MEASUREMENTS = list(rl_stability.MEASUREMENTS)
+# the stability scans' jobs of every plan (roughlight.measurements.stability.JOBS: at quick one job for all the
+# scans, at full one a scan); importing roughlight.measurements.stability loads no OpenGL
+STABILITY_JOBS = "|".join(dict.fromkeys(sum(rl_stability.JOBS.values(), ())))
 
 
 def stability_measurement_files(wildcards):
+    """The scans' files of a plan: one per job of roughlight.measurements.stability.JOBS."""
     return [
-        f"results/stability/{wildcards.plan}/measurements/{name}.parquet"
-        for name in STABILITY_MEASUREMENTS
+        f"results/stability/{wildcards.plan}/measurements/{job}.parquet"
+        for job in rl_stability.JOBS[wildcards.plan]
     ]
 
 

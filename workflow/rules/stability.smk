@@ -8,14 +8,6 @@
 # is named by the folder.
 
 
-def stability_job_files(wildcards):
-    """The scans' files of a plan: one per job of roughlight.measurements.stability.JOBS."""
-    return [
-        f"results/stability/{wildcards.plan}/measurements/{job}.parquet"
-        for job in rl_stability.JOBS[wildcards.plan]
-    ]
-
-
 rule stability_measurement:
     output:
         "results/stability/{plan}/measurements/{measurement}.parquet",
@@ -24,7 +16,7 @@ rule stability_measurement:
     benchmark:
         "results/logs/stability/{plan}/{measurement}.benchmark.tsv"
     wildcard_constraints:
-        measurement="|".join(dict.fromkeys(sum(rl_stability.JOBS.values(), ()))),
+        measurement=STABILITY_JOBS,
     conda:
         "../../envs/render.yaml"
     threads: 1
@@ -39,7 +31,7 @@ rule stability_measurement:
 
 rule stability:
     input:
-        stability_job_files,
+        stability_measurement_files,
     output:
         table="results/stability/{plan}/stability.parquet",
         safe="results/stability/{plan}/safe_domain.csv",
