@@ -82,28 +82,14 @@ rule random_sweep:
         "../scripts/sweep.py"
 
 
-rule random_mesh:
-    output:
-        "results/meshes/{kind}_t{truncation}_a{aspect}_s{seed}.ply",
-    log:
-        "results/logs/meshes/{kind}_t{truncation}_a{aspect}_s{seed}.log",
-    priority: PRIORITY_SWEEPS
-    conda:
-        "../../envs/render.yaml"
-    threads: 1
-    resources:
-        mem_mb=512,
-    params:
-        surface=random_surface_params,
-    script:
-        "../scripts/random_mesh.py"
-
-
 rule surface_meshes:
     output:
         mesh_files(),
+        random_mesh_files(),
     log:
         "results/logs/meshes.log",
+    benchmark:
+        "results/logs/meshes.benchmark.tsv"
     priority: PRIORITY_SWEEPS
     conda:
         "../../envs/render.yaml"
@@ -111,6 +97,6 @@ rule surface_meshes:
     resources:
         mem_mb=512,
     params:
-        grid=grid_params,
+        surfaces=mesh_params,
     script:
         "../scripts/surface_meshes.py"

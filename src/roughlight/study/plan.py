@@ -111,17 +111,26 @@ def sweep_files(config: dict, group: str, folder: str = "results/sweeps") -> lis
     return [sweep.path for sweep in sweeps(config, group, folder)]
 
 
+def meshes(config: dict) -> dict[str, dict]:
+    """Every mesh file of the study, each with its surface as ``make_surface`` takes it: one period of every
+    regular grid point, the control's plate, and every random tile (its kind and seed in the name)."""
+    files = {f"results/meshes/t{rl_config.label(t)}_a{rl_config.label(a)}.ply": surface_settings(config, "pyramids",
+                                                                                                  t, a)
+             for t in grid(config, "truncation") for a in grid(config, "aspect")}
+    files["results/meshes/control.ply"] = surface_settings(config, "pyramids", **CONTROL_SURFACE)
+    files.update({f"results/meshes/{kind}_t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.ply":
+                  surface_settings(config, kind, t, a, seed) for kind, t, a, seed in rl_config.random_surfaces(config)})
+    return files
+
+
 def mesh_files(config: dict) -> list[str]:
     """One PLY per regular grid point, and the control's."""
-    files = [f"results/meshes/t{rl_config.label(t)}_a{rl_config.label(a)}.ply"
-             for t in grid(config, "truncation") for a in grid(config, "aspect")]
-    return files + ["results/meshes/control.ply"]
+    return [path for path, surface in meshes(config).items() if surface["kind"] == "pyramids"]
 
 
 def random_mesh_files(config: dict) -> list[str]:
     """One PLY per random tile, its kind and seed in the name."""
-    return [f"results/meshes/{kind}_t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.ply"
-            for kind, t, a, seed in rl_config.random_surfaces(config)]
+    return [path for path, surface in meshes(config).items() if surface["kind"] != "pyramids"]
 
 
 def every_view_files(config: dict) -> list[str]:
