@@ -28,7 +28,10 @@ wildcard_constraints:
 # Job order on a workstation (Snakemake runs the ready job of highest priority first): the sweeps, then the chain
 # from the study table to the figures, which runs one job at a time, so that the benchmarks and scans (which
 # no sweep waits for) fill the other core while it runs, instead of leaving a core idle at the end.
+# Among the sweeps the random tiles' go first: the longest jobs (a heightfield's takes ten regular sweeps' time),
+# so that the short regular sweeps even out the two cores at the end instead of one tile sweep running alone.
 PRIORITY_SWEEPS = 1
+PRIORITY_TILE_SWEEPS = 2
 PRIORITY_STUDY_CHAIN = 2
 
 

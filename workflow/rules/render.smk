@@ -62,7 +62,7 @@ rule random_sweep:
         "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.log",
     benchmark:
         "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.benchmark.tsv"
-    priority: PRIORITY_SWEEPS
+    priority: PRIORITY_TILE_SWEEPS
     group:
         "sweeps"
     conda:
