@@ -37,3 +37,66 @@ def broken_osmesa(tmp_path_factory):
     directory = tmp_path_factory.mktemp("broken_osmesa")
     shutil.copy(source, directory / "libOSMesa.so")
     return directory
+
+
+# ---------------------------------------------------------------------------
+# scheduling on pytest-xdist's workers (make test: -n 2 --dist loadgroup --no-loadscope-reorder)
+
+#: Seconds a test (or a parametrized family: a node id prefix) took on the reference machine, from `pytest -n 2
+#: --durations=60` (2026-11-26, issue 35). Only the order comes from them: the longest run first, so that the two
+#: workers finish together instead of one starting a 150 s test while the other has nothing left.
+EXPECTED_SECONDS = {
+    "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 380,
+    "tests/test_report.py::test_workflow_builds_the_report_and_lints": 250,
+    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 140,
+    "tests/test_cluster.py::": 135,
+    "tests/test_random.py::test_adding_a_seed_renders_only_it": 63,
+    "tests/test_workflow.py::test_killed_run_reruns_to_the_same_table": 45,
+    "tests/test_random.py::test_fast_renderer_matches_the_reference_on_a_random_tile": 30,
+    "tests/test_workflow.py::test_tiny_study_end_to_end": 44,
+    "tests/test_workflow.py::test_broken_osmesa_stops_before_any_job": 32,
+    "tests/test_report.py::test_optional_parts_follow_the_config_not_the_files": 24,
+    "tests/test_renderer_validation.py::test_adaptive_sampling_is_within_one_level_where_the_lattice_is_not": 16,
+    "tests/test_workflow.py::test_unwritable_results_and_corrupt_sweeps": 22,
+    "tests/test_config.py::test_validation_accepts_exactly_the_valid_grids": 21,
+    "tests/test_random.py::test_the_random_parts_of_the_report_follow_surface_kind": 19,
+    "tests/test_platforms.py::test_osmesa_and_egl_give_the_same_numbers_for_every_method": 19,
+    "tests/test_user_grids.py::test_every_grid_validates_and_its_followers": 17,
+    "tests/test_rendering.py::test_averaged_normals_shading_is_wrong_where_flat_is_right": 15,
+    "tests/test_benchmark.py::": 12,
+    "tests/test_workflow.py::test_a_second_run_stops_at_once": 14,
+    "tests/test_packaging.py::test_the_package_runs_from_the_wheel_alone": 12,
+    "tests/test_renderer_validation.py::": 8,
+    "tests/test_implicit.py::": 6,
+    "tests/test_random.py::test_random_accuracy_leaves_out": 11,
+    "tests/test_lighting_against_reference.py::": 2,
+    "tests/test_random.py::test_ensemble_statistics_on_a_tiny_grid": 7,
+    "tests/test_study_table.py::test_the_study_is_written_a_sweep_at_a_time": 6,
+    "tests/test_workflow.py::": 6,
+}
+
+#: Module and session fixtures that cost seconds to build: the tests using one run on one worker (an xdist group),
+#: which builds it once, and the fixture's cost counts towards the group's place in the order. ``built`` is shared
+#: across workers through a file lock anyway, but a second worker reaching it first waited the whole build.
+SHARED_FIXTURES = {"built": 40, "users_grid": 17, "exact_study": 12, "tables": 14, "frames": 11, "fast_errors": 11,
+                   "wheel": 7}
+
+
+def _expected(nodeid: str) -> float:
+    return max((s for prefix, s in EXPECTED_SECONDS.items() if nodeid.startswith(prefix)), default=0.0)
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items):
+    """The longest work first; the tests sharing an expensive fixture in one xdist group, placed by their sum."""
+    groups: dict[str, float] = {}
+    group_of = {}
+    for item in items:
+        shared = next((name for name in SHARED_FIXTURES if name in getattr(item, "fixturenames", ())), None)
+        if shared is not None:
+            group_of[item.nodeid] = shared
+            groups[shared] = groups.get(shared, SHARED_FIXTURES[shared]) + _expected(item.nodeid)
+            item.add_marker(pytest.mark.xdist_group(shared))
+    order = {item.nodeid: n for n, item in enumerate(items)}
+    items.sort(key=lambda item: (-(groups[group_of[item.nodeid]] if item.nodeid in group_of else _expected(item.nodeid)),
+                                 group_of.get(item.nodeid, ""), order[item.nodeid]))
