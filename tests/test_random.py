@@ -285,6 +285,39 @@ def test_seeds_a_kind_at_a_time_give_each_kind_its_own_ensemble():
     assert len(surfaces) == 2 * (3 + 2)  # at both random grid points
 
 
+def test_a_grid_point_may_take_its_own_seeds():
+    """surface.seeds: a kind's default and the random grid points that take their own (the shipped ensembles are as
+    large as each point's claim tests need): named as the sweep files name them, 1.0 and 1 alike; a named point
+    outside the random grid measures nothing; every_view takes each corner's own first seeds."""
+    cfg = rl_config.validate_config({"grid": {"truncation": [0.5, 1.0], "aspect": [0.5, 1.0]},
+                                     "surface": {"kind": ["random_pyramids", "random_heightfield"],
+                                                 "seeds": {"random_pyramids": {"default": 4, "t1.0_a1": 2,
+                                                                               "t0.5_a0.5": [3, 9], "t0.3_a1": 7},
+                                                           "random_heightfield": 3}}})
+    counts = {}
+    for kind, t, a, seed in rl_config.random_surfaces(cfg):
+        counts.setdefault((kind, t, a), []).append(seed)
+    assert counts[("random_pyramids", 1.0, 1.0)] == [1, 2]
+    assert counts[("random_pyramids", 0.5, 0.5)] == [3, 9]
+    assert counts[("random_pyramids", 0.5, 1.0)] == counts[("random_pyramids", 1.0, 0.5)] == [1, 2, 3, 4]
+    assert all(counts[("random_heightfield", t, a)] == [1, 2, 3] for t in (0.5, 1.0) for a in (0.5, 1.0))
+    assert len(counts) == 8  # t 0.3 is not a grid point: nothing measured there
+    every = [(k, t, a, s) for k, t, a, s in rl_config.every_view_surfaces(cfg) if k == "random_pyramids"]
+    assert every == [("random_pyramids", 0.5, 0.5, 3), ("random_pyramids", 0.5, 0.5, 9),
+                     ("random_pyramids", 1.0, 1.0, 1), ("random_pyramids", 1.0, 1.0, 2)]
+
+
+def test_a_points_seeds_are_checked_as_a_kinds():
+    base = {"grid": {"truncation": [1.0], "aspect": [1.0]}, "surface": {"kind": ["random_pyramids"]}}
+    with pytest.raises(ValueError, match=r"surface.seeds.random_pyramids.t1_a1 lists the same seed twice"):
+        rl_config.validate_config({**base, "surface": {**base["surface"], "seeds": {
+            "random_pyramids": {"default": 2, "t1_a1": [1, 1]}}}})
+    for seeds in ({"random_pyramids": {"t1_a1": 2}}, {"random_pyramids": {"default": 2, "point": 3}},
+                  {"random_pyramids": {"default": 2, "t1_a1": 0}}):
+        with pytest.raises(Exception, match="surface"):
+            rl_config.validate_config({**base, "surface": {**base["surface"], "seeds": seeds}})
+
+
 def test_tile_convergence_measures_the_regular_surface_beside_the_tiles(monkeypatch):
     from roughlight.measurements import random_tiles as B
 

@@ -177,7 +177,7 @@ def _surface_problems(config: dict) -> list[str]:
                         f"{spread.get('corner', 0.3)} must be < 1 (else an apex can leave its cell's base: an "
                         "overhanging or vertical side)")
     value = surface.get("seeds")
-    for name, listed in (value.items() if isinstance(value, dict) else [("", value)]):
+    for name, listed in _seed_sets(value):
         if isinstance(listed, list) and len(set(listed)) != len(listed):
             problems.append(f"config: surface.seeds{'.' + name if name else ''} lists the same seed twice: {listed!r}")
     if isinstance(value, dict):
@@ -285,13 +285,33 @@ def kinds(config: dict) -> list[str]:
     return sorted(set(listed) | {"pyramids"}, key=["pyramids", "random_pyramids", "random_heightfield"].index)
 
 
-def seeds(config: dict, kind: str) -> list[int]:
-    """The seeds of the random kind ``kind``'s ensemble (``surface.seeds``: a count n gives 1..n; a mapping
-    gives each kind its own count or list)."""
+def _seed_sets(value, name: str = ""):
+    """Every count or list of seeds in ``surface.seeds`` (a count, a list, or mappings of them), with its key path."""
+    if not isinstance(value, dict):
+        yield name, value
+        return
+    for key, inner in value.items():
+        yield from _seed_sets(inner, f"{name}.{key}" if name else str(key))
+
+
+def seeds(config: dict, kind: str, point: tuple[float, float] | None = None) -> list[int]:
+    """The seeds of the random kind ``kind``'s ensemble at the random grid point ``point`` (truncation, aspect)
+    (``surface.seeds``: a count n gives 1..n; a mapping gives each kind its own count or list, or a ``default``
+    and the grid points, named ``t{truncation}_a{aspect}``, that take their own: an ensemble as large as its
+    point's claim tests need, docs/random-roughness.md). A named point not in the random grid is not measured."""
     value = config.get("surface", {}).get("seeds", 1)
     if isinstance(value, dict):
         value = value[kind]
+    if isinstance(value, dict):
+        own = {_point_of(key): inner for key, inner in value.items() if key != "default"}
+        value = own.get(None if point is None else (label(point[0]), label(point[1])), value["default"])
     return list(range(1, int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
+
+
+def _point_of(key: str) -> tuple[str, str]:
+    """A grid point's name in ``surface.seeds`` (``t0.5_a1``) as the labels of its truncation and aspect."""
+    t, a = key[1:].split("_a")
+    return label(float(t)), label(float(a))
 
 
 def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
@@ -302,7 +322,7 @@ def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
     wanted = config["surface"]["random_grid"]
     points = [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
               if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
-    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config, k)]
+    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config, k, (t, a))]
 
 
 def every_view_surfaces(config: dict, n_seeds: int = 2) -> list[tuple[str, float, float, int]]:
@@ -316,7 +336,7 @@ def every_view_surfaces(config: dict, n_seeds: int = 2) -> list[tuple[str, float
     a = sorted({s[2] for s in measured})
     corners = {(t[0], a[0]), (t[-1], a[-1])}
     return [(k, tt, aa, s) for k, tt, aa, s in measured
-            if (tt, aa) in corners and s in seeds(config, k)[:n_seeds]]
+            if (tt, aa) in corners and s in seeds(config, k, (tt, aa))[:n_seeds]]
 
 
 def random_surface_settings(config: dict) -> dict:
