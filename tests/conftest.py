@@ -11,16 +11,21 @@ os.environ.setdefault("LP_NUM_THREADS", "1")
 REPO = Path(__file__).resolve().parents[1]
 
 
-@pytest.fixture
-def workflow_dir(tmp_path):
-    """A copy of the workflow (Snakefile, workflow/, config/) in a temporary directory."""
+def copy_workflow(directory: Path) -> Path:
+    """A copy of the workflow (Snakefile, workflow/, config/, envs/, profiles/) in ``directory``."""
     for name in ("Snakefile", "workflow", "config", "envs", "profiles"):
         src = REPO / name
         if src.is_dir():
-            shutil.copytree(src, tmp_path / name, ignore=shutil.ignore_patterns("__pycache__"))
+            shutil.copytree(src, directory / name, ignore=shutil.ignore_patterns("__pycache__"))
         else:
-            shutil.copy(src, tmp_path / name)
-    return tmp_path
+            shutil.copy(src, directory / name)
+    return directory
+
+
+@pytest.fixture
+def workflow_dir(tmp_path):
+    """A copy of the workflow (Snakefile, workflow/, config/) in a temporary directory."""
+    return copy_workflow(tmp_path)
 
 
 @pytest.fixture
@@ -75,28 +80,60 @@ EXPECTED_SECONDS = {
     "tests/test_workflow.py::": 6,
 }
 
-#: Module and session fixtures that cost seconds to build: the tests using one run on one worker (an xdist group),
-#: which builds it once, and the fixture's cost counts towards the group's place in the order. ``built`` is shared
-#: across workers through a file lock anyway, but a second worker reaching it first waited the whole build.
-SHARED_FIXTURES = {"built": 40, "users_grid": 17, "exact_study": 12, "tables": 14, "frames": 11, "fast_errors": 11,
-                   "wheel": 7}
+#: Tests that share an expensive module or session fixture (by node id prefix, the first match): each group is one
+#: unit of xdist's work, run on one worker, which builds the fixture once (spread over both, a module fixture was
+#: built twice: test_findings' 'tables' 14.7 + 14.6 s, test_analysis' 'exact_study' 11.7 + 11.5 s; and a worker
+#: reaching the session's 'built' report second waited 27.5 s on the other's build). None: a test of its own.
+GROUPS = (
+    ("tests/test_workflow.py::test_tiny_study_end_to_end", "tiny_run"),
+    ("tests/test_workflow.py::test_unwritable_results", "tiny_run"),
+    ("tests/test_workflow.py::test_broken_osmesa", "tiny_run"),
+    ("tests/test_report.py::test_workflow_builds_the_report_and_lints", None),
+    ("tests/test_report.py::test_optional_parts_follow_the_config_not_the_files", None),
+    ("tests/test_report.py::", "built"),
+    ("tests/test_report_tables.py::", "built"),
+    ("tests/test_findings.py::", "findings"),
+    ("tests/test_analysis.py::", "analysis"),
+    ("tests/test_explorer.py::", "explorer"),
+    ("tests/test_stability.py::", "stability"),
+    ("tests/test_lighting_against_reference.py::", "lighting"),
+    ("tests/test_packaging.py::", "packaging"),
+)
+#: The seconds of a group's fixtures (its place in the order: their tests' seconds and these).
+FIXTURE_SECONDS = {"built": 40, "tiny_run": 15, "explorer": 17, "analysis": 12, "findings": 14, "stability": 11,
+                   "lighting": 11, "packaging": 7}
 
 
 def _expected(nodeid: str) -> float:
     return max((s for prefix, s in EXPECTED_SECONDS.items() if nodeid.startswith(prefix)), default=0.0)
 
 
-@pytest.hookimpl(tryfirst=True)
+def work_unit(nodeid: str) -> str:
+    """The unit of xdist's work a test belongs to: its group (:data:`GROUPS`), else the test itself."""
+    group = next((g for prefix, g in GROUPS if nodeid.startswith(prefix)), None)
+    return group or nodeid
+
+
 def pytest_collection_modifyitems(config, items):
-    """The longest work first; the tests sharing an expensive fixture in one xdist group, placed by their sum."""
-    groups: dict[str, float] = {}
-    group_of = {}
+    """The longest work first (a group placed by its sum), each group's tests together."""
+    units: dict[str, float] = {}
     for item in items:
-        shared = next((name for name in SHARED_FIXTURES if name in getattr(item, "fixturenames", ())), None)
-        if shared is not None:
-            group_of[item.nodeid] = shared
-            groups[shared] = groups.get(shared, SHARED_FIXTURES[shared]) + _expected(item.nodeid)
-            item.add_marker(pytest.mark.xdist_group(shared))
+        unit = work_unit(item.nodeid)
+        units[unit] = units.get(unit, FIXTURE_SECONDS.get(unit, 0.0)) + _expected(item.nodeid)
     order = {item.nodeid: n for n, item in enumerate(items)}
-    items.sort(key=lambda item: (-(groups[group_of[item.nodeid]] if item.nodeid in group_of else _expected(item.nodeid)),
-                                 group_of.get(item.nodeid, ""), order[item.nodeid]))
+    items.sort(key=lambda item: (-units[work_unit(item.nodeid)], work_unit(item.nodeid), order[item.nodeid]))
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """With -n (and xdist's default --dist load): one unit of work a group or test (:func:`work_unit`), handed out in
+    the collection's order (longest first). xdist's own --dist loadgroup cannot be used: pytest 9 ignores the
+    group suffix pytest-xdist 3.8 writes into the node ids, so its groups were silently spread over both workers."""
+    if config.getvalue("dist") != "load":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class Units(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return work_unit(nodeid)
+
+    return Units(config, log)
