@@ -1,4 +1,6 @@
 """End to end: snakemake on a tiny grid in a temporary directory."""
+import fcntl
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -9,6 +11,8 @@ import pytest
 import yaml
 
 from roughlight.study.tables import STUDY_COLUMNS, renderers
+
+from .conftest import copy_workflow
 
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
@@ -32,6 +36,34 @@ def snakemake(workdir, *args, check=True, env=None):
 
 
 STUDY = "results/study.parquet"  # the report's end-to-end run is tests/test_report.py's
+MESH = "results/meshes/t1_a1.ply"
+
+
+@pytest.fixture(scope="session")
+def tiny_run(tmp_path_factory, worker_id):
+    """A workflow copy where ``snakemake STUDY MESH`` ran on :data:`TINY`, once a test session: the pytest-xdist
+    workers share it (the first to come runs it under a lock). The tests that start from TINY's finished study copy
+    its results/ and .snakemake/ (:func:`finished_tiny`) instead of rendering the same sweeps again."""
+    shared = tmp_path_factory.getbasetemp() if worker_id == "master" else tmp_path_factory.getbasetemp().parent
+    workdir = shared / "tiny-run"
+    with open(shared / "tiny-run.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (workdir / "done").exists():
+            shutil.rmtree(workdir, ignore_errors=True)
+            workdir.mkdir()
+            copy_workflow(workdir)
+            write_config(workdir, TINY)
+            snakemake(workdir, STUDY, MESH)
+            (workdir / "done").touch()
+    return workdir
+
+
+def finished_tiny(workflow_dir, tiny_run):
+    """TINY's config, study table, sweeps, mesh and Snakemake's records of them in ``workflow_dir``, as if
+    ``snakemake STUDY MESH`` had just run there (times kept: nothing is out of date)."""
+    write_config(workflow_dir, TINY)
+    for name in ("results", ".snakemake"):
+        shutil.copytree(tiny_run / name, workflow_dir / name, symlinks=True, dirs_exist_ok=True)
 
 
 def planned_jobs(workdir):
@@ -46,9 +78,8 @@ def planned_jobs(workdir):
 
 
 @pytest.mark.slow
-def test_tiny_study_end_to_end(workflow_dir):
-    write_config(workflow_dir, TINY)
-    snakemake(workflow_dir, STUDY, "results/meshes/t1_a1.ply")
+def test_tiny_study_end_to_end(workflow_dir, tiny_run):
+    finished_tiny(workflow_dir, tiny_run)  # snakemake STUDY MESH on TINY, run once a session
     study = pd.read_parquet(workflow_dir / "results" / "study.parquet")
     assert list(study.columns) == STUDY_COLUMNS
     views = 7 * 3  # elevations 0..180 by 30 x azimuths 0, 60, 120
@@ -167,7 +198,7 @@ def test_killed_run_reruns_to_the_same_table(workflow_dir, tmp_path_factory):
 
 
 @pytest.mark.slow
-def test_unwritable_results_and_corrupt_sweeps_end_with_one_clear_message(workflow_dir):
+def test_unwritable_results_and_corrupt_sweeps_end_with_one_clear_message(workflow_dir, tiny_run):
     write_config(workflow_dir, TINY)
     # results/ cannot be a directory here (a file stands in the way): stop before any job
     (workflow_dir / "results").write_text("not a directory")
@@ -177,7 +208,8 @@ def test_unwritable_results_and_corrupt_sweeps_end_with_one_clear_message(workfl
     (workflow_dir / "results").unlink()
 
     # a corrupt sweep file left in results/: the aggregate names it and says what to do
-    snakemake(workflow_dir, STUDY)
+    finished_tiny(workflow_dir, tiny_run)  # TINY's finished study (snakemake STUDY, run once a session)
+    assert planned_jobs(workflow_dir) == {}
     bad = workflow_dir / "results" / "sweeps" / "i30" / "t1_a1.parquet"
     good = workflow_dir / "results" / "sweeps" / "i30" / "t0_a1.parquet"
     kept = good.read_bytes()
@@ -193,11 +225,10 @@ def test_unwritable_results_and_corrupt_sweeps_end_with_one_clear_message(workfl
 
 
 @pytest.mark.slow
-def test_broken_osmesa_stops_before_any_job_and_keeps_what_was_computed(workflow_dir, broken_osmesa):
+def test_broken_osmesa_stops_before_any_job_and_keeps_what_was_computed(workflow_dir, broken_osmesa, tiny_run):
     import os
 
-    write_config(workflow_dir, TINY)
-    snakemake(workflow_dir, STUDY)
+    finished_tiny(workflow_dir, tiny_run)  # TINY's finished study (snakemake STUDY, run once a session)
     table = workflow_dir / "results" / "study.parquet"
     kept = table.read_bytes()
     cfg = yaml.safe_load(yaml.safe_dump(TINY))
