@@ -148,7 +148,11 @@ def renderers(paths) -> list[str]:
 
     found = set()
     for path in paths:
-        meta = pq.read_schema(path).metadata or {}
+        try:
+            meta = pq.read_schema(path).metadata or {}
+        except Exception:  # a corrupt file: read_sweep's message says which and what to do
+            read_sweep(path)
+            raise
         if RENDERER_KEY.encode() in meta and meta[RENDERER_KEY.encode()]:
             found.add(meta[RENDERER_KEY.encode()].decode())
         if RENDERERS_KEY.encode() in meta:
