@@ -8,6 +8,8 @@ that names the key, the value and what is allowed.
 
 from __future__ import annotations
 
+import copy
+import functools
 import math
 from pathlib import Path
 from typing import NamedTuple
@@ -44,7 +46,15 @@ class ConfigError(ValueError):
 
 
 def load_schema(path=None) -> dict:
-    with open(path or SCHEMA_PATH) as fh:
+    """The config schema (a copy of its parse, kept a process per file and modification time: validation reads it
+    for every config, the tests' many)."""
+    path = Path(path or SCHEMA_PATH)
+    return copy.deepcopy(_parsed_schema(str(path), path.stat().st_mtime_ns))
+
+
+@functools.lru_cache(maxsize=4)
+def _parsed_schema(path: str, mtime_ns: int) -> dict:
+    with open(path) as fh:
         return yaml.safe_load(fh)
 
 
@@ -151,7 +161,8 @@ def validate_config(config: dict, schema_path=None, notes: list | None = None) -
 
 
 def _copy(value):
-    return yaml.safe_load(yaml.safe_dump(value))
+    """A default's own copy (plain YAML values: mappings, lists, scalars)."""
+    return copy.deepcopy(value)
 
 
 def _semantic_problems(config: dict) -> list[str]:
