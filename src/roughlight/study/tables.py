@@ -252,14 +252,12 @@ def study_parts(rough_paths, control_paths):
     dtypes = {name: pd.concat([pd.Series([], dtype=key[5][name]) for key in keys]).dtype for name in LABELLED}
     controls = _ControlViews(pd.concat([read_sweep(p) for p in control_paths], ignore_index=True))
     for done, n in enumerate(sorted(range(len(rough_paths)), key=lambda n: keys[n][:5])):
-        columns = controls.joined(read_sweep(rough_paths[n]))
-        order = np.lexsort([np.asarray(columns[name]) for name in reversed(VIEW_ORDER)])
-        frame = pd.DataFrame({name: _taken(columns[name], order) for name in STUDY_COLUMNS}, copy=False)
+        frame = _sweep_rows(controls.joined(read_sweep(rough_paths[n])))
         for name, dtype in dtypes.items():
             if frame[name].dtype != dtype:
                 frame[name] = frame[name].astype(dtype)
         yield frame
-        del columns, frame
+        del frame
         if done % 16 == 15:
             _release_memory()  # what reading left behind
 
@@ -297,23 +295,25 @@ def _sweep_key(path):
     return place + ({name: frame[name].dtype for name in LABELLED},)
 
 
-def _taken(values, order):
-    """A column (Series or array) of one sweep in ``order``, as a Series with a fresh index."""
+def _sweep_rows(columns):
+    """One sweep's study rows from its joined columns (:meth:`_ControlViews.joined`): :data:`STUDY_COLUMNS`, the
+    rows in :data:`VIEW_ORDER`, a fresh index."""
     import pandas as pd
 
-    if isinstance(values, pd.Series):
-        return values.take(order).reset_index(drop=True)
-    return pd.Series(np.asarray(values)[order])
+    order = np.lexsort([np.asarray(columns[name]) for name in reversed(VIEW_ORDER)])
+
+    def taken(values):
+        if isinstance(values, pd.Series):
+            return values.take(order).reset_index(drop=True)
+        return pd.Series(np.asarray(values)[order])
+
+    return pd.DataFrame({name: taken(columns[name]) for name in STUDY_COLUMNS}, copy=False)
 
 
 def join_controls(rough, control):
     """The study table from sweep frames (:func:`sweep_table`'s columns): each rough view joined to the
     control's same view (see :func:`aggregate`)."""
-    import pandas as pd
-
-    columns = _ControlViews(control).joined(rough)
-    order = np.lexsort([np.asarray(columns[name]) for name in reversed(VIEW_ORDER)])
-    return pd.DataFrame({name: _taken(columns[name], order) for name in STUDY_COLUMNS}, copy=False)
+    return _sweep_rows(_ControlViews(control).joined(rough))
 
 
 #: The view of a control row a rough row is joined to.
