@@ -134,7 +134,7 @@ def validate_config(config: dict, schema_path=None, notes: list | None = None) -
         if isinstance(instance, dict):
             for name, prop in properties.items():
                 if isinstance(prop, dict) and "default" in prop:
-                    instance.setdefault(name, _copy(prop["default"]))
+                    instance.setdefault(name, copy.deepcopy(prop["default"]))
         yield from validator_cls.VALIDATORS["properties"](validator, properties, instance, sub_schema)
 
     def is_number(checker, instance):
@@ -158,11 +158,6 @@ def validate_config(config: dict, schema_path=None, notes: list | None = None) -
     if notes is not None:
         notes.extend(followed)
     return config
-
-
-def _copy(value):
-    """A default's own copy (plain YAML values: mappings, lists, scalars)."""
-    return copy.deepcopy(value)
 
 
 def _semantic_problems(config: dict) -> list[str]:

@@ -266,13 +266,13 @@ class LitScene:
 # public API
 
 
-
 @functools.lru_cache(maxsize=16)
 def lit_scene(surface: Surface, incidence: float, shadows: bool) -> LitScene:
     """:class:`LitScene` of ``surface`` under the light at ``incidence``, kept for the process's last 16: a random
     tile's takes about a second, and the fast method's regions, the exact reference and the measurements ask for
     one tile under one light many times. A scene is never changed once made."""
     return LitScene(surface, float(incidence), bool(shadows))
+
 
 def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
     """Lit part of each facet of one period, as a region of its plan footprint.
