@@ -45,7 +45,7 @@ def broken_osmesa(tmp_path_factory):
 
 
 # ---------------------------------------------------------------------------
-# scheduling on pytest-xdist's workers (make test: -n 2 --dist loadgroup --no-loadscope-reorder)
+# scheduling on pytest-xdist's workers (make test: -n 2 with xdist's default --dist load; pyproject's --no-loadscope-reorder)
 
 #: Seconds a test (or a parametrized family: a node id prefix) took on the reference machine, from `pytest -n 2
 #: --durations=60` (2026-11-26, issue 35). Only the order comes from them: the longest run first, so that the two
