@@ -108,31 +108,49 @@ def test_tiny_study_end_to_end(workflow_dir, tiny_run):
     # nothing changed: nothing to do
     assert planned_jobs(workflow_dir) == {}
 
-    # a new grid point renders that sweep only (plus the aggregate and the meshes)
+    # a new truncation is one new job (its sweeps at every aspect), plus the aggregate
     cfg = yaml.safe_load(yaml.safe_dump(TINY))
     cfg["grid"]["truncation"].append(0.5)
     write_config(workflow_dir, cfg)
-    assert planned_jobs(workflow_dir) == {"rough_sweep": 1, "study_table": 1}
+    assert planned_jobs(workflow_dir) == {"rough_sweeps": 1, "study_table": 1}
+
+    # a new aspect reruns every truncation's job, but each renders only its new sweep: the others come from the
+    # sweep store, byte for byte as first measured
+    sweeps = workflow_dir / "results" / "sweeps" / "i30"
+    before = {name: (sweeps / name).read_bytes() for name in ("t0_a1.parquet", "t1_a1.parquet")}
+    cfg["grid"]["aspect"].append(0.5)
+    write_config(workflow_dir, cfg)
+    assert planned_jobs(workflow_dir) == {"rough_sweeps": 3, "study_table": 1}
+    snakemake(workflow_dir, STUDY)
+    logs = workflow_dir / "results" / "logs" / "sweeps" / "i30"
+    said = {t: (logs / f"t{t}.log").read_text() for t in ("0", "0.5", "1")}
+    assert "1 sweeps measured, 1 taken from the store" in said["0"], said["0"]
+    assert "1 sweeps measured, 1 taken from the store" in said["1"], said["1"]
+    assert "2 sweeps measured, 0 taken from the store" in said["0.5"], said["0.5"]
+    for name, data in before.items():
+        assert (sweeps / name).read_bytes() == data
+    study = pd.read_parquet(workflow_dir / "results" / "study.parquet")
+    assert len(study) == 3 * 2 * views * 3
 
     # the shadows switch re-renders the rough surfaces, not the control (a plate has no shadows)
     cfg["render"] = {"shadows": False}
     write_config(workflow_dir, cfg)
     jobs = planned_jobs(workflow_dir)
-    assert jobs.get("rough_sweep") == 3 and "control_sweep" not in jobs
+    assert jobs.get("rough_sweeps") == 3 and "control_sweep" not in jobs
 
     # a lighting change re-renders everything that sees the light
     cfg["render"] = {"shadows": True}
     cfg["material"] = {"shininess": 32}
     write_config(workflow_dir, cfg)
     jobs = planned_jobs(workflow_dir)
-    assert jobs.get("rough_sweep") == 3 and jobs.get("control_sweep") == 1
+    assert jobs.get("rough_sweeps") == 3 and jobs.get("control_sweep") == 1
 
     # the OpenGL platform reaches every rendering job through its params: a change re-renders every sweep
     cfg["material"] = {"shininess": 64}
     cfg["render"] = {"platform": "egl"}
     write_config(workflow_dir, cfg)
     jobs = planned_jobs(workflow_dir)
-    assert jobs.get("rough_sweep") == 3 and jobs.get("control_sweep") == 1
+    assert jobs.get("rough_sweeps") == 3 and jobs.get("control_sweep") == 1
 
 
 @pytest.mark.slow

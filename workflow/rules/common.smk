@@ -5,6 +5,7 @@ try:
     from roughlight.study import config as rl_config
     from roughlight.study import runs as rl_runs
     from roughlight.study import plan as rl_plan
+    from roughlight.study import sweep_store as rl_sweep_store
     from roughlight.report import registry as rl_registry
     from roughlight.measurements import stability as rl_stability
 except (
@@ -106,6 +107,12 @@ def rough_sweep_files():
     return rl_plan.sweep_files(config, "rough")
 
 
+def rough_row_files():
+    """The outputs of one rough_sweeps job, a truncation's sweeps at every grid aspect (wildcards
+    incidence and truncation)."""
+    return rl_plan.rough_row_files(config)
+
+
 def random_sweep_files():
     """One sweep per random surface (surface.kind x surface.random_grid x surface.seeds) and incidence."""
     return rl_plan.sweep_files(config, "random")
@@ -144,18 +151,20 @@ def random_surface_params(wildcards):
     )
 
 
+def random_sweep_surfaces(wildcards):
+    """The one surface of a random_sweep job (random_surface_params), as rule sweep's script takes a job's."""
+    return [random_surface_params(wildcards)]
+
+
 def random_surface_settings(wildcards):
     """surface.cells and surface.spread (how random tiles are built), for the report's text."""
     return rl_config.random_surface_settings(config)
 
 
-def surface_params(wildcards):
-    """A grid point's regular surface."""
-    return rl_plan.surface_settings(
-        config,
-        "pyramids",
-        _value("truncation", wildcards.truncation),
-        _value("aspect", wildcards.aspect),
+def rough_row_surfaces(wildcards):
+    """The regular surfaces of a truncation at every grid aspect, in the order of rough_row_files."""
+    return rl_plan.rough_row_surfaces(
+        config, _value("truncation", wildcards.truncation)
     )
 
 

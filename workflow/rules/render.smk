@@ -1,4 +1,6 @@
-# Sweeps: one job per surface x incidence, plus one control (flat plate) per incidence.
+# Sweeps: one job a truncation and incidence (its sweeps at every grid aspect), one a random tile and incidence, and
+# one control (flat plate) per incidence. Every sweep job keeps what it measures in the sweep store and takes from it
+# what it holds (roughlight.study.sweep_store), so that a job rerun for a new aspect renders only the new sweeps.
 
 
 rule control_sweep:
@@ -18,23 +20,24 @@ rule control_sweep:
         mem_mb=1024,
     params:
         gl=gl_params,
-        surface=rl_plan.CONTROL_SURFACE,
+        surfaces=[rl_plan.CONTROL_SURFACE],
         incidence=incidence_param,
         sweep=sweep_params,
         lighting=control_lighting_params,
         method=method_param,
         render=render_params,
+        store=rl_sweep_store.STORE,
     script:
         "../scripts/sweep.py"
 
 
-rule rough_sweep:
+rule rough_sweeps:
     output:
-        "results/sweeps/i{incidence}/t{truncation}_a{aspect}.parquet",
+        rough_row_files(),
     log:
-        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.log",
+        "results/logs/sweeps/i{incidence}/t{truncation}.log",
     benchmark:
-        "results/logs/sweeps/i{incidence}/t{truncation}_a{aspect}.benchmark.tsv"
+        "results/logs/sweeps/i{incidence}/t{truncation}.benchmark.tsv"
     priority: PRIORITY_SWEEPS
     group:
         "sweeps"
@@ -45,12 +48,13 @@ rule rough_sweep:
         mem_mb=1024,
     params:
         gl=gl_params,
-        surface=surface_params,
+        surfaces=rough_row_surfaces,
         incidence=incidence_param,
         sweep=sweep_params,
         lighting=lighting_params,
         method=method_param,
         render=render_params,
+        store=rl_sweep_store.STORE,
     script:
         "../scripts/sweep.py"
 
@@ -72,12 +76,13 @@ rule random_sweep:
         mem_mb=2048,
     params:
         gl=gl_params,
-        surface=random_surface_params,
+        surfaces=random_sweep_surfaces,
         incidence=incidence_param,
         sweep=sweep_params,
         lighting=lighting_params,
         method=method_param,
         render=random_render_params,
+        store=rl_sweep_store.STORE,
     script:
         "../scripts/sweep.py"
 

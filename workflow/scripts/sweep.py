@@ -1,4 +1,5 @@
-"""Snakemake adapter: one sweep (a rough surface or the control) to a Parquet file."""
+"""Snakemake adapter: a job's sweeps (a truncation's row of rough surfaces, a random tile, or the control), each to
+its Parquet file, through the sweep store (roughlight.study.sweep_store)."""
 import os
 import sys
 
@@ -12,18 +13,19 @@ _gl.use(snakemake)  # render.platform, before anything loads OpenGL
 
 import _log  # noqa: E402
 
+from roughlight.study.sweep_store import measure_sweeps  # noqa: E402
 from roughlight.study.tables import run_sweep  # noqa: E402
 from roughlight.surfaces.roughness import make_surface  # noqa: E402
 
 log = _log.setup(snakemake)
-run_sweep(
-    snakemake.output[0],
-    surface=make_surface(**snakemake.params.surface),
-    incidence=snakemake.params.incidence,
-    sweep=snakemake.params.sweep,
-    lighting=snakemake.params.lighting,
-    method=snakemake.params.method,
-    render=snakemake.params.render,
-    log=log,
-)
+params = snakemake.params
+settings = {key: getattr(params, key) for key in ("gl", "incidence", "sweep", "lighting", "method", "render")}
+
+
+def measure(path, surface):
+    run_sweep(path, surface=make_surface(**surface), incidence=params.incidence, sweep=params.sweep,
+              lighting=params.lighting, method=params.method, render=params.render, log=log)
+
+
+measure_sweeps(list(snakemake.output), params.surfaces, settings, measure, store=params.store, log=log)
 _log.end_job()

@@ -1,7 +1,7 @@
 """The study's plan: which sweeps and meshes a validated config asks for, their files, and each sweep's settings.
 
 One builder for everything that runs a sweep: the workflow's rules (``workflow/rules/common.smk`` hands these to
-``rough_sweep``, ``random_sweep``, ``control_sweep`` and the mesh rules) and the tests' in-process chain
+``rough_sweeps``, ``random_sweep``, ``control_sweep`` and the mesh rules) and the tests' in-process chain
 (``tests/report_chain.py``) call the same functions, so that both name the same files and give each sweep the same
 settings. Every function is pure: it reads the config (:func:`roughlight.study.config.validate_config` filled its
 defaults) and returns plain types. Paths are relative to the workflow's directory.
@@ -24,6 +24,8 @@ __all__ = [
     "surface_settings",
     "sweeps",
     "sweep_files",
+    "rough_row_files",
+    "rough_row_surfaces",
     "mesh_files",
     "random_mesh_files",
     "every_view_files",
@@ -80,10 +82,21 @@ def surface_settings(config: dict, kind: str, truncation: float, aspect: float, 
             **rl_config.random_surface_settings(config)}
 
 
+def rough_row_files(config: dict, folder: str = "results/sweeps") -> list[str]:
+    """The files of one job of rule ``rough_sweeps``: a truncation's sweeps at every grid aspect, in the grid's
+    order, with the wildcards ``{incidence}`` and ``{truncation}`` left in."""
+    return [f"{folder}/i{{incidence}}/t{{truncation}}_a{rl_config.label(a)}.parquet" for a in grid(config, "aspect")]
+
+
+def rough_row_surfaces(config: dict, truncation: float) -> list[dict]:
+    """The surfaces of :func:`rough_row_files` at ``truncation``, in the same order."""
+    return [surface_settings(config, "pyramids", truncation, a) for a in grid(config, "aspect")]
+
+
 def _rough(config: dict, folder: str) -> list[Sweep]:
-    return [Sweep(f"{folder}/i{rl_config.label(i)}/t{rl_config.label(t)}_a{rl_config.label(a)}.parquet",
-                  surface_settings(config, "pyramids", t, a), i)
-            for i in grid(config, "incidence") for t in grid(config, "truncation") for a in grid(config, "aspect")]
+    return [Sweep(path.format(incidence=rl_config.label(i), truncation=rl_config.label(t)), surface, i)
+            for i in grid(config, "incidence") for t in grid(config, "truncation")
+            for path, surface in zip(rough_row_files(config, folder), rough_row_surfaces(config, t))]
 
 
 def _random(config: dict, folder: str) -> list[Sweep]:
