@@ -266,13 +266,26 @@ def test_adding_a_seed_renders_only_it(workflow_dir):
     for path in meshes:
         assert (workflow_dir / path).stat().st_size > 0
 
-    cfg["surface"]["seeds"] = [1, 2, 3]
-    write_config(workflow_dir, cfg)
-    assert planned_jobs(workflow_dir) == {"random_sweep": 2, "study_table": 1}
-    # seeds given a kind at a time: only the new seed of the kind that gets one
+    # a new seed reruns its ensemble's job (a kind at a grid point), which renders only that seed: the others come
+    # from the sweep store, byte for byte as first measured; the other kind's ensemble is not touched
+    ensembles = workflow_dir / "results" / "sweeps" / "i30"
+    before = {path: path.read_bytes() for path in sorted(ensembles.glob("random_*/t1_a1/s*.parquet"))}
+    assert len(before) == 4
     cfg["surface"]["seeds"] = {"random_pyramids": [1, 2, 3], "random_heightfield": 2}
     write_config(workflow_dir, cfg)
-    assert planned_jobs(workflow_dir) == {"random_sweep": 1, "study_table": 1}
+    assert planned_jobs(workflow_dir) == {"random_sweeps": 1, "study_table": 1}
+    snakemake(workflow_dir, "results/study.parquet")
+    log = (workflow_dir / "results" / "logs" / "sweeps" / "i30" / "random_pyramids" / "t1_a1.log").read_text()
+    assert "1 sweeps measured, 2 taken from the store" in log, log
+    assert all(path.read_bytes() == data for path, data in before.items())
+    assert (ensembles / "random_pyramids" / "t1_a1" / "s3.parquet").exists()
+    study = pd.read_parquet(workflow_dir / "results" / "study.parquet", columns=["kind", "seed"])
+    assert set(zip(study["kind"], study["seed"])) == {("pyramids", 0), ("random_pyramids", 3)} | {
+        (k, s) for k in KINDS for s in (1, 2)}
+    # the same seeds for both kinds: only the heightfields' ensemble is left to do
+    cfg["surface"]["seeds"] = [1, 2, 3]
+    write_config(workflow_dir, cfg)
+    assert planned_jobs(workflow_dir) == {"random_sweeps": 1, "study_table": 1}
 
 
 def test_seeds_a_kind_at_a_time_give_each_kind_its_own_ensemble():
@@ -342,8 +355,9 @@ def test_the_random_parts_of_the_report_follow_surface_kind(workflow_dir):
         out = snakemake(workflow_dir, "reports/roughlight_report.html", "--dry-run", "--quiet", "rules").stdout
         plans[len(kinds)] = {line.split()[0]: int(line.split()[1]) for line in out.splitlines()
                              if len(line.split()) == 2 and line.split()[1].isdigit()}
-    assert "analysis_random" not in plans[1] and "random_tiles" not in plans[1] and "random_sweep" not in plans[1]
-    assert plans[2]["analysis_random"] == 1 and plans[2]["random_tiles"] == 1 and plans[2]["random_sweep"] == 2
+    assert "analysis_random" not in plans[1] and "random_tiles" not in plans[1] and "random_sweeps" not in plans[1]
+    # one ensemble job for the one random kind at the one random grid point (its two seeds)
+    assert plans[2]["analysis_random"] == 1 and plans[2]["random_tiles"] == 1 and plans[2]["random_sweeps"] == 1
 
 
 def test_random_accuracy_leaves_out_and_counts_the_views_the_reference_refuses(monkeypatch):

@@ -127,7 +127,7 @@ rule random_tiles:
 # lowest and highest corner, at the tables' incidence (common.smk's every_view_files).
 rule random_every_view:
     input:
-        "results/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.parquet",
+        "results/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}",
     output:
         "results/benchmarks/every_view/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.parquet",
     log:
@@ -142,6 +142,7 @@ rule random_every_view:
     params:
         gl=gl_params,
         surface=random_surface_params,
+        sweep=every_view_sweep,
         incidence=incidence_param,
         lighting=lighting_params,
     script:

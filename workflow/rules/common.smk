@@ -113,9 +113,15 @@ def rough_row_files():
     return rl_plan.rough_row_files(config)
 
 
-def random_sweep_files():
-    """One sweep per random surface (surface.kind x surface.random_grid x surface.seeds) and incidence."""
+def random_sweep_files(wildcards=None):
+    """One sweep per random surface (surface.kind x surface.random_grid x surface.seeds) and incidence, each in
+    its ensemble's folder (random_ensemble_folders)."""
     return rl_plan.sweep_files(config, "random")
+
+
+def random_ensemble_folders():
+    """The folders of the random_sweeps jobs: a random kind's ensemble at a random grid point and incidence."""
+    return rl_plan.ensemble_folders(config)
 
 
 def control_sweep_files():
@@ -151,9 +157,38 @@ def random_surface_params(wildcards):
     )
 
 
-def random_sweep_surfaces(wildcards):
-    """The one surface of a random_sweep job (random_surface_params), as rule sweep's script takes a job's."""
-    return [random_surface_params(wildcards)]
+def _ensemble(wildcards):
+    """The kind, truncation, aspect and seeds of a random_sweeps job's ensemble."""
+    t, a = _value("truncation", wildcards.truncation), _value(
+        "aspect", wildcards.aspect
+    )
+    return wildcards.kind, t, a, rl_config.seeds(config, wildcards.kind, (t, a))
+
+
+def random_ensemble_surfaces(wildcards):
+    """A random_sweeps job's surfaces: its ensemble's tiles, a seed each (random_surface_params)."""
+    kind, t, a, seeds = _ensemble(wildcards)
+    return [rl_plan.surface_settings(config, kind, t, a, seed) for seed in seeds]
+
+
+def random_ensemble_files(wildcards):
+    """A random_sweeps job's sweep files, in its folder, in the order of random_ensemble_surfaces."""
+    kind, t, a, seeds = _ensemble(wildcards)
+    folder = rl_plan.ensemble_folder(kind, t, a, wildcards.incidence)
+    return [rl_plan.ensemble_member(folder, seed) for seed in seeds]
+
+
+def every_view_sweep(wildcards):
+    """The study's sweep file of a random_every_view job's tile, in its ensemble's folder."""
+    return rl_plan.ensemble_member(
+        rl_plan.ensemble_folder(
+            wildcards.kind,
+            _value("truncation", wildcards.truncation),
+            _value("aspect", wildcards.aspect),
+            wildcards.incidence,
+        ),
+        wildcards.seed,
+    )
 
 
 def random_surface_settings(wildcards):

@@ -1,5 +1,5 @@
-# Sweeps: one job a truncation and incidence (its sweeps at every grid aspect), one a random tile and incidence, and
-# one control (flat plate) per incidence. Every sweep job keeps what it measures in the sweep store and takes from it
+# Sweeps: one job a truncation and incidence (its sweeps at every grid aspect), one a random kind's ensemble at a
+# grid point and incidence (a folder, a file a seed in it), and one control (flat plate) per incidence. Every sweep job keeps what it measures in the sweep store and takes from it
 # what it holds (roughlight.study.sweep_store), so that a job rerun for a new aspect renders only the new sweeps.
 
 
@@ -59,13 +59,13 @@ rule rough_sweeps:
         "../scripts/sweep.py"
 
 
-rule random_sweep:
+rule random_sweeps:
     output:
-        "results/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.parquet",
+        directory("results/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}"),
     log:
-        "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.log",
+        "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}.log",
     benchmark:
-        "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}_s{seed}.benchmark.tsv"
+        "results/logs/sweeps/i{incidence}/{kind}/t{truncation}_a{aspect}.benchmark.tsv"
     priority: PRIORITY_TILE_SWEEPS
     group:
         "sweeps"
@@ -76,7 +76,8 @@ rule random_sweep:
         mem_mb=2048,
     params:
         gl=gl_params,
-        surfaces=random_sweep_surfaces,
+        surfaces=random_ensemble_surfaces,
+        files=random_ensemble_files,
         incidence=incidence_param,
         sweep=sweep_params,
         lighting=lighting_params,

@@ -4,7 +4,7 @@
 rule study_table:
     input:
         rough=rough_sweep_files(),
-        random=random_sweep_files(),
+        random=random_ensemble_folders(),
         control=control_sweep_files(),
     output:
         "results/study.parquet",
@@ -18,5 +18,7 @@ rule study_table:
     threads: 1
     resources:
         mem_mb=4096,
+    params:
+        random=random_sweep_files,
     script:
         "../scripts/study_table.py"

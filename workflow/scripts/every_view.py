@@ -1,4 +1,5 @@
-"""Snakemake adapter: one study sweep of a random tile against the exact reference at every view."""
+"""Snakemake adapter: one study sweep of a random tile (a file of its ensemble's folder, the rule's input) against the
+exact reference at every view."""
 import os
 import sys
 
@@ -16,7 +17,7 @@ from roughlight.render.shading import Lighting  # noqa: E402
 from roughlight.surfaces.roughness import make_surface  # noqa: E402
 
 log = _log.setup(snakemake)
-errors = every_view_errors(read_frame(snakemake.input[0]), make_surface(**snakemake.params.surface),
+errors = every_view_errors(read_frame(snakemake.params.sweep), make_surface(**snakemake.params.surface),
                            snakemake.params.incidence, Lighting(**snakemake.params.lighting))
 write_frame(errors, snakemake.output[0])
 log(every_view_summary(errors).round(4).to_string())

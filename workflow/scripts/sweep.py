@@ -27,5 +27,7 @@ def measure(path, surface):
               lighting=params.lighting, method=params.method, render=params.render, log=log)
 
 
-measure_sweeps(list(snakemake.output), params.surfaces, settings, measure, store=params.store, log=log)
+# a job's sweep files: its outputs, or those in its output folder (random_sweeps: an ensemble, a file a seed)
+files = list(getattr(params, "files", None) or snakemake.output)
+measure_sweeps(files, params.surfaces, settings, measure, store=params.store, log=log)
 _log.end_job()

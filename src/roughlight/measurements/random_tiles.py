@@ -157,7 +157,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
 
 
 def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=None) -> pd.DataFrame:
-    """A study sweep (rule ``random_sweep``'s long frame) against the exact reference at every one of its views.
+    """A study sweep (rule ``random_sweeps``'s long frame) against the exact reference at every one of its views.
 
     Parameters
     ----------

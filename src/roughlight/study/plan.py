@@ -1,7 +1,7 @@
 """The study's plan: which sweeps and meshes a validated config asks for, their files, and each sweep's settings.
 
 One builder for everything that runs a sweep: the workflow's rules (``workflow/rules/common.smk`` hands these to
-``rough_sweeps``, ``random_sweep``, ``control_sweep`` and the mesh rules) and the tests' in-process chain
+``rough_sweeps``, ``random_sweeps``, ``control_sweep`` and the mesh rules) and the tests' in-process chain
 (``tests/report_chain.py``) call the same functions, so that both name the same files and give each sweep the same
 settings. Every function is pure: it reads the config (:func:`roughlight.study.config.validate_config` filled its
 defaults) and returns plain types. Paths are relative to the workflow's directory.
@@ -25,6 +25,10 @@ __all__ = [
     "sweeps",
     "sweep_files",
     "rough_row_files",
+    "ensembles",
+    "ensemble_folder",
+    "ensemble_folders",
+    "ensemble_member",
     "rough_row_surfaces",
     "mesh_files",
     "random_mesh_files",
@@ -99,8 +103,37 @@ def _rough(config: dict, folder: str) -> list[Sweep]:
             for path, surface in zip(rough_row_files(config, folder), rough_row_surfaces(config, t))]
 
 
+def ensemble_folder(kind: str, truncation: float, aspect: float, incidence="{incidence}",
+                    folder: str = "results/sweeps") -> str:
+    """The folder of one job of rule ``random_sweeps``: a random kind's ensemble at a grid point under one light
+    (``incidence``, degrees; by default the wildcard ``{incidence}`` is left in), a file a seed in it
+    (:func:`ensemble_member`)."""
+    incidence = incidence if isinstance(incidence, str) else rl_config.label(incidence)
+    return f"{folder}/i{incidence}/{kind}/t{rl_config.label(truncation)}_a{rl_config.label(aspect)}"
+
+
+def ensemble_member(ensemble: str, seed: int) -> str:
+    """A seed's sweep file in its ensemble's folder (:func:`ensemble_folder`)."""
+    return f"{ensemble}/s{int(seed)}.parquet"
+
+
+def ensembles(config: dict) -> list[tuple[str, float, float, list[int]]]:
+    """Every random kind's ensemble at every random grid point: (kind, truncation, aspect, its seeds), in
+    :func:`roughlight.study.config.random_surfaces`' order."""
+    found: dict[tuple[str, float, float], list[int]] = {}
+    for kind, t, a, seed in rl_config.random_surfaces(config):
+        found.setdefault((kind, t, a), []).append(seed)
+    return [(kind, t, a, seeds) for (kind, t, a), seeds in found.items()]
+
+
+def ensemble_folders(config: dict, folder: str = "results/sweeps") -> list[str]:
+    """The folders of every ensemble at every incidence: the outputs of rule ``random_sweeps``' jobs."""
+    return [ensemble_folder(kind, t, a, i, folder)
+            for i in grid(config, "incidence") for kind, t, a, _ in ensembles(config)]
+
+
 def _random(config: dict, folder: str) -> list[Sweep]:
-    return [Sweep(f"{folder}/i{rl_config.label(i)}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}.parquet",
+    return [Sweep(ensemble_member(ensemble_folder(kind, t, a, i, folder), seed),
                   surface_settings(config, kind, t, a, seed), i)
             for i in grid(config, "incidence") for kind, t, a, seed in rl_config.random_surfaces(config)]
 
