@@ -23,9 +23,11 @@ from pathlib import Path
 import pandas as pd
 
 ROOT = Path(__file__).resolve().parents[1]
-#: The budgets (docs/budgets.md): the default workflow's wall seconds on 2 cores, and one job's peak memory, MB.
+#: The budgets (docs/budgets.md): the default workflow's wall seconds on 2 cores, one job's peak memory, MB, and a
+#: regular sweep's start-up beyond rendering, seconds (issue 35).
 WALL_BUDGET_S = 180.0
 JOB_BUDGET_MB = 1024.0
+STARTUP_BUDGET_S = 0.3
 SKIP = {"results", "reports", ".snakemake", ".venv", ".git", "__pycache__", ".pytest_cache", ".ruff_cache"}
 
 
@@ -52,8 +54,38 @@ def jobs(run: Path) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def summary(table: pd.DataFrame, wall: float) -> str:
-    """The budget table: wall time and the largest job beside their budgets, then the time by part."""
+def sweep_files(run: Path, job: str) -> list[Path]:
+    """The sweep files a sweep job wrote (``job``: its benchmark file under results/logs/, without the suffix): a
+    truncation's row (``sweeps/i30/t0.5``), an ensemble's folder (``sweeps/i30/random_pyramids/t1_a1``) or a
+    control (``sweeps/i30/control``); a run from before sweeps were batched, one job a sweep, its one file."""
+    where = run / "results" / Path(job).parent
+    name = Path(job).name
+    if (where / f"{name}.parquet").is_file():
+        return [where / f"{name}.parquet"]
+    if (where / name).is_dir():
+        return sorted((where / name).glob("s*.parquet"))
+    return sorted(where.glob(f"{name}_a*.parquet"))
+
+
+def startup(run: Path, table: pd.DataFrame) -> pd.Series:
+    """A regular sweep's start-up beyond rendering, seconds, a regular sweep job each (its rows): the job's wall
+    time less its sweeps' ``render_seconds``, shared by its sweeps."""
+    import pyarrow.parquet as pq
+
+    out = {}
+    for job in table.loc[table["part"] == "regular and control sweeps", "job"]:
+        files = sweep_files(run, job)
+        if Path(job).name == "control" or not files:
+            continue
+        rendered = sum(pq.read_table(f, columns=["render_seconds"]).column(0)[0].as_py() for f in files)
+        seconds = float(table.loc[table["job"] == job, "seconds"].iloc[0])
+        out[job] = (seconds - rendered) / len(files)
+    return pd.Series(out, dtype=float)
+
+
+def summary(table: pd.DataFrame, wall: float, startup: pd.Series | None = None) -> str:
+    """The budget table: wall time, the largest job and (given) a regular sweep's start-up beyond rendering beside
+    their budgets, then the time by part."""
     largest = table.loc[table["max_rss_mb"].idxmax()]
     by_part = (table.groupby("part")["seconds"].agg(jobs="count", job_seconds="sum", median="median", longest="max")
                .sort_values("job_seconds", ascending=False).round(2))
@@ -62,6 +94,13 @@ def summary(table: pd.DataFrame, wall: float) -> str:
         f"largest job    {largest['max_rss_mb']:8.0f} MB   budget {JOB_BUDGET_MB:.0f} MB   "
         f"{'OVER' if largest['max_rss_mb'] > JOB_BUDGET_MB else 'ok'}  ({largest['job']})",
         f"all jobs       {table['seconds'].sum():8.1f} s    = {table['seconds'].sum() / (2 * wall):.0%} of 2 cores",
+    ]
+    if startup is not None and len(startup):
+        median = float(startup.median())
+        lines.append(f"sweep start-up {median:8.2f} s    budget {STARTUP_BUDGET_S:.1f} s    "
+                     f"{'OVER' if median > STARTUP_BUDGET_S else 'ok'}  (a regular sweep, beyond rendering: median "
+                     f"of {len(startup)} jobs' wall less their sweeps' render_seconds, a sweep's share)")
+    lines += [
         "",
         by_part.to_string(),
     ]
@@ -98,7 +137,7 @@ def main(argv=None) -> int:
     else:
         run, wall = fresh_run(args.cores)
     table = jobs(run)
-    print(summary(table, wall))
+    print(summary(table, wall, startup(run, table)))
     if not args.run:
         print(f"\n(the run: {run})" if args.keep else "")
         if not args.keep:

@@ -2,6 +2,10 @@
 import sys
 from pathlib import Path
 
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
 sys.path.insert(0, str(Path(__file__).parent))
 
 import budget  # noqa: E402
@@ -29,3 +33,27 @@ def test_the_budget_table_sums_the_jobs_by_part_and_names_the_largest(tmp_path):
     assert "OVER" in budget.summary(table, wall=200.0).splitlines()[0]
     assert budget.main(["--run", str(tmp_path), "--wall", "200", "--strict"]) == 1
     assert budget.main(["--run", str(tmp_path), "--wall", "200"]) == 0
+
+
+def _sweep(path: Path, render_seconds: float) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    pq.write_table(pa.table({"render_seconds": [render_seconds] * 3}), path)
+
+
+def test_a_regular_sweeps_start_up_is_its_jobs_time_beyond_rendering_shared_by_its_sweeps(tmp_path):
+    logs, sweeps = tmp_path / "results" / "logs", tmp_path / "results" / "sweeps"
+    _bench(logs / "sweeps/i30/t0.5.benchmark.tsv", 3.0, 300)  # a truncation's row of two sweeps
+    _sweep(sweeps / "i30/t0.5_a0.5.parquet", 1.0)
+    _sweep(sweeps / "i30/t0.5_a1.parquet", 1.2)
+    _bench(logs / "sweeps/i30/t1.benchmark.tsv", 5.0, 300)
+    _sweep(sweeps / "i30/t1_a1.parquet", 4.0)
+    _bench(logs / "sweeps/i30/control.benchmark.tsv", 9.0, 300)  # not a regular sweep
+    _sweep(sweeps / "i30/control.parquet", 0.1)
+    _bench(logs / "sweeps/i30/random_pyramids/t1_a1.benchmark.tsv", 9.0, 300)  # an ensemble: not regular
+    _sweep(sweeps / "i30/random_pyramids/t1_a1/s1.parquet", 1.0)
+    table = budget.jobs(tmp_path)
+    assert [len(budget.sweep_files(tmp_path, job)) for job in table["job"]] == [1, 1, 2, 1]
+    shares = budget.startup(tmp_path, table)
+    assert shares.to_dict() == pytest.approx({"sweeps/i30/t0.5": 0.4, "sweeps/i30/t1": 1.0})
+    line = budget.summary(table, 100.0, shares).splitlines()[3]
+    assert line.startswith("sweep start-up     0.70 s") and "OVER" in line
