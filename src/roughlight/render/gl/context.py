@@ -330,7 +330,9 @@ def context(width: int, height: int, shadow_map_size: int) -> Context:
     """An OSMesa context whose framebuffer holds at least ``width`` x ``height`` pixels, whose shadow map (built
     when the fast renderer first draws in it, :meth:`Context.shadow_map`) is ``shadow_map_size`` texels a side:
     the live one when it is large enough (callers draw into their own
-    viewport of it), else a new one as large as both (framebuffer 0 is fixed at creation; one at a time)."""
+    viewport of it), else a new one as large as both (framebuffer 0 is fixed at creation; one at a time).
+    A framebuffer's size is not neutral: llvmpipe clips a draw to the framebuffer, so the fast method starts
+    every sweep with none (:func:`release_contexts`), as a fresh process does."""
     for (w, h, size), ctx in CONTEXTS.items():
         if size == shadow_map_size and w >= width and h >= height:
             ctx.platform.make_current()
