@@ -66,6 +66,13 @@ def test_a_failed_sweep_leaves_nothing_in_the_store(tmp_path):
     assert not (tmp_path / "s").exists() or not any((tmp_path / "s").rglob("*.parquet"))
 
 
+def test_every_library_of_the_key_is_installed():
+    """A distribution name that pip does not know would leave its version out of every key unnoticed."""
+    from importlib import metadata
+
+    assert all(metadata.version(name) for name in sweep_store.LIBRARIES)
+
+
 def test_keys_follow_settings_not_their_order():
     a = sweep_store.sweep_key({"x": 1, "y": {"p": 2, "q": 3}})
     assert a == sweep_store.sweep_key({"y": {"q": 3, "p": 2}, "x": 1})

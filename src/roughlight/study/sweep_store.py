@@ -10,7 +10,7 @@ digest matches:
 - the sweep's settings, as the rule's params pass them (surface, incidence, views, lighting, method, renderer
   knobs, OpenGL platform);
 - the source of the ``roughlight`` package (every file of it: a changed renderer never serves an old sweep);
-- the versions of the libraries that draw and write it (numpy, trimesh, pyrender, PyOpenGL, pyarrow).
+- the versions of the libraries that draw and write it (numpy, trimesh, pyrender2, PyOpenGL, pyarrow).
 
 A reused sweep is the same file, byte for byte, as the one measured first (its ``render_seconds`` included: the time
 that sweep took). ``rm -r results/sweep_store`` measures everything anew; a fresh ``results/`` has no store.
@@ -33,8 +33,8 @@ __all__ = ["STORE", "LIBRARIES", "code_digest", "sweep_key", "stored", "fetch", 
 
 #: The store's folder, relative to the workflow's directory.
 STORE = "results/sweep_store"
-#: Libraries whose version is part of every sweep's key.
-LIBRARIES = ("numpy", "trimesh", "pyrender", "PyOpenGL", "pyarrow")
+#: The distributions (as pip names them) whose version is part of every sweep's key.
+LIBRARIES = ("numpy", "trimesh", "pyrender2", "PyOpenGL", "pyarrow")
 
 
 @functools.lru_cache(maxsize=1)
