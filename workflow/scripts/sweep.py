@@ -19,7 +19,9 @@ from roughlight.surfaces.roughness import make_surface  # noqa: E402
 
 log = _log.setup(snakemake)
 params = snakemake.params
-settings = {key: getattr(params, key) for key in ("gl", "incidence", "sweep", "lighting", "method", "render")}
+# the store's key: every param but the job's own surfaces and files and the store's folder, so that a setting a
+# rule passes to its sweeps is part of the key without being listed here
+settings = {key: value for key, value in params.items() if key not in ("surfaces", "files", "store")}
 
 
 def measure(path, surface):
