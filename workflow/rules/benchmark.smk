@@ -142,7 +142,6 @@ rule random_every_view:
     params:
         gl=gl_params,
         surface=random_surface_params,
-        sweep=every_view_sweep,
         incidence=incidence_param,
         lighting=lighting_params,
     script:

@@ -178,19 +178,6 @@ def random_ensemble_files(wildcards):
     return [rl_plan.ensemble_member(folder, seed) for seed in seeds]
 
 
-def every_view_sweep(wildcards):
-    """The study's sweep file of a random_every_view job's tile, in its ensemble's folder."""
-    return rl_plan.ensemble_member(
-        rl_plan.ensemble_folder(
-            wildcards.kind,
-            _value("truncation", wildcards.truncation),
-            _value("aspect", wildcards.aspect),
-            wildcards.incidence,
-        ),
-        wildcards.seed,
-    )
-
-
 def random_surface_settings(wildcards):
     """surface.cells and surface.spread (how random tiles are built), for the report's text."""
     return rl_config.random_surface_settings(config)

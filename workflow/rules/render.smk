@@ -1,6 +1,7 @@
 # Sweeps: one job a truncation and incidence (its sweeps at every grid aspect), one a random kind's ensemble at a
-# grid point and incidence (a folder, a file a seed in it), and one control (flat plate) per incidence. Every sweep job keeps what it measures in the sweep store and takes from it
-# what it holds (roughlight.study.sweep_store), so that a job rerun for a new aspect renders only the new sweeps.
+# grid point and incidence (a folder, a file a seed in it), and one control (flat plate) per incidence. Every sweep
+# job keeps what it measures in the sweep store and takes from it what it holds (roughlight.study.sweep_store), so
+# that a job rerun for a new aspect or seed renders only the new sweeps.
 
 
 rule control_sweep:

@@ -14,10 +14,12 @@ import _log  # noqa: E402
 from roughlight.atomic import read_frame, write_frame  # noqa: E402
 from roughlight.measurements.random_tiles import every_view_errors, every_view_summary  # noqa: E402
 from roughlight.render.shading import Lighting  # noqa: E402
+from roughlight.study.plan import ensemble_member  # noqa: E402
 from roughlight.surfaces.roughness import make_surface  # noqa: E402
 
 log = _log.setup(snakemake)
-errors = every_view_errors(read_frame(snakemake.params.sweep), make_surface(**snakemake.params.surface),
+sweep = ensemble_member(snakemake.input[0], snakemake.wildcards.seed)  # the tile's file in its ensemble's folder
+errors = every_view_errors(read_frame(sweep), make_surface(**snakemake.params.surface),
                            snakemake.params.incidence, Lighting(**snakemake.params.lighting))
 write_frame(errors, snakemake.output[0])
 log(every_view_summary(errors).round(4).to_string())
