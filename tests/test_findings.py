@@ -106,6 +106,29 @@ def ensembles_frame() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def claim_row(kind, t, test, verdict, mean, regular, agrees=pd.NA, seeds=4, measurable=4) -> dict:
+    """One row of random_claims.csv (roughlight.analysis.claims.claim_table)."""
+    return {"kind": kind, "truncation": t, "aspect": 0.5, "incidence": 30.0, "test": test, "claim": f"claim of {test}",
+            "regular": regular, "margin": 2.38 if test == "back_phase_shift" else 0.051, "level": 1 - 0.05 / 8,
+            "seeds": seeds, "measurable": measurable, "left_out": "", "mean": mean, "sd": 0.1, "low": mean - 0.1,
+            "high": mean + 0.1, "verdict": verdict, "why": "why", "agrees": agrees, "seeds_needed": pd.NA,
+            "seeds_to_decide": pd.NA}
+
+
+def claims_frame() -> pd.DataFrame:
+    """Squareness: 1 difference against the claim, 1 no difference, 2 not measurable. Phase shift: 1 difference as
+    claimed, 1 undecided, 2 not measurable."""
+    rows = [claim_row("random_pyramids", 0.5, "back_squareness", "difference", -0.02, -0.178, agrees=False),
+            claim_row("random_pyramids", 1.0, "back_squareness", "no difference", -0.17, -0.178),
+            claim_row("random_heightfield", 0.5, "back_squareness", "not measurable", np.nan, -0.178, measurable=1),
+            claim_row("random_heightfield", 1.0, "back_squareness", "not measurable", np.nan, -0.155, measurable=0),
+            claim_row("random_pyramids", 0.5, "back_phase_shift", "difference", 0.05, 4.3, agrees=True),
+            claim_row("random_pyramids", 1.0, "back_phase_shift", "undecided", 1.2, 0.27),
+            claim_row("random_heightfield", 0.5, "back_phase_shift", "not measurable", np.nan, 0.27, measurable=1),
+            claim_row("random_heightfield", 1.0, "back_phase_shift", "not measurable", np.nan, 0.40, measurable=0)]
+    return pd.DataFrame(rows)
+
+
 def implicit_frame() -> pd.DataFrame:
     """The implicit surface's validation: two surfaces, both forms and the fast renderer."""
     rows = []
@@ -131,7 +154,8 @@ def measured() -> dict:
     fits = ensembles[["kind", "truncation", "aspect", "incidence"]].drop_duplicates().assign(rmse_lambert=3.0)
     frames = pd.DataFrame({"field": [16, 16], "method": ["explicit", "implicit_exact"], "triangles": [1024, 2],
                            "frame_ms": [59.0, 97.0], "error": [2.3, 0.06]})
-    return {"random_ensembles": ensembles, "random_seeds_needed": seeds_needed(ensembles), "random_model_fits": fits,
+    return {"random_ensembles": ensembles, "random_claims": claims_frame(), "random_seeds_needed": seeds_needed(ensembles),
+            "random_model_fits": fits,
             "implicit_validation": implicit_frame(), "implicit_frames": frames, "plan": "quick"}
 
 
@@ -298,15 +322,23 @@ def test_the_share_laws_are_the_best_held_out(tables, full_page):
             "surfaces than parameters) (3 surfaces, incidence 30)") in text
 
 
-def test_the_random_claims_are_the_claim_tables():
-    found = PF.random_claims(ensembles_frame(), shown=True)
-    rect, phase = found["tests"]
-    assert (rect["name"], rect["n"], rect["decided"], rect["ways"]) == ("back_rectangularity", 4, 3, [("below", 3)])
-    assert rect["mean"] == (0.52, 0.64) and rect["regular"] == (0.76, 0.78)
-    assert (phase["n"], phase["decided"], phase["ways"]) == (4, 3, [("above", 2), ("same", 1)])
-    assert phase["mean"] == (0.9, 13.7) and phase["unit"] == "deg"
+def test_the_random_claims_are_the_claim_tables(full_page):
+    found = PF.random_claim_finding(claims_frame(), shown=True)
+    square, phase = found["tests"]
+    assert (square["name"], square["n"]) == ("back_squareness", 4)
+    assert square["verdicts"] == [("difference against the claim", 1), ("no difference", 1), ("not measurable", 2)]
+    assert phase["verdicts"] == [("difference as claimed", 1), ("undecided", 1), ("not measurable", 2)]
+    assert square["mean"] == (-0.17, -0.02) and square["regular"] == (-0.178, -0.155)
+    assert (square["measurable"], square["tested"]) == (9, 16) and phase["unit"] == "deg"
     assert (found["points"], found["kinds"], found["n_tests"]) == (2, 2, 8)
-    assert found["shape"] == "ellipse" and not found["all_differ"]
+    assert found["shape"] == "ellipse" and found["headline"] == "mixed"
+    assert found["level"] == pytest.approx(1 - 0.05 / 8)
+    text = statement(full_page, "random")
+    assert text.startswith("The thesis's random-roughness claim is decided only in part.")
+    assert "squareness: difference against the claim in 1, no difference in 1, not measurable in 2 of 4" in text
+    assert "9 of 16 tested tiles measurable" in text
+    all_out = claims_frame().assign(verdict="not measurable")
+    assert PF.random_claim_finding(all_out, shown=True)["headline"] == "unmeasurable"
 
 
 def test_the_renderer_statements_are_the_benchmarks(full_page):
@@ -378,14 +410,14 @@ def test_a_partial_run_says_what_it_lacks(tables):
     assert text["accuracy"] == "The renderer's check against the exact reference at every view was not given."
     assert text["ranking"].startswith("Tables 1–2 rank the models the other way round")
     html = render("findings.html", s=PF.findings_section(table_aspects=ASPECTS, shown={"random": True, "implicit": True}))
-    assert "The random ensembles were not given." in html
+    assert "The random-roughness claim table was not given." in html
     assert "The implicit surface's validation was not given." in html
 
 
 def test_no_claim_row_and_no_lobe_say_why():
-    no_claim = ensembles_frame().query("statistic == 'back_peak'")
-    assert PF.random_claims(no_claim, shown=True) == {"why": "no_claim"}
-    assert PF.random_claims(ensembles_frame(), shown=False) == {"why": "no_kind"}
-    html = render("findings.html", s=_section(random=PF.random_claims(no_claim, shown=True)))
+    no_claim = claims_frame().iloc[:0]
+    assert PF.random_claim_finding(no_claim, shown=True) == {"why": "no_claim"}
+    assert PF.random_claim_finding(claims_frame(), shown=False) == {"why": "no_kind"}
+    html = render("findings.html", s=_section(random=PF.random_claim_finding(no_claim, shown=True)))
     assert "No test of the thesis's random-roughness claim could be computed" in html
     assert PF.share_law_finding(pd.DataFrame()) == {"why": "no_laws"}

@@ -57,6 +57,23 @@ def test_a_changed_setting_or_code_measures_anew(tmp_path, monkeypatch):
     assert len(calls) == 4
 
 
+def test_a_sweep_drawn_by_another_renderer_is_never_handed_back(tmp_path, monkeypatch):
+    """The key names the GL renderer and driver the job draws on (as the GL reports them): a run on a GPU
+    (render.platform egl) never takes llvmpipe's sweeps. Unchanged, the same renderer reuses its own."""
+    from roughlight.render import methods
+
+    store, calls = tmp_path / "store", []
+    path = [tmp_path / "a.parquet"]
+    here = methods.renderer_identity("fast")
+    assert "OpenGL" in here and methods.renderer_identity("reference") == methods.NO_OPENGL
+    sweep_store.measure_sweeps(path, surfaces(1.0), SETTINGS, fake_measure(calls), store=store)
+    sweep_store.measure_sweeps(path, surfaces(1.0), SETTINGS, fake_measure(calls), store=store)
+    assert calls == [1.0]
+    monkeypatch.setattr(methods, "renderer_identity", lambda name: "NVIDIA RTX, OpenGL 4.6 NVIDIA 550.1, egl")
+    sweep_store.measure_sweeps(path, surfaces(1.0), SETTINGS, fake_measure(calls), store=store)
+    assert calls == [1.0, 1.0]
+
+
 def test_a_failed_sweep_leaves_nothing_in_the_store(tmp_path):
     def failing(path, surface):
         raise RuntimeError("no OpenGL")

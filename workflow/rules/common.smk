@@ -162,7 +162,7 @@ def _ensemble(wildcards):
     t, a = _value("truncation", wildcards.truncation), _value(
         "aspect", wildcards.aspect
     )
-    return wildcards.kind, t, a, rl_config.seeds(config, wildcards.kind, (t, a))
+    return wildcards.kind, t, a, rl_config.ensemble_seeds(config, wildcards.kind, (t, a))
 
 
 def random_ensemble_surfaces(wildcards):
@@ -297,6 +297,10 @@ def report_measurements(wildcards):
         inputs["implicit_maps_png"] = f"{benchmarks}/implicit_maps.png"
     if rl_config.random_surfaces(config):  # surface.kind lists a random kind
         inputs["random_ensembles"] = "results/analysis/random_ensembles.csv"
+        inputs["random_claims"] = "results/analysis/random_claims.csv"
+        inputs["random_claim_design"] = "results/analysis/random_claim_design.csv"
+        inputs["random_claim_margins"] = "results/analysis/random_claim_margins.csv"
+        inputs["random_claim_floor"] = "results/analysis/random_claim_floor.csv"
         inputs["random_seeds_needed"] = "results/analysis/random_seeds_needed.csv"
         inputs["random_model_fits"] = "results/analysis/random_model_fits.parquet"
         inputs["random_ensembles_png"] = "results/figures/random_ensembles.png"
@@ -314,6 +318,11 @@ def report_measurements(wildcards):
 def report_settings(wildcards):
     """The `report:` section of the config (validated, defaults filled), as plain types."""
     return rl_config.report_settings(config)
+
+
+def claim_settings(wildcards):
+    """The random-roughness claim's design (`claims:`) and each ensemble's tested seeds, as plain types."""
+    return rl_config.claim_settings(config)
 
 
 def figure_outputs(rendered):

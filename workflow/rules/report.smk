@@ -201,6 +201,16 @@ rule analysis_random:
         ),
         random_seeds_needed="results/analysis/random_seeds_needed.csv",
         random_model_fits="results/analysis/random_model_fits.parquet",
+        random_claims=report(
+            "results/analysis/random_claims.csv",
+            caption="../report/random_claims.rst",
+            category="Tables",
+            subcategory="Random roughness",
+        ),
+        random_claim_design="results/analysis/random_claim_design.csv",
+        random_claim_margins="results/analysis/random_claim_margins.csv",
+        random_claim_floor="results/analysis/random_claim_floor.csv",
+        random_claim_noise="results/analysis/random_claim_noise.csv",
         random_ensembles_png=report(
             "results/figures/random_ensembles.png",
             caption="../report/random_ensembles.rst",
@@ -225,6 +235,7 @@ rule analysis_random:
     params:
         settings=report_settings,
         lighting=lighting_params,
+        claims=claim_settings,
     script:
         "../scripts/analysis_random.py"
 

@@ -16,7 +16,7 @@ from roughlight.study.tables import read_study  # noqa: E402
 log = _log.setup(snakemake)
 out = snakemake.output
 study = read_study(snakemake.input.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
-tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting)
+tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims)
 for name, frame in tables.items():
     write_frame(frame, out[name])
 stats, summary = tables["random_statistics"], tables["random_ensembles"]
@@ -24,6 +24,9 @@ log(f"ensembles: {summary.groupby(['kind', 'truncation', 'aspect', 'incidence'])
     f"{stats[stats.kind != 'pyramids'].groupby(['kind', 'seed', 'truncation', 'aspect', 'incidence']).ngroups} tiles")
 F.plot_random_ensembles(summary, out.random_ensembles_png)
 F.plot_random_maps(study, out.random_maps_png)
+claims = tables["random_claims"]
+log(f"claim: {len(claims)} tests at the family level {claims['level'].min() if len(claims) else float('nan'):.4f}: "
+    + ", ".join(f"{n} {v}" for v, n in claims["verdict"].value_counts().items()))
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
 _log.end_job()

@@ -26,7 +26,7 @@ from ..render.shading import light_direction, phase_angle, view_direction
 from ..study.selection import SURFACE_KEYS, solid_angle_weights
 from ..surfaces.geometry import facets, lobe_centres
 from ..surfaces.surface import is_plate
-from .grids import arc, surface_grids
+from .grids import arc, surface_value_grids
 
 #: A lobe whose peak is below this (0-255 scale) is "no lobe" (less than an 8-bit step).
 MIN_LOBE_PEAK = 0.5
@@ -155,6 +155,7 @@ def arc_lobes(study: pd.DataFrame, azimuth: float = 0.0, max_halfwidth: float = 
     ``note``.
     """
     spec = arc(study, "specular", azimuth)
+    spec = spec[spec["coverage"].to_numpy(float) > 0]  # a view that was not rendered (e = 0, 180) is no dark view
     rows = []
     for key, group in spec.groupby(SURFACE_KEYS, sort=True):
         rows += _surface_arc_lobes(key, group, max_halfwidth)
@@ -240,7 +241,8 @@ def hemisphere_lobes(study: pd.DataFrame, max_angle: float = 40.0) -> pd.DataFra
     apex angle of the cone with that solid angle), ``note``.
     """
     rows = []
-    for (t, a, i), az, el, vals in surface_grids(study, "specular"):
+    for (t, a, i), az, el, grids in surface_value_grids(study, "specular", ("rough", "coverage")):
+        vals = np.where(grids["coverage"] > 0, grids["rough"], np.nan)  # views not rendered: no views at all
         rows += _surface_hemisphere_lobes(t, a, i, az, el, vals, max_angle)
     out = pd.DataFrame(rows)
     for col in ("peak_azimuth", "peak_elevation", "phase_at_peak", "angle_from_mirror", "solid_angle", "cone_fwhm"):
@@ -308,32 +310,3 @@ def _hemisphere_peak(region, vals, V, w, az, el, i: float, mirror) -> dict:
         row["cone_fwhm"] = float(2.0 * np.degrees(np.arccos(max(-1.0, 1.0 - omega / (2.0 * math.pi)))))
         row["note"] = ""
     return row
-
-
-def lobe_track(azimuth, elevation, values, centre_elevation: float, halfwidth: float = 40.0) -> pd.DataFrame:
-    """Where the lobe peaks on each half great circle (the thesis's "phase shift", Fig. 19).
-
-    Parameters
-    ----------
-    azimuth : (A,) degrees; elevation : (E,) degrees; values : (A, E), 0-255
-    centre_elevation : float
-        The lobe's elevation on the phi = 0 arc (degrees); on every arc the
-        peak is searched within ``halfwidth`` degrees of it.
-
-    Returns
-    -------
-    DataFrame with ``azimuth``, ``elevation`` (of the arc's maximum),
-    ``value`` (0-255); rows whose arc has no value above 0 get NaN elevation.
-    """
-    el = np.asarray(elevation, float)
-    vals = np.asarray(values, float)
-    sel = np.abs(el - centre_elevation) <= halfwidth
-    rows = []
-    for k, phi in enumerate(np.asarray(azimuth, float)):
-        v = vals[k, sel]
-        if v.size == 0 or not np.any(v > 0):
-            rows.append({"azimuth": phi, "elevation": np.nan, "value": 0.0})
-            continue
-        j = int(np.nanargmax(v))
-        rows.append({"azimuth": phi, "elevation": float(el[sel][j]), "value": float(v[j])})
-    return pd.DataFrame(rows)

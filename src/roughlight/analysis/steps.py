@@ -111,14 +111,19 @@ def analysis_models(study: pd.DataFrame, settings: dict, lighting: dict) -> dict
     return {"model_fits": fits, "model_fits_summary": model_fit_summary(fits)}
 
 
-def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict) -> dict:
+def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims: dict | None = None) -> dict:
     """The whole study (random tiles and the regular surface) -> per-tile statistics, the ensembles against the
-    regular surface, the seeds each comparison needs and the models refitted to every tile."""
+    regular surface, the seeds each comparison needs, the models refitted to every tile, and the random-roughness
+    claim's design and verdict (``claims``: :func:`roughlight.study.config.claim_settings`; its defaults when
+    None)."""
+    from . import claims as C
     from . import ensembles as E
 
-    halfwidth = float(settings["lobe_halfwidth"])
-    stats = E.seed_statistics(study, lobe_halfwidth=halfwidth)
-    summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, lobe_halfwidth=halfwidth))
+    claims = {"pilot_seeds": 0, "alpha": 0.05, "min_peak": 10.0, "max_seeds": 12, "tested": [], **(claims or {})}
+    halfwidth, min_peak = float(settings["lobe_halfwidth"]), float(claims["min_peak"])
+    stats = E.seed_statistics(study, lobe_halfwidth=halfwidth, min_peak=min_peak)
+    summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, halfwidth, min_peak))
     fits = E.ensemble_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
+    design = C.design_tables(study, stats, claims)
     return {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
-            "random_model_fits": fits}
+            "random_model_fits": fits, **design}

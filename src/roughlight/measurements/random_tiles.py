@@ -38,7 +38,7 @@ PLANS = {
              "accuracy_points": ((0.5, 0.5), (0.5, 1.0), (1.0, 0.5), (1.0, 1.0))},
 }
 #: The statistics followed against tile size.
-CONVERGENCE_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "diffuse_level", "diffuse_level3")
+CONVERGENCE_STATISTICS = ("back_peak", "back_width", "back_squareness", "diffuse_level", "diffuse_level3")
 
 
 def _sweep_frame(surface, incidence, azimuth, elevation, lighting, settings, method="fast"):
@@ -80,7 +80,7 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
         surface = make_surface(kind, t, a, seed, cells=max(cells, 1))
         frame, result = _sweep_frame(surface, i, azimuth, elevation, lighting, settings)
         stats = seed_statistics(join_controls(frame, control))
-        views = int(azimuth.size)
+        views = int(np.count_nonzero((elevation > 0) & (elevation < 180)))  # rendered: not the grazing e = 0, 180
         for _, row in stats.iterrows():
             rows.append({"kind": kind, "cells": cells, "seed": seed, "statistic": row["statistic"],
                          "value": row["value"], "seconds": result["seconds"], "views": views,
@@ -196,7 +196,8 @@ def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=N
 
 
 def every_view_summary(errors: pd.DataFrame) -> pd.DataFrame:
-    """Per tile and component: views compared, views the reference refused, mean and worst error (8-bit levels),
+    """Per tile and component: views compared (the rendered ones: elevations strictly between 0 and 180), views
+    the reference refused, mean and worst error (8-bit levels),
     where the worst is, views over one level, and the reference's seconds. Component ``all`` takes each view's
     largest error over the three components.
 
@@ -208,8 +209,10 @@ def every_view_summary(errors: pd.DataFrame) -> pd.DataFrame:
     tile = ["kind", "truncation", "aspect", "seed"]
     rows = []
     for key, group in pd.concat([errors, errors.assign(component="all")]).groupby([*tile, "component"]):
-        view = group.groupby(["elevation", "azimuth"]).agg(error=("error", "max"),
-                                                            refused=("exact", lambda x: bool(x.isna().any())))
+        # the views that were rendered only: at elevation 0 and 180 (coverage 0) both sides hold 0, no view at all
+        rendered = group[(group["elevation"] > 0) & (group["elevation"] < 180)]
+        view = rendered.groupby(["elevation", "azimuth"]).agg(error=("error", "max"),
+                                                               refused=("exact", lambda x: bool(x.isna().any())))
         seen = view.loc[~view["refused"], "error"]
         worst = seen.idxmax() if len(seen) else (np.nan, np.nan)
         statistics = comparison.error_statistics(seen.to_numpy(float), ("mae", "worst")) if len(seen) \

@@ -19,7 +19,7 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
-__all__ = ["Method", "METHODS", "NAMES", "NO_OPENGL", "method", "settings", "sweep", "recorded"]
+__all__ = ["Method", "METHODS", "NAMES", "NO_OPENGL", "method", "settings", "sweep", "recorded", "renderer_identity"]
 
 #: What the exact reference runs on, as a sweep records it.
 NO_OPENGL = "exact (no OpenGL)"
@@ -152,3 +152,12 @@ def recorded(name: str, settings=None, surface=None) -> dict:
     shader) and ``shadow_map_size`` (texels a side; 0 where there is none).
     """
     return method(name).recorded(settings, surface)
+
+
+def renderer_identity(name: str) -> str:
+    """What this process draws a sweep of the method ``name`` on: the GL renderer, its OpenGL version (with the
+    driver's) and the platform (:func:`roughlight.render.gl.context.describe`, which makes a context for the
+    purpose when none was made yet); :data:`NO_OPENGL` for the exact reference."""
+    if not method(name).opengl:
+        return NO_OPENGL
+    return _load("roughlight.render.gl.context:describe")()

@@ -3,7 +3,7 @@ element of the page that shows the evidence (``templates/findings.html``).
 
 Each function here gathers one statement's numbers from this run's frames, through the functions of the section
 that shows the evidence (:mod:`~roughlight.report.page_thesis`, :mod:`~roughlight.report.page_sections`,
-:mod:`~roughlight.report.page_measurements`, :func:`roughlight.analysis.ensembles.claim_table`), so that a finding
+:mod:`~roughlight.report.page_measurements`, rule ``analysis_random``'s claim table), so that a finding
 says what its section says. Each returns a dict: the statement's numbers and ``target``, the id of the page element
 it links to (on the page whenever the statement is made); or, where the statement cannot be made for this run,
 ``{"why": code}``, a code the template turns into the sentence that says why.
@@ -23,9 +23,6 @@ from .page_templates import frame_or_none
 LOBES = (("forward", 1, "Square Area Function"), ("back", 2, "Triangle Area Function"))
 #: The share laws' baseline model (:data:`roughlight.analysis.share_laws.MODELS`).
 BASELINE = "linear GLM (baseline)"
-#: Which way each test of the random-roughness claim (:data:`roughlight.analysis.ensembles.CLAIMS`) expects the
-#: random ensembles to differ from the regular surface: lower rectangularity, less phase shift.
-EXPECTED = {"back_rectangularity": "below", "back_phase_shift": "below"}
 
 
 def _span(values) -> tuple[float, float] | None:
@@ -154,65 +151,84 @@ def share_law_finding(laws: pd.DataFrame | None) -> dict:
 # random roughness
 
 
-def _claim_frame(ensembles: pd.DataFrame) -> pd.DataFrame:
-    """:func:`roughlight.analysis.ensembles.claim_table` as "Random roughness" computes it
-    (:func:`roughlight.report.page_measurements.random_claim_rows`), numbers unformatted."""
-    from ..analysis.ensembles import claim_table
-
-    if "boot_low" not in ensembles:  # an ensembles table written before the bootstrap intervals
-        ensembles = ensembles.assign(boot_low=np.nan, boot_high=np.nan)
-    return claim_table(ensembles)
+#: The claim's verdicts, in the order a finding counts them.
+VERDICTS = ("difference", "no difference", "undecided", "not measurable")
 
 
 def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
-    """One test of the claim over its rows: how many are decided and which way (``ways``: (direction, count) with
-    direction "below", "above" or "same", the random ensemble against the regular value), the direction the claim
-    ``expected`` (:data:`EXPECTED`, None: not known), the random means and the regular values (their ranges), the
-    statistic's ``unit``."""
-    decided = rows["decided"] == "yes"
-    below, above = decided & (rows["high"] < rows["regular"]), decided & (rows["low"] > rows["regular"])
-    counts = (("below", int(below.sum())), ("above", int(above.sum())), ("same", int((decided & ~below & ~above).sum())))
-    return {"name": name, "test": claim_test_label(name), "claim": rows["claim"].iloc[0], "unit": unit, "n": len(rows),
-            "expected": EXPECTED.get(name),
-            "decided": int(decided.sum()), "ways": [(way, k) for way, k in counts if k],
-            "mean": _span(rows["mean"]), "regular": _span(rows["regular"])}
+    """One test of the claim over its rows (rule ``analysis_random``'s verdict,
+    :func:`roughlight.analysis.claims.claim_table`): how many rows reach each verdict (``verdicts``: (verdict,
+    count) pairs; differences split into ``as claimed`` and ``against``), the random means and the regular values
+    (their ranges), the margin and the statistic's ``unit``."""
+    verdicts = []
+    for verdict in VERDICTS:
+        k = int((rows["verdict"] == verdict).sum())
+        if verdict == "difference" and k:
+            agrees = rows.loc[rows["verdict"] == verdict, "agrees"].astype("boolean")
+            verdicts += [(way, n) for way, n in (("difference as claimed", int((agrees == True).sum())),  # noqa: E712
+                                                  ("difference against the claim", int((agrees == False).sum())))  # noqa: E712
+                         if n]
+        elif k:
+            verdicts.append((verdict, k))
+    return {"name": name, "test": claim_test_label(name), "claim": rows["claim"].iloc[0], "unit": unit,
+            "n": len(rows), "verdicts": verdicts, "mean": _span(rows["mean"]), "regular": _span(rows["regular"]),
+            "margin": float(rows["margin"].iloc[0]),
+            "measurable": int(rows["measurable"].sum()), "tested": int(rows["seeds"].sum())}
 
 
-def _lobe_shape(test: dict | None, ellipse_fill: float) -> str | None:
-    """Whether the regular surface's back lobe is nearer an ellipse's rectangularity or a rectangle's (1) at every
-    random grid point: "ellipse", "rectangle" or "between" (None: no rectangularity test or no regular value)."""
+def _lobe_shape(test: dict | None) -> str | None:
+    """Whether the regular surface's back lobe is nearer an ellipse (squareness below 0) or a rectangle (above)
+    at every random grid point: "ellipse", "rectangle" or "between" (None: no squareness test or regular value)."""
     if test is None or test["regular"] is None:
         return None
-    middle = (1.0 + ellipse_fill) / 2.0
     low, high = test["regular"]
-    return "ellipse" if high < middle else ("rectangle" if low > middle else "between")
+    return "ellipse" if high < 0 else ("rectangle" if low > 0 else "between")
 
 
-def random_claims(ensembles: pd.DataFrame | None, shown: bool) -> dict:
-    """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.ensembles.CLAIMS` (in its
-    order): the regular surface's values and the random ensembles' decisions over the random grid points and kinds.
+def _claim_headline(claims: pd.DataFrame) -> str:
+    """What the verdicts add up to: "supported" (every test a difference as claimed), "refuted" (every
+    measurable test a difference against the claim or no difference), "unmeasurable" (no test could be made),
+    "undecided" (none decided), else "mixed"."""
+    verdicts = claims["verdict"]
+    decided = verdicts.isin(["difference", "no difference"])
+    if (verdicts == "not measurable").all():
+        return "unmeasurable"
+    if not decided.any():
+        return "undecided"
+    agrees = claims["agrees"].astype("boolean")
+    if ((verdicts == "difference") & (agrees == True)).all():  # noqa: E712
+        return "supported"
+    measured = verdicts != "not measurable"
+    if (decided[measured] & ~((verdicts == "difference") & (agrees == True))[measured]).all():  # noqa: E712
+        return "refuted"
+    return "mixed"
+
+
+def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dict:
+    """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.claims.CLAIMS` (in its
+    order): the regular surface's values and the verdicts over the random grid points and kinds (rule
+    ``analysis_random``'s ``random_claims.csv``).
 
     ``shown``: the "Random roughness" section is on the page (a random kind was measured).
     """
-    from ..analysis.ensembles import CLAIMS, ELLIPSE_FILL
+    from ..analysis.claims import CLAIMS
 
     if not shown:
         return {"why": "no_kind"}
-    if ensembles is None:
+    if random_claims is None:
         return {"why": "not_given"}
-    claims = _claim_frame(ensembles)
-    if claims.empty:
+    claims = frame_or_none(random_claims)
+    if claims is None:
         return {"why": "no_claim"}
-    units = ensembles.groupby("statistic")["unit"].first() if "unit" in ensembles else pd.Series(dtype=object)
-    tests = [_claim_test(name, claims[claims["test"] == name], units.get(name, ""))
+    tests = [_claim_test(name, claims[claims["test"] == name], CLAIMS[name]["unit"])
              for name in CLAIMS if (claims["test"] == name).any()]
-    rectangularity = next((t for t in tests if t["name"] == "back_rectangularity"), None)
-    return {"tests": tests, "kinds": claims["kind"].nunique(), "ellipse_fill": ELLIPSE_FILL,
-            "shape": _lobe_shape(rectangularity, ELLIPSE_FILL),
+    squareness = next((t for t in tests if t["name"] == "back_squareness"), None)
+    reasons = claims.loc[claims["verdict"] == "not measurable", "why"]
+    return {"tests": tests, "kinds": claims["kind"].nunique(), "shape": _lobe_shape(squareness),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
-            "n_tests": len(claims), "all_differ": all(t["decided"] == t["n"] and all(w != "same" for w, _ in t["ways"])
-                                                     for t in tests),
-            "target": "random-claim"}
+            "n_tests": len(claims), "level": float(claims["level"].iloc[0]),
+            "headline": _claim_headline(claims),
+            "unmeasured": int(len(reasons)), "target": "random-claim"}
 
 
 # ---------------------------------------------------------------------------
@@ -286,7 +302,7 @@ def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
 def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.DataFrame | None = None,
                      implied_scales: pd.DataFrame | None = None, tables_at_implied_scale: pd.DataFrame | None = None,
                      share_laws: pd.DataFrame | None = None, implicit_validation: pd.DataFrame | None = None,
-                     random_ensembles: pd.DataFrame | None = None, speed_accuracy: pd.DataFrame | None = None,
+                     random_claims: pd.DataFrame | None = None, speed_accuracy: pd.DataFrame | None = None,
                      speed_accuracy_png=None, renderer_validation: pd.DataFrame | None = None,
                      arc_smoothness: pd.DataFrame | None = None, renderer_validation_png=None,
                      random_accuracy: pd.DataFrame | None = None, table_aspects=(), table_incidence: float = 30.0,
@@ -296,8 +312,8 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
     Parameters
     ----------
     thesis_tables, exact_peaks, implied_scales, tables_at_implied_scale, share_laws : the analysis outputs.
-    implicit_validation : rule ``implicit_surface``'s validation; random_ensembles : rule ``analysis_random``'s
-        ensembles; None: the statement says they were not given.
+    implicit_validation : rule ``implicit_surface``'s validation; random_claims : rule ``analysis_random``'s
+        claim table; None: the statement says they were not given.
     speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness, renderer_validation_png,
     random_accuracy : the speed/accuracy benchmark and "Accuracy at every view", as "Settings and provenance" shows
         them (:func:`roughlight.report.page_sections.benchmarks_data`); none given: switched off.
@@ -317,6 +333,6 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
         "ranking": ranking(thesis), "exact": exact_law(thesis, exact_peaks),
         "implied": implied_scale(thesis, implied_scales, tables_at_implied_scale), "laws": share_law_finding(share_laws),
         "implicit": implicit(implicit_validation, bool(shown.get("implicit"))),
-        "random": random_claims(random_ensembles, bool(shown.get("random"))),
+        "random": random_claim_finding(random_claims, bool(shown.get("random"))),
         "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
     }

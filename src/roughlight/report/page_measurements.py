@@ -161,26 +161,26 @@ RANDOM_MODELS = {
 }
 
 
-def random_claim_rows(ensembles: pd.DataFrame) -> pd.DataFrame:
-    """The thesis's rectangular-lobe claim as the page shows it: one row per random kind, grid point and test
-    (:func:`roughlight.analysis.ensembles.claim_table`), the ensemble's mean with its 95% interval over seeds
-    (:func:`roughlight.analysis.ensembles.claim_interval`), whether the test is decided and why, and the seeds that
-    would decide it."""
-    from ..analysis.ensembles import claim_table
+def _interval(mean: float, low: float, high: float) -> str:
+    """``mean [low, high]`` to 3 significant figures; the mean alone, or "–", where there is no interval."""
+    if np.isfinite(low):
+        return f"{mean:.3g} [{low:.3g}, {high:.3g}]"
+    return f"{mean:.3g}" if np.isfinite(mean) else "–"
 
-    if "boot_low" not in ensembles:  # an ensembles table written before the bootstrap intervals
-        ensembles = ensembles.assign(boot_low=np.nan, boot_high=np.nan)
-    claims = claim_table(ensembles)
+
+def random_claim_rows(claims: pd.DataFrame) -> pd.DataFrame:
+    """The thesis's random-roughness claim as the page shows it: one row per random kind, grid point and test of
+    rule ``analysis_random``'s verdict (:func:`roughlight.analysis.claims.claim_table`): the regular value and the
+    margin, the tested seeds' mean with its interval at the family's level, how many seeds were tested and had a
+    measurable lobe, what became of the rest, the verdict and why, and the seeds the pilot planned."""
     rows = []
     for _, r in claims.iterrows():
-        if np.isfinite(r["low"]):
-            value = f"{r['mean']:.3g} [{r['low']:.3g}, {r['high']:.3g}]"
-        else:
-            value = f"{r['mean']:.3g}" if np.isfinite(r["mean"]) else "–"
         rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
-                     "incidence": r["incidence"], "test": claim_test_label(r["test"]),
-                     "regular": r["regular"], "random mean [95% interval]": value, "seeds": r["seeds"],
-                     "decided": r["decided"], "why": r["why"], "seeds to decide": r["seeds_to_decide"]})
+                     "incidence": r["incidence"], "test": claim_test_label(r["test"]), "regular": r["regular"],
+                     "margin": r["margin"], "random mean [interval]": _interval(r["mean"], r["low"], r["high"]),
+                     "tested": int(r["seeds"]), "measurable": int(r["measurable"]),
+                     "left out": r["left_out"] if isinstance(r["left_out"], str) else "",
+                     "verdict": r["verdict"], "why": r["why"], "pilot plan": r["seeds_needed"]})
     return pd.DataFrame(rows)
 
 
@@ -189,14 +189,41 @@ def claim_test_label(statistic: str) -> str:
     return statistic.replace("back_", "").replace("_", " ")
 
 
-def _claim_tests() -> list[dict]:
-    """Each test of the claim: its name, the claim it puts and what its statistic shows."""
-    from ..analysis.ensembles import CLAIMS
+def _claim_tests(margins: pd.DataFrame | None) -> list[dict]:
+    """Each test of the claim: its name, the claim it puts, what its statistic shows, its margin and where the
+    margin comes from (rule ``analysis_random``'s margins table; None: not given)."""
+    from ..analysis.claims import CLAIMS
 
-    return [{"test": claim_test_label(name), "claim": rule["claim"], "shows": rule["shows"],
-             "tolerance": (f"±{rule['absolute']:g}°" if rule["absolute"] is not None
-                           else f"±{100 * rule['relative']:g}% of the regular value")}
-            for name, rule in CLAIMS.items()]
+    margin = margins.set_index("statistic") if margins is not None else None
+    out = []
+    for name, rule in CLAIMS.items():
+        row = margin.loc[name] if margin is not None and name in margin.index else None
+        out.append({"test": claim_test_label(name), "claim": rule["claim"], "shows": rule["shows"],
+                    "unit": rule["unit"], "margin": None if row is None else float(row["margin"]),
+                    "from": None if row is None else str(row["from"]),
+                    "noise": None if row is None else float(row["rendering_noise"]),
+                    "floor": None if row is None else float(row["floor_effect"])})
+    return out
+
+
+def claim_design_rows(design: pd.DataFrame) -> pd.DataFrame:
+    """The claim's design as the page shows it: a test a row, the pilot seeds' numbers and the seeds they plan,
+    beside the seeds the config tests (rule ``analysis_random``, :func:`roughlight.analysis.claims.claim_design`)."""
+    rows = []
+    for _, r in design.iterrows():
+        rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
+                     "test": claim_test_label(r["test"]), "pilot seeds": int(r["pilot_seeds"]),
+                     "measurable": int(r["pilot_measurable"]), "pilot mean": r["pilot_mean"], "pilot SD": r["pilot_sd"],
+                     "seeds planned": r["seeds_needed"], "plan": r["plan"], "seeds tested": int(r["seeds_configured"])})
+    return pd.DataFrame(rows)
+
+
+def _claim_family(claims: pd.DataFrame | None, design: pd.DataFrame | None) -> dict | None:
+    """The family's size and each interval's level (from the design table), None when not given."""
+    if design is None or design.empty:
+        return None
+    return {"tests": int(design["family"].iloc[0]), "level": float(design["level"].iloc[0]),
+            "alpha": round(float((1 - design["level"].iloc[0]) * design["family"].iloc[0]), 6)}
 
 
 def _best_models(fits: pd.DataFrame) -> list[dict]:
@@ -227,12 +254,13 @@ def _random_tiles(accuracy, convergence, tiles_png) -> dict:
 def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_needed: pd.DataFrame | None = None,
                 random_model_fits: pd.DataFrame | None = None, random_ensembles_png=None, random_maps_png=None,
                 surface_settings: dict | None = None, random_accuracy: pd.DataFrame | None = None,
-                tile_convergence: pd.DataFrame | None = None, random_tiles_png=None, plan: str = "full") -> dict | None:
-    """"Random roughness" (ensembles against the regular surface, the rectangular-lobe claim, the analytic models
-    refitted, seeds needed, the random tiles' benchmark), from rule ``analysis_random``'s outputs and rule
+                tile_convergence: pd.DataFrame | None = None, random_tiles_png=None, plan: str = "full",
+                random_claims: pd.DataFrame | None = None, random_claim_design: pd.DataFrame | None = None,
+                random_claim_margins: pd.DataFrame | None = None, random_claim_floor: pd.DataFrame | None = None
+                ) -> dict | None:
+    """"Random roughness" (ensembles against the regular surface, the claim's design and verdict, the analytic
+    models refitted, seeds needed, the random tiles' benchmark), from rule ``analysis_random``'s outputs and rule
     ``random_tiles``'; None: no random kind measured."""
-    from ..analysis.ensembles import ELLIPSE_FILL
-
     ensembles, seeds_needed, model_fits = random_ensembles, random_seeds_needed, random_model_fits
     if ensembles is None:
         return None
@@ -250,8 +278,12 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
     opposition = [c for c in rmse if c not in modelled]
     needed = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
     return {
-        "settings": surface_settings or {}, "ellipse_fill": ELLIPSE_FILL, "tests": _claim_tests(),
-        "claim": random_claim_rows(ensembles), "charts": charts, "shown": shown, "best": _best_models(fits),
+        "settings": surface_settings or {}, "tests": _claim_tests(frame_or_none(random_claim_margins)),
+        "claim": random_claim_rows(random_claims) if frame_or_none(random_claims) is not None else None,
+        "design": (claim_design_rows(random_claim_design) if frame_or_none(random_claim_design) is not None
+                   else None),
+        "family": _claim_family(random_claims, frame_or_none(random_claim_design)),
+        "floor": frame_or_none(random_claim_floor), "charts": charts, "shown": shown, "best": _best_models(fits),
         "fits": fits[keys + [c for c in rmse if c in modelled]],
         "opposition": fits[keys + opposition] if opposition else None,
         "seeds": seeds_needed[keys + ["statistic", "mean", "sd"] + needed],
@@ -261,7 +293,8 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
 def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fits: pd.DataFrame,
                    ensembles_png=None, maps_png=None, surface_settings: dict | None = None,
                    accuracy: pd.DataFrame | None = None, convergence: pd.DataFrame | None = None,
-                   tiles_png=None, plan: str = "full") -> str:
-    """"Random roughness" alone (its HTML): :func:`random_data`."""
+                   tiles_png=None, plan: str = "full", **claim_tables) -> str:
+    """"Random roughness" alone (its HTML): :func:`random_data` (``claim_tables``: its ``random_claim*`` frames)."""
     return render("random.html", s=random_data(ensembles, seeds_needed, model_fits, ensembles_png, maps_png,
-                                               surface_settings, accuracy, convergence, tiles_png, plan))
+                                               surface_settings, accuracy, convergence, tiles_png, plan,
+                                               **claim_tables))

@@ -31,8 +31,12 @@ __all__ = [
     "kinds",
     "seeds",
     "random_surfaces",
+    "ensemble_seeds",
+    "pilot_seeds",
+    "PILOT_SEED_BASE",
     "random_surface_settings",
     "report_settings",
+    "claim_settings",
     "FOLLOWS_GRID",
     "follow_grid",
 ]
@@ -320,15 +324,34 @@ def _point_of(key: str) -> tuple[str, str]:
     return label(float(t)), label(float(a))
 
 
+#: The claim design's pilot seeds are numbered from here + 1 (roughlight.analysis.claims.PILOT_SEED_BASE).
+PILOT_SEED_BASE = 1000
+
+
+def pilot_seeds(config: dict) -> list[int]:
+    """The pilot seeds every random ensemble renders beside its tested seeds (``claims.pilot_seeds``: 1001, ...):
+    the claim design's, never tested (docs/random-roughness.md)."""
+    count = int(config.get("claims", {}).get("pilot_seeds", 0))
+    return list(range(PILOT_SEED_BASE + 1, PILOT_SEED_BASE + 1 + count))
+
+
+def ensemble_seeds(config: dict, kind: str, point: tuple[float, float]) -> list[int]:
+    """Every seed a random ensemble renders: its tested seeds (:func:`seeds`) and then the pilot seeds
+    (:func:`pilot_seeds`)."""
+    return seeds(config, kind, point) + pilot_seeds(config)
+
+
 def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
-    """Every random surface of the study: (kind, truncation, aspect, seed), grid values exactly as in grid:."""
+    """Every random surface of the study: (kind, truncation, aspect, seed), grid values exactly as in grid:, an
+    ensemble's tested seeds (:func:`seeds`) and then its pilot seeds (:func:`pilot_seeds`)."""
     random_kinds = [k for k in kinds(config) if k != "pyramids"]
     if not random_kinds:
         return []
     wanted = config["surface"]["random_grid"]
     points = [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
               if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
-    return [(k, t, a, s) for k in random_kinds for t, a in points for s in seeds(config, k, (t, a))]
+    return [(k, t, a, s) for k in random_kinds for t, a in points
+            for s in ensemble_seeds(config, k, (t, a))]
 
 
 def every_view_surfaces(config: dict, n_seeds: int = 2) -> list[tuple[str, float, float, int]]:
@@ -358,6 +381,20 @@ def report_settings(config: dict) -> dict:
     settings = {k: v for k, v in config["report"].items() if k != "explorer"}
     settings["table_aspects"] = [float(a) for a in settings["table_aspects"]]
     settings["table_incidence"] = float(settings["table_incidence"])
+    return settings
+
+
+def claim_settings(config: dict) -> dict:
+    """The random-roughness claim's design (``claims:``, defaults filled) and the tested seeds each random ensemble
+    has (``tested``: [kind, truncation, aspect, count] lists), as plain types for params."""
+    settings = dict(config.get("claims", {}))
+    for key, default in (("pilot_seeds", 0), ("alpha", 0.05), ("min_peak", 10.0), ("max_seeds", 12)):
+        settings.setdefault(key, default)
+    found: dict = {}
+    for kind, t, a, seed in random_surfaces(config):
+        if seed <= PILOT_SEED_BASE:
+            found[(kind, t, a)] = found.get((kind, t, a), 0) + 1
+    settings["tested"] = [[kind, t, a, n] for (kind, t, a), n in found.items()]
     return settings
 
 

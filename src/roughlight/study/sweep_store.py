@@ -10,7 +10,11 @@ digest matches:
 - the sweep's settings, as the rule's params pass them (surface, incidence, views, lighting, method, renderer
   knobs, OpenGL platform);
 - the source of the ``roughlight`` package (every file of it: a changed renderer never serves an old sweep);
-- the versions of the libraries that draw and write it (numpy, trimesh, pyrender2, PyOpenGL, pyarrow).
+- the versions of the libraries that draw and write it (numpy, trimesh, pyrender2, PyOpenGL, pyarrow);
+- what draws it: the OpenGL renderer, its version and driver and the platform, as the GL reports them
+  (``llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6, osmesa``;
+  :func:`roughlight.render.methods.renderer_identity`), so that a GPU run never takes llvmpipe's sweeps, nor the
+  other way round; the exact reference, which draws nothing, names no renderer.
 
 A reused sweep is the same file, byte for byte, as the one measured first (its ``render_seconds`` included: the time
 that sweep took). ``rm -r results/sweep_store`` measures everything anew; a fresh ``results/`` has no store.
@@ -98,7 +102,8 @@ def measure_sweeps(paths, surfaces, settings: dict, measure, store=STORE, log=No
         Each sweep's surface, as :func:`roughlight.surfaces.roughness.make_surface` takes it (JSON-able).
     settings : dict
         What else decides the sweeps' files (incidence, views, lighting, method, renderer knobs, platform):
-        JSON-able, the same for every sweep of the call.
+        JSON-able, the same for every sweep of the call. Its ``renderer``, when not given, is what this process
+        draws the method on (:func:`roughlight.render.methods.renderer_identity`).
     measure : callable ``measure(path, surface)``
         Measures one sweep and writes its file to ``path`` atomically (as
         :func:`roughlight.study.tables.run_sweep`).
@@ -114,6 +119,11 @@ def measure_sweeps(paths, surfaces, settings: dict, measure, store=STORE, log=No
     if len(paths) != len(surfaces):
         raise ValueError(f"{len(paths)} output files for {len(surfaces)} surfaces")
     log = log or (lambda message: None)
+    if store is not None and "renderer" not in settings:
+        from ..render.methods import renderer_identity
+
+        settings = {**settings, "renderer": renderer_identity(settings.get("method", "fast"))}
+        log(f"the store's key names the renderer: {settings['renderer']}")
     done = {"measured": [], "reused": []}
     start = time.perf_counter()
     for number, (path, surface) in enumerate(zip(paths, surfaces), start=1):

@@ -117,6 +117,7 @@ __all__ = [
     "new_platform",
     "start_platform",
     "renderer",
+    "describe",
     "offscreen_renderer",
     "import_pyrender",
 ]
@@ -180,6 +181,16 @@ def renderer() -> str:
     if not _DESCRIBED:
         return ""
     return f"{_DESCRIBED['renderer']}, OpenGL {_DESCRIBED['version']}, {_DESCRIBED['platform']}"
+
+
+def describe() -> str:
+    """:func:`renderer`, after making (and deleting) a context of one pixel when this process has made none yet:
+    what a sweep would be drawn on, known before drawing it (the sweep store's key)."""
+    if not _DESCRIBED:
+        platform = new_platform(1, 1)
+        start_platform(platform)
+        platform.delete_context()
+    return renderer()
 
 
 def offscreen_renderer(width: int, height: int):

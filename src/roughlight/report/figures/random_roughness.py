@@ -24,7 +24,7 @@ __all__ = ["RANDOM_CHART_STATISTICS", "KIND_COLOURS", "plot_random_ensembles", "
            "plot_random_tiles"]
 
 #: The statistics the random-roughness chart shows, in reading order (see :data:`roughlight.analysis.ensembles.STATISTICS`).
-RANDOM_CHART_STATISTICS = ("back_peak", "back_width", "back_rectangularity", "back_phase_shift",
+RANDOM_CHART_STATISTICS = ("back_peak", "back_width", "back_squareness", "back_phase_shift",
                            "forward_peak", "diffuse_level", "diffuse_level1", "diffuse_level3")
 #: Marker colour of each surface kind.
 KIND_COLOURS = {"pyramids": "k", "random_pyramids": "tab:orange", "random_heightfield": "tab:blue"}
@@ -57,8 +57,6 @@ def _ensemble_panel(ax, sel, points, kinds) -> None:
 def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
     """One panel per statistic: the regular surface (black cross) and each random kind's ensemble mean with
     its 95% interval over seeds, at every random grid point (:func:`roughlight.analysis.ensembles.ensemble_summary`)."""
-    from ...analysis.ensembles import ELLIPSE_FILL
-
     theme()
     names = [s for s in RANDOM_CHART_STATISTICS if s in set(summary["statistic"])]
     ncol = 4
@@ -70,9 +68,8 @@ def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
     for ax, name in zip(axes.ravel(), names):
         sel = summary[summary["statistic"] == name]
         _ensemble_panel(ax, sel, points, kinds)
-        if name == "back_rectangularity":
-            ax.axhline(ELLIPSE_FILL, color="0.5", ls=":", lw=1)
-            ax.axhline(1.0, color="0.5", ls="--", lw=1)
+        if name == "back_squareness":  # 0: as near a rectangle as an ellipse; below, nearer an ellipse
+            ax.axhline(0.0, color="0.5", ls="--", lw=1)
         unit = sel["unit"].iloc[0] if len(sel) else ""
         ax.set_title(f"{name.replace('_', ' ')} ({unit})", fontsize=9)
         ax.set_xticks(range(len(points)))
