@@ -162,7 +162,12 @@ def _ensemble(wildcards):
     t, a = _value("truncation", wildcards.truncation), _value(
         "aspect", wildcards.aspect
     )
-    return wildcards.kind, t, a, rl_config.ensemble_seeds(config, wildcards.kind, (t, a))
+    return (
+        wildcards.kind,
+        t,
+        a,
+        rl_config.ensemble_seeds(config, wildcards.kind, (t, a)),
+    )
 
 
 def random_ensemble_surfaces(wildcards):

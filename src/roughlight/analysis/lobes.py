@@ -155,7 +155,6 @@ def arc_lobes(study: pd.DataFrame, azimuth: float = 0.0, max_halfwidth: float = 
     ``note``.
     """
     spec = arc(study, "specular", azimuth)
-    spec = spec[spec["coverage"].to_numpy(float) > 0]  # a view that was not rendered (e = 0, 180) is no dark view
     rows = []
     for key, group in spec.groupby(SURFACE_KEYS, sort=True):
         rows += _surface_arc_lobes(key, group, max_halfwidth)
@@ -177,6 +176,7 @@ def _surface_arc_lobes(key, group: pd.DataFrame, max_halfwidth: float) -> list[d
     t, a, i = (float(k) for k in key)
     centres = lobe_centres(i, a)
     windows = _arc_windows(centres, max_halfwidth)
+    group = group[group["coverage"].to_numpy(float) > 0]  # a view that was not rendered (e = 0, 180): no dark view
     e = group["elevation"].to_numpy(float)
     v = group["rough"].to_numpy(float)
     rows = []

@@ -140,4 +140,6 @@ def share_law_fits(lobes: pd.DataFrame, m: float = 127.0) -> pd.DataFrame:
                              "rmse": float(np.sqrt(np.nanmean(err**2))),
                              "rmse_held_out": float(np.sqrt(np.nanmean(err_held**2))),
                              "max_error_held_out": float(np.nanmax(np.abs(err_held))), "note": note})
-    return pd.DataFrame(rows)
+    # the columns even where no lobe has a peak to fit (a coarse grid whose half maxima fall between views)
+    return pd.DataFrame(rows, columns=["lobe", "incidence", "model", "parameters", "n", "rmse", "rmse_held_out",
+                                       "max_error_held_out", "note"])

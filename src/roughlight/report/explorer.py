@@ -145,8 +145,15 @@ def study_sweeps(columns: dict) -> Sweeps:
 
     Parameters
     ----------
-    columns : the study table's columns (:func:`study_columns` or :func:`read_study_columns`).
+    columns : the study table's columns (:func:`study_columns` or :func:`read_study_columns`). The claim design's
+        pilot seeds (:data:`roughlight.study.config.PILOT_SEED_BASE` and up) are left out: they are never a result.
     """
+    from ..study.config import PILOT_SEED_BASE
+
+    tested = np.asarray(columns["seed"]) <= PILOT_SEED_BASE
+    if not tested.all():
+        columns = {name: value[tested] if isinstance(value, np.ndarray) and value.shape[:1] == tested.shape else value
+                   for name, value in columns.items()}
     az, el = np.unique(columns["azimuth"]), np.unique(columns["elevation"])
     parts = [columns["kind"], columns["seed"], columns["truncation"], columns["aspect"], columns["incidence"]]
     combined = np.zeros(len(parts[0]), np.int64)

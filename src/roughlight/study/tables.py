@@ -16,7 +16,8 @@ phase          float64 angle between light and view directions, degrees
 component      string  'diffuse', 'specular' or 'total'
 rough          float64 rough surface: mean 8-bit value of the view, 0-255
 control        float64 flat plate under the same light and view, 0-255
-coverage       float64 fraction of the capture window showing the surface
+coverage       float64 fraction of the capture window showing the surface (0: not rendered, e = 0 and 180;
+                       its rough and control are no measurement)
 light          float64 light intensity J, 0-255
 ambient        float64 ambient light level A, fraction of J
 shininess      float64 specular exponent
