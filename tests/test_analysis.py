@@ -416,8 +416,10 @@ def test_analytic_model_fits_rank_the_models(exact_study):
 def test_render_timings():
     study = make_study([0.0, 1.0], [1.0], elevations=np.arange(0.0, 181.0, 30.0))
     per, summary = render_timings(study)
-    assert len(per) == 2 and (per["views"] == 7).all()
-    assert summary["sweeps"] == 2 and summary["views"] == 14
+    # 7 elevations a sweep, of which 0 and 180 were not rendered (coverage 0): 5 views drawn
+    assert (study.loc[study["elevation"].isin([0.0, 180.0]), "coverage"] == 0).all()
+    assert len(per) == 2 and (per["views"] == 5).all()
+    assert summary["sweeps"] == 2 and summary["views"] == 10
     assert summary["total_seconds"] == pytest.approx(per["seconds"].sum())
 
 

@@ -15,7 +15,7 @@ def render_timings(study: pd.DataFrame) -> tuple[pd.DataFrame, dict]:
 
     Returns
     -------
-    per_sweep : DataFrame, one row per sweep: keys, ``method``, ``views``,
+    per_sweep : DataFrame, one row per sweep: keys, ``method``, ``views`` (rendered: coverage above 0),
         ``seconds``, ``views_per_second``.
     summary : dict: sweeps, views, total/median/max seconds, slowest sweep,
         overall views per second, methods.
@@ -23,7 +23,8 @@ def render_timings(study: pd.DataFrame) -> tuple[pd.DataFrame, dict]:
     comp = study["component"].astype(str)
     first = study.loc[comp == comp.iloc[0]]
     g = first.groupby(SURFACE_KEYS, sort=True)
-    per = g.agg(views=("elevation", "size"), seconds=("render_seconds", "first"),
+    # the views rendered: coverage 0 (e = 0, 180) is a view the renderer never drew
+    per = g.agg(views=("coverage", lambda c: int((c > 0).sum())), seconds=("render_seconds", "first"),
                 method=("method", lambda s: str(s.iloc[0]))).reset_index()
     per["views_per_second"] = per["views"] / per["seconds"].where(per["seconds"] > 0)
     slow = per.loc[per["seconds"].idxmax()] if len(per) else None

@@ -149,7 +149,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
                          "seed": seed,
                          "component": component, "views": int(compared.sum()),
                          "reference_refused": int((seen & refused).sum()), **comparison.error_statistics(error),
-                         "fast_views_per_second": azimuth.size / fast["seconds"],
+                         "fast_views_per_second": int(seen.sum()) / fast["seconds"],  # the rendered views
                          "reference_seconds": reference_seconds})
         log(f"accuracy {kind} t={t} a={a} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
             f"worst {rows[-1]['worst']:.2f}; reference {reference_seconds:.1f} s")
