@@ -421,3 +421,51 @@ def test_no_claim_row_and_no_lobe_say_why():
     html = render("findings.html", s=_section(random=PF.random_claim_finding(no_claim, shown=True)))
     assert "No test of the thesis's random-roughness claim could be computed" in html
     assert PF.share_law_finding(pd.DataFrame()) == {"why": "no_laws"}
+
+
+def test_the_claim_its_design_and_its_finding_show_in_chromium(tables, tmp_path):
+    """The page as a reader sees it in Chromium: the random-roughness finding, the claim's design with its margins
+    and family, the pilot's plan, and the verdict table, a test a row with every tested seed counted."""
+    from roughlight.analysis.claims import CLAIMS
+
+    from .browser import Browser
+
+    claims = claims_frame()
+    design = claims[["kind", "truncation", "aspect", "incidence", "test"]].assign(
+        family=8, level=1 - 0.05 / 8, margin=claims["margin"], regular=claims["regular"], pilot_seeds=3,
+        pilot_measurable=1, pilot_mean=np.nan, pilot_sd=np.nan, seeds_needed=pd.array([pd.NA] * 8, dtype="Int64"),
+        plan="1 measurable pilot seed(s): a spread needs 2", seeds_configured=4)
+    margins = pd.DataFrame([{"statistic": name, "rendering_noise": 0.25 if "phase" in name else 0.0012,
+                             "floor_effect": 2.38 if "phase" in name else 0.051,
+                             "margin": 2.38 if "phase" in name else 0.051, "from": "8-bit floor"} for name in CLAIMS])
+    floor = pd.DataFrame({"peak": [4.0, 10.0], "back_squareness": [0.13, 0.05], "back_phase_shift": [2.0, 2.4]})
+    html = R.build_report({**tables, **benchmarks(), **measured(), "random_claim_design": design,
+                           "random_claim_margins": margins, "random_claim_floor": floor}, {}, table_aspects=ASPECTS)
+    path = tmp_path / "report.html"
+    path.write_text(html, encoding="utf-8")
+    with Browser(1280, 900, workdir=tmp_path) as browser:
+        browser.open(path)
+        text = browser.evaluate("""(() => { const out = {};
+            for (const id of ['random-claim-design', 'random-claim-verdict', 'random-claim', 'random-claim-plan',
+                              'random-claim-floor']) {
+              const e = document.getElementById(id);
+              out[id] = e ? {shown: e.getBoundingClientRect().height > 0 || !!e.closest('details'),
+                             text: e.innerText} : null; }
+            out.rows = [...document.querySelectorAll('#random-claim tbody tr')].map(r => [...r.cells].map(
+              c => c.innerText));
+            out.head = [...document.querySelectorAll('#random-claim thead th')].map(c => c.innerText);
+            out.design = document.getElementById('random-claim-design').parentElement.innerText;
+            out.finding = document.querySelector('[data-finding="random"]').innerText;
+            return out; })()""")
+        assert browser.errors() == []
+    for name in ("random-claim-design", "random-claim-verdict", "random-claim", "random-claim-plan",
+                 "random-claim-floor"):
+        assert text[name] is not None and text[name]["shown"], name
+    head = [h.replace("\u200b", "") for h in text["head"]]
+    assert head[:3] == ["kind", "truncation", "aspect"] and "verdict" in head and "left out" in head
+    verdicts = [row[head.index("verdict")] for row in text["rows"]]
+    assert verdicts == list(claims["verdict"])
+    assert [int(row[head.index("tested")]) for row in text["rows"]] == list(claims["seeds"])
+    assert "Margin ±0.051, set by the 8-bit floor" in text["design"]
+    assert "the 8 planned tests are corrected together (Bonferroni)" in text["design"]
+    assert text["finding"].startswith("The thesis's random-roughness claim is decided only in part.")

@@ -97,18 +97,26 @@ def read_study_columns(path) -> dict:
     missing = [c for c in COLUMNS if c not in names]
     if missing:
         raise ValueError(f"{path} lacks the column(s) {missing}: not a study table")
+    from ..study.config import PILOT_SEED_BASE
+
+    # the claim design's pilot seeds are never shown (study_sweeps): their rows are dropped as each column is read
+    seed = pq.read_table(path, columns=["seed"]).column(0).to_numpy()
+    keep = None if (seed <= PILOT_SEED_BASE).all() else np.flatnonzero(seed <= PILOT_SEED_BASE)
+    del seed
     out = {}
     for name in COLUMNS:
         column = pq.read_table(path, columns=[name], read_dictionary=[name] if name in ("kind", "component")
                                else None).column(0)
         if name == "kind":
             out["kind_labels"] = sorted({label for chunk in column.chunks for label in chunk.dictionary.to_pylist()})
-            out["kind"] = _dictionary_codes(column, out["kind_labels"])
+            values = _dictionary_codes(column, out["kind_labels"])
         elif name == "component":
-            out["component"] = _dictionary_codes(column, list(COMPONENTS))
+            values = _dictionary_codes(column, list(COMPONENTS))
         else:
-            out[name] = column.to_numpy().astype(float, copy=False)
+            values = column.to_numpy().astype(float, copy=False)
         del column
+        out[name] = values if keep is None else values[keep]
+        del values
     return out
 
 
