@@ -68,7 +68,7 @@ def test_a_stage_imports_only_the_stages_below_it(module):
 #: (``methods``, the registry, and ``pictures``) reach every method
 RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
                 "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}}
-RENDER_GROUND = {"render.__init__", "render.shading", "render.views", "render.sweep"}
+RENDER_GROUND = {"render", "render.__init__", "render.shading", "render.views", "render.sweep"}
 
 
 def render_room(module: str) -> str:
@@ -101,6 +101,51 @@ def test_the_room_rule_sees_a_method_reaching_into_another(tmp_path):
     rooms = {render_room(m) for m in imported("render.exact.fake", fake, root=tmp_path)}
     assert rooms == {"fast", "ground"} and rooms - RENDER_ROOMS["exact"] - {"exact"} == {"fast"}
     assert {"exact", "gl", "ground"} <= RENDER_ROOMS["fast"]
+
+
+def inner_reaches(name: str, path: Path, root: Path = PACKAGE) -> list[str]:
+    """The modules inside a room of render/ (``render.fast.periodic``: a method's folder, or ``gl/``) that
+    ``path`` (module ``name``; a workflow script: any name outside render) imports: outside render/, a room is
+    reached only through its face, the folder's ``__init__`` (render/README.md)."""
+    return sorted(m for m in imported(name, path, root)
+                  if stage(m) == "render" and len(m.split(".")) > 2 and not m.endswith(".__init__"))
+
+
+def test_nothing_outside_render_reaches_into_a_rooms_modules():
+    """The study, the analysis, the measurements, the report and the workflow's scripts take a method's names from
+    its folder's face (``roughlight.render.fast``, ...) or from the registry (``roughlight.render.methods``),
+    never from the modules inside the folder."""
+    scripts = PACKAGE.parents[1] / "workflow" / "scripts"
+    reaches = {m: inner_reaches(m, p) for m, p in modules().items() if stage(m) != "render"}
+    reaches.update({f"workflow.scripts.{p.stem}": inner_reaches(f"scripts.{p.stem}", p) for p in scripts.glob("*.py")})
+    reaches = {m: r for m, r in reaches.items() if r}
+    assert not reaches, f"modules reaching into render's rooms: {reaches}"
+
+
+def test_the_face_check_sees_a_reach_into_a_room(tmp_path):
+    for name in ("render/fast/__init__.py", "render/fast/periodic.py", "analysis/fake.py", "analysis/__init__.py"):
+        (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / name).write_text("")
+    fake = tmp_path / "analysis" / "fake.py"
+    fake.write_text("from ..render.fast.periodic import fast_sweep\n")
+    assert inner_reaches("analysis.fake", fake, root=tmp_path) == ["render.fast.periodic"]
+    fake.write_text("from ..render.fast import fast_sweep\n")
+    assert inner_reaches("analysis.fake", fake, root=tmp_path) == []
+
+
+def test_every_name_of_a_rooms_face_is_there():
+    """Each face names only what its modules hold, and loads no OpenGL until a name is taken."""
+    import importlib
+    import subprocess
+    import sys
+
+    for room in ("fast", "exact", "naive", "implicit", "gl"):
+        face = importlib.import_module(f"roughlight.render.{room}")
+        for name, module in face.FACE.items():
+            assert hasattr(importlib.import_module(f"roughlight.render.{room}.{module}"), name), (room, name)
+    probe = ("import sys; from roughlight.render.fast import FastSettings; from roughlight.render.exact import "
+             "LitScene; import roughlight.render.naive, roughlight.render.gl; print('OpenGL' in sys.modules)")
+    assert subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout == "False\n"
 
 
 def private_reaches(path: Path) -> list[str]:

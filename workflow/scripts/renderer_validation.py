@@ -15,7 +15,7 @@ import _log  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import renderer_validation  # noqa: E402
 from roughlight.render import shading  # noqa: E402
-from roughlight.render.fast.settings import FastSettings  # noqa: E402
+from roughlight.render.fast import FastSettings  # noqa: E402
 from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)

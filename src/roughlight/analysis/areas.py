@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..render.exact.reference import visible_lit_areas
+from ..render.exact import visible_lit_areas
 from ..surfaces.geometry import lobe_centres
 from ..surfaces.surface import Surface
 

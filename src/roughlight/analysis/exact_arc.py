@@ -33,7 +33,7 @@ class ExactArc:
     """
 
     def __init__(self, surface: Surface, incidence: float, shadows: bool):
-        from ..render.exact.reference import LitScene
+        from ..render.exact import LitScene
 
         self.surface, self.shadows = surface, bool(shadows)
         self.scene = LitScene(surface, incidence, self.shadows)

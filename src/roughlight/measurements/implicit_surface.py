@@ -131,7 +131,7 @@ def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, 
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
     """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
     from ..analysis.surface_models import facet_model
-    from ..render.exact.reference import reference_views
+    from ..render.exact import reference_views
 
     lighting = lighting or shading.Lighting()
     seen = ~np.asarray(sweeps.is_grazing(elevation))
@@ -184,13 +184,13 @@ class _Field:
     map (redrawn every frame, as pyrender does), an orthographic camera; programs compiled once."""
 
     def __init__(self, surface: Surface, incidence: float, lighting, field_size: int, size: int, span: float):
-        from ..render.naive.procedure import CompiledShaders, NaiveScene, look_pose
+        from ..render.naive import CompiledShaders, NaiveScene, look_pose
 
         self.look_pose = look_pose
         self.scene = NaiveScene(surface, incidence, lighting, (size, size), field_size, span)
         # the patch is centred on the origin; the implicit field spans [0, N]^2 (same surface, shifted
         # by whole periods when N is even)
-        from ..render.gl.context import offscreen_renderer, release_contexts
+        from ..render.gl import offscreen_renderer, release_contexts
 
         release_contexts()
         self.renderer = offscreen_renderer(size, size)
@@ -199,7 +199,7 @@ class _Field:
 
     def render(self, view):
         pyrender = self.scene.pyrender
-        from ..render.naive.procedure import up_vector
+        from ..render.naive import up_vector
 
         pose = self.look_pose(view, up_vector(view), self.scene.distance)
         self.scene.scene.set_pose(self.scene.camera_node, pose)
@@ -273,7 +273,7 @@ def _explicit_frames(surface, incidence, lighting, n: int, size: int, views, rep
     """:func:`frame_times`' rows of the explicit ``n`` x ``n`` field, one a view ((elevation, azimuth), degrees;
     ``exact`` the reference's total at each). ``pictures`` (a dict or None) receives the first view's total.
     The field's pyrender context is released after its frames."""
-    from ..render.gl.context import release_contexts
+    from ..render.gl import release_contexts
 
     field = _Field(surface, incidence, lighting, n, size, n / 2.0)
     rows = []
@@ -291,7 +291,7 @@ def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int
                      pictures) -> list:
     """:func:`frame_times`' rows of the ``n`` x ``n`` field drawn as one implicit quad with ``model`` (see
     :func:`_explicit_frames`)."""
-    from ..render.implicit.shader import render_field
+    from ..render.implicit import render_field
 
     rows = []
     for k, (e, phi) in enumerate(views):

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ..render import methods
-from ..render.fast.settings import FastSettings, TileSettings
+from ..render.fast import FastSettings, TileSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from . import comparison
 
@@ -121,7 +121,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     (compared), ``reference_refused`` (views the reference's own checks refused, left out), ``mae``, ``p99``,
     ``worst`` (0-255), ``fast_views_per_second``, ``reference_seconds``.
     """
-    from ..render.exact.reference import reference_views
+    from ..render.exact import reference_views
     from ..render.shading import Lighting
     from ..render.views import view_grid
 
@@ -176,7 +176,7 @@ def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=N
     ``elevation``, ``component``, ``fast``, ``exact`` (0-255; NaN where the reference refused the view), ``error``
     (absolute, 8-bit levels), ``reference_seconds`` (the reference's wall time for the whole sweep).
     """
-    from ..render.exact.reference import reference_views
+    from ..render.exact import reference_views
     from ..render.shading import COMPONENTS, Lighting
 
     views = sweep.drop_duplicates(["azimuth", "elevation"])[["azimuth", "elevation"]].reset_index(drop=True)
@@ -240,7 +240,7 @@ def random_pictures(plan: str = "quick", lighting=None, cells: int = 4) -> list:
     -------
     list of (label, (H, W, 3) uint8 image), kinds by rows and views by columns.
     """
-    from ..render.naive.procedure import render_picture
+    from ..render.naive import render_picture
 
     t, a, _ = comparison.plan_size(PLANS, plan, "random tiles")["point"]
     out = []

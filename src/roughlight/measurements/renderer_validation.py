@@ -81,7 +81,7 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     """
     from dataclasses import replace
 
-    from ..render.fast.settings import FastSettings
+    from ..render.fast import FastSettings
 
     settings = settings or FastSettings()
     former = replace(settings, **FORMER_DEFAULT)

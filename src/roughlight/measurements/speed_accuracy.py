@@ -14,7 +14,7 @@ from functools import partial
 import numpy as np
 
 from ..render import methods, shading
-from ..render.fast.settings import FastSettings
+from ..render.fast import FastSettings
 from ..render.shading import COMPONENTS
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface

@@ -36,9 +36,9 @@ import pandas as pd
 
 from ..render import methods as registry
 from ..render import shading
-from ..render.exact.settings import ReferenceSettings
-from ..render.fast.settings import FastSettings
-from ..render.naive.settings import NaiveSettings
+from ..render.exact import ReferenceSettings
+from ..render.fast import FastSettings
+from ..render.naive import NaiveSettings
 from ..render.shading import COMPONENTS, SHADINGS
 from ..surfaces.surface import PLATE, SQRT3_2, Surface
 from . import comparison
@@ -90,7 +90,7 @@ NORMALS_SURFACES = SURFACES[:4]
 # The renderers load OpenGL: imported when a scan renders (the registry imports a method's sweep on first use), so
 # that importing this module (the workflow reads MEASUREMENTS while it parses) does not.
 def _render_picture(*args, **kwargs):
-    from ..render.naive.procedure import render_picture
+    from ..render.naive import render_picture
 
     return render_picture(*args, **kwargs)
 

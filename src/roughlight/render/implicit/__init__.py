@@ -1,2 +1,8 @@
 """The implicit rough surface, the thesis's goal: the models in numpy (:mod:`.model`) and drawn as one flat quad
 through one shader (:mod:`.shader`)."""
+
+from .. import public_face
+
+#: The room's face: what the rest of the package takes from it, by the module that holds it (imported on first use).
+FACE = {"implicit_sweep": "shader", "render_field": "shader", "ImplicitSettings": "settings"}
+__getattr__, __all__ = public_face(__name__, FACE)

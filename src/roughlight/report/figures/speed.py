@@ -16,7 +16,7 @@ __all__ = ["plot_speed_accuracy", "plot_renderer_validation", "fig_timings"]
 
 def _fast_point_labels(sub, label) -> list:
     """The fast renderer's lattice and adaptive points (default bias, 512 shadow map), named by pixels per period."""
-    from ...render.fast.settings import FastSettings
+    from ...render.fast import FastSettings
 
     out = []
     for _, row in sub.iterrows():
