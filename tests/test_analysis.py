@@ -525,10 +525,10 @@ def test_the_report_flags_sigma_fits_on_a_bound():
 
     fits = pd.DataFrame({"truncation": [0.0, 0.5, 1.0], "aspect": [0.0, 1.0, 1.0],
                          "sigma_fitted_at_bound": [False, True, False]})
-    text = "".join(report.models_section_html({"model_fits": fits}, {}, {}))
+    text = report.render_section("models", model_fits=fits, figures={}, provenance={})
     assert "ended on a bound" in text and "1 of 2 rough surfaces" in text
     fits["sigma_fitted_at_bound"] = False
-    assert "ended on a bound" not in "".join(report.models_section_html({"model_fits": fits}, {}, {}))
+    assert "ended on a bound" not in report.render_section("models", model_fits=fits, figures={}, provenance={})
 
 
 def test_the_thesis_rows_carry_only_what_the_thesis_printed():

@@ -150,8 +150,9 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     maps = implicit_bench.hemisphere_maps("tiny")
     assert set(maps["method"]) == {"reference", "implicit_exact", "implicit_correction"}
     figures.plot_implicit_maps(maps, tmp_path / "maps.png")
-    html = report.implicit_section(table, frames, str(tmp_path / "implicit.png"), plan="tiny",
-                                   maps_png_path=str(tmp_path / "maps.png"))
+    html = report.render_section("implicit", implicit_validation=table, implicit_frames=frames,
+                                 implicit_png=str(tmp_path / "implicit.png"), plan="tiny",
+                                 implicit_maps_png=str(tmp_path / "maps.png"))
     assert 'id="fig-implicit-maps"' in html and 'id="implicit-validation"' in html
     assert 'id="implicit-frames"' in html and "data:image/png" in html
 

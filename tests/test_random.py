@@ -203,10 +203,11 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
 
     # the report's section says what was measured, with the numbers of these tables
     from roughlight.analysis.claims import design_tables
-    from roughlight.report.page import random_section
+    from roughlight.report.page import render_section
 
     design = design_tables(study, stats, {"pilot_seeds": 0, "alpha": 0.05, "min_peak": 0.5, "max_seeds": 12})
-    html = random_section(summary, needed, fits, surface_settings={"cells": 2, "spread": {"truncation": 0.2}},
+    html = render_section("random", random_ensembles=summary, random_seeds_needed=needed, random_model_fits=fits,
+                          surface_settings={"cells": 2, "spread": {"truncation": 0.2}},
                           **{name: design[name] for name in ("random_claims", "random_claim_design",
                                                              "random_claim_margins", "random_claim_floor")})
     assert '<h2 id="random">Random roughness</h2>' in html

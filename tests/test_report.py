@@ -401,7 +401,7 @@ def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():
     thesis, _ = thesis_tables(lobes, [1.0], 30.0, m=127.0)
     summary, _, _, messages = grid_glms(lobes, levels)
     assert set(summary["status"]) == {"not fitted"}
-    html = R.regression_failures_html({"glm_summary": summary, "glm_messages": messages, "thesis_tables": thesis})
+    html = R.render_section("regressions", glm_summary=summary, glm_messages=messages, thesis_tables=thesis)
     assert 'id="stability-regressions"' in html and 'id="regression-status"' in html
     assert "nothing to fit" in html and "zero variance" in html
     assert 'id="regression-notes"' in html and "only 1 points: no regression line" in html

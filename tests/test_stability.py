@@ -96,7 +96,7 @@ def test_safe_domain_and_report(frames, tmp_path):
     assert not np.array_equal(pictures["flat"], pictures["gouraud"])  # the normals change the picture
     figures.plot_stability(frames, path, pictures)
     assert path.stat().st_size > 20_000
-    html = report.stability_section({"safe_domain": safe, "stability": frames}, path)
+    html = report.render_section("stability", safe_domain=safe, stability=frames, stability_png=path)
     assert html.startswith('<section id="stability"><h2>Where methods fail</h2>')
     assert "data:image/png;base64," in html and html.endswith("</section>")
     assert html.count('<table class="stability">') == 1 and html.count('<table class="stability-normals">') == 1

@@ -25,23 +25,9 @@ import pandas as pd
 from ..analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE
 from ..atomic import read_frame, write_text_atomic
 from . import registry
-from .page_measurements import (
-    RANDOM_MODELS,
-    implicit_section,
-    random_claim_rows,
-    random_section,
-    renderer_validation_html,
-    renderer_validation_line,
-    stability_section,
-)
-from .page_sections import (
-    file_provenance,
-    models_section_html,  # noqa: F401  (tests call the models section alone)
-    package_versions,
-    regression_failures_html,
-)
+from .page_measurements import RANDOM_MODELS, random_claim_rows, renderer_validation_line
+from .page_sections import file_provenance, package_versions
 from .page_templates import TABLE_CAPTIONS, content_security_policy, named_arguments, png_data_uri, render
-from .page_thesis import thesis_table_html
 
 __all__ = [
     "TABLE_CAPTIONS",
@@ -49,18 +35,12 @@ __all__ = [
     "package_versions",
     "file_provenance",
     "png_data_uri",
-    "thesis_table_html",
-    "regression_failures_html",
     "renderer_validation_line",
-    "renderer_validation_html",
     "read_inputs",
     "section_data",
     "render_section",
     "build_report",
     "write_report",
-    "stability_section",
-    "implicit_section",
-    "random_section",
     "random_claim_rows",
 ]
 

@@ -5,7 +5,7 @@ Each section is a function from its inputs, named as the analysis outputs and th
 (:data:`roughlight.report.registry.SECTIONS`: :func:`stability_data`, :func:`implicit_data`, :func:`random_data`), to
 the data its template says (``templates/stability.html``, ``renderer_validation.html``, ``implicit.html`` and
 ``random.html``); it returns None when its inputs were not given (the section is switched off).
-:func:`stability_section`, :func:`implicit_section` and :func:`random_section` render one section alone.
+One section alone is rendered through the page's own path, :func:`roughlight.report.page.render_section`.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from .page_templates import caption_text, existing, frame_or_none, plain_text, render, render_macro
+from .page_templates import caption_text, existing, frame_or_none, plain_text, render_macro
 
 # ---------------------------------------------------------------------------
 # the renderer at every view
@@ -66,12 +66,6 @@ def tile_accuracy(accuracy: pd.DataFrame | None) -> dict | None:
     return {"table": table, "worst": float(tiles["worst"].max()), "largest_mae": float(tiles["mae"].max())}
 
 
-def renderer_validation_html(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None) -> str:
-    """The default renderer at every view: the summary line, the per-surface table, the arc curves' largest
-    deviations (Figs. 21 and 28) and the chart of :func:`roughlight.report.figures.plot_renderer_validation`."""
-    return render("renderer_validation.html", s=renderer_validation_data(validation, smoothness, png_path))
-
-
 # ---------------------------------------------------------------------------
 # where methods fail
 
@@ -110,13 +104,6 @@ def stability_data(safe_domain: pd.DataFrame | None = None, stability: pd.DataFr
             "normals": normals}
 
 
-def stability_section(tables: dict, figure_png_path, plan: str = "full", renderer_validation=None) -> str:
-    """"Where methods fail" alone (its HTML): :func:`stability_data` of ``tables["safe_domain"]``,
-    ``tables.get("stability")`` and the chart at ``figure_png_path``."""
-    return render("stability.html", s=stability_data(tables["safe_domain"], tables.get("stability"), figure_png_path,
-                                                     plan, renderer_validation))
-
-
 # ---------------------------------------------------------------------------
 # an implicit rough surface
 
@@ -139,12 +126,6 @@ def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_fram
             "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
             "png": png, "caption": caption_text("implicit") if png else None,
             "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f}
-
-
-def implicit_section(validation: pd.DataFrame, frames: pd.DataFrame, figure_png_path, plan: str = "full",
-                     maps_png_path=None) -> str:
-    """"An implicit rough surface" alone (its HTML): :func:`implicit_data`."""
-    return render("implicit.html", s=implicit_data(validation, frames, figure_png_path, maps_png_path, plan))
 
 
 # ---------------------------------------------------------------------------
@@ -288,13 +269,3 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
         "opposition": fits[keys + opposition] if opposition else None,
         "seeds": seeds_needed[keys + ["statistic", "mean", "sd"] + needed],
         "plan": plan, **_random_tiles(random_accuracy, tile_convergence, random_tiles_png)}
-
-
-def random_section(ensembles: pd.DataFrame, seeds_needed: pd.DataFrame, model_fits: pd.DataFrame,
-                   ensembles_png=None, maps_png=None, surface_settings: dict | None = None,
-                   accuracy: pd.DataFrame | None = None, convergence: pd.DataFrame | None = None,
-                   tiles_png=None, plan: str = "full", **claim_tables) -> str:
-    """"Random roughness" alone (its HTML): :func:`random_data` (``claim_tables``: its ``random_claim*`` frames)."""
-    return render("random.html", s=random_data(ensembles, seeds_needed, model_fits, ensembles_png, maps_png,
-                                               surface_settings, accuracy, convergence, tiles_png, plan,
-                                               **claim_tables))

@@ -21,7 +21,7 @@ from ..analysis.thesis import TABLE_ASPECTS
 from ..study.selection import SURFACE_KEYS, find_aspect
 from ..surfaces.surface import aspect_label
 from .page_measurements import renderer_validation_data
-from .page_templates import existing, frame_or_none, render, section_figures
+from .page_templates import existing, frame_or_none, section_figures
 
 #: The columns of the exact lobe peaks shown beside the measured lobes: the two specular-shadow protocols.
 PROTOCOLS = ["exact_fwhm", "exact_peak_no_specular_shadows", "exact_fwhm_no_specular_shadows"]
@@ -139,12 +139,6 @@ def models_section(model_fits: pd.DataFrame | None = None, model_fits_summary: p
     return out
 
 
-def models_section_html(tables: dict, figures: dict, provenance: dict) -> str:
-    """The report's section: analytic models (its HTML), alone; ``tables`` by the analysis outputs' names."""
-    return render("models.html", s=models_section(tables.get("model_fits"), tables.get("model_fits_summary"),
-                                                  figures, provenance))
-
-
 def regressions_section(glm_summary: pd.DataFrame | None = None, glm_messages: list | None = None,
                         thesis_tables: pd.DataFrame | None = None,
                         thesis_tables_bootstrap: pd.DataFrame | None = None) -> dict:
@@ -162,21 +156,6 @@ def regressions_section(glm_summary: pd.DataFrame | None = None, glm_messages: l
         noted = noted[[c for c in ("table", "aspect_label", "model", "source", "n", "converged", "note") if c in noted]]
     return {"summary": summary, "messages": glm_messages or [], "noted": noted,
             "bootstrap": frame_or_none(thesis_tables_bootstrap) is not None}
-
-
-def regression_failures_html(tables: dict) -> str:
-    """The regressions' part of "Where methods fail": every fit that could not be made as asked.
-
-    Lists the grid GLMs' status with what was kept out (zero-variance terms,
-    near-collinear terms, the plate surfaces) and the reason, the Tables 1-2
-    rows (ours and on exact peaks) whose regression line was not fitted or is
-    exact, and points to the bootstrap intervals. ``tables`` by
-    the analysis outputs' names (``glm_summary``, ``glm_messages``, ``thesis_tables``,
-    ``thesis_tables_bootstrap``); missing ones are said to be missing.
-    """
-    return render("regressions.html", s=regressions_section(tables.get("glm_summary"), tables.get("glm_messages"),
-                                                            tables.get("thesis_tables"),
-                                                            tables.get("thesis_tables_bootstrap")))
 
 
 def _plain(obj):

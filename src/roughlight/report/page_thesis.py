@@ -12,7 +12,7 @@ import pandas as pd
 from ..analysis.thesis import TABLE_METRICS, THESIS_INCIDENCE, THESIS_TABLES, sd_bound
 from ..study.selection import ASPECT_TOL
 from ..surfaces.surface import aspect_label
-from .page_templates import frame_or_none, render
+from .page_templates import frame_or_none
 
 #: The columns of a printed table (both readings of the thesis's SD) and their decimals.
 PRINTED_METRICS = TABLE_METRICS[:2] + ["SD of |error|"] + TABLE_METRICS[2:]
@@ -37,16 +37,6 @@ def thesis_table(tables: pd.DataFrame, table: int, aspect: float, incidence: flo
     return {"table": table, "id": f"table{table}-aspect-{label.replace('√3/2', 'sqrt3-2')}", "label": label,
             "title": spec["title"], "incidence": incidence, "metrics": PRINTED_METRICS, "digits": DIGITS,
             "blocks": blocks}
-
-
-def thesis_table_html(tables: pd.DataFrame, table: int, aspect: float, incidence: float = THESIS_INCIDENCE) -> str:
-    """One of the thesis's Tables 1-2 for one aspect, in the thesis's form, ours beside the thesis's values.
-
-    Rows are the thesis's models; for each model a row per source ('ours',
-    'exact geometry' when present, 'thesis 2001'); columns Mean Abs Error,
-    Standard Deviation, SD of |error|, b0, b1, RSS.
-    """
-    return render("thesis_table.html", t=thesis_table(tables, table, aspect, incidence))
 
 
 def table_statistic(tables, table, aspect, model, source, metric):
