@@ -517,8 +517,9 @@ def test_figures_say_what_their_lines_are(built):
 
 def test_intervals_are_labelled_as_sensitivity_not_sampling_uncertainty():
     """The study's data are deterministic: no table may call its intervals confidence intervals of draws."""
-    for key in ("bootstrap_tables", "sine_refits", "glm_coefficients"):
-        caption = R.TABLE_CAPTIONS[key]
+    captions = R.table_captions()
+    for key in ("thesis_tables_bootstrap", "sine_refits", "glm_coefficients"):
+        caption = captions[key]
         assert "confidence" not in caption and "other draws" not in caption, key
         assert "sensitiv" in caption.lower() and "sampling uncertainty" in caption, key  # what they are not
     for name in ("glm_coefficients", "sine_refits", "thesis_tables_bootstrap"):

@@ -66,8 +66,8 @@ def case_tables(png):
                            "s_min_sd": [11.0], "s_max_sd": [19.0], "stated_scale": [127.0], "stated_possible": [False],
                            "mean_error_at_stated": [-4.149], "mae": [4.1]})
     s = {"incidence": 30.0, "k": [("<1>", 0.5), ("0", NAN)], "printed": [thesis_table()],
-         "findings": [{"label": "<a>", "forward_area": 1.0, "forward_regressed": 2.0, "back_area": NAN,
-                       "back_regressed": 1.0}],
+         "maes": [{"label": "<a>", "forward_area": 1.0, "forward_regressed": 2.0, "back_area": NAN,
+                   "back_regressed": 1.0}],
          "exact_error": {"max": 0.5, "mean": 0.25, "worst": 1e-12},
          "sd": {"n": 11, "broken": [{"table": 1, "model": "Model <1>", "rss": 122.4, "bound": 94.9}]},
          "implied": {"scales": scales, "at_scale": None, "area_wins": False},

@@ -27,10 +27,10 @@ from ..atomic import read_frame, write_text_atomic
 from . import registry
 from .page_measurements import RANDOM_MODELS, random_claim_rows, renderer_validation_line
 from .page_sections import file_provenance, package_versions
-from .page_templates import TABLE_CAPTIONS, content_security_policy, named_arguments, png_data_uri, render
+from .page_templates import content_security_policy, named_arguments, png_data_uri, render, table_captions
 
 __all__ = [
-    "TABLE_CAPTIONS",
+    "table_captions",
     "RANDOM_MODELS",
     "package_versions",
     "file_provenance",

@@ -63,13 +63,13 @@ def _lobe_ranking(thesis: pd.DataFrame, per_aspect: list[dict], lobe: str, table
 def ranking(thesis: pd.DataFrame | None) -> dict:
     """Tables 1-2's ranking of the area functions against the regressed models, ours against the thesis's.
 
-    Ours are :func:`roughlight.report.page_thesis.findings`' MAEs (what "Tables 1 and 2" says), per lobe the
+    Ours are :func:`roughlight.report.page_thesis.lobe_maes`' MAEs (what "Tables 1 and 2" says), per lobe the
     range over the table aspects; ``verdict``: "reversed" (every lobe ranks the other way round from the
     thesis), "same", or "mixed" (some lobe could not be compared, or ranks differently at different aspects).
     """
     if not _has_rows(thesis):
         return {"why": "no_table_aspect"}
-    per_aspect = page_thesis.findings(thesis)
+    per_aspect = page_thesis.lobe_maes(thesis)
     lobes = [_lobe_ranking(thesis, per_aspect, *lobe) for lobe in LOBES]
     ranked = [lb for lb in lobes if lb["ours"] in ("area", "regressed") and lb["thesis"]]
     verdict = "mixed"

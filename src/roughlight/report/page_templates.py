@@ -29,23 +29,10 @@ import pandas as pd
 from ..surfaces.surface import aspect_label
 from . import registry
 
-TABLE_CAPTIONS = {
-    "thesis_tables": "Tables 1 and 2 of the thesis recomputed from our lobe peaks (incidence 30), beside the "
-                     "thesis's values and the same statistics on exact (polygon clipping) peaks.",
-    "bootstrap_tables": "Sensitivity of our Tables 1–2 statistics to which truncations enter them: 95% percentile "
-                        "ranges over resampled truncations. The renders are deterministic, so these are not "
-                        "sampling uncertainty",
-    "sine_refits": "Nonlinear least-squares refits of the thesis's sine models, with 95% intervals computed as if "
-                   "the residuals were noise: the data are deterministic, the residuals are lack of fit, so read "
-                   "them as the fit's sensitivity, not as sampling uncertainty.",
-    "glm_summary": "Grid GLMs (Gaussian, IRLS): convergence, condition numbers and what was kept out.",
-    "share_laws": "Combined models of the lobe peaks: RMSE over the grid (in-sample) and leave-one-surface-out "
-                  "(0-255), with the free parameters each fits.",
-    "glm_coefficients": "Grid GLM coefficients, with standard errors, p-values and 95% intervals computed as if the "
-                        "residuals were noise: the data are deterministic, the residuals are lack of fit, so these "
-                        "measure sensitivity, not sampling uncertainty.",
-    "model_fits_summary": "Analytic models: median RMSE and number of surfaces where each fits best, by band.",
-}
+#: The tables whose page caption is the ``*On the page:*`` paragraph of ``captions/{name}.rst`` (the same file
+#: Snakemake's report shows): a table's caption is written once, there (:func:`table_caption`).
+TABLE_CAPTION_NAMES = ("thesis_tables_bootstrap", "sine_refits", "glm_summary", "share_laws", "glm_coefficients",
+                       "model_fits_summary")
 
 
 #: A table of more rows than this is folded under a one-line summary, its data downloadable as CSV: the issue asks
@@ -172,7 +159,7 @@ def environment() -> jinja2.Environment:
                        png_data_uri=png_data_uri, breakable=breakable, csv_data_uri=csv_data_uri, csv_name=csv_name,
                        fold_summary=fold_summary)
     env.tests["finite"] = finite
-    env.globals["table_captions"] = TABLE_CAPTIONS
+    env.globals["table_captions"] = table_captions()
     env.globals["fold_rows"] = FOLD_ROWS
     return env
 
@@ -212,6 +199,20 @@ def figure(stem: str, figures: dict) -> dict:
 def section_figures(section: str, figures: dict) -> list[dict]:
     """The registry's figures of one section of the page, in page order."""
     return [figure(f.name, figures) for f in registry.figures(section=section)]
+
+
+def table_caption(name: str) -> str:
+    """A table's caption on the page: the ``*On the page:*`` paragraph of ``captions/{name}.rst``, as one line."""
+    text = (registry.CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8")
+    found = re.search(r"^\*On the page:\*\s*(.+?)\s*(?=^\*|\Z)", text, re.M | re.S)
+    if not found:
+        raise ValueError(f"captions/{name}.rst has no *On the page:* paragraph")
+    return " ".join(found.group(1).split())
+
+
+def table_captions() -> dict:
+    """Every :data:`TABLE_CAPTION_NAMES` table's page caption (:func:`table_caption`), by name."""
+    return {name: table_caption(name) for name in TABLE_CAPTION_NAMES}
 
 
 def caption_text(name: str) -> str:

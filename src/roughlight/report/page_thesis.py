@@ -45,7 +45,7 @@ def table_statistic(tables, table, aspect, model, source, metric):
     return float(sel[metric].iloc[0]) if len(sel) else float("nan")
 
 
-def findings(tables: pd.DataFrame) -> list[dict]:
+def lobe_maes(tables: pd.DataFrame) -> list[dict]:
     """Per aspect (largest first): the area function's and the regressed model's MAE of each lobe, ours."""
     out = []
     for aspect in sorted(tables["aspect"].unique(), reverse=True):
@@ -146,7 +146,7 @@ def tables_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.Da
                for aspect in sorted(thesis["aspect"].unique(), reverse=True) for table in (1, 2)] if has else []
     return {
         "incidence": table_incidence, "k": _k_values(thesis), "printed": printed,
-        "findings": findings(thesis) if has else [], "exact_error": exact_error(thesis, exact) if has else None,
+        "maes": lobe_maes(thesis) if has else [], "exact_error": exact_error(thesis, exact) if has else None,
         "sd": sd_reading(),
         "implied": implied(implied_scales, tables_at_implied_scale) if has else None,
         "bootstrap": bootstrap(thesis_tables_bootstrap), "sine": _sine(sine_refits),
