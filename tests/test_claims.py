@@ -167,11 +167,11 @@ def test_no_difference_and_undecided_are_told_apart_by_the_margin():
 
 
 def test_the_pilot_plans_more_seeds_for_a_wider_spread():
-    narrow, _ = C.seeds_needed([0.0, 0.02, -0.02], regular=-0.18, margin=0.05, level=0.997, max_seeds=1000)
-    wide, _ = C.seeds_needed([0.0, 0.08, -0.08], regular=-0.18, margin=0.05, level=0.997, max_seeds=1000)
+    narrow, _ = C.planned_seeds([0.0, 0.02, -0.02], regular=-0.18, margin=0.05, level=0.997, max_seeds=1000)
+    wide, _ = C.planned_seeds([0.0, 0.08, -0.08], regular=-0.18, margin=0.05, level=0.997, max_seeds=1000)
     assert 2 <= narrow < wide
-    assert C.seeds_needed([0.1], -0.18, 0.05, 0.997)[0] is None  # one measurable pilot seed: no spread
-    assert C.seeds_needed([0.1, 0.2], np.nan, 0.05, 0.997)[1] == "the regular lobe is not measurable"
+    assert C.planned_seeds([0.1], -0.18, 0.05, 0.997)[0] is None  # one measurable pilot seed: no spread
+    assert C.planned_seeds([0.1, 0.2], np.nan, 0.05, 0.997)[1] == "the regular lobe is not measurable"
 
 
 def test_the_rendering_noise_of_a_symmetric_lobe_is_zero_and_its_halves_are_its_own():

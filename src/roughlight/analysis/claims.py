@@ -25,7 +25,7 @@ The design, fixed before any tested seed is read (:func:`claim_design`):
 * **Family.** Every planned test (random kind x grid point x statistic) is one of a family whose error is
   controlled together: each interval is a Student-t interval at the Bonferroni level ``1 - alpha / m``.
 * **Seeds.** Each ensemble has pilot seeds (numbered from :data:`PILOT_SEED_BASE` + 1) that are never tested: their
-  spread and effect give the test seeds each test needs (:func:`seeds_needed`); the test seeds are those the config
+  spread and effect give the test seeds each test needs (:func:`planned_seeds`); the test seeds are those the config
   names (1 ... n), counted beside what the pilot asks for.
 * **Decision** (:func:`decide`): "difference" when the interval lies wholly outside the margin around the regular
   value, "no difference" when wholly inside it, "undecided" otherwise (with the seeds the pilot's spread says would
@@ -50,7 +50,8 @@ __all__ = [
     "floor_effect",
     "rendering_noise",
     "margins",
-    "seeds_needed",
+    "planned_seeds",
+    "fewest_seeds",
     "claim_design",
     "decide",
     "claim_table",
@@ -236,7 +237,17 @@ def _t_quantile(level: float, n):
     return sps.t.ppf(0.5 + level / 2.0, np.asarray(n) - 1)
 
 
-def seeds_needed(pilot_values, regular: float, margin: float, level: float, max_seeds: int = 1000,
+def fewest_seeds(sd: float, room: float, level: float, max_seeds: int) -> int | None:
+    """The fewest seeds n (2 ... ``max_seeds``) whose ``level`` Student-t half-width ``t(n - 1) sd / sqrt(n)`` is
+    at most ``room``; None when no such n (or no room)."""
+    if room <= 0:
+        return None
+    n = np.arange(2, max_seeds + 1)
+    ok = np.flatnonzero(_t_quantile(level, n) * sd / np.sqrt(n) <= room)
+    return int(n[ok[0]]) if len(ok) else None
+
+
+def planned_seeds(pilot_values, regular: float, margin: float, level: float, max_seeds: int = 1000,
                  sd_confidence: float = 0.8) -> tuple[int | None, str]:
     """Test seeds a claim test needs, from its pilot seeds (never tested).
 
@@ -266,12 +277,11 @@ def seeds_needed(pilot_values, regular: float, margin: float, level: float, max_
     room = d - margin if d > margin else margin - d
     if sd_upper == 0:
         return 2, "the pilot seeds agree exactly"
-    n = np.arange(2, max_seeds + 1)
-    ok = np.flatnonzero(_t_quantile(level, n) * sd_upper / np.sqrt(n) <= room)
-    if not len(ok):
+    n = fewest_seeds(sd_upper, room, level, max_seeds)
+    if n is None:
         return None, (f"the pilot's difference {d:.3g} lies within its spread of the margin {margin:.3g}: more than "
                       f"{max_seeds} seeds")
-    return int(n[ok[0]]), ("a difference" if d > margin else "no difference") + " expected from the pilot"
+    return n, ("a difference" if d > margin else "no difference") + " expected from the pilot"
 
 
 def claim_design(statistics: pd.DataFrame, design: dict, margin_table: pd.DataFrame, configured: dict
@@ -304,7 +314,7 @@ def claim_design(statistics: pd.DataFrame, design: dict, margin_table: pd.DataFr
         values = pilots.loc[(pilots["kind"] == kind) & (pilots["truncation"] == t) & (pilots["aspect"] == a)
                             & (pilots["incidence"] == i) & (pilots["statistic"] == name), "value"].to_numpy(float)
         reg = float(regular.get((t, a, i, name), np.nan))
-        need, why = seeds_needed(values, reg, float(margin_of[name]), level, int(design["max_seeds"]))
+        need, why = planned_seeds(values, reg, float(margin_of[name]), level, int(design["max_seeds"]))
         finite = values[np.isfinite(values)]
         rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "test": name, "family": family,
                      "level": level, "margin": float(margin_of[name]), "regular": reg, "pilot_seeds": len(values),
@@ -413,13 +423,10 @@ def _claim_row(d, part: pd.DataFrame) -> dict:
     if row["verdict"] == "difference":
         row["agrees"] = (row["low"] > d.regular) == (rule["expected"] == "above")
     if row["verdict"] == "undecided" and row["sd"] > 0:
-        diff = abs(row["mean"] - d.regular)
-        room = abs(diff - d.margin)
-        n_all = np.arange(2, 10_001)
-        ok = np.flatnonzero(_t_quantile(d.level, n_all) * row["sd"] / np.sqrt(n_all) <= room) if room > 0 else []
-        row["seeds_to_decide"] = int(n_all[ok[0]]) if len(ok) else pd.NA
-        row["why"] += (f"; about {row['seeds_to_decide']} measurable seeds at this spread would decide it"
-                       if len(ok) else "; its mean sits on the margin's edge: no number of seeds decides it")
+        need = fewest_seeds(row["sd"], abs(abs(row["mean"] - d.regular) - d.margin), d.level, 10_000)
+        row["seeds_to_decide"] = pd.NA if need is None else need
+        row["why"] += (f"; about {need} measurable seeds at this spread would decide it" if need is not None
+                       else "; its mean sits on the margin's edge: no number of seeds decides it")
     return row
 
 
