@@ -26,7 +26,7 @@ def _shape(values):
     field = _field(values)
     top = np.where(np.isfinite(field[2][:-1]), field[2][:-1], -1)
     ia, ie = np.unravel_index(np.argmax(top), top.shape)
-    return C.lobe_statistics(field, S.direction(AZ[ia], EL[ie]))
+    return S.lobe_statistics(field, S.direction(AZ[ia], EL[ie]))
 
 
 def test_lobe_shape_tells_rectangles_from_ellipses():
@@ -50,7 +50,7 @@ def test_lobe_shape_tells_rectangles_from_ellipses():
 def test_a_lobe_the_horizon_cuts_or_below_the_floor_is_not_measured():
     low = _shape(C.synthetic_lobe(AZ, EL, S.direction(0.0, 8.0), (10, 10)))
     assert not low["measurable"] and "horizon" in low["why"]
-    faint = C.lobe_statistics(_field(C.synthetic_lobe(AZ, EL, S.direction(0.0, 60.0), (8, 8), peak=6.0)),
+    faint = S.lobe_statistics(_field(C.synthetic_lobe(AZ, EL, S.direction(0.0, 60.0), (8, 8), peak=6.0)),
                               S.direction(0.0, 60.0), min_peak=10.0)
     assert not faint["measurable"] and faint["why"].startswith("below the 8-bit floor: peak 6.00 levels, the floor 10")
 
@@ -105,7 +105,7 @@ def test_a_tile_mirrored_in_the_lights_plane_gives_the_same_statistics(tile_stud
     assert np.nanmax(np.abs(mirror_values - partner.to_numpy())) > 1.0  # the tile is not mirror-symmetric
     original = _values(E.seed_statistics(tile_study, min_peak=0.5))
     mirrored = _values(E.seed_statistics(_mirrored(tile_study), min_peak=0.5))
-    shape = [s for s in E.SHAPE_STATISTICS]
+    shape = list(S.SHAPE_STATISTICS)
     assert original.loc[("random_pyramids", 1, shape)].notna().all()
     pd.testing.assert_series_equal(original.sort_index(), mirrored.sort_index(), rtol=1e-6, atol=1e-9)
 

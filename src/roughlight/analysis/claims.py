@@ -121,19 +121,6 @@ def synthetic_lobe(azimuth, elevation, centre, half_widths, soft=None, rotation=
     return np.where(cos_d > 0, values, 0.0)
 
 
-def lobe_statistics(field, peak_direction, min_peak: float = 0.5) -> dict:
-    """The claim's statistics (and the shape's others) of the lobe whose highest measured view is
-    ``peak_direction`` in ``field`` (:func:`roughlight.analysis.lobe_shape.measured_field`): the dict of
-    :func:`roughlight.analysis.lobe_shape.lobe_shape` with ``phase_shift``, ``signed_shift`` and ``arcs``."""
-    from .lobe_shape import direction, lobe_shape, phase_shift
-
-    shape = lobe_shape(field, peak_direction, min_peak=min_peak)
-    arcs = {"phase_shift": np.nan, "signed_shift": np.nan, "arcs": 0}
-    if np.isfinite(shape["centre_azimuth"]):
-        arcs = phase_shift(field, direction(shape["centre_azimuth"], shape["centre_elevation"]), shape["peak"])
-    return {**shape, **arcs}
-
-
 def floor_effect(peaks, centre_elevation: float, azimuth, elevation) -> pd.DataFrame:
     """What rounding every view to whole 8-bit levels does to the claim's statistics, lobe by lobe.
 
@@ -145,7 +132,7 @@ def floor_effect(peaks, centre_elevation: float, azimuth, elevation) -> pd.DataF
     -------
     DataFrame, one row a peak: ``peak`` and, per claim statistic, the largest change over the synthetic lobes.
     """
-    from .lobe_shape import direction, measured_field
+    from .lobe_shape import SHAPE_STATISTICS, direction, lobe_statistics, measured_field
 
     az, el = np.asarray(azimuth, float), np.asarray(elevation, float)
     coverage = np.ones((len(az), len(el)))
@@ -159,7 +146,7 @@ def floor_effect(peaks, centre_elevation: float, azimuth, elevation) -> pd.DataF
             exact, rounded = (lobe_statistics(measured_field(az, el, v, coverage), centre)
                               for v in (values, np.floor(values + 0.5)))
             for name in CLAIMS:
-                change = abs(exact[name.removeprefix("back_")] - rounded[name.removeprefix("back_")])
+                change = abs(exact[SHAPE_STATISTICS[name]] - rounded[SHAPE_STATISTICS[name]])
                 worst[name] = max(worst[name], float(change) if np.isfinite(change) else np.inf)
         rows.append({"peak": float(peak), **worst})
     return pd.DataFrame(rows)
@@ -195,7 +182,7 @@ def rendering_noise(grids: dict, min_peak: float) -> pd.DataFrame:
     DataFrame: surface keys and, per claim statistic, ``{statistic}_half_a``, ``{statistic}_half_b`` and
     ``{statistic}_noise`` (their absolute difference).
     """
-    from .lobe_shape import measured_field
+    from .lobe_shape import SHAPE_STATISTICS, lobe_statistics, measured_field
 
     rows = []
     for key, (az, el, values, coverage, peak_direction) in grids.items():
@@ -203,7 +190,7 @@ def rendering_noise(grids: dict, min_peak: float) -> pd.DataFrame:
         halves = [lobe_statistics(measured_field(az, el, mirrored_half(values, side), coverage), peak_direction,
                                   min_peak) for side in (1, -1)]
         for name in CLAIMS:
-            a, b = (h[name.removeprefix("back_")] if h["measurable"] else np.nan for h in halves)
+            a, b = (h[SHAPE_STATISTICS[name]] if h["measurable"] else np.nan for h in halves)
             row.update({f"{name}_half_a": a, f"{name}_half_b": b, f"{name}_noise": abs(a - b)})
         rows.append(row)
     return pd.DataFrame(rows)

@@ -64,11 +64,6 @@ STATISTICS = {
     "diffuse_rate": "1/deg",
 }
 
-#: The back lobe's shape statistics: the name in :data:`STATISTICS` -> the key of
-#: :func:`roughlight.analysis.claims.lobe_statistics`.
-SHAPE_STATISTICS = {"back_squareness": "squareness", "back_phase_shift": "phase_shift",
-                    "back_ellipse_misfit": "ellipse_misfit", "back_rectangle_misfit": "rectangle_misfit",
-                    "back_rectangularity": "rectangularity", "back_elongation": "elongation"}
 
 def random_points(study: pd.DataFrame) -> pd.DataFrame:
     """The grid points that have random surfaces, with every kind's rows there (regular ones included); a
@@ -93,10 +88,9 @@ def _per_sweep(study: pd.DataFrame):
 
 
 def _shape_statistics(key, az, el, grids: dict, min_peak: float) -> dict:
-    """The back lobe's shape statistics (:data:`SHAPE_STATISTICS`) of one surface from its specular and coverage
-    grids, and why they are NaN where they are: {name: (value, note)}."""
-    from .claims import lobe_statistics
-    from .lobe_shape import back_lobe_peak, measured_field
+    """The back lobe's shape statistics (:data:`roughlight.analysis.lobe_shape.SHAPE_STATISTICS`) of one surface
+    from its specular and coverage grids, and why they are NaN where they are: {name: (value, note)}."""
+    from .lobe_shape import SHAPE_STATISTICS, back_lobe_peak, lobe_statistics, measured_field
 
     peak_direction, why = back_lobe_peak(key, az, el, grids["rough"], grids["coverage"])
     if peak_direction is None:

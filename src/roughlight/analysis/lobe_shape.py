@@ -43,6 +43,8 @@ __all__ = [
     "tangent_patch",
     "lobe_shape",
     "phase_shift",
+    "lobe_statistics",
+    "SHAPE_STATISTICS",
     "shape_misfits",
     "back_lobe_peak",
     "BACK_SEARCH",
@@ -328,6 +330,24 @@ def phase_shift(field, centre_direction, peak: float, halfwidth: float = SEARCH_
     if not offsets:
         return {"phase_shift": np.nan, "signed_shift": np.nan, "arcs": 0}
     return {"phase_shift": float(np.mean(offsets)), "signed_shift": float(np.mean(signed)), "arcs": len(offsets)}
+
+
+#: A back lobe's shape statistics: the study's name (:data:`roughlight.analysis.ensembles.STATISTICS`) -> the key of
+#: :func:`lobe_statistics`.
+SHAPE_STATISTICS = {"back_squareness": "squareness", "back_phase_shift": "phase_shift",
+                    "back_ellipse_misfit": "ellipse_misfit", "back_rectangle_misfit": "rectangle_misfit",
+                    "back_rectangularity": "rectangularity", "back_elongation": "elongation"}
+
+
+def lobe_statistics(field, peak_direction, min_peak: float = 0.5) -> dict:
+    """The shape of the lobe whose highest measured view is ``peak_direction`` in ``field``
+    (:func:`measured_field`): the dict of :func:`lobe_shape` with :func:`phase_shift`'s ``phase_shift``,
+    ``signed_shift`` and ``arcs`` around the region's centre."""
+    shape = lobe_shape(field, peak_direction, min_peak=min_peak)
+    arcs = {"phase_shift": np.nan, "signed_shift": np.nan, "arcs": 0}
+    if np.isfinite(shape["centre_azimuth"]):
+        arcs = phase_shift(field, direction(shape["centre_azimuth"], shape["centre_elevation"]), shape["peak"])
+    return {**shape, **arcs}
 
 
 def direction(azimuth: float, elevation: float) -> np.ndarray:
