@@ -10,6 +10,7 @@ from __future__ import annotations
 import pandas as pd
 
 from ..render.shading import Lighting
+from ..study import config as rl_config
 from ..study.selection import SURFACE_KEYS, find_aspect
 from ..study.tables import study_summary
 from .areas import reflecting_areas
@@ -119,7 +120,7 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     from . import claims as C
     from . import ensembles as E
 
-    claims = {"pilot_seeds": 0, "alpha": 0.05, "min_peak": 10.0, "max_seeds": 12, "tested": [], **(claims or {})}
+    claims = {"tested": [], **rl_config.claims({"claims": claims or {}})}
     halfwidth, min_peak = float(settings["lobe_halfwidth"]), float(claims["min_peak"])
     stats = E.seed_statistics(study, lobe_halfwidth=halfwidth, min_peak=min_peak)
     summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, halfwidth, min_peak))

@@ -37,6 +37,7 @@ __all__ = [
     "random_surface_settings",
     "report_settings",
     "claim_settings",
+    "claims",
     "FOLLOWS_GRID",
     "follow_grid",
 ]
@@ -328,10 +329,17 @@ def _point_of(key: str) -> tuple[str, str]:
 PILOT_SEED_BASE = 1000
 
 
+def claims(config: dict) -> dict:
+    """The config's ``claims:`` section with the schema's defaults for what it leaves unset (a config that was not
+    validated has no defaults filled): the random-roughness claim's design."""
+    schema = _parsed_schema(str(SCHEMA_PATH), SCHEMA_PATH.stat().st_mtime_ns)["properties"]["claims"]["properties"]
+    return {**{key: spec["default"] for key, spec in schema.items()}, **config.get("claims", {})}
+
+
 def pilot_seeds(config: dict) -> list[int]:
     """The pilot seeds every random ensemble renders beside its tested seeds (``claims.pilot_seeds``: 1001, ...):
     the claim design's, never tested (docs/random-roughness.md)."""
-    count = int(config.get("claims", {}).get("pilot_seeds", 0))
+    count = int(claims(config)["pilot_seeds"])
     return list(range(PILOT_SEED_BASE + 1, PILOT_SEED_BASE + 1 + count))
 
 
@@ -387,9 +395,7 @@ def report_settings(config: dict) -> dict:
 def claim_settings(config: dict) -> dict:
     """The random-roughness claim's design (``claims:``, defaults filled) and the tested seeds each random ensemble
     has (``tested``: [kind, truncation, aspect, count] lists), as plain types for params."""
-    settings = dict(config.get("claims", {}))
-    for key, default in (("pilot_seeds", 0), ("alpha", 0.05), ("min_peak", 10.0), ("max_seeds", 12)):
-        settings.setdefault(key, default)
+    settings = claims(config)
     found: dict = {}
     for kind, t, a, seed in random_surfaces(config):
         if seed <= PILOT_SEED_BASE:
