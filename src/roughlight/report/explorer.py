@@ -74,9 +74,13 @@ class Sweeps:
 def study_columns(study: pd.DataFrame) -> dict:
     """The columns of a study table the explorer reads, as numpy arrays (:func:`study_sweeps` takes them):
     ``kind`` as codes into ``kind_labels``, ``component`` as codes into :data:`COMPONENTS`, the rest as floats. A
-    table without ``kind`` (and ``seed``) is all regular."""
+    table without ``kind`` (and ``seed``) is all regular. The claim design's pilot seeds
+    (:data:`roughlight.study.config.PILOT_SEED_BASE` and up) are left out: they are never a result."""
+    from ..study.config import PILOT_SEED_BASE
+
     if "kind" not in study:  # a table without kind and seed is all regular (roughlight.study.tables.regular)
         study = study.assign(kind="pyramids", seed=0)
+    study = study[study["seed"].to_numpy() <= PILOT_SEED_BASE]
     missing = [c for c in COLUMNS if c not in study]
     if missing:
         raise ValueError(f"the study table lacks the column(s) {missing}")
@@ -99,7 +103,8 @@ def read_study_columns(path) -> dict:
         raise ValueError(f"{path} lacks the column(s) {missing}: not a study table")
     from ..study.config import PILOT_SEED_BASE
 
-    # the claim design's pilot seeds are never shown (study_sweeps): their rows are dropped as each column is read
+    # the claim design's pilot seeds are never shown (as in study_columns): their rows are dropped as each column
+    # is read
     seed = pq.read_table(path, columns=["seed"]).column(0).to_numpy()
     keep = None if (seed <= PILOT_SEED_BASE).all() else np.flatnonzero(seed <= PILOT_SEED_BASE)
     del seed
@@ -153,15 +158,8 @@ def study_sweeps(columns: dict) -> Sweeps:
 
     Parameters
     ----------
-    columns : the study table's columns (:func:`study_columns` or :func:`read_study_columns`). The claim design's
-        pilot seeds (:data:`roughlight.study.config.PILOT_SEED_BASE` and up) are left out: they are never a result.
+    columns : the study table's columns (:func:`study_columns` or :func:`read_study_columns`).
     """
-    from ..study.config import PILOT_SEED_BASE
-
-    tested = np.asarray(columns["seed"]) <= PILOT_SEED_BASE
-    if not tested.all():
-        columns = {name: value[tested] if isinstance(value, np.ndarray) and value.shape[:1] == tested.shape else value
-                   for name, value in columns.items()}
     az, el = np.unique(columns["azimuth"]), np.unique(columns["elevation"])
     parts = [columns["kind"], columns["seed"], columns["truncation"], columns["aspect"], columns["incidence"]]
     combined = np.zeros(len(parts[0]), np.int64)
