@@ -99,10 +99,10 @@ def test_a_tile_mirrored_in_the_lights_plane_gives_the_same_statistics(tile_stud
     added a mirror copy of every view near the back lobe, which lands on a measured view with another value."""
     tile = tile_study[tile_study["kind"] == "random_pyramids"]
     spec = tile[tile["component"] == "specular"].set_index(["azimuth", "elevation"])["rough"]
-    partner = spec.rename(index=lambda v: v)  # (phi, e) -> its mirror view's value
+    # each view's value against its mirror view's (180 - phi, 180 - e): the tile is not mirror-symmetric
     mirror_values = np.array([spec.get((180.0 - a, 180.0 - e), np.nan) if a > 0 else spec[(a, e)]
                               for a, e in spec.index])
-    assert np.nanmax(np.abs(mirror_values - partner.to_numpy())) > 1.0  # the tile is not mirror-symmetric
+    assert np.nanmax(np.abs(mirror_values - spec.to_numpy())) > 1.0
     original = _values(E.seed_statistics(tile_study, min_peak=0.5))
     mirrored = _values(E.seed_statistics(_mirrored(tile_study), min_peak=0.5))
     shape = list(S.SHAPE_STATISTICS)

@@ -228,7 +228,7 @@ def case_findings(png):
                      "target": "implied-scale"},
          "incidence": 30.0, "laws": {"why": "no_laws"},
          "random": {"tests": [test], "kinds": 2, "shape": None, "points": 4, "n_tests": 8, "level": 1 - 0.05 / 8,
-                    "headline": "refuted", "unmeasured": 0, "target": "random-claim"},
+                    "headline": "refuted", "target": "random-claim"},
          "ranking": {"labels": ["<1>"], "lobes": [lobe], "verdict": "reversed", "target": "tables"},
          "speed": {"label": "fast <P=28>", "views": 72, "fast_vps": 1177.2, "naive_vps": 29.1, "speedup": 40.47,
                    "fast_worst": 0.21, "naive_worst": 8.11, "fast_mae": 0.0406, "naive_mae": 1.968,

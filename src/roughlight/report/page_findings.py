@@ -223,12 +223,11 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
     tests = [_claim_test(name, claims[claims["test"] == name], CLAIMS[name]["unit"])
              for name in CLAIMS if (claims["test"] == name).any()]
     squareness = next((t for t in tests if t["name"] == "back_squareness"), None)
-    reasons = claims.loc[claims["verdict"] == "not measurable", "why"]
     return {"tests": tests, "kinds": claims["kind"].nunique(), "shape": _lobe_shape(squareness),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
             "n_tests": len(claims), "level": float(claims["level"].iloc[0]),
             "headline": _claim_headline(claims),
-            "unmeasured": int(len(reasons)), "target": "random-claim"}
+            "target": "random-claim"}
 
 
 # ---------------------------------------------------------------------------

@@ -199,7 +199,7 @@ def claim_design_rows(design: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _claim_family(claims: pd.DataFrame | None, design: pd.DataFrame | None) -> dict | None:
+def _claim_family(design: pd.DataFrame | None) -> dict | None:
     """The family's size and each interval's level (from the design table), None when not given."""
     if design is None or design.empty:
         return None
@@ -263,7 +263,7 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
         "claim": random_claim_rows(random_claims) if frame_or_none(random_claims) is not None else None,
         "design": (claim_design_rows(random_claim_design) if frame_or_none(random_claim_design) is not None
                    else None),
-        "family": _claim_family(random_claims, frame_or_none(random_claim_design)),
+        "family": _claim_family(frame_or_none(random_claim_design)),
         "floor": frame_or_none(random_claim_floor), "charts": charts, "shown": shown, "best": _best_models(fits),
         "fits": fits[keys + [c for c in rmse if c in modelled]],
         "opposition": fits[keys + opposition] if opposition else None,
