@@ -120,7 +120,7 @@ def claims_frame() -> pd.DataFrame:
     claimed, 1 undecided, 2 not measurable."""
     rows = [claim_row("random_pyramids", 0.5, "back_squareness", "difference", -0.02, -0.178, agrees=False),
             claim_row("random_pyramids", 1.0, "back_squareness", "no difference", -0.17, -0.178),
-            claim_row("random_heightfield", 0.5, "back_squareness", "not measurable", np.nan, -0.178, measurable=1),
+            claim_row("random_heightfield", 0.5, "back_squareness", "not measurable", -0.5, -0.178, measurable=1),
             claim_row("random_heightfield", 1.0, "back_squareness", "not measurable", np.nan, -0.155, measurable=0),
             claim_row("random_pyramids", 0.5, "back_phase_shift", "difference", 0.05, 4.3, agrees=True),
             claim_row("random_pyramids", 1.0, "back_phase_shift", "undecided", 1.2, 0.27),
@@ -337,6 +337,8 @@ def test_the_random_claims_are_the_claim_tables(full_page):
     assert text.startswith("The thesis's random-roughness claim is decided only in part.")
     assert "squareness: difference against the claim in 1, no difference in 1, not measurable in 2 of 4" in text
     assert "9 of 16 tested tiles measurable" in text
+    # the means are of the tests made: the one measurable seed of a "not measurable" row (-0.5) is no test's mean
+    assert "random means of the tests made -0.170 to -0.020)" in text
     all_out = claims_frame().assign(verdict="not measurable")
     assert PF.random_claim_finding(all_out, shown=True)["headline"] == "unmeasurable"
 

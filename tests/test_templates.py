@@ -242,7 +242,7 @@ def case_findings(png):
                       "No share law could be fitted", "(<code>report.implicit: false</code>)",
                       "its phase &lt;shift&gt; is 0.08–0.53°", "No test of the thesis's random-roughness claim finds "
                       "the difference it claims.", "phase &lt;shift&gt;: difference against the claim in 7, undecided "
-                      "in 1 of 8 (margin ±2.38°; 30 of 32 tested tiles measurable, random means 4.87–13.67°)",
+                      "in 1 of 8 (margin ±2.38°; 30 of 32 tested tiles measurable, random means of the tests made 4.87–13.67°)",
                       "worst view 0.49 (&lt;diffuse&gt;), "
                       "MAE at most 0.046 (3 surfaces × 1,315 views); random tiles: worst view 0.42",
                       "40.5 times as fast as the naive method and more accurate", "(fast &lt;P=28&gt;) it draws 1,177 "

@@ -158,8 +158,9 @@ VERDICTS = ("difference", "no difference", "undecided", "not measurable")
 def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
     """One test of the claim over its rows (rule ``analysis_random``'s verdict,
     :func:`roughlight.analysis.claims.claim_table`): how many rows reach each verdict (``verdicts``: (verdict,
-    count) pairs; differences split into ``as claimed`` and ``against``), the random means and the regular values
-    (their ranges), the margin and the statistic's ``unit``."""
+    count) pairs; differences split into ``as claimed`` and ``against``), the random means of the tests that were
+    made (not of a "not measurable" row's few seeds) and the regular values (their ranges), the margin and the
+    statistic's ``unit``."""
     verdicts = []
     for verdict in VERDICTS:
         k = int((rows["verdict"] == verdict).sum())
@@ -171,7 +172,8 @@ def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
         elif k:
             verdicts.append((verdict, k))
     return {"name": name, "test": claim_test_label(name), "claim": rows["claim"].iloc[0], "unit": unit,
-            "n": len(rows), "verdicts": verdicts, "mean": _span(rows["mean"]), "regular": _span(rows["regular"]),
+            "n": len(rows), "verdicts": verdicts, "mean": _span(rows.loc[rows["verdict"] != "not measurable", "mean"]),
+            "regular": _span(rows["regular"]),
             "margin": float(rows["margin"].iloc[0]),
             "measurable": int(rows["measurable"].sum()), "tested": int(rows["seeds"].sum())}
 
