@@ -18,7 +18,7 @@ import pytest
 
 from roughlight.report import explorer as X
 from roughlight.report import page as R
-from roughlight.report.page_explorer import explorer_script
+from roughlight.report.sections.explorer import explorer_script
 
 from .browser import Browser
 from .conftest import REPO

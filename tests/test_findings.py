@@ -23,9 +23,9 @@ from roughlight.analysis.share_laws import share_law_fits
 from roughlight.analysis.thesis import exact_lobe_peaks, implied_scales, tables_at_implied_scale, thesis_tables
 from roughlight.render.shading import Lighting
 from roughlight.report import page as R
-from roughlight.report import page_findings as PF
-from roughlight.report import page_sections as PS
 from roughlight.report.page_templates import render
+from roughlight.report.sections import findings as PF
+from roughlight.report.sections import speed as PS
 
 from .test_analysis import make_study
 
@@ -345,13 +345,13 @@ def test_the_random_claims_are_the_claim_tables(full_page):
 
 def test_the_renderer_statements_are_the_benchmarks(full_page):
     b = benchmarks()
-    acc = PF.renderer_accuracy(PS.benchmarks_data(**b))
+    acc = PF.renderer_accuracy(PS.speed_section(**b))
     configured = b["renderer_validation"].query("setting == 'configured'")
     assert acc["worst"] == configured["worst"].max() and acc["mae"] == configured["mae"].max()
     assert acc["component"] == configured.loc[configured["worst"].idxmax(), "component"]
     assert (acc["n_surfaces"], acc["views"]) == (2, 315)
     assert acc["tiles"]["worst"] == 0.42 and acc["tiles"]["largest_mae"] == 0.086  # the random kinds' tiles only
-    sp = PF.speed(PS.benchmarks_data(**b))
+    sp = PF.speed(PS.speed_section(**b))
     total = b["speed_accuracy"].query("component == 'total'")
     fast, naive = total[total["default"]].iloc[0], total[total["method"] == "naive"].iloc[0]
     assert (sp["fast_vps"], sp["naive_vps"], sp["speedup"]) == (fast["views_per_second"], naive["views_per_second"],

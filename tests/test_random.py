@@ -393,7 +393,7 @@ def test_read_study_keeps_exactly_the_rows_each_analysis_reads(tmp_path):
 def test_accuracy_at_every_view_lists_the_random_tiles():
     """The renderer validation's section of the page names the random tiles' worst view and largest MAE, from
     rule random_tiles' accuracy table (one row a tile and component), and leaves them out without one."""
-    from roughlight.report.page_measurements import tile_accuracy
+    from roughlight.report.sections.speed import tile_accuracy
 
     rows = []
     for kind, seed, worst, mae in (("pyramids", 0, 0.3, 0.05), ("random_pyramids", 1, 0.6, 0.04),

@@ -45,9 +45,10 @@ from roughlight.render.gl import context as gl_context
 from roughlight.render.shading import Lighting
 from roughlight.report import figures as F
 from roughlight.report import page as R
+from roughlight.report import page_templates as T
 from roughlight.report import registry
 from roughlight.report.explorer import DEFAULT_BUDGET, explorer_data, study_columns
-from roughlight.report.page_explorer import explorer_script
+from roughlight.report.sections.explorer import explorer_script
 from roughlight.study.selection import find_aspect
 from roughlight.study.tables import study_summary
 
@@ -517,7 +518,7 @@ def test_figures_say_what_their_lines_are(built):
 
 def test_intervals_are_labelled_as_sensitivity_not_sampling_uncertainty():
     """The study's data are deterministic: no table may call its intervals confidence intervals of draws."""
-    captions = R.table_captions()
+    captions = T.table_captions()
     for key in ("thesis_tables_bootstrap", "sine_refits", "glm_coefficients"):
         caption = captions[key]
         assert "confidence" not in caption and "other draws" not in caption, key

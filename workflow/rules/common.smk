@@ -7,6 +7,7 @@ try:
     from roughlight.study import plan as rl_plan
     from roughlight.study import sweep_store as rl_sweep_store
     from roughlight.report import registry as rl_registry
+    from roughlight.report import sections as rl_sections
     from roughlight.measurements import stability as rl_stability
 except (
     ImportError
@@ -278,46 +279,14 @@ def explorer_budget(wildcards):
     return int(config["report"]["explorer"]["budget"])
 
 
-def report_measurements(wildcards):
-    """The report's optional inputs, switched by report.speed_accuracy, report.implicit, report.stability,
-    report.explorer.enabled and surface.kind (never by which files exist): the measurements at
-    measurements.plan, the random ensembles, the explorer's data. Each is named by its file's stem (a chart:
-    its stem and _png), as the rule that writes it names it and as the page's sections take it.
+def report_inputs(wildcards):
+    """What rule report_html reads: the inputs every section of the page declares (roughlight.report.sections),
+    for the sections config switches on (report.speed_accuracy, report.implicit, report.stability,
+    report.explorer.enabled, surface.kind: never which files exist), the measurements at measurements.plan; each
+    named by its file's stem (a chart: its stem and _png), as the rule that writes it names it and as the page's
+    sections take it.
     """
-    plan = measurement_plan()
-    benchmarks = f"results/benchmarks/{plan}"
-    inputs = {}
-    if config["report"]["explorer"]["enabled"]:
-        inputs["explorer_data"] = "results/analysis/explorer_data.json"
-    if config["report"]["speed_accuracy"]:
-        inputs["speed_accuracy"] = f"{benchmarks}/speed_accuracy.parquet"
-        inputs["speed_accuracy_png"] = f"{benchmarks}/speed_accuracy.png"
-        inputs["renderer_validation"] = f"{benchmarks}/renderer_validation.parquet"
-        inputs["arc_smoothness"] = f"{benchmarks}/arc_smoothness.parquet"
-        inputs["renderer_validation_png"] = f"{benchmarks}/renderer_validation.png"
-    if config["report"]["implicit"]:
-        inputs["implicit_validation"] = f"{benchmarks}/implicit_validation.parquet"
-        inputs["implicit_frames"] = f"{benchmarks}/implicit_frames.parquet"
-        inputs["implicit_png"] = f"{benchmarks}/implicit.png"
-        inputs["implicit_maps_png"] = f"{benchmarks}/implicit_maps.png"
-    if rl_config.random_surfaces(config):  # surface.kind lists a random kind
-        inputs["random_ensembles"] = "results/analysis/random_ensembles.csv"
-        inputs["random_claims"] = "results/analysis/random_claims.csv"
-        inputs["random_claim_design"] = "results/analysis/random_claim_design.csv"
-        inputs["random_claim_margins"] = "results/analysis/random_claim_margins.csv"
-        inputs["random_claim_floor"] = "results/analysis/random_claim_floor.csv"
-        inputs["random_seeds_needed"] = "results/analysis/random_seeds_needed.csv"
-        inputs["random_model_fits"] = "results/analysis/random_model_fits.parquet"
-        inputs["random_ensembles_png"] = "results/figures/random_ensembles.png"
-        inputs["random_maps_png"] = "results/figures/random_maps.png"
-        inputs["random_accuracy"] = f"{benchmarks}/random_accuracy.parquet"
-        inputs["tile_convergence"] = f"{benchmarks}/tile_convergence.parquet"
-        inputs["random_tiles_png"] = f"{benchmarks}/random_tiles.png"
-    if config["report"]["stability"]:
-        inputs["stability"] = f"results/stability/{plan}/stability.parquet"
-        inputs["safe_domain"] = f"results/stability/{plan}/safe_domain.csv"
-        inputs["stability_png"] = f"results/stability/{plan}/stability.png"
-    return inputs
+    return rl_sections.inputs(config, measurement_plan())
 
 
 def report_settings(wildcards):

@@ -4,7 +4,7 @@
 # each rule's outputs, the figure scripts and the HTML page are made from that one list; each
 # figure's caption is workflow/report/{name}.rst. One name per output: a table's name, as a rule's output and as
 # any rule's input, is its file's stem; a chart's is its stem and _png (rule report_html hands every input to
-# the page's sections by these names: roughlight.report.registry.SECTIONS).
+# the page's sections by these names; each section declares what it reads: roughlight.report.sections).
 
 
 rule analysis_tables:
@@ -263,26 +263,7 @@ rule explorer_data:
 
 rule report_html:
     input:
-        unpack(report_measurements),
-        study="results/study.parquet",
-        lobes_arc="results/analysis/lobes_arc.parquet",
-        lobes_hemisphere="results/analysis/lobes_hemisphere.parquet",
-        diffuse_three_part="results/analysis/diffuse_three_part.csv",
-        exact_peaks="results/analysis/exact_peaks.csv",
-        thesis_tables="results/analysis/thesis_tables.csv",
-        thesis_tables_bootstrap="results/analysis/thesis_tables_bootstrap.csv",
-        sine_refits="results/analysis/sine_refits.csv",
-        implied_scales="results/analysis/implied_scales.csv",
-        tables_at_implied_scale="results/analysis/tables_at_implied_scale.csv",
-        render_timings="results/analysis/render_timings.csv",
-        study_summary="results/analysis/study_summary.json",
-        glm_summary="results/analysis/glm_summary.csv",
-        glm_coefficients="results/analysis/glm_coefficients.csv",
-        glm_messages="results/analysis/glm_messages.json",
-        share_laws="results/analysis/share_laws.csv",
-        model_fits="results/analysis/model_fits.parquet",
-        model_fits_summary="results/analysis/model_fits_summary.csv",
-        figures=[figure.path for figure in rl_registry.FIGURES],
+        unpack(report_inputs),
     output:
         report(
             "reports/roughlight_report.html",

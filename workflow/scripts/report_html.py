@@ -1,7 +1,7 @@
 """Snakemake adapter: analysis tables and figures -> reports/roughlight_report.html (self-contained).
 
 Every input is handed to the page's sections by its name in the rule (the analysis outputs' file stems, a chart's
-stem and _png: roughlight.report.registry.SECTIONS), with the params by theirs.
+stem and _png: roughlight.report.sections), with the params by theirs.
 """
 import os
 import sys

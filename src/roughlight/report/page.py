@@ -2,21 +2,20 @@
 
 :func:`build_report` takes the named inputs of the page's sections (the analysis outputs by their files' stems, the
 measurements' tables and charts, the figure PNGs, the configuration and provenance, the settings) and returns the
-page as a string; :func:`write_report` writes it atomically. Each section of the page is a function from its inputs
-to the data its template renders (:data:`roughlight.report.registry.SECTIONS`, in the modules
-:mod:`~roughlight.report.page_sections`, :mod:`~roughlight.report.page_thesis`,
-:mod:`~roughlight.report.page_measurements`, :mod:`~roughlight.report.page_findings` and
-:mod:`~roughlight.report.page_explorer`); the page is rendered from Jinja2 templates, ``templates/base.html`` and
-one template a section, with the stylesheet ``templates/report.css`` inlined (:mod:`roughlight.report.page_templates`).
-The page loads nothing from anywhere: no scripts, no fonts, no external images, so it opens from disk without a
-server. Each figure's title and caption (what the thesis, Slattery 2001, saw and what our study shows) come from
-:mod:`roughlight.report.registry`, that is from ``workflow/report/*.rst``, the same text ``snakemake --report`` shows.
+page as a string; :func:`write_report` writes it atomically. Each section of the page is one module of
+:mod:`roughlight.report.sections`: a function from its inputs to the data its template renders, and its declaration
+(title, anchor, template, inputs, switch); :data:`roughlight.report.sections.SECTIONS` gives the page its order. The
+page is rendered from Jinja2 templates, ``templates/base.html`` and one template a section, with the stylesheet
+``templates/report.css`` inlined (:mod:`roughlight.report.page_templates`). The page loads nothing from anywhere:
+no scripts, no fonts, no external images, so it opens from disk without a server. Each figure's title and caption
+(what the thesis, Slattery 2001, saw and what our study shows) come from :mod:`roughlight.report.registry`, that is
+from ``workflow/report/*.rst``, the same text ``snakemake --report`` shows.
 """
 
 from __future__ import annotations
 
 import datetime as _dt
-import importlib
+import inspect
 import json
 import os
 
@@ -24,24 +23,18 @@ import pandas as pd
 
 from ..analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE
 from ..atomic import read_frame, write_text_atomic
-from . import registry
-from .page_measurements import RANDOM_MODELS, random_claim_rows, renderer_validation_line
-from .page_sections import file_provenance, package_versions
-from .page_templates import content_security_policy, named_arguments, png_data_uri, render, table_captions
+from . import registry, sections
+from .page_templates import content_security_policy, named_arguments, render
+from .sections.provenance import file_provenance, package_versions
 
 __all__ = [
-    "table_captions",
-    "RANDOM_MODELS",
     "package_versions",
     "file_provenance",
-    "png_data_uri",
-    "renderer_validation_line",
     "read_inputs",
     "section_data",
     "render_section",
     "build_report",
     "write_report",
-    "random_claim_rows",
 ]
 
 TITLE = "roughlight: rough surface lighting behaviours, rebuilt"
@@ -84,13 +77,19 @@ def read_inputs(paths: dict) -> dict:
 def section_data(section: registry.Section, values: dict):
     """A section's data: its function (:attr:`registry.Section.build`) given what its parameters name from
     ``values`` (``section``: the section's name)."""
-    build = getattr(importlib.import_module(section.path), section.build)
-    return build(**named_arguments(build, {**values, "section": section.name}))
+    return section.build(**named_arguments(section.build, {**values, "section": section.name}))
+
+
+def takes_shown(section: registry.Section) -> bool:
+    """Whether the section's data depend on which other sections are on the page (a parameter ``shown``): it is
+    gathered after them."""
+    return "shown" in inspect.signature(section.build).parameters
 
 
 def render_section(name: str, **values) -> str:
-    """One section of the page alone (its HTML), from its inputs by name."""
-    section = registry.section(name)
+    """One section of the page alone (its HTML), from its inputs by name: the same template and data the page
+    places."""
+    section = sections.section(name)
     return render(section.template, s=section_data(section, values))
 
 
@@ -108,7 +107,7 @@ def build_report(inputs: dict | None = None, figures: dict | None = None, title:
         ``study``, ``timings`` and ``messages``; ``glm_messages``, a list), the measurements (``speed_accuracy``,
         ``renderer_validation``, ``stability``, ``safe_domain``, ``implicit_validation``, ``random_ensembles``,
         ...) and their charts (``{stem}_png``: paths), ``explorer_data``: whatever a section of
-        :data:`roughlight.report.registry.SECTIONS` names. A name left out is reported, not an error; a section
+        :data:`roughlight.report.sections.SECTIONS` names. A name left out is reported, not an error; a section
         whose inputs are all left out says it is switched off.
     figures : dict stem -> PNG path (:data:`roughlight.report.registry.FIGURES` stems); None: ``inputs["figures"]``.
     title : the page's title.
@@ -127,10 +126,11 @@ def build_report(inputs: dict | None = None, figures: dict | None = None, title:
     if figures is not None:
         values["figures"] = figures
     page = {}
-    for section in registry.SECTIONS:
+    for section in sorted(sections.SECTIONS, key=takes_shown):  # those that say what is shown, last
         page[section.name] = section_data(section, {**values, "shown": {k: v is not None for k, v in page.items()}})
     return render(
-        "base.html", title=title, now=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"), **page,
+        "base.html", title=title, now=_dt.datetime.now(_dt.UTC).isoformat(timespec="seconds"),
+        sections=sections.SECTIONS, page=page,
         csp=content_security_policy(page["explorer"]["scripts"] if page["explorer"] else ()),
     )
 

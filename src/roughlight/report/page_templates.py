@@ -201,6 +201,12 @@ def section_figures(section: str, figures: dict) -> list[dict]:
     return [figure(f.name, figures) for f in registry.figures(section=section)]
 
 
+def figure_section(section: str, figures: dict | None = None) -> dict:
+    """A figure section of the page (specular, diffuse, pictures; ``templates/figures.html``): its registry
+    figures."""
+    return {"section": section, "figures": section_figures(section, figures or {})}
+
+
 def table_caption(name: str) -> str:
     """A table's caption on the page: the ``*On the page:*`` paragraph of ``captions/{name}.rst``, as one line."""
     text = (registry.CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8")

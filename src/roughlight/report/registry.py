@@ -1,5 +1,5 @@
-"""The report's figures and the page's sections: two lists, from which the workflow, the figure scripts and the
-HTML page are made.
+"""The report's figures, and what a section of the page declares: the list of figures and the :class:`Section` type,
+from which the workflow, the figure scripts and the HTML page are made.
 
 Each :class:`Figure` names a PNG under ``results/figures/``, where it sits in the
 report (Snakemake's ``report()`` category and subcategory, the HTML page's
@@ -11,17 +11,19 @@ HTML page. The function that draws a figure is ``{name}`` (``fig_{name}`` for na
 ``fig``) of its section's module of :mod:`roughlight.report.figures` (:data:`SECTION_MODULES`), and is
 importable from :mod:`roughlight.report.figures` itself too.
 
-Each :class:`Section` of the page is a function from its inputs to the data its template
-(``templates/{template}``) renders: the function names its inputs by its parameter names, which are the names
-of the analysis outputs (their files' stems; a chart's stem and ``_png``, as rule ``report_html`` names its inputs),
-of the figures (``figures``) and of the settings (``table_aspects``, ``plan``, ...). :data:`SECTIONS` lists them;
-:func:`roughlight.report.page.build_report` calls each and ``templates/base.html`` places their templates.
+Each :class:`Section` of the page is declared by its own module of :mod:`roughlight.report.sections`: its title and
+anchor, its template, the results it reads and the config switch that turns it on, and a function from its inputs
+to the data its template (``templates/{template}``) renders. The function names its inputs by its parameter names,
+which are the names of the analysis outputs (their files' stems; a chart's stem and ``_png``, as rule
+``report_html`` names its inputs), of the figures (``figures``) and of the settings (``table_aspects``, ``plan``,
+...). :data:`roughlight.report.sections.SECTIONS` lists them in the page's order.
 """
 
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 
 #: workflow/report/: the captions (reStructuredText), beside the rules that cite them.
@@ -131,59 +133,57 @@ def title(name: str) -> str:
 
 @dataclass(frozen=True)
 class Section:
-    """One section of the HTML page.
+    """One section of the HTML page, as its module under :mod:`roughlight.report.sections` declares it.
 
     Attributes
     ----------
     name : str
-        The section's name: the page's data for ``templates/base.html`` (which includes its template with that
-        data as ``s``). A function's parameter called ``section`` is given this name.
-    module : str
-        The module of :mod:`roughlight.report` that holds :attr:`build`.
-    build : str
-        The function that gathers the section's data from its inputs, named by its parameters; it returns a dict,
-        or None when the section's inputs were not given (the page says the section is switched off).
+        The section's name: its data on the page (``templates/base.html`` includes its template with that data as
+        ``s``). A function's parameter called ``section`` is given this name.
+    build : callable
+        The function that gathers the section's data from its inputs, named by its parameters (a parameter
+        ``shown``, which sections are on the page, makes it gathered after the others); it returns a dict, or None
+        when the section is switched off (its template then says so).
     template : str
         The template under ``templates/`` that renders the data.
+    title : str or None
+        Its entry in the page's contents (None: it has none, being part of the section before it).
+    anchor : str or None
+        The id its entry links to (None: ``name``).
+    inputs : dict
+        What the section reads, name -> path as the workflow writes it (``{plan}``: ``measurements.plan``);
+        ``figures``: a tuple of the registry's figure paths. Rule ``report_html`` takes the union of the sections'
+        inputs that are switched on (:func:`roughlight.report.sections.inputs`).
+    switch : str, callable or None
+        What turns the section on: a dotted config key that holds a bool (``"report.implicit"``), or a function of
+        the config; None: always on. A switched-off section's inputs are not made, and its function gets None.
     """
 
     name: str
-    module: str
-    build: str
+    build: Callable
     template: str
+    title: str | None = None
+    anchor: str | None = None
+    inputs: Mapping = field(default_factory=dict)
+    switch: str | Callable | None = None
 
     @property
-    def path(self) -> str:
-        """The module's full name."""
-        return f"roughlight.report.{self.module}"
+    def link(self) -> str:
+        """The id its entry in the contents links to."""
+        return self.anchor or self.name
 
+    def switched_on(self, config: Mapping) -> bool:
+        """Whether ``config`` (the workflow's, validated) turns the section on."""
+        if self.switch is None:
+            return True
+        if callable(self.switch):
+            return bool(self.switch(config))
+        value = config
+        for key in self.switch.split("."):
+            value = value[key]
+        return bool(value)
 
-#: The page's sections, in the order their data are gathered: the page's order, but for the findings, gathered last
-#: since they say which sections are on the page (``shown``).
-SECTIONS = (
-    Section("explorer", "page_explorer", "explorer_section", "explorer.html"),
-    Section("study", "page_sections", "study_section", "study.html"),
-    Section("tables", "page_thesis", "tables_section", "tables.html"),
-    Section("specular", "page_sections", "figure_section", "figures.html"),
-    Section("diffuse", "page_sections", "figure_section", "figures.html"),
-    Section("diffuse_parts", "page_sections", "diffuse_parts_section", "diffuse_parts.html"),
-    Section("pictures", "page_sections", "figure_section", "figures.html"),
-    Section("lobes", "page_sections", "lobes_section", "lobes.html"),
-    Section("glm", "page_sections", "glm_section", "glm.html"),
-    Section("models", "page_sections", "models_section", "models.html"),
-    Section("implicit", "page_measurements", "implicit_data", "implicit.html"),
-    Section("random", "page_measurements", "random_data", "random.html"),
-    Section("stability", "page_measurements", "stability_data", "stability.html"),
-    Section("regressions", "page_sections", "regressions_section", "regressions.html"),
-    Section("provenance", "page_sections", "provenance_section", "provenance.html"),
-    Section("findings", "page_findings", "findings_section", "findings.html"),
-)
-
-_SECTIONS_BY_NAME = {s.name: s for s in SECTIONS}
-
-
-def section(name: str) -> Section:
-    """The section of the page called ``name``."""
-    if name not in _SECTIONS_BY_NAME:
-        raise KeyError(f"no section {name!r} in the registry")
-    return _SECTIONS_BY_NAME[name]
+    def paths(self, plan: str) -> dict:
+        """Its inputs with ``{plan}`` filled in: name -> path (``figures``: a list of paths)."""
+        return {name: [p.format(plan=plan) for p in path] if isinstance(path, (list, tuple)) else path.format(plan=plan)
+                for name, path in self.inputs.items()}

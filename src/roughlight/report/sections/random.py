@@ -1,132 +1,15 @@
-"""The page's sections on the measurements (:mod:`roughlight.measurements`): "Where methods fail" (the stability
-scans), "Accuracy at every view" (the renderer's validation), "An implicit rough surface" and "Random roughness".
-
-Each section is a function from its inputs, named as the analysis outputs and the measurements' files are
-(:data:`roughlight.report.registry.SECTIONS`: :func:`stability_data`, :func:`implicit_data`, :func:`random_data`), to
-the data its template says (``templates/stability.html``, ``renderer_validation.html``, ``implicit.html`` and
-``random.html``); it returns None when its inputs were not given (the section is switched off).
-One section alone is rendered through the page's own path, :func:`roughlight.report.page.render_section`.
-"""
+"""The page's "Random roughness": the random ensembles against the regular surface, the rectangular-lobe claim's
+design and verdict, the analytic models refitted, the seeds needed and the random tiles' benchmark
+(``templates/random.html``); on when ``surface.kind`` lists a random kind."""
 
 from __future__ import annotations
 
 import numpy as np
 import pandas as pd
 
-from .page_templates import caption_text, existing, frame_or_none, plain_text, render_macro
-
-# ---------------------------------------------------------------------------
-# the renderer at every view
-
-
-def validation_line(validation: pd.DataFrame) -> dict:
-    """The data of ``macros.html``'s ``validation_line``: per sampling setting, each component's worst view."""
-    from ..measurements.renderer_validation import validation_summary
-
-    summary = validation_summary(validation)
-    if "setting" not in summary.columns:
-        summary["setting"] = "configured"
-    settings = []
-    for setting, rows in summary.groupby("setting", sort=False):
-        settings.append({"setting": setting, "views_per_second": rows["views_per_second"].iloc[0],
-                         "rows": [{"component": r.component, "worst": r.worst, "p99": r.p99,
-                                   "largest_mae": r.largest_mae} for r in rows.itertuples()]})
-    return {"n_surfaces": len(validation[["truncation", "aspect", "incidence"]].drop_duplicates()),
-            "views": int(validation["n_views"].max()), "settings": settings}
-
-
-def renderer_validation_line(validation: pd.DataFrame) -> str:
-    """One sentence (plain text): the default renderer's worst view, p99 and MAE against the exact reference."""
-    return plain_text(render_macro("macros.html", "validation_line", validation_line(validation)))
-
-
-def renderer_validation_data(validation: pd.DataFrame, smoothness: pd.DataFrame | None, png_path=None,
-                             tiles: pd.DataFrame | None = None) -> dict:
-    """The data of ``templates/renderer_validation.html``; ``tiles``: the random tiles against the exact reference
-    (rule ``random_tiles``'s ``random_accuracy``), or None when no random kind is measured."""
-    smoothness = frame_or_none(smoothness)
-    worst = smoothness.sort_values("largest_deviation", ascending=False).iloc[0] if smoothness is not None else None
-    return {"line": validation_line(validation), "png": existing(png_path), "validation": validation,
-            "smoothness": smoothness, "worst": worst, "tiles": tile_accuracy(frame_or_none(tiles))}
-
-
-def tile_accuracy(accuracy: pd.DataFrame | None) -> dict | None:
-    """Per random kind: the tiles compared, their views, the worst view and the largest MAE over components."""
-    if accuracy is None or "kind" not in accuracy:
-        return None
-    tiles = accuracy[accuracy["kind"] != "pyramids"]
-    if tiles.empty:
-        return None
-    keys = [c for c in ("truncation", "aspect", "cells", "seed") if c in tiles]
-    table = tiles.groupby("kind", sort=True).agg(
-        tiles=("seed", lambda s: len(tiles.loc[s.index, keys].drop_duplicates())), views=("views", "sum"),
-        refused=("reference_refused", "sum"), worst=("worst", "max"), largest_mae=("mae", "max")).reset_index()
-    table["views"] = table["views"] // 3  # one row a component
-    table["refused"] = table["refused"] // 3
-    return {"table": table, "worst": float(tiles["worst"].max()), "largest_mae": float(tiles["mae"].max())}
-
-
-# ---------------------------------------------------------------------------
-# where methods fail
-
-
-def stability_data(safe_domain: pd.DataFrame | None = None, stability: pd.DataFrame | None = None,
-                   stability_png=None, plan: str = "full", renderer_validation: pd.DataFrame | None = None) -> dict | None:
-    """"Where methods fail": the safe-domain table, the chart, what fails where (with the default renderer's worst
-    view at every view when ``renderer_validation``, the frame of
-    :func:`roughlight.measurements.renderer_validation.validate_renderer`, is given); None: switched off.
-
-    Parameters
-    ----------
-    safe_domain : the frame of :func:`roughlight.measurements.stability.safe_domain`.
-    stability : the long frame of the scans (for the clipping numbers and the normals), or None.
-    stability_png : path of the PNG from :func:`roughlight.report.figures.plot_stability`.
-    plan : the size the measurements ran at (:data:`roughlight.measurements.stability.PLANS`).
-    """
-    from ..measurements.stability import TOLERANCE, normals_table, plan_surfaces
-
-    if safe_domain is None:
-        return None
-    surfaces_of = plan_surfaces(plan)
-    safe = safe_domain if isinstance(safe_domain, pd.DataFrame) else pd.DataFrame(safe_domain)
-    long = stability
-    clipped = None
-    if long is not None:
-        cf = long[(long["experiment"] == "clipping") & (long["metric"] == "clipped_fraction")]
-        clipped = list(zip(cf["setting"], cf["x"], cf["value"]))
-    nt = normals_table(long) if long is not None else pd.DataFrame()
-    normals = {"table": nt, "surfaces": [(s.truncation, s.aspect) for s, _ in surfaces_of["normals"]]} \
-        if len(nt) else None
-    line = validation_line(renderer_validation) \
-        if renderer_validation is not None and len(renderer_validation) else None
-    return {"plan": plan, "n_fast": len(surfaces_of["fast"]), "n_naive": len(surfaces_of["naive"]),
-            "tolerance": TOLERANCE, "safe": safe, "png": stability_png, "clipped": clipped, "line": line,
-            "normals": normals}
-
-
-# ---------------------------------------------------------------------------
-# an implicit rough surface
-
-
-def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_frames: pd.DataFrame | None = None,
-                  implicit_png=None, implicit_maps_png=None, plan: str = "full") -> dict | None:
-    """"An implicit rough surface: the thesis's goal": the validation against the exact reference and the frame
-    times (rule ``implicit_surface``), with their charts; None: switched off."""
-    from ..measurements.implicit_surface import summary
-
-    validation, frames = implicit_validation, implicit_frames
-    if validation is None or frames is None:
-        return None
-    f = frames.groupby(["field", "method"], as_index=False).agg(
-        triangles=("triangles", "first"), frame_ms=("frame_ms", "mean"), error=("error", "max"))
-    explicit = f[f["method"] == "explicit"].set_index("field")["frame_ms"]
-    f["speedup_vs_explicit"] = f["frame_ms"].rdiv(f["field"].map(explicit))
-    png, maps_png = existing(implicit_png), existing(implicit_maps_png)
-    return {"plan": plan, "n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
-            "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
-            "png": png, "caption": caption_text("implicit") if png else None,
-            "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f}
-
+from ...study.config import random_surfaces
+from ..page_templates import caption_text, existing, frame_or_none
+from ..registry import Section
 
 # ---------------------------------------------------------------------------
 # random roughness
@@ -173,7 +56,7 @@ def claim_test_label(statistic: str) -> str:
 def _claim_tests(margins: pd.DataFrame | None) -> list[dict]:
     """Each test of the claim: its name, the claim it puts, what its statistic shows, its margin and where the
     margin comes from (rule ``analysis_random``'s margins table; None: not given)."""
-    from ..analysis.claims import CLAIMS
+    from ...analysis.claims import CLAIMS
 
     margin = margins.set_index("statistic") if margins is not None else None
     out = []
@@ -223,7 +106,7 @@ def _best_models(fits: pd.DataFrame) -> list[dict]:
 
 def _random_tiles(accuracy, convergence, tiles_png) -> dict:
     """The random tiles' benchmark: the fast renderer against the exact reference, tile-size convergence."""
-    from ..measurements.random_tiles import convergence_summary
+    from ...measurements.random_tiles import convergence_summary
 
     convergence = frame_or_none(convergence)
     tiles_png = existing(tiles_png)
@@ -269,3 +152,18 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
         "opposition": fits[keys + opposition] if opposition else None,
         "seeds": seeds_needed[keys + ["statistic", "mean", "sd"] + needed],
         "plan": plan, **_random_tiles(random_accuracy, tile_convergence, random_tiles_png)}
+
+
+SECTION = Section("random", random_data, "random.html", title="Random roughness", switch=random_surfaces,
+                  inputs={"random_ensembles": "results/analysis/random_ensembles.csv",
+                          "random_claims": "results/analysis/random_claims.csv",
+                          "random_claim_design": "results/analysis/random_claim_design.csv",
+                          "random_claim_margins": "results/analysis/random_claim_margins.csv",
+                          "random_claim_floor": "results/analysis/random_claim_floor.csv",
+                          "random_seeds_needed": "results/analysis/random_seeds_needed.csv",
+                          "random_model_fits": "results/analysis/random_model_fits.parquet",
+                          "random_ensembles_png": "results/figures/random_ensembles.png",
+                          "random_maps_png": "results/figures/random_maps.png",
+                          "random_accuracy": "results/benchmarks/{plan}/random_accuracy.parquet",
+                          "tile_convergence": "results/benchmarks/{plan}/tile_convergence.parquet",
+                          "random_tiles_png": "results/benchmarks/{plan}/random_tiles.png"})

@@ -2,8 +2,9 @@
 element of the page that shows the evidence (``templates/findings.html``).
 
 Each function here gathers one statement's numbers from this run's frames, through the functions of the section
-that shows the evidence (:mod:`~roughlight.report.page_thesis`, :mod:`~roughlight.report.page_sections`,
-:mod:`~roughlight.report.page_measurements`, rule ``analysis_random``'s claim table), so that a finding
+that shows the evidence (:mod:`~roughlight.report.sections.tables`, :mod:`~roughlight.report.sections.glm`,
+:mod:`~roughlight.report.sections.speed`, :mod:`~roughlight.report.sections.random`, rule ``analysis_random``'s
+claim table), so that a finding
 says what its section says. Each returns a dict: the statement's numbers and ``target``, the id of the page element
 it links to (on the page whenever the statement is made); or, where the statement cannot be made for this run,
 ``{"why": code}``, a code the template turns into the sentence that says why.
@@ -14,10 +15,12 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from . import page_sections as sections
-from . import page_thesis
-from .page_measurements import claim_test_label
-from .page_templates import frame_or_none
+from ..page_templates import frame_or_none
+from ..registry import Section
+from . import tables
+from .glm import best_laws
+from .random import claim_test_label
+from .speed import speed_section
 
 #: The lobes of Tables 1-2: (lobe, table, its area function).
 LOBES = (("forward", 1, "Square Area Function"), ("back", 2, "Triangle Area Function"))
@@ -52,8 +55,8 @@ def _lobe_ranking(thesis: pd.DataFrame, per_aspect: list[dict], lobe: str, table
     area = [f[f"{lobe}_area"] for f in per_aspect]
     regressed = [f[f"{lobe}_regressed"] for f in per_aspect]
     first = thesis["aspect"].max()
-    t_area = page_thesis.table_statistic(thesis, table, first, area_model, "thesis 2001", "Mean Abs Error")
-    t_regressed = page_thesis.table_statistic(thesis, table, first, "Regressed Model", "thesis 2001", "Mean Abs Error")
+    t_area = tables.table_statistic(thesis, table, first, area_model, "thesis 2001", "Mean Abs Error")
+    t_regressed = tables.table_statistic(thesis, table, first, "Regressed Model", "thesis 2001", "Mean Abs Error")
     ours = {_better(a, r) for a, r in zip(area, regressed)} - {None}
     return {"lobe": lobe, "table": table, "area": _span(area), "regressed": _span(regressed),
             "ours": ours.pop() if len(ours) == 1 else ("mixed" if ours else None),
@@ -63,13 +66,13 @@ def _lobe_ranking(thesis: pd.DataFrame, per_aspect: list[dict], lobe: str, table
 def ranking(thesis: pd.DataFrame | None) -> dict:
     """Tables 1-2's ranking of the area functions against the regressed models, ours against the thesis's.
 
-    Ours are :func:`roughlight.report.page_thesis.lobe_maes`' MAEs (what "Tables 1 and 2" says), per lobe the
+    Ours are :func:`roughlight.report.sections.tables.lobe_maes`' MAEs (what "Tables 1 and 2" says), per lobe the
     range over the table aspects; ``verdict``: "reversed" (every lobe ranks the other way round from the
     thesis), "same", or "mixed" (some lobe could not be compared, or ranks differently at different aspects).
     """
     if not _has_rows(thesis):
         return {"why": "no_table_aspect"}
-    per_aspect = page_thesis.lobe_maes(thesis)
+    per_aspect = tables.lobe_maes(thesis)
     lobes = [_lobe_ranking(thesis, per_aspect, *lobe) for lobe in LOBES]
     ranked = [lb for lb in lobes if lb["ours"] in ("area", "regressed") and lb["thesis"]]
     verdict = "mixed"
@@ -83,10 +86,10 @@ def ranking(thesis: pd.DataFrame | None) -> dict:
 
 def exact_law(thesis: pd.DataFrame | None, exact: pd.DataFrame | None) -> dict:
     """The area functions on the exact lobe peaks, and how far the fast renderer's peaks are from them
-    (:func:`roughlight.report.page_thesis.exact_error`: max, mean, worst)."""
+    (:func:`roughlight.report.sections.tables.exact_error`: max, mean, worst)."""
     if not _has_rows(thesis):
         return {"why": "no_table_aspect"}
-    error = page_thesis.exact_error(thesis, exact)
+    error = tables.exact_error(thesis, exact)
     if error is None:
         return {"why": "no_exact"}
     return {**error, "target": "exact-peaks"}
@@ -103,17 +106,17 @@ def _at_implied_scale(at_scale: pd.DataFrame, scales: pd.DataFrame) -> list[dict
         out.append({"table": int(table), "model": scale["model"], "scale": float(scale["s_min_mae"]),
                     "area": _span(area["Mean Abs Error"]), "thesis": float(scale["mae"]),
                     "regressed": _span(rows[rows["model"] == "Regressed Model"]["Mean Abs Error"]),
-                    "area_wins": page_thesis.area_still_wins(rows)})
+                    "area_wins": tables.area_still_wins(rows)})
     return out
 
 
 def implied_scale(thesis: pd.DataFrame | None, implied_scales: pd.DataFrame | None,
                   tables_at_implied_scale: pd.DataFrame | None) -> dict:
-    """The scales of its area functions the thesis's own numbers allow (:func:`page_thesis.implied`), and our
+    """The scales of its area functions the thesis's own numbers allow (:func:`tables.implied`), and our
     rows at the smallest allowed scale where the stated one is impossible."""
     if not _has_rows(thesis):
         return {"why": "no_table_aspect"}
-    shown = page_thesis.implied(implied_scales, tables_at_implied_scale)
+    shown = tables.implied(implied_scales, tables_at_implied_scale)
     if shown is None:
         return {"why": "no_scales"}
     scales = shown["scales"]
@@ -135,7 +138,7 @@ def share_law_finding(laws: pd.DataFrame | None) -> dict:
     laws = frame_or_none(laws)
     if laws is None:
         return {"why": "no_laws"}
-    best = sections.best_laws(laws)
+    best = best_laws(laws)
     items = []
     for _, r in best.sort_values(["lobe", "incidence"], ascending=[False, True]).iterrows():
         base = laws[(laws["lobe"] == r["lobe"]) & (laws["incidence"] == r["incidence"]) & (laws["model"] == BASELINE)]
@@ -213,7 +216,7 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
 
     ``shown``: the "Random roughness" section is on the page (a random kind was measured).
     """
-    from ..analysis.claims import CLAIMS
+    from ...analysis.claims import CLAIMS
 
     if not shown:
         return {"why": "no_kind"}
@@ -238,9 +241,9 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
 
 def renderer_accuracy(shown: dict | None) -> dict:
     """The fast renderer against the exact reference at every view (the configured setting of
-    :func:`roughlight.report.page_measurements.validation_line`: its worst view and largest MAE over the
+    :func:`roughlight.report.sections.speed.validation_line`: its worst view and largest MAE over the
     components) and on random tiles, as "Accuracy at every view" says them (``shown``: its data,
-    :func:`roughlight.report.page_sections.benchmarks_data`)."""
+    :func:`roughlight.report.sections.speed.speed_section`)."""
     if shown is None:
         return {"why": "switched_off"}
     if shown["validation"] is None:
@@ -257,7 +260,7 @@ def renderer_accuracy(shown: dict | None) -> dict:
 def speed(shown: dict | None) -> dict:
     """The fast renderer at its default settings against the naive method, from the speed/accuracy benchmark
     (:func:`roughlight.measurements.speed_accuracy.run_benchmark`): views per second and the total's worst
-    error and MAE against the exact reference (``shown``: :func:`roughlight.report.page_sections.benchmarks_data`)."""
+    error and MAE against the exact reference (``shown``: :func:`roughlight.report.sections.speed.speed_section`)."""
     if shown is None:
         return {"why": "switched_off"}
     table = frame_or_none(shown["table"])
@@ -280,7 +283,7 @@ def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
 
     ``shown``: the "An implicit rough surface" section is on the page (``report.implicit``).
     """
-    from ..measurements.implicit_surface import summary
+    from ...measurements.implicit_surface import summary
 
     if not shown:
         return {"why": "switched_off"}
@@ -317,7 +320,7 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
         claim table; None: the statement says they were not given.
     speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness, renderer_validation_png,
     random_accuracy : the speed/accuracy benchmark and "Accuracy at every view", as "Settings and provenance" shows
-        them (:func:`roughlight.report.page_sections.benchmarks_data`); none given: switched off.
+        them (:func:`roughlight.report.sections.speed.speed_section`); none given: switched off.
     table_aspects, table_incidence : the aspects and incidence of Tables 1-2.
     shown : which sections are on the page (name -> bool): ``random``, ``implicit``.
 
@@ -327,7 +330,7 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
     """
     shown = shown or {}
     thesis = thesis_tables
-    benchmarks = sections.benchmarks_data(speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness,
+    benchmarks = speed_section(speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness,
                                           renderer_validation_png, random_accuracy)
     return {
         "table_aspects": list(table_aspects), "incidence": table_incidence,
@@ -337,3 +340,12 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
         "random": random_claim_finding(random_claims, bool(shown.get("random"))),
         "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
     }
+
+
+#: The findings come first on the page, above the contents; gathered last, since they say which sections are on it.
+SECTION = Section("findings", findings_section, "findings.html", title="Findings",
+                  inputs={"thesis_tables": "results/analysis/thesis_tables.csv",
+                          "exact_peaks": "results/analysis/exact_peaks.csv",
+                          "implied_scales": "results/analysis/implied_scales.csv",
+                          "tables_at_implied_scale": "results/analysis/tables_at_implied_scale.csv",
+                          "share_laws": "results/analysis/share_laws.csv"})

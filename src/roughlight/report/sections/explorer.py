@@ -12,7 +12,8 @@ from __future__ import annotations
 import json
 from functools import cache
 
-from .page_templates import environment
+from ..page_templates import environment
+from ..registry import Section
 
 #: The kinds as the page names them.
 KIND_NAMES = {"control": "the control plate", "pyramids": "regular pyramids", "random_pyramids": "random pyramids",
@@ -67,3 +68,7 @@ def explorer_section(explorer_data: dict | None = None) -> dict | None:
             "held": _held(data), "left_out": left_out, "bytes": data["bytes"], "budget": data["budget"],
             "azimuths": len(data["azimuths"]), "elevations": len(data["elevations"]),
             "views": len(data["azimuths"]) * len(data["elevations"])}
+
+
+SECTION = Section("explorer", explorer_section, "explorer.html", title="Hemisphere explorer",
+                  switch="report.explorer.enabled", inputs={"explorer_data": "results/analysis/explorer_data.json"})

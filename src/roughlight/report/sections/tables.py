@@ -9,10 +9,11 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..analysis.thesis import TABLE_METRICS, THESIS_INCIDENCE, THESIS_TABLES, sd_bound
-from ..study.selection import ASPECT_TOL
-from ..surfaces.surface import aspect_label
-from .page_templates import frame_or_none
+from ...analysis.thesis import TABLE_METRICS, THESIS_INCIDENCE, THESIS_TABLES, sd_bound
+from ...study.selection import ASPECT_TOL
+from ...surfaces.surface import aspect_label
+from ..page_templates import frame_or_none
+from ..registry import Section
 
 #: The columns of a printed table (both readings of the thesis's SD) and their decimals.
 PRINTED_METRICS = TABLE_METRICS[:2] + ["SD of |error|"] + TABLE_METRICS[2:]
@@ -152,3 +153,12 @@ def tables_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.Da
         "bootstrap": bootstrap(thesis_tables_bootstrap), "sine": _sine(sine_refits),
         "exact": frame_or_none(exact),
     }
+
+
+SECTION = Section("tables", tables_section, "tables.html", title="Tables 1 and 2",
+                  inputs={"thesis_tables": "results/analysis/thesis_tables.csv",
+                          "exact_peaks": "results/analysis/exact_peaks.csv",
+                          "implied_scales": "results/analysis/implied_scales.csv",
+                          "tables_at_implied_scale": "results/analysis/tables_at_implied_scale.csv",
+                          "thesis_tables_bootstrap": "results/analysis/thesis_tables_bootstrap.csv",
+                          "sine_refits": "results/analysis/sine_refits.csv"})
