@@ -69,8 +69,8 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
     if rl_config.random_surfaces(cfg):
         outputs.update(steps.analysis_random(study, settings, lighting))
         # the charts rule analysis_random draws (the page is built without them: the chain checks the tables)
-        F.plot_random_ensembles(outputs["random_ensembles"], workdir / "figures" / "random_ensembles.png")
-        F.plot_random_maps(study, workdir / "figures" / "random_maps.png")
+        F.make("random_ensembles", workdir / "figures" / "random_ensembles.png", summary=outputs["random_ensembles"])
+        F.make("random_maps", workdir / "figures" / "random_maps.png", study=study)
     if cfg["report"]["explorer"]["enabled"]:  # rule explorer_data
         outputs["explorer_data"] = explorer_data(study_columns(study), budget=cfg["report"]["explorer"]["budget"])
     ran_on = renderers(sorted((workdir / "results" / "sweeps").rglob("*.parquet")))  # as study_table records them

@@ -30,7 +30,7 @@ def test_benchmark_runs_every_method_against_the_reference(tmp_path):
     # finer sampling is more accurate
     assert fast.set_index("component")["mae"]["diffuse"] < coarse.set_index("component")["mae"]["diffuse"]
     assert (table.loc[table["method"] == "fast", "speedup_vs_naive"] > 1).all()
-    figures.plot_speed_accuracy(table, tmp_path / "chart.png")
+    figures.make("speed_accuracy", tmp_path / "chart.png", table=table)
     assert (tmp_path / "chart.png").stat().st_size > 10_000
     assert isinstance(table, pd.DataFrame)
 
@@ -61,5 +61,5 @@ def test_random_tiles_samplings_are_charted_on_tiles_of_their_own(tmp_path):
     assert [c.label for c in configs][:2] == ["fast tiles adaptive P=8/cell", "fast tiles adaptive P=16/cell"]
     quick = benchmark.PLANS["quick"]["tiles"]
     assert {c.settings["tile_sampling"] for c in quick["configs"]()} == {"adaptive", "lattice"}
-    figures.plot_speed_accuracy(table, tmp_path / "chart.png")
+    figures.make("speed_accuracy", tmp_path / "chart.png", table=table)
     assert (tmp_path / "chart.png").stat().st_size > 10_000

@@ -145,11 +145,11 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction"}
     assert (frames.loc[frames.method != "explicit", "triangles"] == 2).all()
     assert frames.loc[frames.method == "implicit_exact", "error"].max() < 1.0
-    figures.plot_implicit(table, frames, tmp_path / "implicit.png", pictures=pictures)
+    figures.make("implicit", tmp_path / "implicit.png", validation=table, frames=frames, pictures=pictures)
     monkeypatch.setattr(implicit_bench, "MAP_SURFACES", implicit_bench.MAP_SURFACES[:1])
     maps = implicit_bench.hemisphere_maps("tiny")
     assert set(maps["method"]) == {"reference", "implicit_exact", "implicit_correction"}
-    figures.plot_implicit_maps(maps, tmp_path / "maps.png")
+    figures.make("implicit_maps", tmp_path / "maps.png", maps=maps)
     html = report.render_section("implicit", implicit_validation=table, implicit_frames=frames,
                                  implicit_png=str(tmp_path / "implicit.png"), plan="tiny",
                                  implicit_maps_png=str(tmp_path / "maps.png"))

@@ -94,7 +94,7 @@ def test_safe_domain_and_report(frames, tmp_path):
     pictures = stability.normals_pictures(size=(80, 60), periods=2)
     assert set(pictures) == {"flat", "phong", "gouraud"}
     assert not np.array_equal(pictures["flat"], pictures["gouraud"])  # the normals change the picture
-    figures.plot_stability(frames, path, pictures)
+    figures.make("stability", path, frames=frames, pictures=pictures)
     assert path.stat().st_size > 20_000
     html = report.render_section("stability", safe_domain=safe, stability=frames, stability_png=path)
     assert html.startswith('<section id="stability"><h2>Where methods fail</h2>')

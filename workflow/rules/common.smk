@@ -299,8 +299,8 @@ def claim_settings(wildcards):
     return rl_config.claim_settings(config)
 
 
-def figure_outputs(rendered):
-    """The `report()` outputs of the registry's figures, drawn (False) or rendered (True), by name."""
+def figure_outputs(rule):
+    """The `report()` outputs of the registry's figures that `rule` draws (figures, render_figures), by name."""
     return {
         figure.name: report(
             figure.path,
@@ -308,7 +308,7 @@ def figure_outputs(rendered):
             category="Figures",
             subcategory=rl_registry.SUBCATEGORIES[figure.section],
         )
-        for figure in rl_registry.figures(rendered=rendered)
+        for figure in rl_registry.figures(rule=rule)
     }
 
 

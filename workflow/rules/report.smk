@@ -146,7 +146,7 @@ rule figures:
         glm_diagnostics="results/analysis/glm_diagnostics.csv",
         model_fits="results/analysis/model_fits.parquet",
     output:
-        **figure_outputs(rendered=False),
+        **figure_outputs("figures"),
     log:
         "results/logs/report/figures.log",
     benchmark:
@@ -165,7 +165,7 @@ rule figures:
 
 rule render_figures:
     output:
-        **figure_outputs(rendered=True),
+        **figure_outputs("render_figures"),
         plates="results/analysis/plate_sweeps.parquet",
     log:
         "results/logs/report/render_figures.log",

@@ -22,8 +22,8 @@ for name, frame in tables.items():
 stats, summary = tables["random_statistics"], tables["random_ensembles"]
 log(f"ensembles: {summary.groupby(['kind', 'truncation', 'aspect', 'incidence']).ngroups} random grid points, "
     f"{stats[stats.kind != 'pyramids'].groupby(['kind', 'seed', 'truncation', 'aspect', 'incidence']).ngroups} tiles")
-F.plot_random_ensembles(summary, out.random_ensembles_png)
-F.plot_random_maps(study, out.random_maps_png)
+F.make("random_ensembles", out.random_ensembles_png, summary=summary)
+F.make("random_maps", out.random_maps_png, study=study)
 claims = tables["random_claims"]
 log(f"claim: {len(claims)} tests at the family level {claims['level'].min() if len(claims) else float('nan'):.4f}: "
     + ", ".join(f"{n} {v}" for v, n in claims["verdict"].value_counts().items()))

@@ -1,6 +1,6 @@
 """Snakemake adapter: the study and the analysis tables -> the report's drawn figures (no rendering).
 
-Which figures: :data:`roughlight.report.registry.FIGURES` (those not rendered). Each figure's function in
+Which figures: :data:`roughlight.report.registry.FIGURES` (those rule ``figures`` draws). Each figure's function in
 :mod:`roughlight.report.figures` names what it needs by its parameters; they are given from the inputs
 (tables, by input name) and the settings (the table aspects and incidence, the light, ...).
 """
@@ -37,6 +37,6 @@ class Inputs(dict):
 
 
 for name, fig in F.drawn_figures(Inputs(), snakemake.params.settings):
-    F.save_figure(fig, snakemake.output[name])
+    F.save(name, fig, snakemake.output[name])
     log(f"{name} -> {snakemake.output[name]}")
 _log.end_job()

@@ -11,7 +11,7 @@ _gl.use(snakemake)  # render.platform, before anything loads OpenGL
 
 import _log  # noqa: E402
 
-from roughlight.atomic import atomic_path, write_frame  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import implicit_surface as implicit_bench  # noqa: E402
 from roughlight.render import shading  # noqa: E402
 from roughlight.report import figures  # noqa: E402
@@ -24,12 +24,10 @@ write_frame(validation, snakemake.output.validation)
 pictures = {}
 frames = implicit_bench.frame_times(plan, lighting=lighting, log=log, pictures=pictures)
 write_frame(frames, snakemake.output.frames)
-with atomic_path(snakemake.output.chart) as tmp:
-    figures.plot_implicit(validation, frames, tmp, pictures=pictures)
+figures.make("implicit", snakemake.output.chart, validation=validation, frames=frames, pictures=pictures)
 maps = implicit_bench.hemisphere_maps(plan, lighting=lighting)
 write_frame(maps, snakemake.output.maps)
-with atomic_path(snakemake.output.maps_chart) as tmp:
-    figures.plot_implicit_maps(maps, tmp)
+figures.make("implicit_maps", snakemake.output.maps_chart, maps=maps)
 log(implicit_bench.summary(validation).round(4).to_string())
 log(frames.round(3).to_string())
 _log.end_job()  # outputs written: leave without the interpreter's teardown

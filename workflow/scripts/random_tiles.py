@@ -28,7 +28,7 @@ summary = roughness_bench.convergence_summary(convergence)
 accuracy = roughness_bench.random_accuracy(plan, lighting=lighting, settings=settings, log=log)
 write_frame(accuracy, snakemake.output.accuracy)
 pictures = roughness_bench.random_pictures(plan, lighting=lighting)
-figures.plot_random_tiles(summary, accuracy, pictures, snakemake.output.chart)
+figures.make("random_tiles", snakemake.output.chart, summary=summary, accuracy=accuracy, pictures=pictures)
 log(summary.round(4).to_string())
 log(accuracy.round(4).to_string())
 _log.end_job()  # outputs written: leave without the interpreter's teardown

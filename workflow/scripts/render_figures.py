@@ -28,16 +28,16 @@ plates = pictures.plate_sweeps(
     settings=params.render,
 )
 write_frame(plates, out.plates)
-F.save_figure(F.fig17_clipping(plates[plates["incidence"] == incidence]), out.fig17_clipping)
+F.make("fig17_clipping", out.fig17_clipping, plates=plates[plates["incidence"] == incidence])
 base_light = float(lighting["light"])
 at_base = plates["light"] == base_light
-F.save_figure(F.fig20_plate_incidence(plates[at_base] if at_base.any() else plates[plates["light"] == plates["light"].min()]),
-              out.fig20_plate_incidence)
+F.make("fig20_plate_incidence", out.fig20_plate_incidence,
+       plates=plates[at_base] if at_base.any() else plates[plates["light"] == plates["light"].min()])
 log(f"plate sweeps: {plates.groupby(['incidence', 'light']).ngroups} sweeps")
 
 picture_lighting = Lighting(**{**lighting, "shadows": True})
 for stem in ("fig09_shadows", "fig10_grazing", "fig13_tops"):
     _, views = pictures.PICTURE_SETS[stem]
-    F.save_figure(F.fig_pictures(stem, pictures.surface_pictures(views, lighting=picture_lighting)), out[stem])
+    F.make(stem, out[stem], pictures=pictures.surface_pictures(views, lighting=picture_lighting))
     log(f"{stem} -> {out[stem]}")
 _log.end_job()

@@ -28,7 +28,7 @@ smoothness = renderer_validation.arc_smoothness(renderer_validation.read_arcs(sn
                                                 aspects=snakemake.params.table_aspects,
                                                 incidence=snakemake.params.table_incidence, lighting=lighting)
 write_frame(smoothness, snakemake.output.smoothness)
-figures.plot_renderer_validation(validation, smoothness, snakemake.output.chart)
+figures.make("renderer_validation", snakemake.output.chart, validation=validation, smoothness=smoothness)
 log(renderer_validation.validation_summary(validation).round(3).to_string())
 log(smoothness.round(3).to_string())
 _log.end_job()  # outputs written: leave without the interpreter's teardown

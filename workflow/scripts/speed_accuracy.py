@@ -11,7 +11,7 @@ _gl.use(snakemake)  # render.platform, before anything loads OpenGL
 
 import _log  # noqa: E402
 
-from roughlight.atomic import atomic_path, write_frame  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import speed_accuracy as benchmark  # noqa: E402
 from roughlight.render import shading  # noqa: E402
 from roughlight.report import figures  # noqa: E402
@@ -20,7 +20,6 @@ log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
 table = benchmark.run_plan(snakemake.wildcards.plan, lighting=lighting, log=log)
 write_frame(table, snakemake.output.table)
-with atomic_path(snakemake.output.chart) as tmp:
-    figures.plot_speed_accuracy(table, tmp)
+figures.make("speed_accuracy", snakemake.output.chart, table=table)
 log(table[table.component != "total"].round(4).to_string())
 _log.end_job()  # outputs written: leave without the interpreter's teardown

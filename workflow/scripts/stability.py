@@ -12,7 +12,7 @@ _gl.use(snakemake)  # render.platform, before anything loads OpenGL
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight.atomic import atomic_path, write_frame  # noqa: E402
+from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import stability  # noqa: E402
 from roughlight.render import shading  # noqa: E402
 from roughlight.report import figures  # noqa: E402
@@ -22,8 +22,7 @@ lighting = shading.Lighting(**snakemake.params.lighting)
 table = pd.concat([pd.read_parquet(path) for path in snakemake.input], ignore_index=True)
 safe = stability.safe_domain(table)
 write_frame(safe, snakemake.output.safe)
-with atomic_path(snakemake.output.chart) as tmp:
-    figures.plot_stability(table, tmp, stability.normals_pictures(lighting=lighting))
+figures.make("stability", snakemake.output.chart, frames=table, pictures=stability.normals_pictures(lighting=lighting))
 write_frame(table, snakemake.output.table)
 log(safe.to_string())
 _log.end_job()  # outputs written: leave without the interpreter's teardown

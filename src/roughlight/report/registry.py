@@ -32,27 +32,41 @@ CAPTION_DIR = Path(__file__).resolve().parent / "captions"  # workflow/report li
 
 @dataclass(frozen=True)
 class Figure:
-    """One figure of the report.
+    """One figure of the report: every chart of the page, whichever rule draws it.
 
     Attributes
     ----------
     name : str
-        File stem: ``results/figures/{name}.png``, caption ``workflow/report/{name}.rst``.
+        File stem: ``{folder}/{name}.png``, caption ``workflow/report/{name}.rst``.
     section : str
-        The HTML page's section (``specular``, ``diffuse``, ``pictures``, ``lobes``, ``glm``,
-        ``models``, ``provenance``) and Snakemake report subcategory.
-    rendered : bool
-        True: rendered by ``rule render_figures`` (pictures, plate sweeps); False: drawn from
-        the study and analysis tables by ``rule figures``.
+        The HTML page's section (``specular``, ``diffuse``, ``pictures``, ``lobes``, ``glm``, ``models``,
+        ``provenance``, ``speed``, ``stability``, ``implicit``, ``random``).
+    rule : str
+        The rule that draws it: ``figures`` (from the study and analysis tables), ``render_figures`` (plate sweeps
+        and pictures it renders), or the measurement or analysis rule whose tables it charts.
+    folder : str
+        Where it is written (``{plan}``: ``measurements.plan``, as the measurement rules' wildcard).
+    dpi : int or None
+        Its resolution (None: :data:`roughlight.report.figures.DPI`).
+    tight : bool
+        Whether it is saved with a tight bounding box.
     """
 
     name: str
     section: str
-    rendered: bool = False
+    rule: str = "figures"
+    folder: str = "results/figures"
+    dpi: int | None = None
+    tight: bool = True
+
+    @property
+    def rendered(self) -> bool:
+        """Whether it is rendered (rule ``render_figures``) rather than drawn from tables."""
+        return self.rule == "render_figures"
 
     @property
     def path(self) -> str:
-        return f"results/figures/{self.name}.png"
+        return f"{self.folder}/{self.name}.png"
 
     @property
     def caption_file(self) -> str:
@@ -70,19 +84,23 @@ class Figure:
         return f"roughlight.report.figures.{SECTION_MODULES[self.section]}"
 
 
-#: Snakemake report subcategory of each section of the HTML page.
+#: Snakemake report subcategory of each section of the HTML page whose figures rules ``figures`` and
+#: ``render_figures`` draw (the measurement rules' charts are in categories of their own).
 SUBCATEGORIES = {"specular": "Specular", "diffuse": "Diffuse", "pictures": "Pictures", "lobes": "Beyond the thesis",
                  "glm": "Beyond the thesis", "models": "Beyond the thesis", "provenance": "Provenance"}
 
 #: The module of :mod:`roughlight.report.figures` that draws each section's figures (the render times, shown
 #: under provenance, with the other speed charts).
 SECTION_MODULES = {"specular": "specular", "diffuse": "diffuse", "pictures": "pictures", "lobes": "lobes",
-                   "glm": "glm", "models": "models", "provenance": "speed"}
+                   "glm": "glm", "models": "models", "provenance": "speed", "speed": "speed",
+                   "stability": "stability", "implicit": "implicit", "random": "random_roughness"}
+
+_BENCHMARKS = "results/benchmarks/{plan}"
 
 #: Every figure, in the order the HTML page shows them within a section.
 FIGURES = (
-    Figure("fig17_clipping", "specular", rendered=True),
-    Figure("fig20_plate_incidence", "specular", rendered=True),
+    Figure("fig17_clipping", "specular", rule="render_figures"),
+    Figure("fig20_plate_incidence", "specular", rule="render_figures"),
     Figure("fig21_specular_truncation", "specular"),
     Figure("fig23_forward_models", "specular"),
     Figure("fig24_reflecting_areas", "specular"),
@@ -93,22 +111,37 @@ FIGURES = (
     Figure("fig28_diffuse_truncation", "diffuse"),
     Figure("fig29_diffuse_aspect", "diffuse"),
     Figure("diffuse_parts", "diffuse"),
-    Figure("fig09_shadows", "pictures", rendered=True),
-    Figure("fig10_grazing", "pictures", rendered=True),
-    Figure("fig13_tops", "pictures", rendered=True),
+    Figure("fig09_shadows", "pictures", rule="render_figures"),
+    Figure("fig10_grazing", "pictures", rule="render_figures"),
+    Figure("fig13_tops", "pictures", rule="render_figures"),
     Figure("lobe_geometry", "lobes"),
     Figure("glm_diagnostics", "glm"),
     Figure("model_fits", "models"),
     Figure("hapke", "models"),
     Figure("timings", "provenance"),
+    Figure("implicit", "implicit", rule="implicit_surface", folder=_BENCHMARKS, dpi=120),
+    Figure("implicit_maps", "implicit", rule="implicit_surface", folder=_BENCHMARKS, dpi=110),
+    Figure("random_ensembles", "random", rule="analysis_random"),
+    Figure("random_maps", "random", rule="analysis_random"),
+    Figure("random_tiles", "random", rule="random_tiles", folder=_BENCHMARKS),
+    Figure("stability", "stability", rule="stability", folder="results/stability/{plan}", dpi=80, tight=False),
+    Figure("speed_accuracy", "speed", rule="speed_accuracy", folder=_BENCHMARKS, dpi=120),
+    Figure("renderer_validation", "speed", rule="renderer_validation", folder=_BENCHMARKS, dpi=120),
 )
 
 _BY_NAME = {f.name: f for f in FIGURES}
 
 
-def figures(rendered: bool | None = None, section: str | None = None) -> list[Figure]:
-    """The figures, optionally only the rendered (or drawn) ones, or one section's."""
-    return [f for f in FIGURES if (rendered is None or f.rendered == rendered) and (section is None or f.section == section)]
+def figures(rule: str | None = None, section: str | None = None) -> list[Figure]:
+    """The figures, optionally only those one rule draws, or one section's."""
+    return [f for f in FIGURES if (rule is None or f.rule == rule) and (section is None or f.section == section)]
+
+
+def figure(name: str) -> Figure:
+    """The registry's figure called ``name``."""
+    if name not in _BY_NAME:
+        raise KeyError(f"no figure {name!r} in the registry")
+    return _BY_NAME[name]
 
 
 def caption(name: str) -> dict:

@@ -18,8 +18,10 @@ writes it as a PNG atomically and closes it. Nothing here renders. The figures
 of the report are :data:`roughlight.report.registry.FIGURES`; a figure's function names
 the tables it draws by its parameter names (``study``, ``lobes``, ``sine``, ...),
 and ``aspects`` / ``incidence`` are the table aspects and incidence
-(``report.table_aspects``, ``report.table_incidence``). The ``plot_*`` functions draw the
-measurement sections' charts and write them to a path. Intensities are on the 0-255 scale,
+(``report.table_aspects``, ``report.table_incidence``). The measurement sections' charts are in the
+registry too, each drawn by the rule that measures it. Whichever rule draws a figure, it goes one way:
+:func:`draw` (the registry's function for it, given its data by name) and :func:`save` (at the registry's
+resolution), or both at once, :func:`make`. Intensities are on the 0-255 scale,
 angles in degrees. Every public name is importable from this package.
 """
 
@@ -28,21 +30,22 @@ from __future__ import annotations
 import importlib
 import inspect
 
+from ..registry import figure as registered_figure
 from ..registry import figures as registered
 from ..registry import title as figure_title
 from .common import DPI, hemisphere_map_problem, placeholder, save_figure
 from .diffuse import fig27_diffuse_plate, fig28_diffuse_truncation, fig29_diffuse_aspect, fig_diffuse_parts
 from .glm import fig_glm_diagnostics
-from .implicit import plot_implicit, plot_implicit_maps
+from .implicit import fig_implicit, fig_implicit_maps
 from .lobes import fig_lobe_geometry
 from .models import fig_hapke, fig_model_fits
-from .pictures import fig_pictures
+from .pictures import fig09_shadows, fig10_grazing, fig13_tops, fig_pictures
 from .random_roughness import (
     KIND_COLOURS,
     RANDOM_CHART_STATISTICS,
-    plot_random_ensembles,
-    plot_random_maps,
-    plot_random_tiles,
+    fig_random_ensembles,
+    fig_random_maps,
+    fig_random_tiles,
 )
 from .specular import (
     fig17_clipping,
@@ -54,11 +57,14 @@ from .specular import (
     fig25_back_models,
     fig26_specular_aspect,
 )
-from .speed import fig_timings, plot_renderer_validation, plot_speed_accuracy
-from .stability import plot_stability
+from .speed import fig_renderer_validation, fig_speed_accuracy, fig_timings
+from .stability import fig_stability
 
 __all__ = [
     "DPI",
+    "draw",
+    "save",
+    "make",
     "drawn_figures",
     "save_figure",
     "placeholder",
@@ -81,22 +87,42 @@ __all__ = [
     "fig_hapke",
     "fig_timings",
     "fig_pictures",
-    "plot_speed_accuracy",
-    "plot_renderer_validation",
-    "plot_stability",
-    "plot_implicit",
-    "plot_implicit_maps",
+    "fig09_shadows",
+    "fig10_grazing",
+    "fig13_tops",
+    "fig_speed_accuracy",
+    "fig_renderer_validation",
+    "fig_stability",
+    "fig_implicit",
+    "fig_implicit_maps",
     "RANDOM_CHART_STATISTICS",
     "KIND_COLOURS",
-    "plot_random_ensembles",
-    "plot_random_maps",
-    "plot_random_tiles",
+    "fig_random_ensembles",
+    "fig_random_maps",
+    "fig_random_tiles",
 ]
 
 
 def draw_function(figure):
     """The function that draws a registry figure: ``figure.draw`` of the module ``figure.module`` names."""
     return getattr(importlib.import_module(figure.module), figure.draw)
+
+
+def draw(name: str, **data):
+    """The registry's figure ``name`` drawn from ``data``, given by its function's parameter names."""
+    return draw_function(registered_figure(name))(**data)
+
+
+def save(name: str, fig, path) -> str:
+    """Write ``fig``, the registry's figure ``name``, to ``path`` at its resolution and bounding box (atomically;
+    :func:`save_figure`); return the path."""
+    figure = registered_figure(name)
+    return save_figure(fig, path, dpi=figure.dpi or DPI, bbox_inches="tight" if figure.tight else None)
+
+
+def make(name: str, path, **data) -> str:
+    """Draw the registry's figure ``name`` from ``data`` (:func:`draw`) and write it to ``path`` (:func:`save`)."""
+    return save(name, draw(name, **data), path)
 
 
 def _arguments(draw, tables, values: dict) -> dict:
@@ -114,7 +140,7 @@ def _arguments(draw, tables, values: dict) -> dict:
 
 
 def drawn_figures(tables, settings: dict):
-    """Draw every figure of :data:`roughlight.report.registry.FIGURES` that is drawn, not rendered, giving each function
+    """Draw every figure of :data:`roughlight.report.registry.FIGURES` that rule ``figures`` draws, giving each function
     what its parameters name: the settings' table aspects and incidence and Hapke's phase limit, the study's light,
     and tables by the names of the figures rule's inputs.
 
@@ -130,10 +156,10 @@ def drawn_figures(tables, settings: dict):
     """
     values = {"aspects": settings["table_aspects"], "incidence": settings["table_incidence"],
               "hapke_max_phase": settings["hapke_max_phase"]}
-    for figure in registered(rendered=False):
-        draw = draw_function(figure)
+    for figure in registered(rule="figures"):
+        function = draw_function(figure)
         try:
-            fig = draw(**_arguments(draw, tables, values))
+            fig = function(**_arguments(function, tables, values))
         except Exception as exc:  # a study no check foresaw: the page says why, the run goes on
             fig = placeholder(figure_title(figure.name), f"could not be drawn for this study: "
                                                          f"{type(exc).__name__}: {exc}"[:300])

@@ -8,12 +8,12 @@ import numpy as np
 import seaborn as sns
 
 from ...surfaces.surface import aspect_label
-from .common import hemisphere_frame, hemisphere_map, legend_below, save_figure, theme
+from .common import hemisphere_frame, hemisphere_map, legend_below, theme
 
-__all__ = ["plot_implicit", "plot_implicit_maps"]
+__all__ = ["fig_implicit", "fig_implicit_maps"]
 
 
-def plot_implicit(validation, frames, path, pictures=None) -> None:
+def fig_implicit(validation, frames, pictures=None):
     """The implicit rough surface: per-surface MAE by method (left) and frame time against field size (right);
     below, when given, ``pictures`` (method -> 2-D uint8 image) side by side."""
     sns.set_theme(style="whitegrid")
@@ -42,7 +42,7 @@ def plot_implicit(validation, frames, path, pictures=None) -> None:
                 title="N x N field: explicit mesh against one implicit quad")
     legend_below(axes[1], ncol=3, below=42.0, title="method", fontsize=8, title_fontsize=8)
     fig.tight_layout()
-    save_figure(fig, path, dpi=120)
+    return fig
 
 
 def map_panel(fig, ax, cur, ref, method, component, surface) -> None:
@@ -74,7 +74,7 @@ def map_panel(fig, ax, cur, ref, method, component, surface) -> None:
     ax.set_title(title, loc="left", fontsize=8)
 
 
-def plot_implicit_maps(maps, path, component: str = "total") -> None:
+def fig_implicit_maps(maps, component: str = "total"):
     """Hemisphere maps (top-down, light on the right) of the exact reference and of each implicit model's
     difference from it, one row per surface (:func:`roughlight.measurements.implicit_surface.hemisphere_maps`),
     each drawn from the measured views only (:func:`.common.hemisphere_map`)."""
@@ -89,4 +89,4 @@ def plot_implicit_maps(maps, path, component: str = "total") -> None:
             cur = sel[sel.method == method].sort_values(["azimuth", "elevation"])
             map_panel(fig, ax, cur, ref, method, component, (t, a, i))
     fig.tight_layout()
-    save_figure(fig, path, dpi=110)
+    return fig

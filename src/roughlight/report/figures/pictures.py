@@ -6,7 +6,7 @@ import matplotlib.pyplot as plt
 
 from .common import placeholder, theme
 
-__all__ = ["fig_pictures"]
+__all__ = ["fig_pictures", "fig09_shadows", "fig10_grazing", "fig13_tops"]
 
 
 def fig_pictures(stem: str, pictures):
@@ -25,3 +25,18 @@ def fig_pictures(stem: str, pictures):
         ax.axis("off")
     fig.suptitle(title, fontsize=10, y=1.02)
     return fig
+
+
+def fig09_shadows(pictures):
+    """Fig. 9: inner shadows (:data:`roughlight.render.pictures.PICTURE_SETS`' pictures, :func:`fig_pictures`)."""
+    return fig_pictures("fig09_shadows", pictures)
+
+
+def fig10_grazing(pictures):
+    """Fig. 10: the surface at grazing views (:func:`fig_pictures`)."""
+    return fig_pictures("fig10_grazing", pictures)
+
+
+def fig13_tops(pictures):
+    """Fig. 13: the tops of the pyramids (:func:`fig_pictures`)."""
+    return fig_pictures("fig13_tops", pictures)

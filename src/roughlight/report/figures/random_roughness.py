@@ -16,12 +16,11 @@ from .common import (
     hemisphere_map_problem,
     legend_below,
     placeholder,
-    save_figure,
     theme,
 )
 
-__all__ = ["RANDOM_CHART_STATISTICS", "KIND_COLOURS", "plot_random_ensembles", "plot_random_maps",
-           "plot_random_tiles"]
+__all__ = ["RANDOM_CHART_STATISTICS", "KIND_COLOURS", "fig_random_ensembles", "fig_random_maps",
+           "fig_random_tiles"]
 
 #: The statistics the random-roughness chart shows, in reading order (see :data:`roughlight.analysis.ensembles.STATISTICS`).
 RANDOM_CHART_STATISTICS = ("back_peak", "back_width", "back_squareness", "back_phase_shift",
@@ -54,7 +53,7 @@ def _ensemble_panel(ax, sel, points, kinds) -> None:
                         label=f"{kind.replace('_', ' ')} (mean, 95% CI)" if p == 0 else None)
 
 
-def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
+def fig_random_ensembles(summary: pd.DataFrame):
     """One panel per statistic: the regular surface (black cross) and each random kind's ensemble mean with
     its 95% interval over seeds, at every random grid point (:func:`roughlight.analysis.ensembles.ensemble_summary`)."""
     theme()
@@ -79,7 +78,7 @@ def plot_random_ensembles(summary: pd.DataFrame, path) -> None:
     handles, texts = axes.ravel()[0].get_legend_handles_labels()
     fig.legend(handles, texts, loc="lower center", ncol=3, fontsize=8, frameon=False)
     fig.tight_layout(rect=(0, 0.05, 1, 1))
-    save_figure(fig, path)
+    return fig
 
 
 def random_map(fig, ax, sel, kind, surface) -> None:
@@ -100,7 +99,7 @@ def random_map(fig, ax, sel, kind, surface) -> None:
                  loc="left")
 
 
-def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", seed: int = 1) -> None:
+def fig_random_maps(study: pd.DataFrame, component: str = "specular", seed: int = 1):
     """Top-down hemisphere maps (light on the right, star) of the regular surface and of one seed (the lowest) of
     each random kind, one row per random grid point: the thesis's Fig. 19 view of the lobes' shapes, each drawn
     from its measured views only (:func:`.common.hemisphere_map`)."""
@@ -111,7 +110,7 @@ def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", see
     data = data[data["component"].astype(str) == component]
     problem = hemisphere_map_problem(data["azimuth"].nunique(), data["elevation"].nunique())
     if problem:
-        save_figure(placeholder("Random roughness: maps of the hemisphere", problem), path)
+        return placeholder("Random roughness: maps of the hemisphere", problem)
         return
     kinds = [k for k in KIND_COLOURS if k in set(data["kind"].astype(str))]
     points = _grid_points(data)
@@ -125,7 +124,7 @@ def plot_random_maps(study: pd.DataFrame, path, component: str = "specular", see
             random_map(fig, ax, sel, kind, (t, a, i))
     fig.suptitle(f"{component} (0-255), each map on its own scale", fontsize=9)
     fig.tight_layout()
-    save_figure(fig, path)
+    return fig
 
 
 def _convergence_panel(ax, summary, name, first) -> None:
@@ -148,7 +147,7 @@ def _convergence_panel(ax, summary, name, first) -> None:
     ax.set_xlabel("tile size (cells a side)", fontsize=8)
 
 
-def plot_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures, path) -> None:
+def fig_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures):
     """The random tiles' benchmark on one page: each followed statistic against tile size (ensemble mean and
     95% interval over seeds, the regular surface dashed), the fast renderer's views per second against tile size,
     and pictures of each kind as rendered at the thesis's telling views (kinds by rows)."""
@@ -170,4 +169,4 @@ def plot_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures, p
         ax.set_title(label, fontsize=8)
         ax.axis("off")
     fig.tight_layout()
-    save_figure(fig, path)
+    return fig

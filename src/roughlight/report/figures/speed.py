@@ -9,9 +9,9 @@ import pandas as pd
 import seaborn as sns
 
 from ..registry import title as figure_title
-from .common import heatmap, label_points, legend_beside, placeholder, save_figure, theme
+from .common import heatmap, label_points, legend_beside, placeholder, theme
 
-__all__ = ["plot_speed_accuracy", "plot_renderer_validation", "fig_timings"]
+__all__ = ["fig_speed_accuracy", "fig_renderer_validation", "fig_timings"]
 
 
 def _fast_point_labels(sub, label) -> list:
@@ -30,7 +30,7 @@ def _fast_point_labels(sub, label) -> list:
     return out
 
 
-def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
+def fig_speed_accuracy(table, floor: float = 1e-3):
     """Error against time per view, log scales: the mean error (top row) and the worst view (bottom row), one
     column per component, Pareto front of the mean error marked.
 
@@ -64,10 +64,10 @@ def plot_speed_accuracy(table, path, floor: float = 1e-3) -> None:
     fig.tight_layout()
     for ax, points in labels.items():  # once the layout is final: each label clear of the markers
         label_points(ax, points)
-    save_figure(fig, path, dpi=120)
+    return fig
 
 
-def plot_renderer_validation(validation, smoothness, path) -> None:
+def fig_renderer_validation(validation, smoothness):
     """The fast renderer against the exact reference: each surface's worst view and MAE per component (the most
     of diffuse, specular and total), by setting (left), and the largest deviation of each arc curve of Figs. 21
     and 28 from the exact curve against truncation (right)."""
@@ -98,7 +98,7 @@ def plot_renderer_validation(validation, smoothness, path) -> None:
                 title="the arc curves of Figs. 21 (specular) and 28 (diffuse)")
     fig.suptitle("The default renderer against the exact reference (dotted: one 8-bit level)", y=1.02)
     fig.tight_layout()
-    save_figure(fig, path, dpi=120)
+    return fig
 
 
 def fig_timings(render_timings: pd.DataFrame):

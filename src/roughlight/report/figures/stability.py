@@ -9,9 +9,9 @@ import pandas as pd
 import seaborn as sns
 from matplotlib.ticker import NullFormatter
 
-from .common import legend_below, save_figure
+from .common import legend_below
 
-__all__ = ["plot_stability"]
+__all__ = ["fig_stability"]
 
 #: Errors below this are drawn at it, so that they show on the log scales.
 FLOOR = 1e-2
@@ -109,7 +109,7 @@ def _picture_panels(axes, pictures) -> None:
         ax.axis("off")
 
 
-def plot_stability(frames, path, pictures=None) -> None:
+def fig_stability(frames, pictures=None):
     """Worst-component MAE against pixels per period, jitter spread, elevation, incidence
     by shadow bias, shadow-map size and shininess; the clipped lobes; averaged normals
     by component, and ``pictures`` ({shading model: (H, W, 3) uint8}, from
@@ -124,4 +124,4 @@ def plot_stability(frames, path, pictures=None) -> None:
     _normals_panel(axes[2, 0], frame, TOLERANCE)
     _picture_panels(axes[2, 1:], pictures or {})
     fig.tight_layout()
-    save_figure(fig, path, dpi=80, bbox_inches=None)
+    return fig

@@ -19,7 +19,7 @@ def stability_data(safe_domain: pd.DataFrame | None = None, stability: pd.DataFr
     ----------
     safe_domain : the frame of :func:`roughlight.measurements.stability.safe_domain`.
     stability : the long frame of the scans (for the clipping numbers and the normals), or None.
-    stability_png : path of the PNG from :func:`roughlight.report.figures.plot_stability`.
+    stability_png : path of the PNG rule ``stability`` draws (the registry's figure ``stability``).
     plan : the size the measurements ran at (:data:`roughlight.measurements.stability.PLANS`).
     """
     from ...measurements.stability import TOLERANCE, normals_table, plan_surfaces
