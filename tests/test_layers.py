@@ -133,6 +133,39 @@ def test_the_face_check_sees_a_reach_into_a_room(tmp_path):
     assert inner_reaches("analysis.fake", fake, root=tmp_path) == []
 
 
+def settings_made_outside_the_registry(path: Path) -> list[str]:
+    """Where ``path`` makes a method's settings itself: a call of a render room's settings type
+    (``FastSettings(...)``, ``NaiveSettings(...)``, ``TileSettings(...)``, ...) or of its ``from_config``."""
+    from roughlight.render import methods
+
+    kinds = {m.settings_type.split(":")[1] for m in methods.METHODS.values()} | {"TileSettings"}
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Call):
+            func = node.func
+            name = func.id if isinstance(func, ast.Name) else func.attr if isinstance(func, ast.Attribute) else ""
+            owner = func.value.id if isinstance(func, ast.Attribute) and isinstance(func.value, ast.Name) else ""
+            if name in kinds or (name == "from_config" and owner in kinds):
+                found.append(f"{path.name}:{node.lineno}")
+    return found
+
+
+def test_a_methods_settings_are_made_through_the_registry():
+    """Outside render/, a method's settings come from the registry (``methods.settings(name, knobs)``), which
+    checks them against the method's name, never from the settings type itself."""
+    scripts = PACKAGE.parents[1] / "workflow" / "scripts"
+    paths = [p for m, p in modules().items() if stage(m) != "render"] + sorted(scripts.glob("*.py"))
+    made = [where for path in paths for where in settings_made_outside_the_registry(path)]
+    assert not made, f"settings made outside the registry: {made}"
+
+
+def test_the_settings_check_sees_a_settings_type_called(tmp_path):
+    fake = tmp_path / "fake.py"
+    fake.write_text("from roughlight.render.fast import FastSettings\na = FastSettings(pixels_per_period=8)\n"
+                    "b = FastSettings.from_config({})\nc = methods.settings('fast', {})\n")
+    assert settings_made_outside_the_registry(fake) == ["fake.py:2", "fake.py:3"]
+
+
 def test_every_name_of_a_rooms_face_is_there():
     """Each face names only what its modules hold, and loads no OpenGL until a name is taken."""
     import importlib

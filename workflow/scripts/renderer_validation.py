@@ -14,13 +14,12 @@ import _log  # noqa: E402
 
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import renderer_validation  # noqa: E402
-from roughlight.render import shading  # noqa: E402
-from roughlight.render.fast import FastSettings  # noqa: E402
+from roughlight.render import methods, shading  # noqa: E402
 from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
-settings = FastSettings.from_config(snakemake.params.render)
+settings = methods.settings("fast", snakemake.params.render)
 validation = renderer_validation.validate_renderer(snakemake.wildcards.plan, lighting=lighting, settings=settings,
                                                    log=log)
 write_frame(validation, snakemake.output.validation)

@@ -20,7 +20,6 @@ import numpy as np
 import pandas as pd
 
 from ..render import methods
-from ..render.fast import FastSettings, TileSettings
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from . import comparison
 
@@ -67,7 +66,7 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     p = comparison.plan_size(PLANS, plan, "random tiles")
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
-    settings = settings or FastSettings()
+    settings = methods.settings("fast", settings)
     t, a, i = p["point"]
     azimuth, elevation = view_grid(*p["views"])
     control, _ = _sweep_frame(make_surface(), i, azimuth, elevation, Lighting(**{**lighting.as_dict(), "shadows": False}),
@@ -128,7 +127,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     p = comparison.plan_size(PLANS, plan, "random tiles")
     log = log or (lambda message: None)
     lighting = lighting or Lighting()
-    settings = settings or FastSettings()
+    settings = methods.settings("fast", settings)
     i = p["point"][2]
     azimuth, elevation = view_grid(*p["accuracy_views"])
     seen = np.sin(np.radians(elevation)) > 1e-9
@@ -289,7 +288,7 @@ def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TIL
         exact = comparison.reference(tile, i, azimuth, elevation, lighting)
         for sampling in samplings:
             for p in pixels:
-                settings = FastSettings(tile=TileSettings(sampling=sampling, pixels_per_period=int(p)))
+                settings = methods.settings("fast", {"tile_sampling": sampling, "tile_pixels_per_period": int(p)})
                 fast = methods.sweep("fast", tile, i, azimuth, elevation, lighting, settings)
                 for component, error in comparison.absolute_errors(fast, exact, seen).items():
                     statistics = comparison.error_statistics(error, ("mae", "worst"))

@@ -81,9 +81,8 @@ def validate_renderer(plan: str = "full", incidence: float = THESIS_INCIDENCE, l
     """
     from dataclasses import replace
 
-    from ..render.fast import FastSettings
 
-    settings = settings or FastSettings()
+    settings = methods.settings("fast", settings)
     former = replace(settings, **FORMER_DEFAULT)
     runs = [("configured", settings)]
     if former != settings:

@@ -14,7 +14,6 @@ from functools import partial
 import numpy as np
 
 from ..render import methods, shading
-from ..render.fast import FastSettings
 from ..render.shading import COMPONENTS
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface
@@ -246,7 +245,7 @@ def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> 
                 "label": config.label,
                 **recorded,
                 "shadow_bias": config.settings.get(
-                    "shadow_bias", FastSettings().shadow_bias if config.method == "fast" else np.nan),
+                    "shadow_bias", methods.settings("fast").shadow_bias if config.method == "fast" else np.nan),
                 "component": c,
                 "n_views": n_views,
                 "seconds": seconds,
@@ -262,7 +261,7 @@ def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> 
 def _with_comparisons(table):
     """Add to the benchmark's table ``speedup_vs_naive``, ``default`` (the fast method's default settings) and
     ``pareto`` (on each component's front of error against time per view)."""
-    defaults = FastSettings()
+    defaults = methods.settings("fast")
     default = Config("fast", {"sampling": defaults.sampling, "pixels_per_period": defaults.pixels_per_period,
                               "shadow_map_size": defaults.shadow_map_size}).label
     if "surfaces" not in table:

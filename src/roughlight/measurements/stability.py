@@ -36,9 +36,6 @@ import pandas as pd
 
 from ..render import methods as registry
 from ..render import shading
-from ..render.exact import ReferenceSettings
-from ..render.fast import FastSettings
-from ..render.naive import NaiveSettings
 from ..render.shading import COMPONENTS, SHADINGS
 from ..surfaces.surface import PLATE, SQRT3_2, Surface
 from . import comparison
@@ -150,7 +147,7 @@ def pixel_scan(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXELS
     surfaces : sequence of (Surface, incidence), or {method: sequence}
         Default :data:`PLAN` (fast on :data:`SURFACES`, naive on :data:`NAIVE_SURFACES`).
     fast_pixels : ints >= 2
-        ``FastSettings.pixels_per_period`` of the fast method (its tile is one
+        ``pixels_per_period`` of the fast method (its tile is one
         period, so fewer than 2 pixels a period is not a valid setting).
     naive_pixels : floats, pixels per period
         The naive method's 400-pixel window spans ``400 / ppp`` periods (below 1:
@@ -181,9 +178,10 @@ def pixel_scan(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXELS
         for p in pixels:
             def run(surface, i, jitter=(0.0, 0.0), method=method, p=p, az=az, el=el, lowest=lowest):
                 if method == "fast":
-                    settings = FastSettings(pixels_per_period=int(p), jitter=jitter)
+                    settings = registry.settings("fast", {"pixels_per_period": int(p), "jitter": jitter})
                 else:  # the 400-pixel window spans 400 / p periods
-                    settings = NaiveSettings(view_periods=400.0 / p, lowest_elevation=lowest, jitter=jitter)
+                    settings = registry.settings("naive", {"view_periods": 400.0 / p, "lowest_elevation": lowest,
+                                                         "jitter": jitter})
                 return registry.sweep(method, surface, i, az, el, lighting, settings)
 
             errors, coverage, _ = _compare(_for(surfaces, method), az, el, lighting, run)
@@ -237,8 +235,8 @@ def shadow_scan(surfaces=PLAN, incidences=INCIDENCES, biases=BIASES, map_sizes=M
             return [(surface, inc) for (surface, _) in _for(surfaces, method)]
 
         # (experiment, variable, x, setting, fast renderer's settings)
-        plan = [("shadow_bias", "incidence", inc, f"bias={b:g}", FastSettings(shadow_bias=b)) for b in biases]
-        plan += [("shadow_map", "shadow_map_size", size, f"i={inc:g}", FastSettings(shadow_map_size=int(size)))
+        plan = [("shadow_bias", "incidence", inc, f"bias={b:g}", registry.settings("fast", {"shadow_bias": b})) for b in biases]
+        plan += [("shadow_map", "shadow_map_size", size, f"i={inc:g}", registry.settings("fast", {"shadow_map_size": int(size)}))
                  for size in map_sizes]
         for experiment, variable, x, setting, s in plan:
             errors, _, _ = _compare(at("fast"), az, el, lighting,
@@ -291,7 +289,7 @@ def normals_scan(surfaces=NORMALS_SURFACES, models=SHADINGS, lighting=None, view
         errors, _, outputs = _compare(
             surfaces, az, el, lighting,
             lambda surface, i, model=model: registry.sweep("naive", surface, i, az, el, lighting,
-                                                          NaiveSettings(shading_model=model)))
+                                                          {"shading_model": model}))
         if model == "flat":
             flat = outputs
         per = {}
@@ -347,8 +345,8 @@ def clipping_scan(surfaces=((PLATE, 30.0),) + SURFACES, lights=(127.0, 255.0),
         lobes = {}
         for light in lights:
             lighting = shading.Lighting(**{**base, "light": float(light)})
-            q = registry.sweep("reference", surface, i, az, el, lighting, ReferenceSettings(quantized=True))
-            raw = registry.sweep("reference", surface, i, az, el, lighting, ReferenceSettings(quantized=False))
+            q = registry.sweep("reference", surface, i, az, el, lighting, {"quantized": True})
+            raw = registry.sweep("reference", surface, i, az, el, lighting, {"quantized": False})
             clipped = (raw["total"] - q["total"]) > 0.5
             rows.append(dict(experiment="clipping", method="reference", variable="light", x=light, setting=name,
                              component="total", metric="clipped_fraction", value=float(clipped.mean())))
@@ -503,7 +501,7 @@ def safe_domain(frames, tol=TOLERANCE) -> pd.DataFrame:
 
 def _default_bias(method: str) -> str:
     """The ``shadow_bias`` experiment's setting of a method at its default bias (naive: pyrender's, fixed)."""
-    return "naive" if method == "naive" else f"bias={FastSettings().shadow_bias:g}"
+    return "naive" if method == "naive" else f"bias={registry.settings('fast').shadow_bias:g}"
 
 
 def _sampling_domain(frame: pd.DataFrame, method: str, tol: float) -> dict:

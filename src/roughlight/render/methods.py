@@ -111,9 +111,11 @@ def method(name: str) -> Method:
     return METHODS[name]
 
 
-def settings(name: str, knobs: dict | None = None):
-    """The named method's settings from its config keys ``knobs`` (:meth:`Method.settings`)."""
-    return method(name).settings(knobs)
+def settings(name: str, knobs=None):
+    """The named method's settings: from its config keys ``knobs`` (a dict; None or {}: its defaults,
+    :meth:`Method.settings`), or ``knobs`` itself when it is already the method's settings, checked
+    (:meth:`Method.checked`). How code outside render/ makes a method's settings."""
+    return method(name).checked(knobs)
 
 
 def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:

@@ -16,14 +16,14 @@ __all__ = ["fig_speed_accuracy", "fig_renderer_validation", "fig_timings"]
 
 def _fast_point_labels(sub, label) -> list:
     """The fast renderer's lattice and adaptive points (default bias, 512 shadow map), named by pixels per period."""
-    from ...render.fast import FastSettings
+    from ...render import methods
 
     out = []
     for _, row in sub.iterrows():
         if row["method"] == "fast tiles":
             out.append((row["ms per view"], row[label], f"P={row['pixels_per_period']}/cell"))
             continue
-        default_bias = np.isclose(row["shadow_bias"], FastSettings().shadow_bias)
+        default_bias = np.isclose(row["shadow_bias"], methods.settings("fast").shadow_bias)
         labelled = row["sampling"] in ("lattice", "adaptive") and row["shadow_map_size"] == 512
         if row["method"] == "fast" and labelled and default_bias:
             out.append((row["ms per view"], row[label], f"P={row['pixels_per_period']}"))
