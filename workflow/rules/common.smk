@@ -280,7 +280,7 @@ def explorer_budget(wildcards):
 
 
 def report_inputs(wildcards):
-    """What rule report_html reads: the inputs every section of the page declares (roughlight.report.sections),
+    """The page's inputs (report_html): the inputs every section of the page declares (roughlight.report.sections),
     for the sections config switches on (report.speed_accuracy, report.implicit, report.stability,
     report.explorer.enabled, surface.kind: never which files exist), the measurements at measurements.plan; each
     named by its file's stem (a chart: its stem and _png), as the rule that writes it names it and as the page's
@@ -299,8 +299,9 @@ def claim_settings(wildcards):
     return rl_config.claim_settings(config)
 
 
-def figure_outputs(rule):
-    """The `report()` outputs of the registry's figures that `rule` draws (figures, render_figures), by name."""
+def figure_outputs(drawn_by):
+    """The `report()` outputs of the registry's figures the rule `drawn_by` draws (figures, render_figures), by
+    name."""
     return {
         figure.name: report(
             figure.path,
@@ -308,7 +309,7 @@ def figure_outputs(rule):
             category="Figures",
             subcategory=rl_registry.SUBCATEGORIES[figure.section],
         )
-        for figure in rl_registry.figures(rule=rule)
+        for figure in rl_registry.figures(rule=drawn_by)
     }
 
 
