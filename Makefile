@@ -1,7 +1,8 @@
 # roughlight: `make study` runs the default study, `make test` the tests.
-# Both set everything up first: Debian's libosmesa6 (and chromium for the
-# report's browser test) through apt-get when missing, and the pinned Python
-# packages (requirements.lock) into the project virtual environment .venv.
+# Both set everything up first: Debian's libosmesa6 and libllvm19 (Mitsuba's
+# LLVM variant; and chromium for the report's browser test) through apt-get
+# when missing, and the pinned Python packages (requirements.lock) into the
+# project virtual environment .venv.
 
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -22,7 +23,10 @@ setup: system-deps $(STAMP)
 	@$(BIN)/python -m compileall -q src
 
 # OpenGL headless, both platforms (render.platform): OSMesa (libosmesa6) and EGL's device route (libegl1 with
-# Mesa's EGL and drivers, whose software device is llvmpipe; on GPU nodes the driver's EGL takes its place)
+# Mesa's EGL and drivers, whose software device is llvmpipe; on GPU nodes the driver's EGL takes its place); and
+# Debian's libllvm19 for Mitsuba's llvm_ad_rgb variant (render.method mitsuba: the project points Dr.Jit at LLVM 19
+# itself, never at LLVM 15, whose first render aborts; without it the method falls back to scalar_rgb with a line in
+# the log, so a failed install is said, not fatal)
 EGL_PACKAGES := libegl1 libegl-mesa0 libgl1-mesa-dri libopengl0
 system-deps:
 	@if ! ldconfig -p | grep -q 'libOSMesa\.so' || ! ldconfig -p | grep -q 'libEGL\.so\.1' \
@@ -32,6 +36,11 @@ system-deps:
 	fi
 	@ldconfig -p | grep -q 'libOSMesa\.so' || { echo "libOSMesa is still missing: install Debian's libosmesa6" >&2; exit 1; }
 	@ldconfig -p | grep -q 'libEGL\.so\.1' || { echo "libEGL is still missing: install Debian's $(EGL_PACKAGES)" >&2; exit 1; }
+	@if ! ldconfig -p | grep -q 'libLLVM\.so\.19\|libLLVM-19\.so'; then \
+		echo "installing Debian's libllvm19 (Mitsuba's LLVM variant)"; \
+		$(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libllvm19 >/dev/null \
+			|| echo "libllvm19 could not be installed: render.method mitsuba will render in scalar_rgb" >&2; \
+	fi
 
 $(STAMP): requirements.lock pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)

@@ -31,7 +31,8 @@ from .test_analysis import make_study
 
 S32 = math.sqrt(3.0) / 2.0
 ASPECTS = [1.0, S32]
-STATEMENTS = ("ranking", "exact", "implied", "laws", "implicit", "regular-lobe", "random", "accuracy", "speed")
+STATEMENTS = ("ranking", "exact", "implied", "laws", "implicit", "regular-lobe", "random", "light-transport", "accuracy",
+              "speed")
 
 
 # ---------------------------------------------------------------------------
@@ -148,6 +149,29 @@ def benchmarks() -> dict:
     return {"speed_accuracy": speed_table(), "renderer_validation": validation_frame(), "random_accuracy": tiles_frame()}
 
 
+def light_frames() -> dict:
+    """Rule light_transport's tables: Mitsuba against the reference, and the gain of light that bounces on a 2 x 2
+    grid at two albedos, of which the two surfaces of aspect 0.1 at albedo 0.5 stay within a level at every view."""
+    from roughlight.measurements.light_transport import interreflection_summary
+
+    agreement = pd.DataFrame([{"kind": kind, "truncation": t, "aspect": a, "seed": 0, "incidence": 30.0,
+                               "component": c, "n_views": 28, "mae": 0.02 * (k + 1), "worst": w * (k + 1) / 3,
+                               "variant": "mitsuba 3.9.1 llvm_ad_rgb"}
+                              for k, (kind, t, a) in enumerate([("pyramids", 1.0, 1.0), ("control", 0.0, 0.0)])
+                              for c, w in (("diffuse", 0.6), ("specular", 0.3), ("total", 0.7))])
+    rows = []
+    for t in (0.25, 1.0):
+        for a in (0.1, 1.0):
+            for albedo, scale in ((1.0, 1.0), (0.5, 0.4)):
+                for e in (30.0, 90.0, 150.0):
+                    gain = scale * (2.0 * t * a + 0.01 * e) * (10.0 if a == 1.0 else 1.0)
+                    rows.append({"truncation": t, "aspect": a, "incidence": 30.0, "albedo": albedo,
+                                 "views": "hemisphere", "azimuth": 0.0, "elevation": e, "direct": 60.0,
+                                 "bounced": 60.0 + gain, "gain": gain, "gain_percent": 100 * gain / 60.0,
+                                 "bounces": 8})
+    return {"mitsuba_agreement": agreement, "interreflection_summary": interreflection_summary(pd.DataFrame(rows))}
+
+
 def measured() -> dict:
     """The random and implicit sections' inputs, named as rule report_html names them."""
     ensembles = ensembles_frame()
@@ -156,7 +180,7 @@ def measured() -> dict:
                            "frame_ms": [59.0, 97.0], "error": [2.3, 0.06]})
     return {"random_ensembles": ensembles, "random_claims": claims_frame(), "random_seeds_needed": seeds_needed(ensembles),
             "random_model_fits": fits,
-            "implicit_validation": implicit_frame(), "implicit_frames": frames, "plan": "quick"}
+            "implicit_validation": implicit_frame(), "implicit_frames": frames, "plan": "quick", **light_frames()}
 
 
 # ---------------------------------------------------------------------------
@@ -228,7 +252,27 @@ def test_every_statement_is_made_and_links_to_its_evidence(full_page):
     assert targets["random"] == ["#random-claim"] and targets["speed"] == ["#speed-accuracy"]
     assert targets["accuracy"] == ["#renderer-validation"] and targets["implicit"] == ["#implicit-validation"]
     assert targets["implied"] == ["#implied-scale"] and targets["exact"] == ["#exact-peaks"]
+    assert targets["light-transport"] == ["#light-transport"]
     assert full_page.statements[0]["text"].startswith("Tables 1–2 rank the models")
+
+
+def test_the_light_transport_statement_is_its_tables(full_page):
+    frames = light_frames()
+    summary = frames["interreflection_summary"]
+    f = PF.light_transport(frames["mitsuba_agreement"], summary, True)
+    assert f["agreement"] == [("diffuse", pytest.approx(0.4)), ("specular", pytest.approx(0.2)),
+                              ("total", pytest.approx(0.7 * 2 / 3))]
+    white, grey = f["albedos"]
+    assert (white["albedo"], white["within"], white["surfaces"]) == (1.0, 0, 4)
+    assert (grey["albedo"], grey["within"], grey["surfaces"]) == (0.5, 2, 4)  # aspect 0.1: at most 0.4 * 1.7 < 1
+    assert white["worst"] == summary.loc[summary["albedo"] == 1.0, "worst_gain"].max()
+    text = statement(full_page, "light-transport")
+    assert text.startswith("Light that bounces between facets adds more than a level to the diffuse on every surface")
+    assert "diffuse worst 0.40, specular worst 0.20, total worst 0.47" in text
+    assert f"at worst {white['worst']:.1f}, 0 of 4 surfaces within a level" in text
+    assert "albedo 0.5 adds" in text and "2 of 4 surfaces within a level at every view" in text
+    assert PF.light_transport(None, None, False) == {"why": "switched_off"}
+    assert PF.light_transport(None, summary, True) == {"why": "not_given"}
 
 
 # ---------------------------------------------------------------------------
@@ -385,7 +429,7 @@ def test_without_inputs_every_statement_says_why():
     page = parse(R.build_report({}, {}))
     assert_links_land(page)
     assert [s["finding"] for s in page.statements] == ["ranking", "exact", "implied", "laws", "implicit", "random",
-                                                       "accuracy", "speed"]
+                                                       "light-transport", "accuracy", "speed"]
     assert all(not s["links"] for s in page.statements)
     text = {s["finding"]: s["text"] for s in page.statements}
     assert text["ranking"].startswith("Tables 1–2 could not be computed: none of the table aspects (1, √3/2) at "
@@ -396,6 +440,8 @@ def test_without_inputs_every_statement_says_why():
     assert text["random"].startswith("Random roughness was not measured: surface.kind lists no random kind")
     assert text["accuracy"].endswith("(report.speed_accuracy: false).")
     assert text["speed"] == "The renderers' speed was not measured (report.speed_accuracy: false)."
+    assert text["light-transport"] == ("The surfaces were not rendered with light that bounces "
+                                       "(report.light_transport.enabled: false).")
 
 
 def test_a_partial_run_says_what_it_lacks(tables):

@@ -67,7 +67,7 @@ def test_a_stage_imports_only_the_stages_below_it(module):
 #: numpy, the detector's orbit); each room imports only the rooms named here (and itself); the entry points
 #: (``methods``, the registry, and ``pictures``) reach every method
 RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
-                "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}}
+                "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}, "mitsuba": {"ground"}}
 RENDER_GROUND = {"render", "render.__init__", "render.shading", "render.views", "render.sweep"}
 
 
@@ -172,13 +172,16 @@ def test_every_name_of_a_rooms_face_is_there():
     import subprocess
     import sys
 
-    for room in ("fast", "exact", "naive", "implicit", "gl"):
+    for room in ("fast", "exact", "naive", "implicit", "gl", "mitsuba"):
         face = importlib.import_module(f"roughlight.render.{room}")
         for name, module in face.FACE.items():
             assert hasattr(importlib.import_module(f"roughlight.render.{room}.{module}"), name), (room, name)
     probe = ("import sys; from roughlight.render.fast import FastSettings; from roughlight.render.exact import "
-             "LitScene; import roughlight.render.naive, roughlight.render.gl; print('OpenGL' in sys.modules)")
-    assert subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True).stdout == "False\n"
+             "LitScene; import roughlight.render.naive, roughlight.render.gl; "
+             "from roughlight.render.mitsuba import MitsubaSettings, check_mitsuba; check_mitsuba(); "
+             "print('OpenGL' in sys.modules, 'mitsuba' in sys.modules or 'drjit' in sys.modules)")
+    assert subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                          check=True).stdout == "False False\n"
 
 
 def private_reaches(path: Path) -> list[str]:

@@ -93,6 +93,37 @@ rule implicit_surface:
         "../scripts/implicit_surface.py"
 
 
+# Beyond the OpenGL equation (report.light_transport): the study's surfaces in Mitsuba 3 (render.method mitsuba),
+# direct light alone against the exact reference, and what light that bounces between facets adds to the diffuse at
+# the study's albedo and a physical one (docs/mitsuba.md).
+rule light_transport:
+    output:
+        agreement="results/benchmarks/{plan}/mitsuba_agreement.parquet",
+        interreflection="results/benchmarks/{plan}/interreflection.parquet",
+        summary="results/benchmarks/{plan}/interreflection_summary.csv",
+        chart=report(
+            "results/benchmarks/{plan}/light_transport.png",
+            caption="../report/light_transport.rst",
+            category="Speed and accuracy",
+        ),
+    log:
+        "results/logs/benchmarks/{plan}/light_transport.log",
+    benchmark:
+        "results/logs/benchmarks/{plan}/light_transport.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        lighting=lighting_params,
+        mitsuba=mitsuba_params,
+        bounces=light_transport_bounces,
+        albedo=light_transport_albedo,
+    script:
+        "../scripts/light_transport.py"
+
+
 # Random tiles (surface.kind): lobe and diffuse statistics against tile size (the tile-size choice), the fast
 # renderer against the exact reference on random tiles and its views per second beside the regular surface's,
 # and pictures of each kind.

@@ -289,6 +289,21 @@ def report_inputs(wildcards):
     return rl_sections.inputs(config, measurement_plan())
 
 
+def mitsuba_params(wildcards):
+    """The mitsuba method's config keys (render.mitsuba), as plain types."""
+    return rl_config.mitsuba_settings_from_config(config)
+
+
+def light_transport_bounces(wildcards):
+    """How many times light bounces in report.light_transport's measurement."""
+    return int(config["report"]["light_transport"]["bounces"])
+
+
+def light_transport_albedo(wildcards):
+    """The physical albedo report.light_transport measures beside the study's diffuse reflectance."""
+    return float(config["report"]["light_transport"]["albedo"])
+
+
 def report_settings(wildcards):
     """The `report:` section of the config (validated, defaults filled), as plain types."""
     return rl_config.report_settings(config)

@@ -11,7 +11,10 @@ imported on first use, so a job imports only what its method needs: the exact re
 - ``reference``: :func:`roughlight.render.exact.reference.reference_sweep`,
   :class:`roughlight.render.exact.settings.ReferenceSettings`;
 - ``implicit_exact`` and ``implicit_correction``: :func:`roughlight.render.implicit.shader.implicit_sweep`,
-  :class:`roughlight.render.implicit.settings.ImplicitSettings` with ``model`` ``exact`` or ``correction``.
+  :class:`roughlight.render.implicit.settings.ImplicitSettings` with ``model`` ``exact`` or ``correction``;
+- ``mitsuba``: :func:`roughlight.render.mitsuba.scene.mitsuba_sweep`,
+  :class:`roughlight.render.mitsuba.settings.MitsubaSettings` (Mitsuba 3, no OpenGL; what it draws on is
+  :func:`roughlight.render.mitsuba.runtime.identity`'s).
 """
 
 from __future__ import annotations
@@ -45,7 +48,10 @@ class Method:
     fixed : tuple of (str, value)
         Settings the name fixes (the implicit methods' ``model``).
     opengl : bool
-        Whether it renders through OpenGL (all but the exact reference).
+        Whether it renders through OpenGL (all but the exact reference and Mitsuba).
+    identity : str
+        ``"module:function"`` saying what a method that is not OpenGL draws on: ``function(settings=None)``, with
+        the sweep's settings or, without, of the machine; empty: :data:`NO_OPENGL` (the exact reference).
     """
 
     name: str
@@ -53,6 +59,7 @@ class Method:
     settings_type: str
     fixed: tuple = ()
     opengl: bool = True
+    identity: str = ""
 
     def settings(self, knobs: dict | None = None):
         """The method's settings from ``knobs`` (the config's keys for it; None or {}: its defaults), checked."""
@@ -75,9 +82,18 @@ class Method:
 
     def sweep(self, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
         """Measure a sweep (:func:`sweep`), with what it ran on (``renderer``)."""
-        out = _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, self.checked(settings))
-        out["renderer"] = _load("roughlight.render.gl.context:renderer")() if self.opengl else NO_OPENGL
+        settings = self.checked(settings)
+        out = _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, settings)
+        out["renderer"] = self.drawn_on(settings, made=True)
         return out
+
+    def drawn_on(self, settings=None, made: bool = False) -> str:
+        """What the method draws on: the GL renderer (``made``: the context a sweep made; else
+        :func:`roughlight.render.gl.context.describe`), its :attr:`identity` (with ``settings``), or
+        :data:`NO_OPENGL`."""
+        if self.opengl:
+            return _load("roughlight.render.gl.context:" + ("renderer" if made else "describe"))()
+        return _load(self.identity)(settings) if self.identity else NO_OPENGL
 
     def recorded(self, settings=None, surface=None) -> dict:
         """How the method sampled ``surface`` (:func:`recorded`)."""
@@ -97,6 +113,9 @@ METHODS = {
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "exact"),)),
         Method("implicit_correction", "roughlight.render.implicit.shader:implicit_sweep",
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "correction"),)),
+        Method("mitsuba", "roughlight.render.mitsuba.scene:mitsuba_sweep",
+               "roughlight.render.mitsuba.settings:MitsubaSettings", opengl=False,
+               identity="roughlight.render.mitsuba.runtime:identity"),
     )
 }
 
@@ -139,7 +158,7 @@ def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, sett
         ``diffuse``, ``specular``, ``total`` and ``coverage``: (n_views,) arrays (0-255; coverage 0-1);
         ``seconds``: wall time of the sweep (:data:`roughlight.render.sweep.RESULT`); ``renderer``: what it ran on
         (:func:`roughlight.render.gl.context.renderer`: the GL renderer, its OpenGL version and the platform;
-        :data:`NO_OPENGL` for the exact reference).
+        :data:`NO_OPENGL` for the exact reference; Mitsuba's version and variant for ``mitsuba``).
     """
     return method(name).sweep(surface, incidence, azimuth, elevation, lighting, settings)
 
@@ -151,7 +170,8 @@ def recorded(name: str, settings=None, surface=None) -> dict:
     -------
     dict: ``pixels_per_period`` (int; a random tile's per cell), ``sampling`` (``lattice``, ``grid`` or
     ``adaptive`` for fast, ``window`` for naive, ``exact`` for the reference, ``fibonacci`` for the implicit
-    shader) and ``shadow_map_size`` (texels a side; 0 where there is none).
+    shader, ``mitsuba <variant>, <n> spp, <bounces>`` for Mitsuba) and ``shadow_map_size`` (texels a side; 0 where
+    there is none).
     """
     return method(name).recorded(settings, surface)
 
@@ -159,7 +179,6 @@ def recorded(name: str, settings=None, surface=None) -> dict:
 def renderer_identity(name: str) -> str:
     """What this process draws a sweep of the method ``name`` on: the GL renderer, its OpenGL version (with the
     driver's) and the platform (:func:`roughlight.render.gl.context.describe`, which makes a context for the
-    purpose when none was made yet); :data:`NO_OPENGL` for the exact reference."""
-    if not method(name).opengl:
-        return NO_OPENGL
-    return _load("roughlight.render.gl.context:describe")()
+    purpose when none was made yet); :data:`NO_OPENGL` for the exact reference; for ``mitsuba`` the machine's
+    Mitsuba, Dr.Jit and LLVM (:func:`roughlight.render.mitsuba.runtime.identity`; the variant is a setting)."""
+    return method(name).drawn_on()

@@ -93,7 +93,8 @@ SUBCATEGORIES = {"specular": "Specular", "diffuse": "Diffuse", "pictures": "Pict
 #: under provenance, with the other speed charts).
 SECTION_MODULES = {"specular": "specular", "diffuse": "diffuse", "pictures": "pictures", "lobes": "lobes",
                    "glm": "glm", "models": "models", "provenance": "speed", "speed": "speed",
-                   "stability": "stability", "implicit": "implicit", "random": "random_roughness"}
+                   "stability": "stability", "implicit": "implicit", "random": "random_roughness",
+                   "light_transport": "light_transport"}
 
 _BENCHMARKS = "results/benchmarks/{plan}"
 
@@ -127,6 +128,7 @@ FIGURES = (
     Figure("stability", "stability", rule="stability", folder="results/stability/{plan}", dpi=80, tight=False),
     Figure("speed_accuracy", "speed", rule="speed_accuracy", folder=_BENCHMARKS, dpi=120),
     Figure("renderer_validation", "speed", rule="renderer_validation", folder=_BENCHMARKS, dpi=120),
+    Figure("light_transport", "light_transport", rule="light_transport", folder=_BENCHMARKS, dpi=110),
 )
 
 _BY_NAME = {f.name: f for f in FIGURES}

@@ -26,6 +26,7 @@ __all__ = [
     "validate_config",
     "lighting_from_config",
     "render_settings_from_config",
+    "mitsuba_settings_from_config",
     "label",
     "surfaces",
     "kinds",
@@ -422,6 +423,21 @@ def lighting_from_config(config: dict) -> Lighting:
         shadows=bool(render["shadows"]),
         specular_shadows=bool(render.get("specular_shadows", True)),
     )
+
+
+def mitsuba_settings_from_config(config: dict) -> dict:
+    """The ``mitsuba`` method's knobs (``render.mitsuba``, defaults filled; a plain dict: it travels through
+    Snakemake params), as :class:`roughlight.render.mitsuba.MitsubaSettings` takes them."""
+    knobs = dict(config["render"].get("mitsuba") or {})
+    out = {key: int(knobs[key]) for key in ("bounces", "samples_per_pixel", "pixels_per_period", "periods")
+           if key in knobs}
+    if "variant" in knobs:
+        out["variant"] = str(knobs["variant"])
+    if "albedo" in knobs:
+        out["albedo"] = None if knobs["albedo"] is None else float(knobs["albedo"])
+    if "specular" in knobs:
+        out["specular"] = bool(knobs["specular"])
+    return out
 
 
 def render_settings_from_config(config: dict, random_tiles: bool = False) -> dict:

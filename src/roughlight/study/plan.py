@@ -69,10 +69,13 @@ def lighting(config: dict, group: str | None = None) -> dict:
 
 
 def render_settings(config: dict, group: str | None = None) -> dict:
-    """The fast renderer's knobs for the study's sweeps, or a group's (:data:`GROUPS`: ``random``, those of random
-    tiles, ``render.random_tiles``); empty when ``render.method`` is not the fast renderer, which they do not
-    affect."""
-    if config["render"]["method"] != "fast":
+    """The method's knobs for the study's sweeps, or a group's (:data:`GROUPS`): the fast renderer's (``random``:
+    with those of random tiles, ``render.random_tiles``), Mitsuba's (``render.mitsuba``, every group's); empty for
+    the other methods, which they do not affect."""
+    method = config["render"]["method"]
+    if method == "mitsuba":
+        return rl_config.mitsuba_settings_from_config(config)
+    if method != "fast":
         return {}
     return rl_config.render_settings_from_config(config, random_tiles=group == "random")
 

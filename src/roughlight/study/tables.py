@@ -24,13 +24,13 @@ shininess      float64 specular exponent
 specular_model string  'phong' or 'blinn'
 shadows        bool    inner shadows cast
 specular_shadows bool  the shadows take the specular too (false: the thesis's specular protocol)
-method         string  'fast', 'naive', 'reference', 'implicit_exact' or 'implicit_correction'
+method         string  'fast', 'naive', 'reference', 'implicit_exact', 'implicit_correction' or 'mitsuba'
 pixels_per_period int64 pixels per period (a random tile's: per cell; naive: 10, its window's; reference: 0;
                        implicit: sqrt of its pixels a view, rounded)
 sampling       string  'adaptive', 'lattice' or 'grid' (fast), 'window' (naive), 'exact' (reference),
-                       'fibonacci' (implicit)
+                       'fibonacci' (implicit), 'mitsuba <variant>, <n> spp, <bounces>' (mitsuba)
 shadow_map_size   int64 shadow texels per side (a random tile's: per cell; naive: pyrender's 2048;
-                       reference and implicit: 0)
+                       reference, implicit and mitsuba: 0)
 render_seconds float64 wall time of the sweep that produced the row
 ============== ======= =====================================================
 

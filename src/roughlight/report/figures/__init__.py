@@ -10,6 +10,7 @@ One module a section of the report page, with what they share in :mod:`.common`:
 - :mod:`.stability`: where methods fail
 - :mod:`.implicit`: the implicit rough surface
 - :mod:`.random_roughness`: random roughness (ensembles, maps, the random tiles' benchmark)
+- :mod:`.light_transport`: beyond the OpenGL equation (what light that bounces adds, Mitsuba 3)
 
 Every ``fig*`` function takes frames of the analysis (:mod:`roughlight.analysis.lobes`,
 :mod:`roughlight.analysis.thesis`, ...), the study table or what :mod:`roughlight.render.pictures`
@@ -37,6 +38,7 @@ from .common import DPI, hemisphere_map_problem, placeholder, save_figure
 from .diffuse import fig27_diffuse_plate, fig28_diffuse_truncation, fig29_diffuse_aspect, fig_diffuse_parts
 from .glm import fig_glm_diagnostics
 from .implicit import fig_implicit, fig_implicit_maps
+from .light_transport import fig_light_transport
 from .lobes import fig_lobe_geometry
 from .models import fig_hapke, fig_model_fits
 from .pictures import fig09_shadows, fig10_grazing, fig13_tops, fig_pictures
@@ -81,6 +83,7 @@ __all__ = [
     "fig28_diffuse_truncation",
     "fig29_diffuse_aspect",
     "fig_lobe_geometry",
+    "fig_light_transport",
     "fig_diffuse_parts",
     "fig_glm_diagnostics",
     "fig_model_fits",

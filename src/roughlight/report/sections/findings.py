@@ -299,6 +299,27 @@ def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
             "correction": forms["implicit_correction"], "target": "implicit-validation"}
 
 
+def light_transport(agreement: pd.DataFrame | None, summary: pd.DataFrame | None, shown: bool) -> dict:
+    """Mitsuba 3 against the exact reference under direct light (each component's worst view), and where light that
+    bounces adds less than one level at every view of the hemisphere, per albedo (rule ``light_transport``).
+
+    ``shown``: the "Beyond the OpenGL equation" section is on the page (``report.light_transport.enabled``).
+    """
+    if not shown:
+        return {"why": "switched_off"}
+    if not (_has_rows(agreement) and _has_rows(summary)):
+        return {"why": "not_given"}
+    worst = agreement.groupby("component", sort=False)["worst"].max()
+    hemi = summary[summary["views"] == "hemisphere"]
+    albedos = []
+    for albedo, g in hemi.groupby("albedo", sort=False):
+        albedos.append({"albedo": float(albedo), "within": int(g["within_level"].sum()), "surfaces": len(g),
+                        "worst": float(g["worst_gain"].max()), "mean": _span(g["mean_gain"]),
+                        "percent": _span(g["mean_percent"])})
+    return {"agreement": [(c, float(w)) for c, w in worst.items()], "agrees": bool((worst < 1.0).all()),
+            "albedos": sorted(albedos, key=lambda a: -a["albedo"]), "target": "light-transport"}
+
+
 # ---------------------------------------------------------------------------
 # the section
 
@@ -309,8 +330,9 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
                      random_claims: pd.DataFrame | None = None, speed_accuracy: pd.DataFrame | None = None,
                      speed_accuracy_png=None, renderer_validation: pd.DataFrame | None = None,
                      arc_smoothness: pd.DataFrame | None = None, renderer_validation_png=None,
-                     random_accuracy: pd.DataFrame | None = None, table_aspects=(), table_incidence: float = 30.0,
-                     shown: dict | None = None) -> dict:
+                     random_accuracy: pd.DataFrame | None = None, mitsuba_agreement: pd.DataFrame | None = None,
+                     interreflection_summary: pd.DataFrame | None = None, table_aspects=(),
+                     table_incidence: float = 30.0, shown: dict | None = None) -> dict:
     """The data of ``templates/findings.html``: one entry a statement, in page order.
 
     Parameters
@@ -322,7 +344,8 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
     random_accuracy : the speed/accuracy benchmark and "Accuracy at every view", as "Settings and provenance" shows
         them (:func:`roughlight.report.sections.speed.speed_section`); none given: switched off.
     table_aspects, table_incidence : the aspects and incidence of Tables 1-2.
-    shown : which sections are on the page (name -> bool): ``random``, ``implicit``.
+    mitsuba_agreement, interreflection_summary : rule ``light_transport``'s tables; None: not given.
+    shown : which sections are on the page (name -> bool): ``random``, ``implicit``, ``light_transport``.
 
     Returns
     -------
@@ -339,6 +362,7 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
         "implicit": implicit(implicit_validation, bool(shown.get("implicit"))),
         "random": random_claim_finding(random_claims, bool(shown.get("random"))),
         "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
+        "light": light_transport(mitsuba_agreement, interreflection_summary, bool(shown.get("light_transport"))),
     }
 
 
