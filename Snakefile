@@ -23,6 +23,7 @@ onstart:
     acquire_run_lock()
     check_results_writable(probe=True)
     check_gl_platform()
+    check_mitsuba()
     log_followed()
 
 

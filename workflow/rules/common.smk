@@ -91,6 +91,22 @@ def check_gl_platform():
         raise WorkflowError(str(exc))
 
 
+def check_mitsuba():
+    """Stop before any job if Mitsuba is needed (render.method mitsuba, or report.light_transport) and missing;
+    else log the variant it renders in (a fallback named with what is missing) and where its kernels are cached."""
+    from snakemake.logging import logger
+
+    from roughlight.render.mitsuba import MitsubaUnavailable, check_mitsuba as check
+
+    needed = config["render"]["method"] == "mitsuba" or config["report"]["light_transport"]["enabled"]
+    if not needed:
+        return
+    try:
+        logger.info(check(config["render"]["mitsuba"]["variant"]))
+    except MitsubaUnavailable as exc:
+        raise WorkflowError(str(exc))
+
+
 # The sweeps, meshes and their settings are the study's plan (roughlight.study.plan), which tests/report_chain.py
 # calls too: the builders here hand it the config and turn wildcards into grid values.
 
