@@ -93,12 +93,16 @@ def check_gl_platform():
 
 def check_mitsuba():
     """Stop before any job if Mitsuba is needed (render.method mitsuba, or report.light_transport) and missing;
-    else log the variant it renders in (a fallback named with what is missing) and where its kernels are cached."""
+    else log the variant it renders in (a fallback named with what is missing) and where its kernels are cached.
+    """
     from snakemake.logging import logger
 
     from roughlight.render.mitsuba import MitsubaUnavailable, check_mitsuba as check
 
-    needed = config["render"]["method"] == "mitsuba" or config["report"]["light_transport"]["enabled"]
+    needed = (
+        config["render"]["method"] == "mitsuba"
+        or config["report"]["light_transport"]["enabled"]
+    )
     if not needed:
         return
     try:
