@@ -49,6 +49,9 @@ class Method:
         Settings the name fixes (the implicit methods' ``model``).
     opengl : bool
         Whether it renders through OpenGL (all but the exact reference and Mitsuba).
+    light_azimuth : bool
+        Whether it lights from any azimuth (its sweep takes ``light_azimuth``); the others light from azimuth 0
+        only and refuse any other.
     identity : str
         ``"module:function"`` saying what a method that is not OpenGL draws on: ``function(settings=None)``, with
         the sweep's settings or, without, of the machine; empty: :data:`NO_OPENGL` (the exact reference).
@@ -60,6 +63,7 @@ class Method:
     fixed: tuple = ()
     opengl: bool = True
     identity: str = ""
+    light_azimuth: bool = False
 
     def settings(self, knobs: dict | None = None):
         """The method's settings from ``knobs`` (the config's keys for it; None or {}: its defaults), checked."""
@@ -80,10 +84,17 @@ class Method:
                 raise ValueError(f"method {self.name!r} has {key}={value!r}, got {key}={getattr(settings, key)!r}")
         return settings
 
-    def sweep(self, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+    def sweep(self, surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0) -> dict:
         """Measure a sweep (:func:`sweep`), with what it ran on (``renderer``)."""
         settings = self.checked(settings)
-        out = _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, settings)
+        light = {}
+        if _load("roughlight.render.shading:check_light_azimuth")(light_azimuth) != 0:
+            if not self.light_azimuth:
+                lit = ", ".join(m.name for m in METHODS.values() if m.light_azimuth)
+                raise ValueError(f"method {self.name!r} lights from azimuth 0 only, got light_azimuth "
+                                 f"{light_azimuth!r}: a light from another azimuth is measured by {lit}")
+            light = {"light_azimuth": float(light_azimuth)}
+        out = _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, settings, **light)
         out["renderer"] = self.drawn_on(settings, made=True)
         return out
 
@@ -108,7 +119,7 @@ METHODS = {
         Method("naive", "roughlight.render.naive.procedure:naive_sweep",
                "roughlight.render.naive.settings:NaiveSettings"),
         Method("reference", "roughlight.render.exact.reference:reference_sweep",
-               "roughlight.render.exact.settings:ReferenceSettings", opengl=False),
+               "roughlight.render.exact.settings:ReferenceSettings", opengl=False, light_azimuth=True),
         Method("implicit_exact", "roughlight.render.implicit.shader:implicit_sweep",
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "exact"),)),
         Method("implicit_correction", "roughlight.render.implicit.shader:implicit_sweep",
@@ -137,7 +148,7 @@ def settings(name: str, knobs=None):
     return method(name).checked(knobs)
 
 
-def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0) -> dict:
     """Measure a sweep with the named method.
 
     Parameters
@@ -146,11 +157,14 @@ def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, sett
         One of :data:`NAMES`.
     surface : Surface or RandomSurface
     incidence : float
-        Light elevation above the surface plane, degrees in [0, 90] (light at azimuth 0).
+        Light elevation above the surface plane, degrees in [0, 90].
     azimuth, elevation : (n_views,) arrays
         Views, degrees (:func:`roughlight.render.sweep.sweep_views`).
     lighting : Lighting, optional
     settings : the method's settings type, a dict of its knobs, or None (its defaults)
+    light_azimuth : float, optional
+        The light's azimuth, degrees (0: the study's light, ``L = (cos i, 0, sin i)``); a method that lights from
+        azimuth 0 only (:attr:`Method.light_azimuth` False) refuses any other with ``ValueError``.
 
     Returns
     -------
@@ -160,7 +174,7 @@ def sweep(name: str, surface, incidence, azimuth, elevation, lighting=None, sett
         (:func:`roughlight.render.gl.context.renderer`: the GL renderer, its OpenGL version and the platform;
         :data:`NO_OPENGL` for the exact reference; Mitsuba's version and variant for ``mitsuba``).
     """
-    return method(name).sweep(surface, incidence, azimuth, elevation, lighting, settings)
+    return method(name).sweep(surface, incidence, azimuth, elevation, lighting, settings, light_azimuth)
 
 
 def recorded(name: str, settings=None, surface=None) -> dict:

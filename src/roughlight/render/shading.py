@@ -41,6 +41,7 @@ __all__ = [
     "Lighting",
     "check_incidence",
     "light_direction",
+    "check_light_azimuth",
     "view_direction",
     "phase_angle",
     "facet_components",
@@ -117,19 +118,35 @@ def check_incidence(incidence) -> float:
     return value
 
 
-def light_direction(incidence) -> np.ndarray:
-    """Unit vector toward the light, ``(cos i, 0, sin i)``.
+def light_direction(incidence, light_azimuth=0.0) -> np.ndarray:
+    """Unit vector toward the light, ``(cos i cos psi, cos i sin psi, sin i)``: ``(cos i, 0, sin i)`` at the
+    study's light azimuth ``psi = 0``, bit for bit (no rotation is applied there).
 
     Parameters
     ----------
     incidence : float or array, degrees above the surface plane.
+    light_azimuth : float, degrees: the light's azimuth, as a view's (0: the study's light).
 
     Returns
     -------
     (..., 3) float array
     """
     i = np.radians(np.asarray(incidence, float))
-    return np.stack([np.cos(i), np.zeros_like(i), np.sin(i)], axis=-1)
+    if light_azimuth == 0:
+        return np.stack([np.cos(i), np.zeros_like(i), np.sin(i)], axis=-1)
+    psi = np.radians(float(light_azimuth))
+    return np.stack([np.cos(i) * np.cos(psi), np.cos(i) * np.sin(psi), np.sin(i)], axis=-1)
+
+
+def check_light_azimuth(light_azimuth) -> float:
+    """The light's azimuth as a float, or ValueError unless it is a finite number of degrees."""
+    try:
+        value = float(light_azimuth)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"light_azimuth must be a number of degrees, got {light_azimuth!r}") from exc
+    if not math.isfinite(value):
+        raise ValueError(f"light_azimuth must be finite (degrees), got {light_azimuth!r}")
+    return value
 
 
 def view_direction(elevation, azimuth) -> np.ndarray:

@@ -81,7 +81,7 @@ from shapely import affinity
 
 from ...surfaces.surface import Surface
 from .. import sweep
-from ..shading import Lighting, check_incidence, facet_sum, light_direction, view_direction
+from ..shading import Lighting, check_incidence, check_light_azimuth, facet_sum, light_direction, view_direction
 from ..sweep import sweep_views
 from ..views import is_grazing
 from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
@@ -170,13 +170,13 @@ def with_fallback(compute, *args):
     raise error
 
 
-def _lit_regions(surf: Facets, incidence: float, shadows: bool) -> list:
+def _lit_regions(surf: Facets, incidence: float, shadows: bool, light_azimuth: float = 0.0) -> list:
     """Lit part of each facet's plan footprint (shapely geometries)."""
-    return with_fallback(_lit_regions_at, surf, incidence, shadows)
+    return with_fallback(_lit_regions_at, surf, incidence, shadows, light_azimuth)
 
 
-def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, grid_size=None) -> list:
-    L = light_direction(incidence)
+def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, light_azimuth: float = 0.0, grid_size=None) -> list:
+    L = light_direction(incidence, light_azimuth)
     ndotl = surf.normals @ L
     if not shadows or surf.plate:
         # every point with N.L > 0 is lit (nothing casts a shadow on the
@@ -215,10 +215,14 @@ def _without_slivers(region):
 class LitScene:
     """Everything of a sweep that does not depend on the view."""
 
-    def __init__(self, surface: Surface, incidence, shadows):
+    def __init__(self, surface: Surface, incidence, shadows, light_azimuth=0.0):
         self.surf = period_facets(surface)
         self.incidence = check_incidence(incidence)
-        self.lit = [_without_slivers(region) for region in _lit_regions(self.surf, self.incidence, bool(shadows))]
+        self.light_azimuth = check_light_azimuth(light_azimuth)
+        #: unit vector toward the light
+        self.light = light_direction(self.incidence, self.light_azimuth)
+        self.lit = [_without_slivers(region)
+                    for region in _lit_regions(self.surf, self.incidence, bool(shadows), self.light_azimuth)]
         fp_area = np.array([fp.area for fp in self.surf.footprints])
         self.fp_area = fp_area
         lit_area = np.array([r.area for r in self.lit])
@@ -267,11 +271,12 @@ class LitScene:
 
 
 @functools.lru_cache(maxsize=16)
-def lit_scene(surface: Surface, incidence: float, shadows: bool) -> LitScene:
-    """:class:`LitScene` of ``surface`` under the light at ``incidence``, kept for the process's last 16: a random
-    tile's takes about a second, and the fast method's regions, the exact reference and the measurements ask for
-    one tile under one light many times. A scene is never changed once made."""
-    return LitScene(surface, float(incidence), bool(shadows))
+def lit_scene(surface: Surface, incidence: float, shadows: bool, light_azimuth: float = 0.0) -> LitScene:
+    """:class:`LitScene` of ``surface`` under the light at ``incidence`` (and ``light_azimuth``, degrees), kept
+    for the process's last 16: a random tile's takes about a second, and the fast method's regions, the exact
+    reference and the measurements ask for one tile under one light many times. A scene is never changed once
+    made."""
+    return LitScene(surface, float(incidence), bool(shadows), float(light_azimuth))
 
 
 def lit_footprints(surface: Surface, incidence, shadows=True) -> dict:
@@ -332,7 +337,8 @@ def visible_lit_areas(surface: Surface, incidence, azimuth, elevation, shadows=T
     return {name: (float(a), float(b)) for name, a, b in zip(scene.surf.names, lit, shadow)}
 
 
-def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None,
+                    light_azimuth=0.0) -> dict:
     """Exact mean image value of each component for many views of one surface.
 
     Parameters
@@ -341,8 +347,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         Truncation (fraction of the pyramid height kept, 0 = flat plate,
         1 = full pyramid) and aspect (full pyramid height over the period).
     incidence : float
-        Light elevation above the surface plane ``i``, degrees in [0, 90];
-        the light is at azimuth 0: ``L = (cos i, 0, sin i)``.
+        Light elevation above the surface plane ``i``, degrees in [0, 90].
     azimuth, elevation : array_like, degrees
         The views (one shape, flattened to ``n_views``; :func:`roughlight.render.sweep.sweep_views`): view
         azimuth ``phi`` (the study uses [0, 180)) and elevation ``e`` in
@@ -365,6 +370,9 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         fraction of the image showing the surface: 1 (to 1e-9) for
         ``0 < e < 180``, 0 for grazing views (where all components are 0).
 
+    light_azimuth : float, optional
+        The light's azimuth psi, degrees: ``L = (cos i cos psi, cos i sin psi, sin i)`` (0, the study's).
+
     Notes
     -----
     Exact up to floating point (see :data:`REFERENCE_ERROR`). Raises
@@ -374,7 +382,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     """
     lighting = Lighting() if lighting is None else lighting
     quantized = (settings or ReferenceSettings()).quantized
-    scene = lit_scene(surface, incidence, lighting.shadows)
+    scene = lit_scene(surface, incidence, lighting.shadows, check_light_azimuth(light_azimuth))
 
     def step(out, views, incidence, lighting):
         measured = views.measured
@@ -382,7 +390,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         shadow = np.zeros_like(lit)
         for row, k in enumerate(measured):
             lit[row], shadow[row] = scene.areas(float(views.elevation[k]), float(views.azimuth[k]))
-        values = facet_sum(scene.surf.normals, light_direction(scene.incidence), views.directions(), lit, shadow,
+        values = facet_sum(scene.surf.normals, scene.light, views.directions(), lit, shadow,
                            lighting, quantized)
         for name, value in values.items():
             out[name][measured] = value
