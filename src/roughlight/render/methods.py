@@ -115,7 +115,8 @@ class Method:
 METHODS = {
     m.name: m
     for m in (
-        Method("fast", "roughlight.render.fast.periodic:fast_sweep", "roughlight.render.fast.settings:FastSettings"),
+        Method("fast", "roughlight.render.fast.periodic:fast_sweep", "roughlight.render.fast.settings:FastSettings",
+               light_azimuth=True),
         Method("naive", "roughlight.render.naive.procedure:naive_sweep",
                "roughlight.render.naive.settings:NaiveSettings"),
         Method("reference", "roughlight.render.exact.reference:reference_sweep",
@@ -126,7 +127,7 @@ METHODS = {
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "correction"),)),
         Method("mitsuba", "roughlight.render.mitsuba.scene:mitsuba_sweep",
                "roughlight.render.mitsuba.settings:MitsubaSettings", opengl=False,
-               identity="roughlight.render.mitsuba.runtime:identity"),
+               identity="roughlight.render.mitsuba.runtime:identity", light_azimuth=True),
     )
 }
 

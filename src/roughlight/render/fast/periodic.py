@@ -56,6 +56,7 @@ def fast_sweep(
     elevation,
     lighting: shading.Lighting | None = None,
     settings: FastSettings | None = None,
+    light_azimuth: float = 0.0,
 ) -> dict:
     """Render one sweep with the ``fast`` method (pyrender over OSMesa).
 
@@ -65,10 +66,11 @@ def fast_sweep(
         The surface (see :mod:`roughlight.surfaces.surface`), or a random tile
         (:mod:`roughlight.surfaces.roughness`) drawn as one period.
     incidence : float
-        Light elevation above the surface plane, degrees in [0, 90]; the light
-        comes from azimuth 0.
+        Light elevation above the surface plane, degrees in [0, 90].
     azimuth, elevation : (n_views,) arrays
         Views, degrees: azimuth in [0, 180), elevation in [0, 180].
+    light_azimuth : float
+        The light's azimuth, degrees (0, the study's: the light in the x-z plane).
     lighting : Lighting
     settings : FastSettings
         A random tile is drawn with its tile settings
@@ -85,12 +87,14 @@ def fast_sweep(
         time of the sweep.
     """
     settings = (settings or FastSettings()).for_surface(surface)
+    light_azimuth = shading.check_light_azimuth(light_azimuth)
 
     def step(out, views, incidence, lighting):
+        light = (incidence, light_azimuth)
         if hasattr(surface, "cells") and settings.sampling == "adaptive":  # a random tile: counted on the GL side
-            _counted_views(out, surface, incidence, views.measured, views.directions(), lighting, settings)
+            _counted_views(out, surface, light, views.measured, views.directions(), lighting, settings)
         else:
-            _render_views(out, surface, incidence, views.measured, views.directions(), lighting, settings)
+            _render_views(out, surface, light, views.measured, views.directions(), lighting, settings)
 
     # Every sweep draws in contexts of its own, as in a fresh process: a context left by an earlier sweep has a
     # framebuffer as large as that sweep's largest, and llvmpipe clips a draw to the framebuffer, not to the
@@ -101,12 +105,14 @@ def fast_sweep(
     return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
-def _counted_views(out, surface, incidence, todo, views, lighting, settings) -> None:
+def _counted_views(out, surface, light, todo, views, lighting, settings) -> None:
     """Fill ``out`` at the non-grazing views ``todo`` of a random tile with adaptive sampling: each region's share
-    counted on the GL side (:func:`counted_shares`), weighted by its 8-bit values."""
-    regions = shares.adaptive_regions(surface, incidence, lighting.shadows)
+    counted on the GL side (:func:`counted_shares`), weighted by its 8-bit values. ``light``: (incidence, light
+    azimuth), degrees."""
+    incidence, light_azimuth = light
+    regions = shares.adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
     lit, shadow, _ = counted_shares(surface, incidence, views, lighting, settings, regions)
-    _add_from_shares(out, todo, 1.0, regions, views, lit, shadow, shading.light_direction(incidence), lighting, 1.0)
+    _add_from_shares(out, todo, 1.0, regions, views, lit, shadow, shading.light_direction(*light), lighting, 1.0)
 
 
 def counted_shares(surface, incidence: float, views, lighting, settings, regions=None):
@@ -167,18 +173,19 @@ def _store(lit, shadow, idx, share) -> None:
     shadow[idx] = share[:, 1::2]
 
 
-def _render_views(out, surface, incidence, todo, views, lighting, settings) -> None:
-    """Fill ``out`` at the non-grazing views ``todo`` (their (V, 3) unit ``views``).
+def _render_views(out, surface, light, todo, views, lighting, settings) -> None:
+    """Fill ``out`` at the non-grazing views ``todo`` (their (V, 3) unit ``views``) under ``light``, (incidence,
+    light azimuth) in degrees.
 
     Adaptive sampling first takes the views where nothing is hidden from their exact areas and draws the rest
     on the lattices of its plan (:func:`roughlight.render.fast.shares.adaptive_plan`); lattice and grid sampling
     draw every view on the one sampling matrix (:func:`roughlight.render.fast.sampling.one_lattice`). Each
     lattice is then drawn in as many framebuffer passes as its layout needs.
     """
-    light_dir = shading.light_direction(incidence)
+    light_dir = shading.light_direction(*light)
     regions = None
     if settings.sampling == "adaptive":
-        regions = shares.adaptive_regions(surface, incidence, lighting.shadows)
+        regions = shares.adaptive_regions(surface, light[0], lighting.shadows, light[1])
         plan = shares.adaptive_plan(regions, views, light_dir, lighting, settings)
         _add_from_shares(out, todo[plan.exact], 1.0, regions, views[plan.exact], plan.lit, plan.shadow, light_dir,
                          lighting, 1.0)

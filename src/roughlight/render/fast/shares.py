@@ -95,12 +95,13 @@ class Regions:
     beta: np.ndarray
 
 
-def facet_regions(surface, incidence: float, shadows: bool) -> Regions:
-    """The lit and shadowed part of every facet (exact polygon clipping of the light's view, once a sweep).
+def facet_regions(surface, incidence: float, shadows: bool, light_azimuth: float = 0.0) -> Regions:
+    """The lit and shadowed part of every facet (exact polygon clipping of the light's view, once a sweep), the
+    light at ``incidence`` and ``light_azimuth`` (degrees).
 
     Kept for the process's last :data:`KEPT_REGIONS` surfaces and lights (a random tile's take seconds, and the
     measurements and tests draw one tile under one light many times): the arrays come back read-only."""
-    return _kept_regions(surface, float(incidence), bool(shadows))
+    return _kept_regions(surface, float(incidence), bool(shadows), float(light_azimuth))
 
 
 #: How many surfaces' and lights' :func:`facet_regions` a process keeps.
@@ -108,22 +109,22 @@ KEPT_REGIONS = 16
 
 
 @functools.lru_cache(maxsize=KEPT_REGIONS)
-def _kept_regions(surface, incidence: float, shadows: bool) -> Regions:
-    regions = _facet_regions(surface, incidence, shadows)
+def _kept_regions(surface, incidence: float, shadows: bool, light_azimuth: float) -> Regions:
+    regions = _facet_regions(surface, incidence, shadows, light_azimuth)
     for values in (regions.facet, regions.lit, regions.normals, regions.alpha, regions.beta,
                    *(ring for rings in regions.rings for ring in rings)):
         values.setflags(write=False)
     return regions
 
 
-def _facet_regions(surface, incidence: float, shadows: bool) -> Regions:
+def _facet_regions(surface, incidence: float, shadows: bool, light_azimuth: float) -> Regions:
     import shapely
     from shapely.geometry.polygon import orient
 
     from ..exact.clipping import area_parts
     from ..exact.reference import lit_scene
 
-    scene = lit_scene(surface, incidence, shadows)
+    scene = lit_scene(surface, incidence, shadows, light_azimuth)
     surf = scene.surf
     facet, lit_flag, rings = [], [], []
     for f in range(len(surf.names)):
@@ -146,10 +147,10 @@ def _facet_regions(surface, incidence: float, shadows: bool) -> Regions:
                    np.asarray(surf.alpha, float), np.asarray(surf.beta, float))
 
 
-def adaptive_regions(surface, incidence: float, shadows: bool) -> Regions:
+def adaptive_regions(surface, incidence: float, shadows: bool, light_azimuth: float = 0.0) -> Regions:
     """:func:`facet_regions` for adaptive sampling, which takes at most :data:`MAX_FACETS` facets a period (the
     facet identities the framebuffer holds); raises ``ValueError`` naming the surface's count beyond that."""
-    regions = facet_regions(surface, incidence, shadows)
+    regions = facet_regions(surface, incidence, shadows, light_azimuth)
     if len(regions.normals) > MAX_FACETS:
         raise ValueError(f"render.sampling: adaptive takes at most {MAX_FACETS} facets a period, "
                          f"this surface has {len(regions.normals)}; use lattice")

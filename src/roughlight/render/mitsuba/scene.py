@@ -75,13 +75,14 @@ class FieldScene:
     """A Mitsuba scene of a sweep's views: the field of ``cells`` (:func:`roughlight.render.mitsuba.field.view_groups`),
     the light and the material; :meth:`view` renders one view."""
 
-    def __init__(self, surface, incidence: float, cells, lighting: Lighting, settings: MitsubaSettings):
+    def __init__(self, surface, incidence: float, cells, lighting: Lighting, settings: MitsubaSettings,
+                 light_azimuth: float = 0.0):
         self.mi, self.variant = runtime.load(settings.variant)
         self.settings, self.lighting = settings, lighting
         self.material = material(lighting, settings)
         self.height = surface_height(surface)
         self.resolution = settings.resolution(surface)
-        light = light_direction(incidence)
+        light = light_direction(incidence, light_azimuth)
         self.lit = is_lit(surface, incidence)
         self.triangles = field_triangles(tile_triangles(surface), cells)
         self.scene = self.mi.load_dict({
@@ -145,13 +146,14 @@ class FieldScene:
         return {"diffuse": diffuse, "specular": specular, "total": total, "coverage": float(film[..., 3].mean())}
 
 
-def mitsuba_sweep(surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+def mitsuba_sweep(surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0) -> dict:
     """Mean 8-bit value of each component for many views of one surface, rendered by Mitsuba 3.
 
     Parameters
     ----------
     surface : Surface or RandomSurface (the plate included)
-    incidence : float, light elevation above the plane, degrees in [0, 90] (light at azimuth 0)
+    incidence : float, light elevation above the plane, degrees in [0, 90]
+    light_azimuth : float, the light's azimuth, degrees (0, the study's)
     azimuth, elevation : array_like, degrees (:func:`roughlight.render.sweep.sweep_views`)
     lighting : Lighting, optional
     settings : MitsubaSettings, optional
@@ -171,10 +173,11 @@ def mitsuba_sweep(surface, incidence, azimuth, elevation, lighting=None, setting
 
     def step(out, views, incidence, lighting):
         directions = views.directions()
-        groups = view_groups(len(tile_triangles(surface)), surface_height(surface), light_direction(incidence),
+        groups = view_groups(len(tile_triangles(surface)), surface_height(surface),
+                             light_direction(incidence, light_azimuth),
                              directions, settings.periods, is_lit(surface, incidence))
         for rows, cells in groups:
-            field = FieldScene(surface, incidence, cells, lighting, settings)
+            field = FieldScene(surface, incidence, cells, lighting, settings, light_azimuth)
             for row in rows:
                 k = views.measured[row]
                 values = field.view(directions[row], seed=int(k))
