@@ -278,7 +278,10 @@ def _check_readout(browser: Browser, study: pd.DataFrame) -> int:
         return [r.left, r.top, +c.dataset.cx, +c.dataset.cy, +c.dataset.radius]; })()""")
     sweep = rough[(rough["truncation"] == row["truncation"]) & (rough["aspect"] == row["aspect"])
                   & (rough["incidence"] == row["incidence"]) & (rough["component"] == "total")]
-    inner = sweep[(sweep["elevation"] % 180 >= 20) & (np.abs(sweep["elevation"] - 90) >= 20)]
+    # at least 20 degrees from the horizon on either side (there the rim packs the elevations' rings within a pixel
+    # or two, and the input pipeline moves the pointer to whole pixels) and from the zenith (where azimuths meet)
+    el = sweep["elevation"]
+    inner = sweep[(np.minimum(el, 180.0 - el) >= 20) & (np.abs(el - 90) >= 20)]
     visited = 0
     for _, view in inner.sample(min(12, len(inner)), random_state=1).iterrows():
         e, phi = np.radians(view["elevation"]), np.radians(view["azimuth"])

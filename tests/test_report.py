@@ -330,7 +330,7 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
         "grid": {"truncation": [0.0, 0.5, 1.0], "aspect": [1.0, S32], "incidence": [30]},
         "sweep": {"elevation_step": 5, "azimuth_step": 90},
         # the measurements have tests of their own
-        "report": {"speed_accuracy": False, "stability": False, "implicit": False},
+        "report": {"speed_accuracy": False, "stability": False, "implicit": False, "light_transport": {"enabled": False}},
     }
     (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
@@ -358,7 +358,8 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     # every setting reaches every consumer: other table aspects, incidence and figure lights/incidences
     sweeps = sorted((workflow_dir / "results" / "sweeps").rglob("*.parquet"))
     stamps = [p.stat().st_mtime_ns for p in sweeps]
-    follow = {"report": {"speed_accuracy": False, "stability": False, "implicit": False, "table_aspects": [S32],
+    follow = {"report": {"speed_accuracy": False, "stability": False, "implicit": False,
+                         "light_transport": {"enabled": False}, "table_aspects": [S32],
                          "table_incidence": 30,
                          "figure_incidences": [30, 60], "figure_lights": [127]}}
     (workflow_dir / "follow.yaml").write_text(json.dumps(follow))
@@ -384,7 +385,7 @@ def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
     (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
     snakemake = [sys.executable, "-m", "snakemake", "--cores", "2", "--directory", str(workflow_dir), "--snakefile",
                  str(workflow_dir / "Snakefile"), "-n", "--quiet", "rules"]
-    off_keys = {"speed_accuracy": False, "stability": False, "implicit": False}
+    off_keys = {"speed_accuracy": False, "stability": False, "implicit": False, "light_transport": {"enabled": False}}
     (workflow_dir / "off.yaml").write_text(json.dumps({"report": off_keys}))
 
     def jobs(*extra):
@@ -395,8 +396,10 @@ def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
     default = jobs()
     # on by default, quick plan
     assert "speed_accuracy" in default and "stability_measurement" in default and "implicit_surface" in default
+    assert "light_transport" in default
     off = jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml"))
     assert "speed_accuracy" not in off and "stability" not in off and "implicit_surface" not in off
+    assert "light_transport" not in off
     # a stray full-size chart changes nothing: the DAG comes from the config
     (workflow_dir / "results" / "benchmarks" / "full").mkdir(parents=True)
     (workflow_dir / "results" / "benchmarks" / "full" / "speed_accuracy.png").write_bytes(b"not a chart")

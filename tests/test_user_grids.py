@@ -32,8 +32,8 @@ from .report_chain import SCHEMA, resolved, whole_report
 
 S32 = math.sqrt(3.0) / 2.0
 DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
-SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "random", "stability",
-            "provenance")
+SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "random", "light-transport",
+            "stability", "provenance")
 
 
 def merged(base: dict, edits: dict) -> dict:
