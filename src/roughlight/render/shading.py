@@ -8,7 +8,9 @@ Directions
 ----------
 * Light: directional, from azimuth 0. The unit vector toward the light is
   ``L = (cos i, 0, sin i)``, ``i`` the incidence: the light's elevation above
-  the surface plane, degrees.
+  the surface plane, degrees. From another azimuth ``psi`` (the fast method,
+  the exact reference and Mitsuba: ``light_azimuth``),
+  ``L = (cos i cos psi, cos i sin psi, sin i)``.
 * Detector: the unit vector toward it is
   ``V = (cos e cos phi, cos e sin phi, sin e)``, ``e`` the view elevation in
   [0, 180] and ``phi`` the view azimuth in [0, 180), degrees. At ``phi = 0``,
