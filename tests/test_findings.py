@@ -517,3 +517,40 @@ def test_the_claim_its_design_and_its_finding_show_in_chromium(tables, tmp_path)
     assert "Margin ±0.051, set by the 8-bit floor" in text["design"]
     assert "the 8 planned tests are corrected together (Bonferroni)" in text["design"]
     assert text["finding"].startswith("The thesis's random-roughness claim is decided only in part.")
+
+
+def test_the_light_transport_section_and_its_finding_show_in_chromium(tmp_path):
+    """Beyond the OpenGL equation as a reader sees it in Chromium: its chart decoded, its two tables, the gain a
+    surface at every albedo, and the finding's link landing on the section, nothing wider than the page."""
+    from roughlight.measurements.light_transport import interreflection_summary
+    from roughlight.report import figures as F
+
+    from .browser import Browser
+
+    frames = light_frames()
+    summary = frames["interreflection_summary"]
+    rows = [{"truncation": r.truncation, "aspect": r.aspect, "incidence": 30.0, "albedo": r.albedo,
+             "views": v, "azimuth": 0.0, "elevation": e, "direct": 60.0, "bounced": 60.0 + r.mean_gain,
+             "gain": r.mean_gain, "gain_percent": 100 * r.mean_gain / 60.0, "bounces": 8}
+            for r in summary.itertuples() for v in ("arc", "hemisphere") for e in (30.0, 90.0, 150.0)]
+    chart = F.make("light_transport", tmp_path / "light_transport.png", summary=interreflection_summary(
+        pd.DataFrame(rows)), frame=pd.DataFrame(rows))
+    html = R.build_report({**frames, "light_transport_png": chart}, {})
+    path = tmp_path / "report.html"
+    path.write_text(html, encoding="utf-8")
+    with Browser(1280, 900, workdir=tmp_path) as browser:
+        browser.open(path)
+        seen = browser.evaluate("""(() => { const s = document.getElementById('light-transport');
+            const img = document.querySelector('#fig-light-transport img');
+            const link = document.querySelector('[data-finding="light-transport"] a');
+            return {img: !!img && img.complete && img.naturalWidth > 0,
+                    tables: ['mitsuba-agreement-table', 'interreflection-table'].map(
+                      id => !!document.getElementById(id)),
+                    text: s.parentElement.innerText, link: link && link.getAttribute('href'),
+                    wide: [...document.querySelectorAll('body *')].filter(
+                      e => e.getBoundingClientRect().right > 1280 + 1).map(e => e.tagName).slice(0, 3)}; })()""")
+        assert browser.errors() == []
+    assert seen["img"] and seen["tables"] == [True, True] and seen["link"] == "#light-transport"
+    assert seen["wide"] == []
+    assert "Every view is within one level" in seen["text"]
+    assert "albedo 1: a mean gain of" in seen["text"] and "albedo 0.5: a mean gain of" in seen["text"]
