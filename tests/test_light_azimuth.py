@@ -123,3 +123,27 @@ def test_mitsuba_lights_from_the_same_azimuth():
     exact = reference(surface, 45.0, az, el)
     for component in shading.COMPONENTS:
         assert np.abs(rendered[component] - exact[component]).max() < 1.0, component
+
+
+@pytest.mark.parametrize("psi", [10.0, 60.0, 100.0, 170.0, 200.0, 250.0, 300.0, 350.0, -30.0])
+def test_one_light_of_each_class_is_measured_and_the_views_turned(psi):
+    """Square pyramids under any light are one of the lights in [0, 45] seen from views the same symmetry takes
+    along (surfaces.symmetry.canonical_light), held against the exact reference."""
+    from roughlight.surfaces.symmetry import canonical_light
+
+    surface = Surface(1.0, 0.8)
+    psi0, g = canonical_light(surface, psi)
+    assert 0.0 <= psi0 <= 45.0 and np.isclose(g(psi), psi0)
+    same(reference(surface, psi0, g(AZ)), reference(surface, psi))
+
+
+def test_the_plate_is_the_studys_light_turned_and_a_random_tile_its_own():
+    from roughlight.surfaces.symmetry import canonical_light, symmetry
+
+    plate, tile = Surface(0.0, 0.0), make_surface("random_heightfield", 0.5, 0.5, seed=2)
+    assert (symmetry(plate), symmetry(Surface(0.5, 0.5)), symmetry(tile)) == ("isotropic", "square", "none")
+    psi0, g = canonical_light(plate, 123.0)
+    assert psi0 == 0.0
+    same(reference(plate, 0.0, g(AZ)), reference(plate, 123.0))
+    psi0, g = canonical_light(tile, 400.0)
+    assert psi0 == 40.0 and np.allclose(g(AZ), np.mod(AZ, 360.0))

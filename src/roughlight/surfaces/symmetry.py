@@ -1,0 +1,67 @@
+"""Which light directions a surface cannot tell apart: measure one and turn the views.
+
+A surface's symmetries act on azimuths (degrees, the study's: 0 along the lattice's x axis). Lit from azimuth
+``psi`` and seen from views at azimuths ``phi``, a surface gives the same image as lit from ``g(psi)`` and seen from
+``g(phi)`` for every symmetry ``g`` of it. So a light direction needs measuring once per class:
+
+* the plate (the control) is the same turned by any angle: every light azimuth is the study's, 0;
+* square pyramids repeat every 90 degrees and mirror about the lattice's axes and diagonals (the square's eight
+  symmetries): every light azimuth is one in [0, 45];
+* a random tile repeats nothing: every light azimuth is its own.
+
+:func:`canonical_light` names the light to measure and the map that takes the views along.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["SYMMETRIES", "AzimuthMap", "symmetry", "canonical_light"]
+
+#: What each sort of surface repeats, by :func:`symmetry`'s name: ``isotropic``, ``square``, ``none``.
+SYMMETRIES = ("isotropic", "square", "none")
+
+
+@dataclass(frozen=True)
+class AzimuthMap:
+    """``phi -> sign * phi + offset`` (degrees, modulo 360): a rotation (``sign`` 1) or a mirror (``sign`` -1)."""
+
+    sign: int = 1
+    offset: float = 0.0
+
+    def __call__(self, azimuth):
+        """The map applied to azimuths (degrees; an array or a number), in [0, 360)."""
+        return np.mod(self.sign * np.asarray(azimuth, float) + self.offset, 360.0)
+
+
+def symmetry(surface) -> str:
+    """The symmetry of ``surface`` that acts on light directions: ``isotropic`` (the plate), ``square`` (regular
+    truncated pyramids) or ``none`` (a random tile, ``surface.kind`` random_*)."""
+    if getattr(surface, "kind", "pyramids") != "pyramids":
+        return "none"
+    return "isotropic" if surface.is_plate else "square"
+
+
+def canonical_light(surface, light_azimuth: float) -> tuple[float, AzimuthMap]:
+    """The light azimuth to measure in place of ``light_azimuth``, and the map that takes a view azimuth with it.
+
+    Returns
+    -------
+    (float, AzimuthMap)
+        ``psi0`` (degrees: 0 for the plate, in [0, 45] for square pyramids, ``light_azimuth`` mod 360 for a random
+        tile) and ``g`` with ``g(light_azimuth) == psi0``: the view at azimuth ``phi`` under the light at
+        ``light_azimuth`` sees what the view at ``g(phi)`` (same elevation) sees under the light at ``psi0``.
+    """
+    psi = float(np.mod(float(light_azimuth), 360.0))
+    kind = symmetry(surface)
+    if kind == "none":
+        return psi, AzimuthMap()
+    if kind == "isotropic":
+        return 0.0, AzimuthMap(1, -psi)
+    quarter = 90.0 * np.floor(psi / 90.0)  # turn into [0, 90) by a multiple of 90 degrees
+    rest = psi - quarter
+    if rest <= 45.0:
+        return rest, AzimuthMap(1, -quarter)
+    return 90.0 - rest, AzimuthMap(-1, 90.0 + quarter)  # then mirror about the diagonal at 45 degrees
