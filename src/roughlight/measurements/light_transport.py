@@ -25,11 +25,14 @@ import pandas as pd
 
 from ..analysis.thesis import SQRT3_2, THESIS_INCIDENCE
 from ..render import methods, shading
-from ..surfaces.roughness import make_surface
+from ..surfaces.roughness import kind_and_seed, make_surface
 from ..surfaces.surface import Surface
 from .renderer_validation import view_errors
 
-__all__ = ["PLANS", "plan_views", "agreement", "interreflection", "interreflection_summary"]
+__all__ = ["LEVEL", "PLANS", "plan_views", "agreement", "interreflection", "interreflection_summary"]
+
+#: One 8-bit level: where the OpenGL equation stops being within a level of what it is held to.
+LEVEL = 1.0
 
 #: Each plan: the grid's surfaces (truncation, aspect) light bounces on, the surfaces checked against the exact
 #: reference (``check``, with the control plate and the random ``tiles``: kind, truncation, aspect, seed), the views
@@ -67,6 +70,14 @@ def plan_views(plan: str) -> dict:
     return {"arc": (np.zeros_like(arc), arc), "hemisphere": (az.ravel(), el.ravel())}
 
 
+def _all_views(plan: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Both sets of :func:`plan_views` in one sweep's views: each view's set's name, azimuth and elevation, (n,)."""
+    views = plan_views(plan)
+    names = np.concatenate([np.full(len(az), name) for name, (az, _) in views.items()])
+    return (names, np.concatenate([az for az, _ in views.values()]),
+            np.concatenate([el for _, el in views.values()]))
+
+
 def _mitsuba(plan: str, settings, bounce: bool = True, **knobs) -> dict:
     """The mitsuba method's knobs: the plan's sampling, the variant (the plan's where light bounces and it names one,
     else the configured one, ``settings``: ``render.mitsuba``), and ``knobs``."""
@@ -88,9 +99,9 @@ def _surfaces(plan: str, check: bool = False) -> list:
 
 
 def _describe(surface) -> dict:
-    kind = getattr(surface, "kind", "control" if surface.is_plate else "pyramids")
-    return {"kind": kind, "truncation": float(surface.truncation), "aspect": float(surface.aspect),
-            "seed": int(getattr(surface, "seed", 0))}
+    kind, seed = kind_and_seed(surface)
+    return {"kind": "control" if surface.is_plate and kind == "pyramids" else kind,
+            "truncation": float(surface.truncation), "aspect": float(surface.aspect), "seed": int(seed)}
 
 
 def agreement(plan: str = "quick", incidence: float = THESIS_INCIDENCE, lighting=None, settings=None,
@@ -111,9 +122,7 @@ def agreement(plan: str = "quick", incidence: float = THESIS_INCIDENCE, lighting
     """
     lighting = lighting or shading.Lighting()
     knobs = methods.settings("mitsuba", _mitsuba(plan, settings, bounce=False, bounces=1))
-    views = plan_views(plan)
-    az = np.concatenate([views["arc"][0], views["hemisphere"][0]])
-    el = np.concatenate([views["arc"][1], views["hemisphere"][1]])
+    _, az, el = _all_views(plan)
     rows = []
     for surface in _surfaces(plan, check=True):
         exact = methods.sweep("reference", surface, incidence, az, el, lighting)
@@ -142,10 +151,7 @@ def interreflection(plan: str = "quick", incidence: float = THESIS_INCIDENCE, li
     ``gain`` (levels) and ``gain_percent`` (of direct; NaN where direct is below one level), ``bounces``.
     """
     lighting = lighting or shading.Lighting()
-    views = plan_views(plan)
-    names = np.concatenate([np.full(len(az), name) for name, (az, _) in views.items()])
-    az = np.concatenate([az for az, _ in views.values()])
-    el = np.concatenate([el for _, el in views.values()])
+    names, az, el = _all_views(plan)
     albedos = sorted({float(lighting.diffuse_reflectance), float(albedo)}, reverse=True)
     frames = []
     for surface in _surfaces(plan):
@@ -167,7 +173,7 @@ def interreflection(plan: str = "quick", incidence: float = THESIS_INCIDENCE, li
     return pd.concat(frames, ignore_index=True)
 
 
-def interreflection_summary(frame: pd.DataFrame, level: float = 1.0) -> pd.DataFrame:
+def interreflection_summary(frame: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
     """Each surface's gain from light that bounces, per albedo and set of views: ``mean_gain`` and ``worst_gain``
     (levels), ``mean_percent`` and ``worst_percent`` (of direct light, over views with at least one level of it),
     ``worst_elevation`` and ``worst_azimuth`` (the view of the worst gain), and ``within_level`` (the worst gain is

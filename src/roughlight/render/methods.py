@@ -22,6 +22,8 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass
 
+from . import shading
+
 __all__ = ["Method", "METHODS", "NAMES", "NO_OPENGL", "method", "settings", "sweep", "recorded", "renderer_identity"]
 
 #: What the exact reference runs on, as a sweep records it.
@@ -88,7 +90,7 @@ class Method:
         """Measure a sweep (:func:`sweep`), with what it ran on (``renderer``)."""
         settings = self.checked(settings)
         light = {}
-        if _load("roughlight.render.shading:check_light_azimuth")(light_azimuth) != 0:
+        if shading.check_light_azimuth(light_azimuth) != 0:
             if not self.light_azimuth:
                 lit = ", ".join(m.name for m in METHODS.values() if m.light_azimuth)
                 raise ValueError(f"method {self.name!r} lights from azimuth 0 only, got light_azimuth "

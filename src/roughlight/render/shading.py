@@ -285,9 +285,10 @@ def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, qu
 _TIE_SLACK = 1e-6
 
 
-def quantize(values) -> np.ndarray:
-    """8-bit framebuffer value of an intensity: clamp to [0, 255], round to nearest, ties up."""
-    return np.floor(np.clip(np.asarray(values, float), 0.0, 255.0) + 0.5 + _TIE_SLACK)
+def quantize(values, tie_slack: float = _TIE_SLACK) -> np.ndarray:
+    """8-bit framebuffer value of an intensity: clamp to [0, 255], round to nearest, ties (values within
+    ``tie_slack`` of a half step) up."""
+    return np.floor(np.clip(np.asarray(values, float), 0.0, 255.0) + 0.5 + tie_slack)
 
 
 def material_uniforms(lighting: Lighting, light_dir) -> dict:

@@ -18,6 +18,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .roughness import kind_and_seed
+
 __all__ = ["SYMMETRIES", "AzimuthMap", "symmetry", "canonical_light"]
 
 #: What each sort of surface repeats, by :func:`symmetry`'s name: ``isotropic``, ``square``, ``none``.
@@ -39,7 +41,7 @@ class AzimuthMap:
 def symmetry(surface) -> str:
     """The symmetry of ``surface`` that acts on light directions: ``isotropic`` (the plate), ``square`` (regular
     truncated pyramids) or ``none`` (a random tile, ``surface.kind`` random_*)."""
-    if getattr(surface, "kind", "pyramids") != "pyramids":
+    if kind_and_seed(surface)[0] != "pyramids":
         return "none"
     return "isotropic" if surface.is_plate else "square"
 

@@ -182,10 +182,11 @@ def _render_views(out, surface, light, todo, views, lighting, settings) -> None:
     draw every view on the one sampling matrix (:func:`roughlight.render.fast.sampling.one_lattice`). Each
     lattice is then drawn in as many framebuffer passes as its layout needs.
     """
-    light_dir = shading.light_direction(*light)
+    incidence, light_azimuth = light
+    light_dir = shading.light_direction(incidence, light_azimuth)
     regions = None
     if settings.sampling == "adaptive":
-        regions = shares.adaptive_regions(surface, light[0], lighting.shadows, light[1])
+        regions = shares.adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
         plan = shares.adaptive_plan(regions, views, light_dir, lighting, settings)
         _add_from_shares(out, todo[plan.exact], 1.0, regions, views[plan.exact], plan.lit, plan.shadow, light_dir,
                          lighting, 1.0)

@@ -8,8 +8,8 @@ toward ``-L`` of irradiance ``pi``, so that a lit facet's diffuse is ``m_d N.L``
 render through its own orthographic detector (:func:`roughlight.render.mitsuba.field.sensor_matrix`), ``rgba``
 film with a box filter (a pixel is the mean of its own samples). On the study's 0-255 scale each pixel of a
 component is then ``J`` times its channel, plus the ambient term ``J m_a A`` on the diffuse and the total, clamped
-and rounded to its 8-bit value (:func:`quantize`), and the view's value is the mean over the film, as the
-framebuffer's.
+and rounded to its 8-bit value (:func:`roughlight.render.shading.quantize`, ties within :data:`TIE_SLACK`), and the
+view's value is the mean over the film, as the framebuffer's.
 
 Conventions shared with the reference (render/exact/reference.py):
 
@@ -25,13 +25,13 @@ from __future__ import annotations
 import numpy as np
 
 from .. import sweep
-from ..shading import Lighting, light_direction
+from ..shading import Lighting, light_direction, quantize
 from . import runtime
 from .bsdf import material, register
 from .field import field_triangles, sensor_matrix, surface_height, tile_triangles, view_groups
 from .settings import MitsubaSettings
 
-__all__ = ["TIE_SLACK", "quantize", "refusal", "FieldScene", "mitsuba_sweep"]
+__all__ = ["TIE_SLACK", "refusal", "FieldScene", "mitsuba_sweep"]
 
 #: Values within this of a half step round up, as :func:`roughlight.render.shading.quantize` rounds ties up.
 #: Mitsuba computes in single precision: a plate's diffuse ``127 sin 30 = 63.5`` comes out as 63.4999962 (4e-6
@@ -45,11 +45,6 @@ GRAZING_LIGHT = 1e-9
 #: phi 150 on t 0.5, a 1); a pixel's value is the mean of its samples that met the surface (:meth:`FieldScene.render`).
 #: A field too small for a view would leave whole rows of pixels empty, far more than this.
 COVERAGE_TOLERANCE = 1e-3
-
-
-def quantize(values) -> np.ndarray:
-    """8-bit value of each pixel: clamp to [0, 255], round to nearest, ties (to :data:`TIE_SLACK`) up."""
-    return np.floor(np.clip(np.asarray(values, float), 0.0, 255.0) + 0.5 + TIE_SLACK)
 
 
 def refusal(surface, lighting: Lighting, settings: MitsubaSettings) -> str | None:
@@ -134,11 +129,11 @@ class FieldScene:
         film = self.render(view_dir, seed)
         j = float(self.lighting.light)
         ambient = j * float(self.lighting.ambient_reflectance) * float(self.lighting.ambient)
-        diffuse = quantize(j * self.material["diffuse_scale"] * film[..., 0] + ambient).mean()
+        diffuse = quantize(j * self.material["diffuse_scale"] * film[..., 0] + ambient, TIE_SLACK).mean()
         kind = self.material["specular"]
         if kind == "measured":
-            specular = quantize(j * film[..., 1]).mean()
-            total = quantize(j * film[..., 2] + ambient).mean()
+            specular = quantize(j * film[..., 1], TIE_SLACK).mean()
+            total = quantize(j * film[..., 2] + ambient, TIE_SLACK).mean()
         elif kind == "zero":
             specular, total = 0.0, diffuse
         else:

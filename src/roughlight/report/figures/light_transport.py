@@ -6,12 +6,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
+from ...measurements.light_transport import LEVEL
 from .common import heatmap, placeholder, theme
 
 __all__ = ["fig_light_transport"]
-
-#: The gain, 8-bit levels, where the OpenGL equation stops being within a level of light transport.
-LEVEL = 1.0
 
 
 def _gain_panel(ax, summary: pd.DataFrame, albedo: float, vmax: float) -> None:

@@ -17,6 +17,7 @@ import pandas as pd
 
 from ..page_templates import frame_or_none
 from ..registry import Section
+from . import light_transport as light_section
 from . import tables
 from .glm import best_laws
 from .random import claim_test_label
@@ -301,7 +302,8 @@ def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
 
 def light_transport(agreement: pd.DataFrame | None, summary: pd.DataFrame | None, shown: bool) -> dict:
     """Mitsuba 3 against the exact reference under direct light (each component's worst view), and where light that
-    bounces adds less than one level at every view of the hemisphere, per albedo (rule ``light_transport``).
+    bounces adds less than one level at every view of the hemisphere, per albedo (rule ``light_transport``), as
+    the section says them (:mod:`roughlight.report.sections.light_transport`).
 
     ``shown``: the "Beyond the OpenGL equation" section is on the page (``report.light_transport.enabled``).
     """
@@ -309,15 +311,12 @@ def light_transport(agreement: pd.DataFrame | None, summary: pd.DataFrame | None
         return {"why": "switched_off"}
     if not (_has_rows(agreement) and _has_rows(summary)):
         return {"why": "not_given"}
-    worst = agreement.groupby("component", sort=False)["worst"].max()
-    hemi = summary[summary["views"] == "hemisphere"]
-    albedos = []
-    for albedo, g in hemi.groupby("albedo", sort=False):
-        albedos.append({"albedo": float(albedo), "within": int(g["within_level"].sum()), "surfaces": len(g),
-                        "worst": float(g["worst_gain"].max()), "mean": _span(g["mean_gain"]),
-                        "percent": _span(g["mean_percent"])})
-    return {"agreement": [(c, float(w)) for c, w in worst.items()], "agrees": bool((worst < 1.0).all()),
-            "albedos": sorted(albedos, key=lambda a: -a["albedo"]), "target": "light-transport"}
+    checked = light_section.agreement_summary(agreement)
+    albedos = [{"albedo": g["albedo"], "within": g["within"], "surfaces": g["surfaces"], "worst": g["worst"],
+                "mean": _span([g["mean_low"], g["mean_high"]]), "percent": _span([g["percent_low"], g["percent_high"]])}
+               for g in light_section.gains(summary)]
+    return {"agreement": [(r["component"], r["worst"]) for r in checked["rows"]], "agrees": checked["within"],
+            "albedos": albedos, "target": "light-transport"}
 
 
 # ---------------------------------------------------------------------------

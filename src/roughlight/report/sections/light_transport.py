@@ -6,14 +6,12 @@ from __future__ import annotations
 
 import pandas as pd
 
+from ...measurements.light_transport import LEVEL
 from ..page_templates import caption_text, existing, frame_or_none
 from ..registry import Section
 
-#: The gain, 8-bit levels, below which the OpenGL equation's diffuse is within a level of light transport.
-LEVEL = 1.0
 
-
-def _agreement(agreement: pd.DataFrame) -> dict:
+def agreement_summary(agreement: pd.DataFrame) -> dict:
     """Per component: the surfaces and views checked, the worst view over them and the largest MAE."""
     rows = []
     for component, g in agreement.groupby("component", sort=False):
@@ -25,7 +23,7 @@ def _agreement(agreement: pd.DataFrame) -> dict:
             "variant": str(agreement["variant"].iloc[0]), "table": agreement}
 
 
-def _gains(summary: pd.DataFrame) -> list[dict]:
+def gains(summary: pd.DataFrame) -> list[dict]:
     """Per albedo, over the hemisphere: where the worst view's gain stays below a level, and the largest gain."""
     out = []
     hemi = summary[summary["views"] == "hemisphere"]
@@ -53,7 +51,7 @@ def light_transport_section(mitsuba_agreement: pd.DataFrame | None = None,
     png = existing(light_transport_png)
     shown = summary[["truncation", "aspect", "albedo", "views", "n_views", "mean_gain", "worst_gain", "mean_percent",
                      "worst_percent", "worst_elevation", "worst_azimuth", "within_level"]]
-    return {"plan": plan, "level": LEVEL, "agreement": _agreement(agreement), "gains": _gains(summary),
+    return {"plan": plan, "level": LEVEL, "agreement": agreement_summary(agreement), "gains": gains(summary),
             "bounces": int(summary["bounces"].iloc[0]) if "bounces" in summary else None, "summary": shown,
             "png": png, "caption": caption_text("light_transport") if png else None}
 
