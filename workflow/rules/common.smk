@@ -301,8 +301,9 @@ def explorer_budget(wildcards):
 
 def report_inputs(wildcards):
     """The page's inputs (report_html): the inputs every section of the page declares (roughlight.report.sections),
-    for the sections config switches on (report.speed_accuracy, report.implicit, report.stability,
-    report.explorer.enabled, surface.kind: never which files exist), the measurements at measurements.plan; each
+    for the sections config switches on (each section's switch: report.speed_accuracy, report.implicit,
+    report.stability, report.light_transport.enabled, report.explorer.enabled, surface.kind; never which files
+    exist), the measurements at measurements.plan; each
     named by its file's stem (a chart: its stem and _png), as the rule that writes it names it and as the page's
     sections take it.
     """
