@@ -552,5 +552,6 @@ def test_the_light_transport_section_and_its_finding_show_in_chromium(tmp_path):
         assert browser.errors() == []
     assert seen["img"] and seen["tables"] == [True, True] and seen["link"] == "#light-transport"
     assert seen["wide"] == []
-    assert "Every view is within one level" in seen["text"]
+    assert "views. Every view is within one level" in seen["text"]  # two sentences, the bounces named
+    assert "With light that bounces 8 times between facets" in seen["text"]
     assert "albedo 1: a mean gain of" in seen["text"] and "albedo 0.5: a mean gain of" in seen["text"]

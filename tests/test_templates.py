@@ -162,7 +162,7 @@ def case_light_transport(png):
                     "mean_high": 12.0, "percent_low": 3.0, "percent_high": 95.0, "worst": 30.2, "worst_percent": 140.0,
                     "worst_surface": (1.0, 1.0)}]}
     return {"s": s}, ['<h2 id="light-transport">', "Mitsuba (mitsuba &lt;llvm&gt;)", "&lt;diffuse&gt; worst 0.31 (on "
-                      "random &lt;x&gt;)", "Every view is within one level", "bounces 8 times",
+                      "random &lt;x&gt;)", "336 views. Every view is within one level", "bounces 8 times",
                       "albedo 1: a mean gain of 0.5–12.0 levels over the hemisphere (3–95% of direct light), at worst "
                       "30.2 levels (140%) on truncation 1, aspect 1; 1 of 9 surfaces stay within one level at every "
                       "view (t 0.25, a 0.25)", 'id="fig-light-transport"', "caption &lt;c&gt;", "&lt;pyramids&gt;",

@@ -174,11 +174,12 @@ def interreflection(plan: str = "quick", incidence: float = THESIS_INCIDENCE, li
 
 
 def interreflection_summary(frame: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
-    """Each surface's gain from light that bounces, per albedo and set of views: ``mean_gain`` and ``worst_gain``
-    (levels), ``mean_percent`` and ``worst_percent`` (of direct light, over views with at least one level of it),
-    ``worst_elevation`` and ``worst_azimuth`` (the view of the worst gain), and ``within_level`` (the worst gain is
-    below ``level``: the OpenGL equation's diffuse is within a level of light transport at every view)."""
-    keys = ["truncation", "aspect", "incidence", "albedo", "views"]
+    """Each surface's gain from light that bounces, per albedo and set of views (with its ``bounces``):
+    ``mean_gain`` and ``worst_gain`` (levels), ``mean_percent`` and ``worst_percent`` (of direct light, over views
+    with at least one level of it), ``worst_elevation`` and ``worst_azimuth`` (the view of the worst gain), and
+    ``within_level`` (the worst gain is below ``level``: the OpenGL equation's diffuse is within a level of light
+    transport at every view)."""
+    keys = ["truncation", "aspect", "incidence", "albedo", "views", "bounces"]
     rows = []
     for key, g in frame.groupby(keys, sort=True):
         k = g["gain"].to_numpy().argmax()

@@ -52,7 +52,7 @@ def light_transport_section(mitsuba_agreement: pd.DataFrame | None = None,
     shown = summary[["truncation", "aspect", "albedo", "views", "n_views", "mean_gain", "worst_gain", "mean_percent",
                      "worst_percent", "worst_elevation", "worst_azimuth", "within_level"]]
     return {"plan": plan, "level": LEVEL, "agreement": agreement_summary(agreement), "gains": gains(summary),
-            "bounces": int(summary["bounces"].iloc[0]) if "bounces" in summary else None, "summary": shown,
+            "bounces": int(summary["bounces"].iloc[0]), "summary": shown,
             "png": png, "caption": caption_text("light_transport") if png else None}
 
 
