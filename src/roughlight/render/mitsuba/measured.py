@@ -443,9 +443,9 @@ def render_flat(path, incidence: float, light_azimuth: float, azimuth, elevation
     return out
 
 
-#: The resolution study's "core": light and view within this many degrees of the normal (elevations of at least
-#: 10 degrees).
-CORE = 80.0
+#: The resolution study's cores: light and view within these many degrees of the normal (elevations of at least
+#: 30 and 10 degrees).
+CORES = (60.0, 80.0)
 
 
 def study_directions(count: int = 4000, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -487,7 +487,8 @@ def resolution_study(choices, lighting: Lighting | None = None, folder=None, cou
     -------
     list of dict: ``n_theta``, ``n_phi``, ``reduction``, ``n_u``, ``megabytes`` (the file), and for ``diffuse``
     and ``specular`` the ``worst`` and ``mean`` absolute error, the worst signed ``bias`` and the worst where the
-    light and the view are both within :data:`CORE` degrees of the normal (``core_worst``), levels.
+    light and the view are both within 60 and 80 degrees of the normal (``worst_60``, ``worst_80``; :data:`CORES`),
+    levels.
     """
     lighting = Lighting() if lighting is None else lighting
     folder = Path(tempfile.mkdtemp(prefix="measured-study-")) if folder is None else Path(folder)
@@ -502,13 +503,15 @@ def resolution_study(choices, lighting: Lighting | None = None, folder=None, cou
         got = evaluate(path, light, view, variant) * np.pi * float(lighting.light)
         row = {"n_theta": n_theta, "n_phi": n_phi, "reduction": reduction, "n_u": n_u,
                "megabytes": path.stat().st_size / 1e6}
-        core = np.minimum(light[:, 2], view[:, 2]) >= np.cos(np.radians(CORE))
+        lowest = np.minimum(light[:, 2], view[:, 2])
         for c, name in enumerate(("diffuse", "specular")):
             error = got[:, c] - exact[name]
             row[f"{name}_worst"] = float(np.abs(error).max())
             row[f"{name}_mean"] = float(np.abs(error).mean())
             row[f"{name}_bias"] = float(error[np.argmax(np.abs(error))])
-            row[f"{name}_core_worst"] = float(np.abs(error[core]).max())
+            for core in CORES:
+                inside = lowest >= np.cos(np.radians(core))
+                row[f"{name}_worst_{core:.0f}"] = float(np.abs(error[inside]).max())
         rows.append(row)
         path.unlink()
     return rows
@@ -523,13 +526,14 @@ def _main(argv=None) -> None:
     parser.add_argument("--variant", default="llvm_ad_rgb")
     args = parser.parse_args(argv)
     choices = [tuple(int(x) for x in choice.split(",")) for choice in args.choices]
-    print("| theta_i x phi_i (r) | n_u | MB | diffuse worst | diffuse worst, core | diffuse mean | specular worst | "
-          "specular worst, core | specular mean |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| theta_i x phi_i (r) | n_u | MB | diffuse worst: 60 / 80 / all | diffuse mean | "
+          "specular worst: 60 / 80 / all | specular mean |")
+    print("|---|---|---|---|---|---|---|")
     for row in resolution_study(choices, count=args.count, variant=args.variant):
         print(f"| {row['n_theta']} x {row['n_phi']} ({row['reduction']}) | {row['n_u']} | {row['megabytes']:.1f} | "
-              f"{row['diffuse_worst']:.2f} | {row['diffuse_core_worst']:.2f} | {row['diffuse_mean']:.3f} | "
-              f"{row['specular_worst']:.2f} | {row['specular_core_worst']:.2f} | {row['specular_mean']:.3f} |")
+              f"{row['diffuse_worst_60']:.2f} / {row['diffuse_worst_80']:.2f} / {row['diffuse_worst']:.2f} | "
+              f"{row['diffuse_mean']:.3f} | {row['specular_worst_60']:.2f} / {row['specular_worst_80']:.2f} / "
+              f"{row['specular_worst']:.2f} | {row['specular_mean']:.3f} |")
 
 
 if __name__ == "__main__":
