@@ -228,6 +228,9 @@ def _write_tensor_file(path: Path, fields: dict, align: int = 8) -> None:
             for name, value in arrays.items():
                 stream.write(b"\x00" * (offsets[name] - stream.tell()))
                 stream.write(value.tobytes())
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(temporary, 0o666 & ~mask)  # as open() would create it (mkstemp makes it private)
         os.replace(temporary, path)
     except BaseException:
         if os.path.exists(temporary):
