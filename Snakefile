@@ -31,6 +31,7 @@ include: "workflow/rules/render.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/benchmark.smk"
 include: "workflow/rules/stability.smk"
+include: "workflow/rules/export.smk"
 include: "workflow/rules/report.smk"
 
 
@@ -41,3 +42,4 @@ rule all:
         mesh_files(),
         random_mesh_files(),
         "reports/roughlight_report.html",
+        export_files(),

@@ -213,6 +213,16 @@ def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
         gl.glDeleteProgram(program)
     given = set(implicit.shader_uniforms(model, Surface(0.7, 0.9), 40.0)) | {"camera", "field_size", "scene_view",
                                                                               "fb_width"}
+    if model == "table":  # and the table's: its light's nodes, its extent, its node elevations and its samplers
+        import numpy as np
+
+        from roughlight.render.implicit.shader import TABLE_UNITS, table_uniforms
+        from roughlight.render.implicit.table import CHANNELS, ShareTable
+
+        table = ShareTable(0.7, 0.9, True, [0.0, 90.0], [0.0, 45.0], [10.0, 90.0], 4,
+                           np.zeros((2, 2, 2, 4, CHANNELS), np.uint16))
+        given |= set(table_uniforms(table, 40.0, 10.0)) | {"table_elevation"} | set(TABLE_UNITS)
     sweep_only = {"views", "n_views", "views_width"}  # the exact form's program also draws sweeps
     assert active - given <= (sweep_only if model == "exact" else set())
-    assert {"truncation", "aspect", "light_dir", "scene_view"} <= active
+    # the table's shares are the surface: its shader reads no truncation
+    assert {"aspect", "light_dir", "scene_view"} | ({"truncation"} if model != "table" else set()) <= active

@@ -325,6 +325,53 @@ def light_transport_albedo(wildcards):
     return float(config["report"]["light_transport"]["albedo"])
 
 
+def export_files():
+    """Every file rule export writes for export.surfaces, and export_summary's table ([] when none is exported)."""
+    files = rl_plan.export_files(config)
+    return files + ["results/export/summary.csv"] if files else []
+
+
+def _export_outputs(name):
+    """One of rule export's outputs (roughlight.study.plan.EXPORT_OUTPUTS) for every surface of export.surfaces."""
+    return [
+        f"{rl_plan.export_folder(t, a)}/{rl_plan.EXPORT_OUTPUTS[name]}"
+        for t, a in rl_config.export_surfaces(config)
+    ]
+
+
+def export_summary_files(wildcards):
+    """Every exported surface's summary (rule export)."""
+    return _export_outputs("summary")
+
+
+def export_check_files(wildcards):
+    """Every exported surface's check (rule export)."""
+    return _export_outputs("check")
+
+
+def export_share_files(wildcards):
+    """Every exported surface's share table (rule export)."""
+    return _export_outputs("shares")
+
+
+def export_surface_param(wildcards):
+    """The export.surfaces pair the job's wildcards name: [truncation, aspect]."""
+    for t, a in rl_config.export_surfaces(config):
+        if (rl_config.label(t), rl_config.label(a)) == (
+            wildcards.truncation,
+            wildcards.aspect,
+        ):
+            return [t, a]
+    raise WorkflowError(
+        f"t{wildcards.truncation}_a{wildcards.aspect} is not in config export.surfaces"
+    )
+
+
+def export_params(wildcards):
+    """export.table, export.mitsuba and export.check (defaults filled), as plain types."""
+    return rl_config.export_settings(config)
+
+
 def report_settings(wildcards):
     """The `report:` section of the config (validated, defaults filled), as plain types."""
     return rl_config.report_settings(config)

@@ -12,6 +12,8 @@ imported on first use, so a job imports only what its method needs: the exact re
   :class:`roughlight.render.exact.settings.ReferenceSettings`;
 - ``implicit_exact`` and ``implicit_correction``: :func:`roughlight.render.implicit.shader.implicit_sweep`,
   :class:`roughlight.render.implicit.settings.ImplicitSettings` with ``model`` ``exact`` or ``correction``;
+- ``implicit_table``: the same with ``model`` ``table``: the facet shares read from a table of them
+  (:mod:`roughlight.render.implicit.table`, the file rule ``export`` writes; ``render.implicit_table.table``);
 - ``mitsuba``: :func:`roughlight.render.mitsuba.scene.mitsuba_sweep`,
   :class:`roughlight.render.mitsuba.settings.MitsubaSettings` (Mitsuba 3, no OpenGL; what it draws on is
   :func:`roughlight.render.mitsuba.runtime.identity`'s).
@@ -127,6 +129,8 @@ METHODS = {
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "exact"),)),
         Method("implicit_correction", "roughlight.render.implicit.shader:implicit_sweep",
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "correction"),)),
+        Method("implicit_table", "roughlight.render.implicit.shader:implicit_sweep",
+               "roughlight.render.implicit.settings:ImplicitSettings", (("model", "table"),), light_azimuth=True),
         Method("mitsuba", "roughlight.render.mitsuba.scene:mitsuba_sweep",
                "roughlight.render.mitsuba.settings:MitsubaSettings", opengl=False,
                identity="roughlight.render.mitsuba.runtime:identity", light_azimuth=True),

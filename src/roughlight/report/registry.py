@@ -94,7 +94,7 @@ SUBCATEGORIES = {"specular": "Specular", "diffuse": "Diffuse", "pictures": "Pict
 SECTION_MODULES = {"specular": "specular", "diffuse": "diffuse", "pictures": "pictures", "lobes": "lobes",
                    "glm": "glm", "models": "models", "provenance": "speed", "speed": "speed",
                    "stability": "stability", "implicit": "implicit", "random": "random_roughness",
-                   "light_transport": "light_transport"}
+                   "light_transport": "light_transport", "export": "export"}
 
 _BENCHMARKS = "results/benchmarks/{plan}"
 
@@ -129,6 +129,7 @@ FIGURES = (
     Figure("speed_accuracy", "speed", rule="speed_accuracy", folder=_BENCHMARKS, dpi=120),
     Figure("renderer_validation", "speed", rule="renderer_validation", folder=_BENCHMARKS, dpi=120),
     Figure("light_transport", "light_transport", rule="light_transport", folder=_BENCHMARKS, dpi=110),
+    Figure("export", "export", rule="export_summary", folder="results/export", dpi=100),
 )
 
 _BY_NAME = {f.name: f for f in FIGURES}

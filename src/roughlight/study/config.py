@@ -177,7 +177,33 @@ def _semantic_problems(config: dict) -> list[str]:
         dupes = sorted({lab for lab in labels if labels.count(lab) > 1})
         if dupes:
             problems.append(f"config: grid.{key} lists the same value twice: {', '.join(dupes)}")
-    return problems + _surface_problems(config)
+    return problems + _surface_problems(config) + _export_problems(config)
+
+
+def _ascending(values) -> bool:
+    return all(b > a for a, b in zip(values, values[1:]))
+
+
+def _export_problems(config: dict) -> list[str]:
+    """What the schema cannot say about ``export:``: truncations in [0, 1], nodes ascending and spanning their
+    range, an azimuth step that divides the circle."""
+    export = config.get("export") or {}
+    problems = [f"config: export.surfaces: truncation must be in [0, 1], got [{t}, {a}]"
+                for t, a in export.get("surfaces", []) if float(t) > 1]
+    spans = {("table", "incidence"): (0, 90), ("table", "light_azimuth"): (0, 45), ("table", "elevation"): (None, 90),
+             ("mitsuba", "elevation"): (None, 90)}
+    for (block, key), (first, last) in spans.items():
+        nodes = [float(v) for v in (export.get(block) or {}).get(key, [])]
+        if not nodes:
+            continue
+        ends = (first is None or nodes[0] == first) and nodes[-1] == last
+        if not _ascending(nodes) or not ends:
+            start = f"from {first} " if first is not None else ""
+            problems.append(f"config: export.{block}.{key} must ascend {start}to {last}, got {nodes!r}")
+    step = (export.get("table") or {}).get("azimuth_step")
+    if step is not None and abs(360.0 / float(step) - round(360.0 / float(step))) > 1e-9:
+        problems.append(f"config: export.table.azimuth_step must divide 360 degrees, got {step!r}")
+    return problems
 
 
 def _surface_problems(config: dict) -> list[str]:
@@ -403,6 +429,22 @@ def claim_settings(config: dict) -> dict:
             found[(kind, t, a)] = found.get((kind, t, a), 0) + 1
     settings["tested"] = [[kind, t, a, n] for (kind, t, a), n in found.items()]
     return settings
+
+
+def export_surfaces(config: dict) -> list[tuple[float, float]]:
+    """The (truncation, aspect) pairs ``export.surfaces`` names, each once, in config order."""
+    pairs = [(float(t), float(a)) for t, a in (config.get("export") or {}).get("surfaces", [])]
+    return list(dict.fromkeys(pairs))
+
+
+def export_settings(config: dict) -> dict:
+    """``export:``'s nodes and checks (defaults filled), as plain types for params (without the surfaces, which
+    name the jobs)."""
+    export = config["export"]
+    table = {k: (bool(v) if k == "edge_on" else float(v) if k == "azimuth_step" else [float(x) for x in v])
+             for k, v in export["table"].items()}
+    mitsuba = {k: ([float(x) for x in v] if k == "elevation" else int(v)) for k, v in export["mitsuba"].items()}
+    return {"table": table, "mitsuba": mitsuba, "check": {k: int(v) for k, v in export["check"].items()}}
 
 
 def surfaces(config: dict) -> list[tuple[float, float]]:

@@ -188,3 +188,19 @@ def every_view_files(config: dict) -> list[str]:
     incidence = rl_config.label(rl_config.report_settings(config)["table_incidence"])
     return [f"results/benchmarks/every_view/i{incidence}/{kind}/t{rl_config.label(t)}_a{rl_config.label(a)}_s{seed}"
             ".parquet" for kind, t, a, seed in rl_config.every_view_surfaces(config)]
+
+
+#: What rule export writes for one surface, by name, in ``results/export/t{truncation}_a{aspect}/``.
+EXPORT_OUTPUTS = {"shares": "shares.npz", "mitsuba": "brdf.bsdf", "check": "check.parquet", "summary": "summary.csv",
+                  "picture": "export.png"}
+
+
+def export_folder(truncation: float, aspect: float) -> str:
+    """The folder of one exported surface (``export.surfaces``)."""
+    return f"results/export/t{rl_config.label(truncation)}_a{rl_config.label(aspect)}"
+
+
+def export_files(config: dict) -> list[str]:
+    """Every file rule export writes: :data:`EXPORT_OUTPUTS` for each surface of ``export.surfaces``."""
+    return [f"{export_folder(t, a)}/{name}" for t, a in rl_config.export_surfaces(config)
+            for name in EXPORT_OUTPUTS.values()]

@@ -20,7 +20,7 @@ import numpy as np
 
 from .roughness import kind_and_seed
 
-__all__ = ["SYMMETRIES", "AzimuthMap", "symmetry", "canonical_light"]
+__all__ = ["SYMMETRIES", "AzimuthMap", "symmetry", "canonical_light", "canonical_directions"]
 
 #: What each sort of surface repeats, by :func:`symmetry`'s name: ``isotropic``, ``square``, ``none``.
 SYMMETRIES = ("isotropic", "square", "none")
@@ -67,3 +67,45 @@ def canonical_light(surface, light_azimuth: float) -> tuple[float, AzimuthMap]:
     if rest <= 45.0:
         return rest, AzimuthMap(1, -quarter)
     return 90.0 - rest, AzimuthMap(-1, 90.0 + quarter)  # then mirror about the diagonal at 45 degrees
+
+
+def _turned(directions, degrees, mirrored):
+    """(n, 3) ``directions`` turned about the z axis by ``degrees`` (n,), after mirroring those ``mirrored`` (n,)
+    about the x axis (y -> -y): the :class:`AzimuthMap` ``phi -> sign phi + offset`` applied to vectors."""
+    d = np.array(directions, float, copy=True)
+    d[mirrored, 1] *= -1.0
+    c, s = np.cos(np.radians(degrees)), np.sin(np.radians(degrees))
+    x, y = d[:, 0].copy(), d[:, 1].copy()
+    d[:, 0], d[:, 1] = c * x - s * y, s * x + c * y
+    return d
+
+
+def canonical_directions(surface, light, view):
+    """Light and view directions turned together to the light :func:`canonical_light` measures, many at once.
+
+    Parameters
+    ----------
+    surface : Surface or RandomSurface
+    light, view : (n, 3) arrays
+        Unit vectors toward the light and toward the detector, one pair a row.
+
+    Returns
+    -------
+    light, view : (n, 3) arrays
+        The same pairs moved by the surface's symmetry that takes each light's azimuth to its canonical one
+        (:func:`canonical_light`, the same map applied to both vectors: rotations and mirrors keep every angle
+        between them, so each facet's lighting equation is unchanged).
+    """
+    light, view = np.atleast_2d(np.asarray(light, float)), np.atleast_2d(np.asarray(view, float))
+    psi = np.mod(np.degrees(np.arctan2(light[:, 1], light[:, 0])), 360.0)
+    kind = symmetry(surface)
+    mirrored = np.zeros(psi.shape, bool)
+    if kind == "none":
+        return light.copy(), view.copy()
+    if kind == "isotropic":
+        offset = -psi
+    else:  # as canonical_light: a quarter turn into [0, 90), then the mirror about the diagonal past 45
+        quarter = 90.0 * np.floor(psi / 90.0)
+        mirrored = psi - quarter > 45.0
+        offset = np.where(mirrored, 90.0 + quarter, -quarter)
+    return _turned(light, offset, mirrored), _turned(view, offset, mirrored)

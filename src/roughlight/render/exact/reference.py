@@ -94,6 +94,8 @@ __all__ = [
     "reference_views",
     "visible_lit_areas",
     "lit_footprints",
+    "lit_scene",
+    "shares_under",
 ]
 
 #: Bound on |reference - exact value| of each component, on the 0-255 scale,
@@ -237,13 +239,12 @@ class LitScene:
         return with_fallback(self._areas_at, elevation, azimuth)
 
     def _areas_at(self, elevation: float, azimuth: float, grid_size=None) -> tuple[np.ndarray, np.ndarray]:
-        n = len(self.surf.names)
-        V = view_direction(elevation, azimuth)
-        d = np.array([V[0] / V[2], V[1] / V[2]])
-        regions, det = visible_regions(self.surf, d, grid_size)
-        vis = np.array([r.area for r in regions])
-        _check_sum(float(vis.sum()), f"view (e={elevation}, phi={azimuth})", grid_size)
-        lit = np.zeros(n)
+        return self.split(*_visible_at(self.surf, elevation, azimuth, grid_size), grid_size)
+
+    def split(self, view, regions, vis, det, d, grid_size=None) -> tuple[np.ndarray, np.ndarray]:
+        """The view's visible ``regions`` (areas ``vis``, projection ratios ``det``, plan shift ``d``;
+        :func:`_visible_at`) split into each facet's lit and shadowed area under this scene's light."""
+        lit = np.zeros(len(self.surf.names))
         for f, region in enumerate(regions):
             if vis[f] <= 0.0 or self.none_lit[f]:
                 continue
@@ -261,9 +262,83 @@ class LitScene:
             both = overlay(shapely.intersection, region, lit_view,
                            grid_size=LIT_SPLIT_GRID if grid_size is None else grid_size).area
             _check_overlap(both, vis[f], lit_view.area, self.fp_area[f] * det[f],
-                           f"facet {self.surf.names[f]}, view (e={elevation}, phi={azimuth})", grid_size)
+                           f"facet {self.surf.names[f]}, view {view}", grid_size)
             lit[f] = min(both, vis[f])
         return lit, vis - lit
+
+
+def _visible_at(surf: Facets, elevation: float, azimuth: float, grid_size=None):
+    """One view's visible region of each facet, checked to fill the image: ``(view, regions, vis, det, d)``
+    with ``view`` its name for messages, ``vis`` the regions' areas, ``det`` the facets' projection ratios and
+    ``d`` the view's plan shift."""
+    V = view_direction(elevation, azimuth)
+    d = np.array([V[0] / V[2], V[1] / V[2]])
+    regions, det = visible_regions(surf, d, grid_size)
+    vis = np.array([r.area for r in regions])
+    view = f"(e={elevation}, phi={azimuth})"
+    _check_sum(float(vis.sum()), f"view {view}", grid_size)
+    return view, regions, vis, det, d
+
+
+def shares_under(scenes, elevation: float, azimuth: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each facet's visible-lit and visible-shadowed share of one view under each of several lights of one
+    surface, the view's visibility clipped once (what a table of light directions needs).
+
+    Parameters
+    ----------
+    scenes : sequence of LitScene
+        One surface (:func:`lit_scene`) under each light.
+    elevation, azimuth : float
+        The view, degrees (not grazing).
+
+    Returns
+    -------
+    lit, shadow : (len(scenes), F) arrays, fractions of the view's image (each row's sum is 1)
+    """
+    if is_grazing(elevation):
+        raise ValueError(f"shares_under: elevation {elevation!r} is grazing (no image)")
+    return with_fallback(_shares_under_at, tuple(scenes), float(elevation), float(azimuth))
+
+
+def _shares_under_at(scenes, elevation: float, azimuth: float, grid_size=None):
+    """:func:`shares_under` at one precision: :meth:`LitScene.split`'s steps, each facet's lit parts of all the
+    lights mapped into the view and clipped as one array (GEOS's vectorised calls)."""
+    view, regions, vis, det, d = _visible_at(scenes[0].surf, elevation, azimuth, grid_size)
+    surf = scenes[0].surf
+    lit = np.zeros((len(scenes), len(vis)))
+    all_lit = np.array([scene.all_lit for scene in scenes])
+    clipped = ~all_lit & ~np.array([scene.none_lit for scene in scenes])
+    for f, region in enumerate(regions):
+        if vis[f] <= 0.0:
+            continue
+        lit[all_lit[:, f], f] = vis[f]
+        todo = np.flatnonzero(clipped[:, f])
+        if todo.size == 0:
+            continue
+        a, b, c, e, xo, yo = to_oblique(surf, f, d)
+        matrix, offset = np.array([[a, b], [c, e]]), np.array([xo, yo])
+        lit_view = shapely.transform(np.array([scenes[k].lit[f] for k in todo], object),
+                                     lambda xy, m=matrix, o=offset: xy @ m.T + o)
+        invalid = np.flatnonzero(~shapely.is_valid(lit_view))
+        for k in invalid:  # parts that touched in plan can overlap after the map, by rounding (LitScene.split)
+            lit_view[k] = area_parts(lit_view[k])
+        if vis[f] >= scenes[0].fp_area[f] * det[f] - AREA_TOLERANCE:
+            lit[todo, f] = np.minimum(shapely.area(lit_view), vis[f])
+            continue
+        if grid_size is None:
+            # in double precision first (twice as fast as snapped); the checks below send any doubtful view to
+            # with_fallback's snap-rounded passes
+            both = shapely.area(shapely.intersection(region, lit_view))
+        else:
+            # overlay()'s snap-rounding, over the array: each part snapped to the grid, then clipped on it (lines
+            # and points an overlay leaves carry no area)
+            both = shapely.area(shapely.intersection(shapely.set_precision(area_parts(region), grid_size),
+                                                     shapely.set_precision(lit_view, grid_size), grid_size=grid_size))
+        for k, area in zip(todo, both):
+            _check_overlap(area, vis[f], scenes[k].lit[f].area * det[f], scenes[0].fp_area[f] * det[f],
+                           f"facet {surf.names[f]}, view {view}", grid_size)
+        lit[todo, f] = np.minimum(both, vis[f])
+    return lit, vis - lit
 
 
 # ---------------------------------------------------------------------------

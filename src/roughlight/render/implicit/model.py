@@ -57,12 +57,13 @@ FIBONACCI = (233, 377, 610, 987, 1597, 2584, 4181, 6765, 10946, 17711, 28657, 46
 #: Samples a view (pixels) of the exact form's sweep: see docs/implicit-surface.md.
 DEFAULT_SAMPLES = 28657
 
-#: The two implicit models: the exact form (ray casting) and the first-order correction (closed form).
-MODELS = ("exact", "correction")
+#: The implicit models: the exact form (ray casting), the first-order correction (closed form) and the table
+#: (the shares read from a table of them, :mod:`roughlight.render.implicit.table`).
+MODELS = ("exact", "correction", "table")
 
 #: Pixels a view of each model's sweep. The correction's pixels only dither
 #: its closed-form shares into 8-bit facet values, so fewer are enough.
-SAMPLES = {"exact": DEFAULT_SAMPLES, "correction": 4181}
+SAMPLES = {"exact": DEFAULT_SAMPLES, "correction": 4181, "table": 4181}
 
 
 def model_samples(model: str) -> int:
@@ -496,7 +497,8 @@ def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samp
     Parameters
     ----------
     model : str
-        ``"exact"`` or ``"correction"`` (:data:`MODELS`).
+        ``"exact"``, ``"correction"`` or ``"table"`` (:data:`MODELS`; the table's own uniforms are
+        :func:`roughlight.render.implicit.shader.table_uniforms`').
     surface : Surface
         Truncation in [0, 1], aspect >= 0 (checked by :func:`check_uniforms`).
     incidence : float

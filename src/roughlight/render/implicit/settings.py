@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+import os
 from dataclasses import dataclass
 
 from .model import FIBONACCI, model_samples
@@ -16,19 +18,40 @@ class ImplicitSettings:
     Attributes
     ----------
     model : str
-        ``"exact"`` (ray casting) or ``"correction"`` (the first-order correction), :data:`MODELS`.
+        ``"exact"`` (ray casting), ``"correction"`` (the first-order correction) or ``"table"`` (the shares read
+        from a table), :data:`MODELS`.
     samples : int or None
         Pixels a view, a Fibonacci number (:data:`FIBONACCI`); None: the model's own
         (:func:`roughlight.render.implicit.model.model_samples`).
+    table : str, os.PathLike, ShareTable or None
+        The ``table`` model's table of shares (:class:`roughlight.render.implicit.table.ShareTable`) or the file
+        that holds it (:func:`roughlight.render.implicit.table.save_table`, as rule ``export`` writes it); the
+        other models take none.
     """
 
     model: str = "exact"
     samples: int | None = None
+    table: object = None
 
     def __post_init__(self):
         model_samples(self.model)  # refuses an unknown model
         if self.samples is not None and int(self.samples) not in FIBONACCI:
             raise ValueError(f"samples must be one of the Fibonacci numbers {FIBONACCI}, got {self.samples!r}")
+        if (self.model == "table") != (self.table is not None):
+            raise ValueError("the implicit table model reads its shares from a table: set render.implicit_table.table "
+                             "to a share table file (rule export writes one: results/export/<surface>/shares.npz)"
+                             if self.model == "table" else f"the implicit {self.model} model takes no table")
+
+    def share_table(self):
+        """The table model's :class:`~roughlight.render.implicit.table.ShareTable` (read from its file once)."""
+        from .table import ShareTable
+
+        if isinstance(self.table, ShareTable):
+            return self.table
+        if not os.path.exists(self.table):
+            raise FileNotFoundError(f"render.implicit_table.table: no share table at {self.table!r} (rule export "
+                                    "writes one)")
+        return _loaded(os.path.abspath(self.table), os.path.getmtime(self.table))
 
     @property
     def pixels(self) -> int:
@@ -37,4 +60,13 @@ class ImplicitSettings:
 
     def recorded(self, surface=None) -> dict:
         """How the surface was sampled: ``pixels`` on one period, sqrt(pixels) a period along each direction."""
-        return {"pixels_per_period": int(round(self.pixels**0.5)), "sampling": "fibonacci", "shadow_map_size": 0}
+        sampling = "table" if self.model == "table" else "fibonacci"
+        return {"pixels_per_period": int(round(self.pixels**0.5)), "sampling": sampling, "shadow_map_size": 0}
+
+
+@functools.lru_cache(maxsize=4)
+def _loaded(path: str, mtime: float):
+    """The share table at ``path`` as of ``mtime`` (read once a process)."""
+    from .table import load_table
+
+    return load_table(path)

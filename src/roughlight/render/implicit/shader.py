@@ -28,7 +28,8 @@ from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
 from .model import shader_uniforms
 from .settings import ImplicitSettings
 
-__all__ = ["implicit_sweep", "render_field", "scene_defines", "shader_sources", "FRAMEBUFFER_WIDTH"]
+__all__ = ["implicit_sweep", "render_field", "scene_defines", "table_defines", "table_uniforms", "shader_sources",
+           "FRAMEBUFFER_WIDTH"]
 
 #: Width of the sweep's framebuffer, pixels.
 FRAMEBUFFER_WIDTH = 2048
@@ -77,19 +78,24 @@ def _views_texture(views: np.ndarray, width: int) -> int:
     return tex
 
 
-def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None,
+                   light_azimuth: float = 0.0) -> dict:
     """Render one sweep through the implicit shader on one quad.
 
     Parameters
     ----------
     surface : Surface
     incidence : float
-        Light elevation, degrees in [0, 90] (light at azimuth 0).
+        Light elevation, degrees in [0, 90].
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : Lighting, optional
     settings : ImplicitSettings, optional
-        The ``model`` (``"exact"``, the default, or ``"correction"``) and the pixels a view ``samples``, a
-        Fibonacci number (default :func:`roughlight.render.implicit.model.model_samples`).
+        The ``model`` (``"exact"``, the default, ``"correction"`` or ``"table"`` with its ``table``) and the
+        pixels a view ``samples``, a Fibonacci number (default
+        :func:`roughlight.render.implicit.model.model_samples`).
+    light_azimuth : float, optional
+        The light's azimuth, degrees: any with the table model (its table covers every light); the exact form and
+        the correction light from azimuth 0 only.
 
     Returns
     -------
@@ -99,6 +105,7 @@ def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=Non
     settings = settings or ImplicitSettings()
     uniforms = shader_uniforms(settings.model, surface, incidence, lighting, settings.samples)  # checks every input
     samples = uniforms["samples"]
+    table = _table_for(settings, surface, light_azimuth)
 
     def step(out, views, incidence, lighting):
         todo, directions = views.measured, views.directions()
@@ -106,21 +113,28 @@ def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=Non
         per_pass = (width * MAX_ROWS) // samples
         rows = -(-min(per_pass, todo.size) * samples // width)
         ctx = context(width, rows, 1)
-        program = ctx.programs.get_program("implicit.vert", "implicit.frag")
-        for first in range(0, todo.size, per_pass):
-            idx = np.arange(first, min(first + per_pass, todo.size))
-            raw = _draw_views(program, uniforms, directions[idx], width, rows)
-            _store_view_means(out, todo[idx], raw, samples)
+        program = ctx.programs.get_program("implicit.vert", "implicit.frag", table_defines(table))
+        drawn = _with_table(uniforms, table, incidence, light_azimuth, lighting)
+        textures = _table_textures(table)
+        try:
+            for first in range(0, todo.size, per_pass):
+                idx = np.arange(first, min(first + per_pass, todo.size))
+                raw = _draw_views(program, drawn, directions[idx], width, rows, table)
+                _store_view_means(out, todo[idx], raw, samples)
+        finally:
+            if textures:
+                gl.glDeleteTextures(textures)
 
     return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
-def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: int) -> bytes:
+def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: int, table=None) -> bytes:
     """One pass of a sweep: the quad over a ``width`` x ``rows`` framebuffer, the (n, 3) unit ``views`` each
     owning ``uniforms["samples"]`` consecutive pixels; returns the framebuffer's RGBA bytes."""
     _begin(width, rows)
     program._bind()
     set_uniforms(program, uniforms)
+    _set_table_uniforms(program, table)
     program.set_uniform("camera", np.eye(4, dtype=np.float32))
     program.set_uniform("field_size", 0.0)
     program.set_uniform("fb_width", width)
@@ -167,10 +181,100 @@ def field_camera(view, field_size: float, span: float) -> np.ndarray:
 
 
 def scene_defines(model: str) -> dict:
-    """Defines of the implicit shader drawing a scene with ``model``: the correction sees the whole field
-    along one view under one light, so its shares and values are computed once a vertex and a pixel only
-    picks one (``SCENE_CORRECTION``, implicit.vert); the exact form casts its rays a pixel, as in a sweep."""
-    return {"SCENE_CORRECTION": 1} if model == "correction" else {}
+    """Defines of the implicit shader drawing a scene with ``model``: the correction and the table see the whole
+    field along one view under one light, so their shares and values are computed once a vertex and a pixel only
+    picks one (``SCENE_CORRECTION``, implicit.vert; the table adds ``TABLE_SHARES``); the exact form casts its
+    rays a pixel, as in a sweep."""
+    if model == "exact":
+        return {}
+    return {"SCENE_CORRECTION": 1, **({"TABLE_SHARES": 1} if model == "table" else {})}
+
+
+def table_defines(table) -> dict:
+    """Defines of a sweep's shader: ``TABLE_SHARES`` with a table (the shares read from it), else none."""
+    return {} if table is None else {"TABLE_SHARES": 1}
+
+
+def _table_for(settings, surface: Surface, light_azimuth: float):
+    """The table model's table, checked against the surface; None for the other models, which refuse a light
+    azimuth other than 0."""
+    light_azimuth = shading.check_light_azimuth(light_azimuth)
+    if settings.model != "table":
+        if light_azimuth != 0.0:
+            raise ValueError(f"the implicit {settings.model} model lights from azimuth 0 only, got light_azimuth "
+                             f"{light_azimuth!r}; the implicit table model lights from any")
+        return None
+    table = settings.share_table()
+    if abs(table.truncation - surface.truncation) > 1e-9 or abs(table.aspect - surface.aspect) > 1e-9:
+        raise ValueError(f"the share table is of the surface t {table.truncation:g}, a {table.aspect:g}, not of "
+                         f"t {surface.truncation:g}, a {surface.aspect:g}: export the surface's own table")
+    return table
+
+
+def table_uniforms(table, incidence: float, light_azimuth: float, lighting=None) -> dict:
+    """The table model's uniforms for one light: the light turned to the table's light azimuths (``light_dir``
+    and the material's terms), the turn of the views (``view_turn``), the light's four nodes (``table_slices``,
+    ``table_weights``) and the texture's extent (:func:`roughlight.render.implicit.table.light_corners`). The
+    node elevations are an array uniform, set by :func:`_set_table_uniforms`."""
+    from .table import light_corners
+
+    slices, weights, light_c, turn = light_corners(table, incidence, light_azimuth)
+    return {
+        **shading.material_uniforms(lighting or shading.Lighting(), light_c),
+        "view_turn": turn.astype(np.float32),
+        "table_slices": slices.astype(np.int32),
+        "table_weights": weights.astype(np.float32),
+        "table_depth": int(table.incidence.size * table.light_azimuth.size),
+        "table_azimuths": int(table.azimuth_nodes),
+        "table_elevations": int(table.elevation.size),
+    }
+
+
+def _with_table(uniforms: dict, table, incidence, light_azimuth, lighting) -> dict:
+    """``uniforms`` with the table's (:func:`table_uniforms`) when there is a table."""
+    if table is None:
+        return uniforms
+    return {**uniforms, **table_uniforms(table, incidence, light_azimuth, lighting)}
+
+
+#: Texture units of the table's three textures (unit 0 holds a sweep's views).
+TABLE_UNITS = {"table_lit": 1, "table_mixed": 2, "table_shadow": 3}
+
+
+def _table_textures(table) -> list:
+    """Upload the table's shares as three RGBA16 3-D textures on :data:`TABLE_UNITS` (x view azimuth, repeating;
+    y view elevation node; z light node), filtered linearly; returns their names ([] without a table)."""
+    if table is None:
+        return []
+    from .table import CHANNELS
+
+    n_i, n_p, n_e, n_a, _ = table.shares.shape
+    shares = table.shares.reshape(n_i * n_p, n_e, n_a, CHANNELS)
+    padded = np.zeros((n_i * n_p, n_e, n_a, 12), np.uint16)
+    padded[..., :CHANNELS] = shares
+    names = list(np.atleast_1d(gl.glGenTextures(3)))
+    for unit, tex, first in zip(TABLE_UNITS.values(), names, (0, 4, 8)):
+        gl.glActiveTexture(gl.GL_TEXTURE0 + unit)
+        gl.glBindTexture(gl.GL_TEXTURE_3D, tex)
+        data = np.ascontiguousarray(padded[..., first:first + 4])
+        gl.glTexImage3D(gl.GL_TEXTURE_3D, 0, gl.GL_RGBA16, n_a, n_e, n_i * n_p, 0, gl.GL_RGBA, gl.GL_UNSIGNED_SHORT,
+                        data)
+        for parameter, value in ((gl.GL_TEXTURE_MIN_FILTER, gl.GL_LINEAR), (gl.GL_TEXTURE_MAG_FILTER, gl.GL_LINEAR),
+                                 (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT), (gl.GL_TEXTURE_WRAP_T, gl.GL_CLAMP_TO_EDGE),
+                                 (gl.GL_TEXTURE_WRAP_R, gl.GL_CLAMP_TO_EDGE)):
+            gl.glTexParameteri(gl.GL_TEXTURE_3D, parameter, value)
+    gl.glActiveTexture(gl.GL_TEXTURE0)
+    return names
+
+
+def _set_table_uniforms(program, table) -> None:
+    """The bound ``program``'s table samplers and node elevations (array uniforms pyrender does not set)."""
+    if table is None:
+        return
+    for name, unit in TABLE_UNITS.items():
+        program.set_uniform(name, unit)
+    location = gl.glGetUniformLocation(program._program_id, "table_elevation")
+    gl.glUniform1fv(location, table.elevation.size, table.elevation.astype(np.float32))
 
 
 def shader_sources(model: str) -> tuple[str, str]:
@@ -187,8 +291,11 @@ def shader_sources(model: str) -> tuple[str, str]:
 
 
 def render_field(model: str, surface: Surface, incidence, elevation, azimuth, field_size: int,
-                 size: int = 512, span: float | None = None, lighting=None, samples: int = 46368):
+                 size: int = 512, span: float | None = None, lighting=None, samples: int = 46368, table=None):
     """One picture of an ``N x N`` field drawn as one implicit quad.
+
+    ``table``: the table model's :class:`~roughlight.render.implicit.table.ShareTable` (or its file); its
+    textures are uploaded before the frame's timer, as a real-time scene keeps them.
 
     Returns
     -------
@@ -196,17 +303,24 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     seconds : float, the frame's time (draw and read back)
     """
     uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
+    if model == "table":
+        table = _table_for(ImplicitSettings("table", table=table), surface, 0.0)
+        uniforms = _with_table(uniforms, table, incidence, 0.0, lighting)
+    else:
+        table = None
     span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
     ctx = context(size, size, 1)
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines(model))
     quad = _quad(size=float(field_size))  # uploaded before the frame's timer: a real-time scene keeps its buffers
     quad._add_to_context()
+    textures = _table_textures(table)
     try:
         start = time.perf_counter()
         _begin(size, size)
         program._bind()
         set_uniforms(program, uniforms)
+        _set_table_uniforms(program, table)
         program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
         program.set_uniform("field_size", float(field_size))
         program.set_uniform("scene_view", np.asarray(view, np.float32))
@@ -220,4 +334,6 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
         seconds = time.perf_counter() - start
     finally:
         quad.delete()
+        if textures:
+            gl.glDeleteTextures(textures)
     return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds

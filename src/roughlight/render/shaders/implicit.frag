@@ -1,4 +1,7 @@
 #version 330 core
+#ifdef TABLE_SHARES
+#extension GL_ARB_shading_language_420pack : require
+#endif
 // roughlight's implicit rough surface: one flat quad that reflects like a
 // periodic grid of truncated square pyramids (Slattery 2001's explicit
 // surface), with truncation t and aspect a as uniforms. No mesh, no table.
@@ -26,7 +29,9 @@
 //   N x N field seen along `scene_view`: `field_pos` moved within the pixel's
 //   footprint by the Fibonacci point of its index (stochastic anti-aliasing);
 //   outside the field is discarded.
-// Scene with the correction (defined SCENE_CORRECTION): one view and one light
+// Model 2, the table (defined TABLE_SHARES): as the correction, with the shares read from the table
+//   (implicit_model.glsl, table_shares) in place of its closed form.
+// Scene with the correction or the table (defined SCENE_CORRECTION): one view and one light
 //   for the whole picture (a collimated detector, a directional light), so the
 //   vertex stage computes the facets' shares and values once (implicit.vert)
 //   and a pixel only picks one by its dither threshold
@@ -197,7 +202,7 @@ int correction_facet(vec3 V, int k, out bool lit)
 {
     float lit_share[5];
     float shadow_share[5];
-    correction_shares(V, lit_share, shadow_share);
+    model_shares(V, lit_share, shadow_share);
     float u = (float((k * generator) % samples) + 0.5) / float(samples);
     float total = 0.0;
     for (int f = 0; f < 5; ++f) total += lit_share[f] + shadow_share[f];
@@ -245,6 +250,7 @@ void main()
     float s = 2.0 * aspect;
     bool lit;
     int facet;
+    V = model_view(V);                    // the table's turn of the view with the light; else V itself
     if (model == 0) {
         facet = exact_facet(q, V, lit);
     } else {

@@ -1,4 +1,7 @@
 #version 330 core
+#ifdef TABLE_SHARES
+#extension GL_ARB_shading_language_420pack : require
+#endif
 // One flat quad. In a sweep (field_size = 0) the quad covers the framebuffer
 // and every pixel is one sample of one view (implicit.frag). In a scene the
 // quad is the base plane z = 0 of an N x N field of periods, placed by the
@@ -30,7 +33,8 @@ void main()
 #ifdef SCENE_CORRECTION
     float lit_share[5];
     float shadow_share[5];
-    correction_shares(scene_view, lit_share, shadow_share);
+    vec3 V = model_view(scene_view);  // the table's turn of the view with the light; else the view itself
+    model_shares(V, lit_share, shadow_share);
     float total = 0.0;
     for (int f = 0; f < 5; ++f) total += lit_share[f] + shadow_share[f];
     float bounds[12];
@@ -39,10 +43,10 @@ void main()
         vec3 n = facet_normal(f, 2.0 * aspect);
         acc += lit_share[f];
         bounds[2 * f] = acc / total;
-        colours[2 * f] = shade(n, scene_view, true);
+        colours[2 * f] = shade(n, V, true);
         acc += shadow_share[f];
         bounds[2 * f + 1] = acc / total;
-        colours[2 * f + 1] = shade(n, scene_view, false);
+        colours[2 * f + 1] = shade(n, V, false);
     }
     // only the first 9 bounds decide (u < 1 always lies below the last); the rest never passed
     bounds[9] = 2.0;

@@ -7,10 +7,12 @@
 // Facets, in order: 0 top, 1 east (+x), 2 west (-x), 3 north (+y), 4 south (-y);
 // with s = 2a the side facet facing h has the normal (s h, 1), normalised.
 // Lighting equation: lighting.glsl (as roughlight.render.shading); shadowed: ambient only.
+// With TABLE_SHARES defined (model 2, the table) the facet shares are read from a table of them over light and
+// view directions (roughlight.render.implicit.table) instead of the correction's closed form.
 
 #include "lighting.glsl"
 
-uniform int model;                 // 0 exact form, 1 first-order correction
+uniform int model;                 // 0 exact form, 1 first-order correction, 2 table
 uniform float truncation;          // t in [0, 1]
 uniform float aspect;              // a >= 0
 uniform vec3 light_dir;            // unit vector toward the light
@@ -104,3 +106,74 @@ void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5]
         shadow_share[k + 1] = seen - lit;
     }
 }
+
+#ifdef TABLE_SHARES
+// The table of facet shares (roughlight.render.implicit.table): 3-D textures, x the view azimuth (nodes 360 /
+// table_azimuths degrees apart from 0, repeating), y the view elevation (nodes table_elevation[], in degrees),
+// z the light nodes (incidence i, azimuth p at slice i * P + p). The light is one a draw: its four nodes around
+// it are the slices table_slices, weighted table_weights. Channels: lit shares of facets 0-3 (table_lit), lit
+// share of facet 4 and shadowed shares of facets 0-2 (table_mixed), shadowed shares of facets 3-4 (table_shadow).
+// V is the view turned with the light to the table's light azimuths (view_turn, applied by the caller), and
+// light_dir is the light so turned.
+// Their units are bound in the shader (units 1-3; a sweep's views are on unit 0): samplers of two types left on
+// one unit fail the program's validation before any uniform can be set. The binding needs
+// GL_ARB_shading_language_420pack, enabled at the top of implicit.vert and implicit.frag.
+#define MAX_TABLE_ELEVATIONS 64
+layout(binding = 1) uniform sampler3D table_lit;
+layout(binding = 2) uniform sampler3D table_mixed;
+layout(binding = 3) uniform sampler3D table_shadow;
+uniform ivec4 table_slices;
+uniform vec4 table_weights;
+uniform int table_depth;
+uniform int table_azimuths;
+uniform int table_elevations;
+uniform float table_elevation[MAX_TABLE_ELEVATIONS];
+uniform mat3 view_turn;
+
+// The view's elevation in node units of table_elevation (clamped to the end nodes).
+float elevation_node(float e)
+{
+    int n = table_elevations;
+    if (e <= table_elevation[0]) return 0.0;
+    if (e >= table_elevation[n - 1]) return float(n - 1);
+    int k = 0;
+    for (int j = 1; j < MAX_TABLE_ELEVATIONS; ++j) {
+        if (j < n && table_elevation[j] <= e) k = j;
+    }
+    return float(k) + (e - table_elevation[k]) / (table_elevation[k + 1] - table_elevation[k]);
+}
+
+void table_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
+{
+    float e = degrees(asin(clamp(V.z, -1.0, 1.0)));
+    float phi = degrees(atan(V.y, V.x));
+    phi = phi < 0.0 ? phi + 360.0 : phi;
+    float x = (phi / 360.0) + 0.5 / float(table_azimuths);
+    float y = (elevation_node(e) + 0.5) / float(table_elevations);
+    vec4 a = vec4(0.0);
+    vec4 b = vec4(0.0);
+    vec4 c = vec4(0.0);
+    for (int k = 0; k < 4; ++k) {
+        vec3 at = vec3(x, y, (float(table_slices[k]) + 0.5) / float(table_depth));
+        a += table_weights[k] * texture(table_lit, at);
+        b += table_weights[k] * texture(table_mixed, at);
+        c += table_weights[k] * texture(table_shadow, at);
+    }
+    lit_share[0] = a.x;
+    lit_share[1] = a.y;
+    lit_share[2] = a.z;
+    lit_share[3] = a.w;
+    lit_share[4] = b.x;
+    shadow_share[0] = b.y;
+    shadow_share[1] = b.z;
+    shadow_share[2] = b.w;
+    shadow_share[3] = c.x;
+    shadow_share[4] = c.y;
+}
+
+vec3 model_view(vec3 V) { return view_turn * V; }
+void model_shares(vec3 V, out float lit_share[5], out float shadow_share[5]) { table_shares(V, lit_share, shadow_share); }
+#else
+vec3 model_view(vec3 V) { return V; }
+void model_shares(vec3 V, out float lit_share[5], out float shadow_share[5]) { correction_shares(V, lit_share, shadow_share); }
+#endif

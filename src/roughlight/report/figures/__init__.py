@@ -11,6 +11,7 @@ One module a section of the report page, with what they share in :mod:`.common`:
 - :mod:`.implicit`: the implicit rough surface
 - :mod:`.random_roughness`: random roughness (ensembles, maps, the random tiles' benchmark)
 - :mod:`.light_transport`: beyond the OpenGL equation (what light that bounces adds, Mitsuba 3)
+- :mod:`.export`: the measured BRDF exported (the share table over the hemisphere, both exports off their nodes)
 
 Every ``fig*`` function takes frames of the analysis (:mod:`roughlight.analysis.lobes`,
 :mod:`roughlight.analysis.thesis`, ...), the study table or what :mod:`roughlight.render.pictures`
@@ -36,6 +37,7 @@ from ..registry import figures as registered
 from ..registry import title as figure_title
 from .common import DPI, hemisphere_map_problem, placeholder, save_figure
 from .diffuse import fig27_diffuse_plate, fig28_diffuse_truncation, fig29_diffuse_aspect, fig_diffuse_parts
+from .export import fig_export
 from .glm import fig_glm_diagnostics
 from .implicit import fig_implicit, fig_implicit_maps
 from .light_transport import fig_light_transport
@@ -71,6 +73,7 @@ __all__ = [
     "save_figure",
     "placeholder",
     "hemisphere_map_problem",
+    "fig_export",
     "fig17_clipping",
     "fig19_topdown",
     "fig20_plate_incidence",

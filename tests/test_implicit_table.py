@@ -1,0 +1,175 @@
+"""The implicit surface by table (render.method implicit_table) and the measured BRDF's export (issue 45): a share
+table measured by the exact reference, read back between its nodes in numpy and in the shader, for lights from
+any azimuth, and written for Mitsuba."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from roughlight.measurements import brdf_export
+from roughlight.render import methods, shading
+from roughlight.render.implicit.table import (
+    SCALE,
+    ShareTable,
+    load_table,
+    save_table,
+    table_shares,
+    table_values,
+)
+from roughlight.surfaces.surface import Surface
+from roughlight.surfaces.symmetry import canonical_directions, canonical_light
+
+SURFACE = Surface(0.5, 0.8)
+#: A small table: enough nodes to test reading between them, measured in a few seconds.
+NODES = {"incidence": [0.0, 20.0, 35.0, 50.0, 70.0, 90.0], "light_azimuth": [0.0, 22.5, 45.0],
+         "elevation": [2.0, 5.0, 10.0, 20.0, 35.0, 50.0, 70.0, 90.0], "azimuth_step": 10.0}
+
+
+@pytest.fixture(scope="module")
+def table():
+    return brdf_export.measure_table(SURFACE, NODES["incidence"], NODES["light_azimuth"], NODES["elevation"],
+                                     NODES["azimuth_step"])
+
+
+def _pairs(incidence, light_azimuth, azimuth, elevation):
+    view = shading.view_direction(np.asarray(elevation, float), np.asarray(azimuth, float))
+    return np.tile(shading.light_direction(incidence, light_azimuth), (len(view), 1)), view
+
+
+def test_at_its_nodes_the_table_gives_the_exact_reference(table):
+    """A light and views on the nodes: the facet sum of the table's shares is the reference's value (the shares
+    are stored to 1 / 65535)."""
+    azimuth = np.arange(0.0, 180.0, 10.0)
+    for elevation in (5.0, 20.0, 50.0, 130.0):  # 130: the far side of the zenith, azimuth + 180 in the table
+        light, view = _pairs(35.0, 22.5, azimuth, np.full(azimuth.size, elevation))
+        exact = methods.sweep("reference", SURFACE, 35.0, azimuth, np.full(azimuth.size, elevation),
+                              light_azimuth=22.5)
+        got = table_values(table, light, view)
+        for component in shading.COMPONENTS:
+            assert np.abs(got[component] - exact[component]).max() < 0.02, (elevation, component)
+
+
+def test_the_shares_fill_the_image_between_the_nodes(table):
+    rng = np.random.default_rng(3)
+    light = np.array([shading.light_direction(i, p) for i, p in zip(rng.uniform(0, 90, 200), rng.uniform(0, 360, 200))])
+    view = shading.view_direction(rng.uniform(1, 179, 200), rng.uniform(0, 180, 200))
+    lit, shadow, *_ = table_shares(table, light, view)
+    assert np.all(lit >= 0) and np.all(shadow >= 0)
+    assert np.allclose((lit + shadow).sum(axis=1), 1.0, atol=1e-4)
+
+
+def test_a_light_the_table_does_not_hold_is_one_it_does_turned(table):
+    """Square pyramids repeat every 90 degrees and mirror about the diagonals: a light at 100 degrees reads the
+    table at canonical_light's azimuth with the views turned, and agrees with the reference there as at 0-45."""
+    psi0, turn = canonical_light(SURFACE, 100.0)
+    assert 0.0 <= psi0 <= 45.0
+    light, view = _pairs(50.0, 100.0, [30.0], [40.0])
+    light_c, view_c = canonical_directions(SURFACE, light, view)
+    assert np.allclose(light_c[0], shading.light_direction(50.0, psi0))
+    assert np.allclose(view_c[0], shading.view_direction(40.0, turn(30.0)))
+    azimuth = np.arange(0.0, 180.0, 10.0)
+    elevation = np.full(azimuth.size, 20.0)
+    exact = methods.sweep("reference", SURFACE, 50.0, azimuth, elevation, light_azimuth=100.0)
+    got = table_values(table, *_pairs(50.0, 100.0, azimuth, elevation))
+    # 100 turns to 10 (mirror about 45 after a quarter turn): off the azimuth nodes (0, 22.5), so within the
+    # table's own interpolation error, not exact
+    assert np.abs(got["total"] - exact["total"]).mean() < 1.0
+
+
+def test_the_shader_reads_the_table_as_numpy_does(table):
+    """The implicit_table sweep (one quad, the shares from 3-D textures) against table_values at a light off the
+    nodes (incidence and azimuth), on views off the nodes: within the dither of 4,181 pixels a view."""
+    azimuth = np.arange(2.5, 180.0, 15.0)
+    elevation = np.array([3.5, 7.0, 15.0, 27.0, 44.0, 62.0, 80.0, 100.0, 121.0, 150.0, 172.0])
+    az, el = (a.ravel() for a in np.meshgrid(azimuth, elevation))
+    drawn = methods.sweep("implicit_table", SURFACE, 41.0, az, el, settings={"table": table}, light_azimuth=203.0)
+    expected = table_values(table, *_pairs(41.0, 203.0, az, el))
+    for component in shading.COMPONENTS:
+        assert np.abs(drawn[component] - expected[component]).max() < 0.35, component
+    assert drawn["renderer"] and np.allclose(drawn["coverage"], 1.0)
+
+
+def test_the_table_model_draws_a_field_on_one_quad(table):
+    from roughlight.render.implicit import render_field
+
+    image, seconds = render_field("table", SURFACE, 35.0, 60.0, 20.0, 8, size=64, table=table)
+    expected = table_values(table, *_pairs(35.0, 0.0, [20.0], [60.0]))["total"][0]
+    assert seconds > 0 and abs(image[..., 2].mean() - expected) < 1.5
+
+
+def test_the_table_file_round_trips(table, tmp_path):
+    path = tmp_path / "shares.npz"
+    save_table(path, table)
+    back = load_table(path)
+    assert np.array_equal(back.shares, table.shares) and back.azimuth_nodes == table.azimuth_nodes
+    assert np.array_equal(back.incidence, table.incidence) and back.shadows == table.shadows
+    assert not list(tmp_path.glob("*.tmp*")) and [p.name for p in tmp_path.iterdir()] == ["shares.npz"]
+    drawn = methods.sweep("implicit_table", SURFACE, 35.0, [10.0], [30.0], settings={"table": str(path)})
+    assert drawn["total"][0] > 0
+
+
+def test_bad_tables_and_settings_are_refused(table, tmp_path):
+    with pytest.raises(ValueError, match="implicit_table.table"):
+        methods.settings("implicit_table", {})
+    with pytest.raises(FileNotFoundError, match="no share table"):
+        methods.sweep("implicit_table", SURFACE, 30.0, [0.0], [30.0], settings={"table": str(tmp_path / "no.npz")})
+    with pytest.raises(ValueError, match="not of"):
+        methods.sweep("implicit_table", Surface(1.0, 1.0), 30.0, [0.0], [30.0], settings={"table": table})
+    with pytest.raises(ValueError, match="lights from azimuth 0 only"):
+        methods.sweep("implicit_correction", SURFACE, 30.0, [0.0], [30.0], light_azimuth=10.0)
+    with pytest.raises(ValueError, match="ascending"):
+        ShareTable(0.5, 0.8, True, [0.0, 0.0], [0.0], [90.0], 4, np.zeros((2, 1, 1, 4, 10), np.uint16))
+    with pytest.raises(ValueError, match=r"lie in \[0, 45\]"):
+        ShareTable(0.5, 0.8, True, [0.0], [60.0], [90.0], 4, np.zeros((1, 1, 1, 4, 10), np.uint16))
+    with pytest.raises(ValueError, match="shape"):
+        ShareTable(0.5, 0.8, True, [0.0], [0.0], [90.0], 4, np.zeros((1, 1, 1, 5, 10), np.uint16))
+    with pytest.raises(ValueError, match="divide 360"):
+        brdf_export.measure_table(SURFACE, [0.0, 90.0], [0.0], [90.0], 7.0)
+    assert table.shares.max() <= SCALE
+
+
+def test_the_edge_on_incidences_join_the_nodes():
+    """Where a side facet turns edge-on to a tabulated light (tan i = 2 a |cos psi| or 2 a |sin psi|)."""
+    nodes = brdf_export.incidence_nodes(Surface(1.0, 1.0), [0.0, 45.0, 90.0], [0.0, 45.0])
+    assert np.allclose(nodes, [0.0, 45.0, np.degrees(np.arctan(2.0 * np.cos(np.pi / 4))), np.degrees(np.arctan(2.0)),
+                               90.0])
+    assert list(brdf_export.incidence_nodes(Surface(0.0, 0.0), [0.0, 90.0], [0.0])) == [0.0, 90.0]
+    assert list(brdf_export.incidence_nodes(Surface(1.0, 1.0), [0.0, 90.0], [0.0], edge_on=False)) == [0.0, 90.0]
+
+
+def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp_path):
+    """export_surface: the table and the Mitsuba file written, lights and views drawn off every node, the summary
+    per method and component; the Mitsuba file's values are the table's BRDF (f_r L_z = I / (pi J))."""
+    pytest.importorskip("mitsuba")
+    from roughlight.render.mitsuba.measured import evaluate, read_measured
+
+    paths = {"shares": tmp_path / "shares.npz", "mitsuba": tmp_path / "brdf.bsdf"}
+    mitsuba = {"elevation": [5.0, 20.0, 45.0, 90.0], "phi_nodes": 4, "resolution": 16}
+    out = brdf_export.export_surface(SURFACE, paths, NODES | {"edge_on": False}, mitsuba,
+                                     {"lights": 2, "views": 40, "seed": 5})
+    assert paths["shares"].exists() and paths["mitsuba"].exists()
+    assert np.array_equal(load_table(paths["shares"]).shares, out["table"].shares)
+    fields = read_measured(paths["mitsuba"])
+    assert fields["rgb"].shape == (4, 4, 3, 16, 16)
+    checked = out["check"]
+    assert set(checked["method"]) == {"implicit_table", "mitsuba_measured"} and len(checked) == 2 * 2 * 40 * 3
+    for (incidence, psi), _ in checked.groupby(["incidence", "light_azimuth"]):
+        assert np.min(np.abs(np.array(NODES["incidence"]) - incidence)) >= 0.5
+        assert np.min(np.abs(np.array(NODES["light_azimuth"]) - canonical_light(SURFACE, psi)[0])) >= 0.5
+    summary = out["summary"]
+    assert set(summary["component"]) == set(shading.COMPONENTS) and (summary["views"] == 80).all()
+    table_rows = checked[checked["method"] == "implicit_table"]
+    assert table_rows["error"].mean() < 1.0  # a coarse table: within a level on average, not at every view
+    # the file holds the table's BRDF at its nodes: a detector at elevation 45 (theta_i 45), phi_i -150, and a
+    # light whose half vector with it is a node of the half-vector grid
+    from roughlight.render.mitsuba.measured import half_vectors, reflect
+
+    view = shading.view_direction(45.0, 210.0)[None, :]
+    wm = half_vectors(16).reshape(-1, 3)
+    light = reflect(np.broadcast_to(view, wm.shape), wm)
+    light /= np.linalg.norm(light, axis=1, keepdims=True)
+    k = int(np.argmax(light[:, 2] > 0.5))  # a light well above the horizon
+    expected = table_values(out["table"], light[k:k + 1], view, shading.Lighting(ambient=0.0))["total"][0]
+    stored = evaluate(paths["mitsuba"], light[k:k + 1], view, variant="scalar_rgb")[0, 0]
+    assert expected > 10 and abs(stored * np.pi * 127 - expected) < 0.01 * expected
