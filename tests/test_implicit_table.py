@@ -9,7 +9,7 @@ import pytest
 
 from roughlight.measurements import brdf_export
 from roughlight.render import methods, shading
-from roughlight.render.implicit.table import (
+from roughlight.render.implicit import (
     SCALE,
     ShareTable,
     load_table,
@@ -142,7 +142,7 @@ def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp
     """export_surface: the table and the Mitsuba file written, lights and views drawn off every node, the summary
     per method and component; the Mitsuba file's values are the table's BRDF (f_r L_z = I / (pi J))."""
     pytest.importorskip("mitsuba")
-    from roughlight.render.mitsuba.measured import evaluate, read_measured
+    from roughlight.render.mitsuba import evaluate, read_measured
 
     paths = {"shares": tmp_path / "shares.npz", "mitsuba": tmp_path / "brdf.bsdf"}
     mitsuba = {"elevation": [5.0, 20.0, 45.0, 90.0], "phi_nodes": 4, "resolution": 16}
@@ -163,7 +163,7 @@ def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp
     assert table_rows["error"].mean() < 1.0  # a coarse table: within a level on average, not at every view
     # the file holds the table's BRDF at its nodes: a detector at elevation 45 (theta_i 45), phi_i -150, and a
     # light whose half vector with it is a node of the half-vector grid
-    from roughlight.render.mitsuba.measured import half_vectors, reflect
+    from roughlight.render.mitsuba import half_vectors, reflect
 
     view = shading.view_direction(45.0, 210.0)[None, :]
     wm = half_vectors(16).reshape(-1, 3)

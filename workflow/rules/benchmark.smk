@@ -59,10 +59,13 @@ rule renderer_validation:
         "../scripts/renderer_validation.py"
 
 
-# The implicit rough surface (one flat quad through shaders/implicit.frag): its exact form and first-order
-# correction against the exact reference on every view of the validation surfaces, beside the fast renderer
-# and the V-cavity facet model; and frame times of an N x N field drawn explicitly against one implicit quad.
+# The implicit rough surface (one flat quad through shaders/implicit.frag): its exact form, first-order
+# correction and table (on the surfaces rule export tabulated) against the exact reference on every view of the
+# validation surfaces, beside the fast renderer and the V-cavity facet model; and frame times of an N x N field
+# drawn explicitly against one implicit quad.
 rule implicit_surface:
+    input:
+        tables=export_share_files,
     output:
         validation="results/benchmarks/{plan}/implicit_validation.parquet",
         frames="results/benchmarks/{plan}/implicit_frames.parquet",
@@ -89,6 +92,7 @@ rule implicit_surface:
     params:
         gl=gl_params,
         lighting=lighting_params,
+        exported=exported_surfaces,
     script:
         "../scripts/implicit_surface.py"
 

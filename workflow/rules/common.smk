@@ -367,6 +367,11 @@ def export_surface_param(wildcards):
     )
 
 
+def exported_surfaces(wildcards):
+    """export.surfaces as [truncation, aspect] lists, in the order of export_share_files."""
+    return [[t, a] for t, a in rl_config.export_surfaces(config)]
+
+
 def export_params(wildcards):
     """export.table, export.mitsuba and export.check (defaults filled), as plain types."""
     return rl_config.export_settings(config)

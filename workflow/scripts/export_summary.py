@@ -9,7 +9,7 @@ import _log  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.measurements import brdf_export  # noqa: E402
 from roughlight.render import shading  # noqa: E402
-from roughlight.render.implicit.table import load_table  # noqa: E402
+from roughlight.render.implicit import load_table  # noqa: E402
 from roughlight.report import figures  # noqa: E402
 
 log = _log.setup(snakemake)

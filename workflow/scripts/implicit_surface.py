@@ -19,13 +19,16 @@ from roughlight.report import figures  # noqa: E402
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
 plan = snakemake.wildcards.plan
-validation = implicit_bench.validation(plan, lighting=lighting, log=log)
+# the exported surfaces' share tables (rule export), for implicit_table's rows
+tables = implicit_bench.load_tables({tuple(pair): path for pair, path in zip(snakemake.params.exported,
+                                                                            snakemake.input.tables)})
+validation = implicit_bench.validation(plan, lighting=lighting, log=log, tables=tables)
 write_frame(validation, snakemake.output.validation)
 pictures = {}
-frames = implicit_bench.frame_times(plan, lighting=lighting, log=log, pictures=pictures)
+frames = implicit_bench.frame_times(plan, lighting=lighting, log=log, pictures=pictures, tables=tables)
 write_frame(frames, snakemake.output.frames)
 figures.make("implicit", snakemake.output.chart, validation=validation, frames=frames, pictures=pictures)
-maps = implicit_bench.hemisphere_maps(plan, lighting=lighting)
+maps = implicit_bench.hemisphere_maps(plan, lighting=lighting, tables=tables)
 write_frame(maps, snakemake.output.maps)
 figures.make("implicit_maps", snakemake.output.maps_chart, maps=maps)
 log(implicit_bench.summary(validation).round(4).to_string())

@@ -30,7 +30,7 @@ import numpy as np
 
 from ..render import methods, shading
 from ..render.exact import LitScene, shares_under
-from ..render.implicit.table import CHANNELS, SCALE, ShareTable, table_values
+from ..render.implicit import CHANNELS, SCALE, ShareTable, table_values
 from ..surfaces.geometry import FACET_NAMES
 from ..surfaces.surface import Surface
 
@@ -140,7 +140,7 @@ def mitsuba_nodes(elevation, phi_nodes: int):
     """The Mitsuba file's ``theta_i`` nodes (from the detector's ``elevation`` nodes, degrees: ``theta_i = 90 -
     elevation``, ascending) and ``phi_i`` nodes (:func:`roughlight.render.mitsuba.measured.table_nodes`, reduction
     4), float32 radians."""
-    from ..render.mitsuba.measured import table_nodes
+    from ..render.mitsuba import table_nodes
 
     theta = np.radians(90.0 - np.asarray(elevation, float))[::-1].astype(np.float32)
     return theta, table_nodes(2, int(phi_nodes), reduction=4)[1]
@@ -157,7 +157,7 @@ def mitsuba_tables(table: ShareTable, lighting=None, elevation=MITSUBA["elevatio
     rgb : (phi, theta, 3, resolution, resolution) float32, ``f_r L_z`` (``channels`` as
         :func:`roughlight.render.mitsuba.measured.tabulate`)
     """
-    from ..render.mitsuba.measured import tabulate
+    from ..render.mitsuba import tabulate
 
     lighting = lighting or shading.Lighting()
     theta, phi = mitsuba_nodes(elevation, phi_nodes)
@@ -179,8 +179,8 @@ def write_exports(table: ShareTable, shares_path, mitsuba_path, lighting=None, m
     -------
     dict: ``shares_bytes``, ``mitsuba_bytes`` (file sizes) and ``seconds`` (to tabulate the Mitsuba file)
     """
-    from ..render.implicit.table import save_table
-    from ..render.mitsuba.measured import write_measured
+    from ..render.implicit import save_table
+    from ..render.mitsuba import write_measured
 
     lighting = lighting or shading.Lighting()
     save_table(shares_path, table)
@@ -242,7 +242,7 @@ def check(table: ShareTable, mitsuba_path, lighting=None, lights: int = CHECK["l
     """
     import pandas as pd
 
-    from ..render.mitsuba.measured import render_flat, write_measured
+    from ..render.mitsuba import render_flat, write_measured
 
     lighting = replace(lighting or shading.Lighting(), ambient=0.0)
     azimuth, elevation = check_views(table, views, seed)

@@ -31,7 +31,8 @@ from ..surfaces.geometry import period_triangles
 from ..surfaces.surface import SQRT3_2, Surface
 from . import comparison
 
-__all__ = ["PLANS", "validation_surfaces", "validation", "frame_times", "summary", "hemisphere_maps"]
+__all__ = ["PLANS", "GOAL", "MODEL_METHODS", "validation_surfaces", "validation", "frame_times", "summary",
+           "goal", "hemisphere_maps", "load_tables", "share_table"]
 
 #: Validation incidences, degrees.
 INCIDENCES = (10.0, 30.0, 50.0, 70.0)
@@ -40,8 +41,11 @@ INCIDENCES = (10.0, 30.0, 50.0, 70.0)
 #: table aspects (truncation, aspect).
 GRID_SURFACES = ((0.1, 0.1), (1.0, 0.1), (0.1, 1.0), (1.0, 1.0), (0.5, 0.5), (1.0, SQRT3_2))
 
-#: Methods of the validation, in the order of its table.
-VALIDATED = ("implicit_exact", "implicit_correction", "fast", "v_cavity")
+#: Methods of the validation, in the order of its table (``implicit_table`` on the surfaces that have a table).
+VALIDATED = ("implicit_exact", "implicit_correction", "implicit_table", "fast", "v_cavity")
+
+#: The sweeps of the validation, in its order (the V-cavity model is a closed form in numpy).
+SWEPT = ("implicit_exact", "implicit_correction", "fast")
 
 PLANS = {
     "full": {"grid": GRID_SURFACES, "incidences": INCIDENCES, "random": 20, "steps": (1.0, 5.0),
@@ -79,8 +83,12 @@ def _band(surface: Surface) -> str:
     return "other"
 
 
-def validation(plan: str = "full", lighting=None, log=None):
+def validation(plan: str = "full", lighting=None, log=None, tables=None):
     """Errors against the exact reference on every view of each validation surface.
+
+    ``tables``: share tables by (truncation, aspect) (:class:`roughlight.render.implicit.table.ShareTable`, or its
+    file), for ``implicit_table``'s rows: the surfaces that have one (rule ``export``'s, ``export.surfaces``); with
+    the ``full`` plan every other validation surface's is measured here (:func:`share_table`).
 
     Returns
     -------
@@ -99,8 +107,12 @@ def validation(plan: str = "full", lighting=None, log=None):
     azimuth, elevation = sweeps.view_grid(*size["steps"])
     rows = []
     surfaces = validation_surfaces(plan)
+    tables = load_tables(tables)
     for n, (surface, incidence, kind) in enumerate(surfaces, 1):
-        new = validate_surface(surface, incidence, kind, azimuth, elevation, lighting)
+        table = tables.get(_key(surface))
+        if table is None and plan == "full":
+            table = tables[_key(surface)] = share_table(surface, lighting, log)
+        new = validate_surface(surface, incidence, kind, azimuth, elevation, lighting, table)
         rows += new
         worst = {m: max(r["worst"] for r in new if r["method"] == m) for m in ("implicit_exact", "fast")}
         log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
@@ -108,11 +120,45 @@ def validation(plan: str = "full", lighting=None, log=None):
     return pd.DataFrame(rows)
 
 
+def _key(surface: Surface) -> tuple[float, float]:
+    return (round(float(surface.truncation), 9), round(float(surface.aspect), 9))
+
+
+def load_tables(tables) -> dict:
+    """``tables`` (a mapping (truncation, aspect) -> ShareTable or its file, or None) keyed by :func:`_key`, the
+    files read; a mapping made so is returned as it is (:func:`validation` adds to it the tables it measures)."""
+    from ..render.implicit import ShareTable, load_table
+
+    if isinstance(tables, _Tables):
+        return tables
+    out = _Tables()
+    for (t, a), table in (tables or {}).items():
+        out[_key(Surface(t, a))] = table if isinstance(table, ShareTable) else load_table(table)
+    return out
+
+
+class _Tables(dict):
+    """Share tables keyed by :func:`_key` (:func:`load_tables`)."""
+
+
+def share_table(surface: Surface, lighting=None, log=None):
+    """A validation surface's share table at the export's default nodes
+    (:data:`roughlight.measurements.brdf_export.TABLE`), measured by the exact reference."""
+    from . import brdf_export
+
+    nodes = brdf_export.TABLE
+    lighting = lighting or shading.Lighting()
+    incidence = brdf_export.incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
+    (log or (lambda message: None))(f"share table of t {surface.truncation:g}, a {surface.aspect:g}")
+    return brdf_export.measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"],
+                                     nodes["azimuth_step"], lighting.shadows)
+
+
 #: Sweeps of the reference and the implicit models kept in a process (:func:`_sweep`).
 _SWEEPS: dict = {}
 
 
-def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, lighting) -> dict:
+def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, lighting, table=None) -> dict:
     """``methods.sweep(method, ...)``, computed once per surface, light, views and lighting in a process: the
     validation and the hemisphere maps share their surfaces' sweeps where their plan's views are the same (the
     quick plan's full pyramid at incidence 30). The reference through :func:`roughlight.measurements.comparison.
@@ -120,16 +166,20 @@ def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, 
     if method == "reference":
         return comparison.reference(surface, incidence, azimuth, elevation, lighting)
     azimuth, elevation = np.asarray(azimuth, float), np.asarray(elevation, float)
-    key = (method, surface, float(incidence), azimuth.shape, azimuth.tobytes(), elevation.tobytes(), lighting)
+    key = (method, surface, float(incidence), azimuth.shape, azimuth.tobytes(), elevation.tobytes(), lighting,
+           id(table))
     if key not in _SWEEPS:
         if len(_SWEEPS) >= comparison.REFERENCE_CACHE_SIZE:
             _SWEEPS.clear()
-        _SWEEPS[key] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting)
+        settings = {"table": table} if method == "implicit_table" else None
+        _SWEEPS[key] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
     return _SWEEPS[key]
 
 
-def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None) -> list:
-    """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views."""
+def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None,
+                     table=None) -> list:
+    """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views
+    (``implicit_table``'s with the surface's share ``table``, when given)."""
     from ..analysis.surface_models import facet_model
     from ..render.exact import reference_views
 
@@ -143,8 +193,10 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
         exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting)
     seen &= ~failed
     results = {}
-    for method in VALIDATED[:3]:
+    for method in SWEPT:
         results[method] = _sweep(method, surface, incidence, azimuth, elevation, lighting)
+    if table is not None:
+        results["implicit_table"] = _sweep("implicit_table", surface, incidence, azimuth, elevation, lighting, table)
     start = time.perf_counter()
     model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
                         lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
@@ -154,12 +206,52 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     results["v_cavity"] = model
     rows = []
     for method, out in results.items():
+        memory = table.nbytes if method == "implicit_table" else 0 if method in MODEL_METHODS else math.nan
         for component, err in comparison.absolute_errors(out, exact, seen).items():
             rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
                          "kind": kind, "band": _band(surface), "method": method, "component": component,
                          "n_views": int(seen.sum()), **comparison.error_statistics(err),
-                         "seconds": float(out["seconds"]), "reference_failures": int(failed.sum())})
+                         "seconds": float(out["seconds"]), "reference_failures": int(failed.sum()),
+                         "memory_bytes": memory})
     return rows
+
+
+#: The implicit models, by their methods' names.
+MODEL_METHODS = ("implicit_exact", "implicit_correction", "implicit_table")
+
+#: The thesis's goal for one flat quad (Ch. I.A, issue 45's numbers): every surface's total within this MAE and its
+#: worst view within one 8-bit level of the exact reference, drawn this many times as fast as the explicit field.
+GOAL = {"max_mae": 0.25, "worst": 1.0, "speedup": 100.0}
+
+
+def goal(validation, frames) -> list[dict]:
+    """Which implicit model meets the thesis's goal (:data:`GOAL`), at what cost: per model, its validated surfaces,
+    the largest surface MAE and the worst view of the total, the table's bytes (0: the model is its uniforms), and
+    its frame rate against the explicit field at the largest field of ``frames`` (mean frame times over the views).
+
+    Returns
+    -------
+    list of dict, one a model validated: ``method``, ``surfaces``, ``max_mae``, ``worst``, ``memory_bytes``,
+    ``field``, ``frame_ms``, ``speedup``, ``accurate`` (both error goals), ``fast`` (the speed goal) and ``meets``.
+    """
+    out = []
+    total = validation[validation["component"] == "total"]
+    largest = int(frames["field"].max())
+    at = frames[frames["field"] == largest].groupby("method")["frame_ms"].mean()
+    for method in MODEL_METHODS:
+        rows = total[total["method"] == method]
+        if rows.empty:
+            continue
+        frame = float(at.get(method, math.nan))
+        speedup = float(at.get("explicit", math.nan)) / frame if frame > 0 else math.nan
+        accurate = bool(rows["mae"].max() <= GOAL["max_mae"] and rows["worst"].max() <= GOAL["worst"])
+        fast = bool(speedup >= GOAL["speedup"])
+        memory = rows["memory_bytes"].max() if "memory_bytes" in rows else math.nan
+        out.append({"method": method, "surfaces": int(len(rows)), "max_mae": float(rows["mae"].max()),
+                    "worst": float(rows["worst"].max()), "memory_bytes": float(memory), "field": largest,
+                    "frame_ms": frame, "speedup": speedup, "accurate": accurate, "fast": fast,
+                    "meets": accurate and fast})
+    return out
 
 
 def summary(table):
@@ -217,7 +309,7 @@ FIELD_SURFACE = Surface(1.0, 1.0)
 
 
 def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence: float = 30.0,
-                size: int = 512, lighting=None, log=None, pictures: dict | None = None):
+                size: int = 512, lighting=None, log=None, pictures: dict | None = None, tables=None):
     """Frame time of an N x N field drawn explicitly against one implicit quad, same views and image size.
 
     The picture shows the field's central ``N / 2`` periods (the field fills
@@ -228,7 +320,9 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     Returns
     -------
     pandas.DataFrame, one row per field size x method x view: ``field``
-    (N), ``method`` (``explicit``, ``implicit_exact``, ``implicit_correction``),
+    (N), ``method`` (``explicit``, ``implicit_exact``, ``implicit_correction``, and ``implicit_table`` where
+    ``tables`` (as :func:`validation` takes them) holds the surface's: its textures are uploaded before the timer,
+    as a scene keeps them),
     ``triangles``, ``elevation``, ``azimuth``, ``frame_ms`` (fastest of the
     plan's repeats), ``fps``, ``mean_total``, ``exact_total``, ``error``.
     ``pictures``, when a dict is given, receives the pictures (total, 8-bit,
@@ -245,13 +339,15 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     az = np.array([v[1] for v in views])
     exact = methods.sweep("reference", surface, incidence, az, el, lighting)["total"]
     repeats = size_plan["repeats"]
+    table = load_tables(tables).get(_key(surface))
     rows = []
     pictures = {} if pictures is None else pictures
     for n in size_plan["fields"]:
         kept = pictures if n == size_plan["fields"][0] else None
         rows += _explicit_frames(surface, incidence, lighting, n, size, views, repeats, exact, kept)
-        for model in ("exact", "correction"):
-            rows += _implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept)
+        for model in ("exact", "correction") + (("table",) if table is not None else ()):
+            rows += _implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept,
+                                     table)
         last = [r for r in rows if r["field"] == n]
         log(f"N={n}: explicit {np.mean([r['frame_ms'] for r in last if r['method'] == 'explicit']):.1f} ms, "
             f"implicit exact {np.mean([r['frame_ms'] for r in last if r['method'] == 'implicit_exact']):.1f} ms")
@@ -288,14 +384,15 @@ def _explicit_frames(surface, incidence, lighting, n: int, size: int, views, rep
 
 
 def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int, views, repeats: int, exact,
-                     pictures) -> list:
+                     pictures, table=None) -> list:
     """:func:`frame_times`' rows of the ``n`` x ``n`` field drawn as one implicit quad with ``model`` (see
     :func:`_explicit_frames`)."""
     from ..render.implicit import render_field
 
     rows = []
     for k, (e, phi) in enumerate(views):
-        draw = partial(render_field, model, surface, incidence, e, phi, n, size, n / 2.0, lighting)
+        draw = partial(render_field, model, surface, incidence, e, phi, n, size, n / 2.0, lighting,
+                       table=table if model == "table" else None)
         image, seconds = _fastest(draw, repeats)
         rows.append(_frame_row(n, f"implicit_{model}", 2, e, phi, seconds, image[..., 2], exact[k]))
         if pictures is not None and k == 0:
@@ -314,14 +411,15 @@ def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact
 MAP_SURFACES = ((Surface(1.0, 1.0), 30.0), (Surface(1.0, SQRT3_2), 30.0))
 
 
-def hemisphere_maps(plan: str = "full", lighting=None):
+def hemisphere_maps(plan: str = "full", lighting=None, tables=None):
     """Every view of the telling surfaces by the exact reference and both implicit models (through the shader).
 
     Returns
     -------
     pandas.DataFrame: ``truncation``, ``aspect``, ``incidence``, ``azimuth``,
     ``elevation``, ``method`` (``reference``, ``implicit_exact``,
-    ``implicit_correction``) and the three components (0-255), on the plan's
+    ``implicit_correction``, and ``implicit_table`` where ``tables``, as :func:`validation` takes them, holds the
+    surface's) and the three components (0-255), on the plan's
     view grid.
     """
     import pandas as pd
@@ -330,9 +428,13 @@ def hemisphere_maps(plan: str = "full", lighting=None):
     lighting = lighting or shading.Lighting()
     azimuth, elevation = sweeps.view_grid(*size["steps"])
     parts = []
+    tables = load_tables(tables)
     for surface, incidence in MAP_SURFACES:
-        for method in ("reference", "implicit_exact", "implicit_correction"):
-            out = _sweep(method, surface, incidence, azimuth, elevation, lighting)
+        table = tables.get(_key(surface))
+        for method in ("reference", "implicit_exact", "implicit_correction", "implicit_table"):
+            if method == "implicit_table" and table is None:
+                continue
+            out = _sweep(method, surface, incidence, azimuth, elevation, lighting, table)
             parts.append(pd.DataFrame({"truncation": surface.truncation, "aspect": surface.aspect,
                                        "incidence": incidence, "azimuth": azimuth, "elevation": elevation,
                                        "method": method, **{c: out[c] for c in shading.COMPONENTS}}))

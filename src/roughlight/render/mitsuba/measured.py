@@ -375,6 +375,30 @@ QUAD_HALF_SIDE = 4.0
 WINDOW = 2
 
 
+def _flat_scene(mi, bsdf, light):
+    """The flat quad ``z = 0`` with ``bsdf`` (two triangles with texture coordinates along x and y, so that
+    Mitsuba's shading frame is the world's) under a ``directional`` emitter toward ``-light`` of irradiance ``pi``,
+    rendered by the ``direct`` integrator."""
+    h = QUAD_HALF_SIDE
+    vertices = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]], np.float32)
+    faces = np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
+    props = mi.Properties()
+    props["bsdf"] = bsdf
+    mesh = mi.Mesh("quad", 4, 2, has_vertex_texcoords=True, props=props)
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = type(params["vertex_positions"])(vertices.ravel())
+    params["vertex_texcoords"] = type(params["vertex_texcoords"])(vertices[:, :2].ravel())
+    params["faces"] = type(params["faces"])(faces.ravel())
+    params.update()
+    return mi.load_dict({
+        "type": "scene",
+        "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
+        "light": {"type": "directional", "direction": (-light).tolist(),
+                  "irradiance": {"type": "rgb", "value": float(np.pi)}},
+        "quad": mesh,
+    })
+
+
 def render_flat(path, incidence: float, light_azimuth: float, azimuth, elevation, lighting: Lighting | None = None,
                 variant: str = "llvm_ad_rgb", spp: int = 1, side: int = 4) -> np.ndarray:
     """Render a flat quad with the file's BRDF, as the Mitsuba method renders the plate, one view at a time.
@@ -413,24 +437,7 @@ def render_flat(path, incidence: float, light_azimuth: float, azimuth, elevation
     views = view_direction(elevation.ravel(), azimuth.ravel())
     light = light_direction(incidence, float(light_azimuth))
     mi, _, bsdf = _plugin(path, variant)
-    h = QUAD_HALF_SIDE
-    vertices = np.array([[-h, -h, 0.0], [h, -h, 0.0], [h, h, 0.0], [-h, h, 0.0]], np.float32)
-    faces = np.array([[0, 1, 2], [0, 2, 3]], np.uint32)
-    props = mi.Properties()
-    props["bsdf"] = bsdf
-    mesh = mi.Mesh("quad", 4, 2, has_vertex_texcoords=True, props=props)
-    params = mi.traverse(mesh)
-    params["vertex_positions"] = type(params["vertex_positions"])(vertices.ravel())
-    params["vertex_texcoords"] = type(params["vertex_texcoords"])(vertices[:, :2].ravel())
-    params["faces"] = type(params["faces"])(faces.ravel())
-    params.update()
-    scene = mi.load_dict({
-        "type": "scene",
-        "integrator": {"type": "direct", "emitter_samples": 1, "bsdf_samples": 0},
-        "light": {"type": "directional", "direction": (-light).tolist(),
-                  "irradiance": {"type": "rgb", "value": float(np.pi)}},
-        "quad": mesh,
-    })
+    scene = _flat_scene(mi, bsdf, light)
     j = float(lighting.light)
     out = np.zeros((len(views), 3))
     for k, view in enumerate(views):

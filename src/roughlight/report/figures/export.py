@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 
 from ...render import shading
-from ...render.implicit.table import table_values
+from ...render.implicit import table_values
 from .common import placeholder, theme
 
 __all__ = ["fig_export", "LIGHTS"]

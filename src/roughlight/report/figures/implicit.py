@@ -80,13 +80,20 @@ def fig_implicit_maps(maps, component: str = "total"):
     each drawn from the measured views only (:func:`.common.hemisphere_map`)."""
     theme()
     surfaces = maps[["truncation", "aspect", "incidence"]].drop_duplicates().to_numpy()
-    columns = ("reference", "implicit_exact", "implicit_correction")
-    fig, axes = plt.subplots(len(surfaces), 3, figsize=(11, 3.6 * len(surfaces)), squeeze=False)
+    # the table model where a surface has a table (rule export's), beside the two closed forms
+    columns = [m for m in ("reference", "implicit_exact", "implicit_correction", "implicit_table")
+               if m in set(maps["method"])]
+    fig, axes = plt.subplots(len(surfaces), len(columns), figsize=(3.7 * len(columns), 3.6 * len(surfaces)),
+                             squeeze=False)
     for row, (t, a, i) in zip(axes, surfaces):
         sel = maps[(maps.truncation == t) & (maps.aspect == a) & (maps.incidence == i)]
         ref = sel[sel.method == "reference"].sort_values(["azimuth", "elevation"])
         for ax, method in zip(row, columns):
             cur = sel[sel.method == method].sort_values(["azimuth", "elevation"])
+            if cur.empty:  # no table of this surface
+                ax.axis("off")
+                ax.set_title(f"{method.replace('_', ' ')}: no table of this surface", loc="left", fontsize=8)
+                continue
             map_panel(fig, ax, cur, ref, method, component, (t, a, i))
     fig.tight_layout()
     return fig

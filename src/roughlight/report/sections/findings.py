@@ -278,7 +278,7 @@ def speed(shown: dict | None) -> dict:
             "naive_mae": float(n["mae"]), "target": "speed-accuracy"}
 
 
-def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
+def implicit(validation: pd.DataFrame | None, shown: bool, frames: pd.DataFrame | None = None) -> dict:
     """The implicit shader's two forms against the exact reference (the "all" band of
     :func:`roughlight.measurements.implicit_surface.summary`, the total): worst view, largest and median MAE.
 
@@ -295,9 +295,13 @@ def implicit(validation: pd.DataFrame | None, shown: bool) -> dict:
     forms = {m: {"worst": float(s.loc[m, "worst"]), "max_mae": float(s.loc[m, "max_mae"]),
                  "median_mae": float(s.loc[m, "median_mae"])} if m in s.index else None
              for m in ("implicit_exact", "implicit_correction")}
+    from ...measurements.implicit_surface import goal
+
+    met = goal(validation, frames) if _has_rows(frames) else []
     return {"n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
             "n_views": int(validation["n_views"].iloc[0]), "exact": forms["implicit_exact"],
-            "correction": forms["implicit_correction"], "target": "implicit-validation"}
+            "correction": forms["implicit_correction"], "target": "implicit-validation", "goal": met,
+            "meets": [g["method"] for g in met if g["meets"]]}
 
 
 def light_transport(agreement: pd.DataFrame | None, summary: pd.DataFrame | None, shown: bool) -> dict:
@@ -326,6 +330,7 @@ def light_transport(agreement: pd.DataFrame | None, summary: pd.DataFrame | None
 def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.DataFrame | None = None,
                      implied_scales: pd.DataFrame | None = None, tables_at_implied_scale: pd.DataFrame | None = None,
                      share_laws: pd.DataFrame | None = None, implicit_validation: pd.DataFrame | None = None,
+                     implicit_frames: pd.DataFrame | None = None,
                      random_claims: pd.DataFrame | None = None, speed_accuracy: pd.DataFrame | None = None,
                      speed_accuracy_png=None, renderer_validation: pd.DataFrame | None = None,
                      arc_smoothness: pd.DataFrame | None = None, renderer_validation_png=None,
@@ -358,7 +363,7 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
         "table_aspects": list(table_aspects), "incidence": table_incidence,
         "ranking": ranking(thesis), "exact": exact_law(thesis, exact_peaks),
         "implied": implied_scale(thesis, implied_scales, tables_at_implied_scale), "laws": share_law_finding(share_laws),
-        "implicit": implicit(implicit_validation, bool(shown.get("implicit"))),
+        "implicit": implicit(implicit_validation, bool(shown.get("implicit")), implicit_frames),
         "random": random_claim_finding(random_claims, bool(shown.get("random"))),
         "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
         "light": light_transport(mitsuba_agreement, interreflection_summary, bool(shown.get("light_transport"))),

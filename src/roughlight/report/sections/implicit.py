@@ -13,7 +13,7 @@ def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_fram
                   implicit_png=None, implicit_maps_png=None, plan: str = "full") -> dict | None:
     """"An implicit rough surface: the thesis's goal": the validation against the exact reference and the frame
     times (rule ``implicit_surface``), with their charts; None: switched off."""
-    from ...measurements.implicit_surface import summary
+    from ...measurements.implicit_surface import GOAL, goal, summary
 
     validation, frames = implicit_validation, implicit_frames
     if validation is None or frames is None:
@@ -26,7 +26,8 @@ def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_fram
     return {"plan": plan, "n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
             "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
             "png": png, "caption": caption_text("implicit") if png else None,
-            "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f}
+            "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f,
+            "goal": goal(validation, frames), "targets": GOAL}
 
 
 SECTION = Section("implicit", implicit_data, "implicit.html", title="An implicit rough surface", switch="report.implicit",
