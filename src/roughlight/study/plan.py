@@ -191,8 +191,7 @@ def every_view_files(config: dict) -> list[str]:
 
 
 #: What rule export writes for one surface, by name, in ``results/export/t{truncation}_a{aspect}/``.
-EXPORT_OUTPUTS = {"shares": "shares.npz", "mitsuba": "brdf.bsdf", "check": "check.parquet", "summary": "summary.csv",
-                  "picture": "export.png"}
+EXPORT_OUTPUTS = {"shares": "shares.npz", "mitsuba": "brdf.bsdf", "check": "check.parquet", "summary": "summary.csv"}
 
 
 def export_folder(truncation: float, aspect: float) -> str:
