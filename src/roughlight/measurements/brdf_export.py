@@ -34,8 +34,9 @@ from ..render.implicit import CHANNELS, SCALE, ShareTable, table_values
 from ..surfaces.geometry import FACET_NAMES
 from ..surfaces.surface import Surface
 
-__all__ = ["TABLE", "MITSUBA", "CHECK", "incidence_nodes", "measure_table", "mitsuba_nodes", "mitsuba_tables",
-           "write_exports", "check_lights", "check_views", "check", "summary", "export_surface", "gather"]
+__all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_table", "mitsuba_nodes",
+           "mitsuba_tables", "write_exports", "check_lights", "check_views", "check", "summary", "export_surface",
+           "gather", "resolution_study"]
 
 #: The share table's nodes by default (``export.table``, the schema's defaults): light incidence every 5 degrees
 #: (and, with ``edge_on``, where a side facet turns edge-on to a tabulated light: :func:`incidence_nodes`), light
@@ -351,3 +352,76 @@ def gather(summaries, checks):
     empty = pd.DataFrame()
     return (pd.concat(frames, ignore_index=True) if frames else empty,
             pd.concat(parts, ignore_index=True) if parts else empty)
+
+
+#: The resolution study's share-table layouts (:func:`resolution_study`): the default, and each axis closer or
+#: coarser by itself.
+LAYOUTS = {
+    "default": {},
+    "elevation 16": {"elevation": [1.0, 2.0, 3.0, 5.0, 7.0, 10.0, 14.0, 19.0, 25.0, 32.0, 40.0, 50.0, 60.0, 70.0,
+                                   80.0, 90.0]},
+    "no edge-on": {"edge_on": False},
+    "azimuth 5": {"azimuth_step": 5.0},
+    "light azimuth 7.5": {"light_azimuth": [0.0, 7.5, 15.0, 22.5, 30.0, 37.5, 45.0]},
+}
+
+
+def resolution_study(surface: Surface, layouts=None, lights: int = 8, views: int = 400, seed: int = 9, log=None):
+    """What a share table's nodes cost and buy: for each layout (``export.table`` keys over :data:`TABLE`), its
+    build time and bytes, and its total's error against the exact reference (numpy, :func:`table_values`) on the
+    study's full view grid (1 by 5 degrees) at the study's light azimuth, incidences 10, 30 (nodes), 37.3 and 63.1
+    (off the nodes), and at ``lights`` x ``views`` lights and views drawn at random (any azimuth).
+
+    Returns
+    -------
+    pandas.DataFrame, one row a layout x test: ``layout``, ``seconds``, ``megabytes``, ``test``, ``mae``, ``worst``,
+    ``worst_above_5`` (the worst view 5 degrees or more above the plane)
+    """
+    import pandas as pd
+
+    from ..render import views as sweeps
+
+    log = log or (lambda message: None)
+    rows = []
+    azimuth, elevation = sweeps.view_grid(1.0, 5.0)
+    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    rng = np.random.default_rng(seed)
+    drawn = [(rng.uniform(10, 80), rng.uniform(0, 360), rng.uniform(0, 180, views), rng.uniform(1, 179, views))
+             for _ in range(lights)]
+    tests = [(f"study views, incidence {i:g}", [(i, 0.0, azimuth[seen], elevation[seen])]) for i in
+             (10.0, 30.0, 37.3, 63.1)] + [("random lights and views", drawn)]
+    for name, layout in (layouts or LAYOUTS).items():
+        nodes = {**TABLE, **layout}
+        start = time.perf_counter()
+        incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
+        table = measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"], nodes["azimuth_step"])
+        seconds = time.perf_counter() - start
+        for test, pairs in tests:
+            errors, above = [], []
+            for i, psi, az, el in pairs:
+                exact = methods.sweep("reference", surface, i, az, el, light_azimuth=psi)["total"]
+                light = np.tile(shading.light_direction(i, psi), (len(az), 1))
+                got = table_values(table, light, shading.view_direction(el, az))["total"]
+                errors.append(np.abs(got - exact))
+                above.append(np.minimum(el, 180.0 - el) >= 5.0)
+            error, above = np.concatenate(errors), np.concatenate(above)
+            rows.append({"layout": name, "seconds": seconds, "megabytes": table.nbytes / 1e6, "test": test,
+                         "mae": float(error.mean()), "worst": float(error.max()),
+                         "worst_above_5": float(error[above].max())})
+        log(f"{name}: {seconds:.1f} s, {table.nbytes / 1e6:.2f} MB")
+    return pd.DataFrame(rows)
+
+
+def _main(argv=None) -> None:
+    """``python -m roughlight.measurements.brdf_export [truncation aspect]``: the resolution study (default t 1,
+    a 1) as a table."""
+    import sys
+
+    args = sys.argv[1:] if argv is None else argv
+    surface = Surface(float(args[0]), float(args[1])) if len(args) >= 2 else Surface(1.0, 1.0)
+    frame = resolution_study(surface, log=print)
+    print(frame.round(3).to_string(index=False))
+
+
+if __name__ == "__main__":
+    _main()
