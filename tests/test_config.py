@@ -153,3 +153,42 @@ def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_an
         if here != value:
             differ.append(path)
     assert {path[0] for path in differ if path != ("claims", "pilot_seeds")} <= {"grid", "surface"}, differ
+
+
+EXPORT_BAD = [
+    ({"surfaces": [[1.5, 1.0]]}, "export.surfaces: truncation must be in [0, 1]"),
+    ({"surfaces": [[0.5]]}, "export.surfaces[0]"),
+    ({"table": {"incidence": [0, 50, 40, 90]}}, "export.table.incidence must ascend from 0 to 90"),
+    ({"table": {"incidence": [5, 90]}}, "export.table.incidence must ascend from 0 to 90"),
+    ({"table": {"light_azimuth": [0, 30]}}, "export.table.light_azimuth must ascend from 0 to 45"),
+    ({"table": {"elevation": [1, 45]}}, "export.table.elevation must ascend to 90"),
+    ({"table": {"azimuth_step": 7}}, "export.table.azimuth_step must divide 360"),
+    ({"mitsuba": {"elevation": [10, 5, 90]}}, "export.mitsuba.elevation must ascend to 90"),
+    ({"mitsuba": {"phi_nodes": 2}}, "export.mitsuba.phi_nodes"),
+    ({"check": {"lights": 0}}, "export.check.lights"),
+]
+
+
+@pytest.mark.parametrize("export,message", EXPORT_BAD)
+def test_bad_export_settings_name_the_key(export, message):
+    cfg = default_config()
+    cfg["export"] = {**cfg.get("export", {}), **export}
+    with pytest.raises(rl_config.ConfigError) as info:
+        rl_config.validate_config(cfg, SCHEMA)
+    assert message in str(info.value)
+
+
+def test_the_export_settings_reach_the_jobs_as_plain_values():
+    """export.surfaces names the jobs (each pair once, in order); the nodes and checks reach rule export whole."""
+    from roughlight.study import plan as rl_plan
+
+    cfg = default_config()
+    cfg["export"] = {"surfaces": [[0.5, 1], [1, 1], [0.5, 1.0]], "table": {"azimuth_step": 5}}
+    cfg = rl_config.validate_config(cfg, SCHEMA)
+    assert rl_config.export_surfaces(cfg) == [(0.5, 1.0), (1.0, 1.0)]
+    settings = rl_config.export_settings(cfg)
+    assert settings["table"]["azimuth_step"] == 5.0 and settings["table"]["edge_on"] is True
+    assert settings["mitsuba"]["resolution"] == 48 and settings["check"] == {"lights": 3, "views": 400, "seed": 2001}
+    assert rl_plan.export_files(cfg)[:2] == ["results/export/t0.5_a1/shares.npz", "results/export/t0.5_a1/brdf.bsdf"]
+    cfg["export"]["surfaces"] = []
+    assert rl_plan.export_files(cfg) == []
