@@ -173,3 +173,64 @@ def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp
     expected = table_values(out["table"], light[k:k + 1], view, shading.Lighting(ambient=0.0))["total"][0]
     stored = evaluate(paths["mitsuba"], light[k:k + 1], view, variant="scalar_rgb")[0, 0]
     assert expected > 10 and abs(stored * np.pi * 127 - expected) < 0.01 * expected
+
+
+def _validation_and_frames(table_bytes: int):
+    """A small validation and frame table as rule implicit_surface writes them (their columns), for the page."""
+    import pandas as pd
+
+    rows = [{"truncation": 1.0, "aspect": 1.0, "incidence": 30.0, "kind": "grid", "band": "t > 0.5, aspect > 0.5",
+             "method": m, "component": c, "n_views": 100, "mae": mae, "p99": worst / 2, "worst": worst,
+             "seconds": 1.0, "reference_failures": 0,
+             "memory_bytes": table_bytes if m == "implicit_table" else 0.0 if m.startswith("implicit") else np.nan}
+            for m, mae, worst in (("implicit_exact", 0.01, 0.2), ("implicit_correction", 0.1, 12.0),
+                                  ("implicit_table", 0.04, 3.0), ("fast", 0.02, 0.4), ("v_cavity", 0.3, 14.0))
+            for c in shading.COMPONENTS]
+    frames = [{"field": n, "method": m, "triangles": 2, "elevation": 60.0, "azimuth": 20.0, "frame_ms": ms,
+               "fps": 1000 / ms, "mean_total": 43.6, "exact_total": 43.6, "error": 0.01}
+              for n in (16, 64) for m, ms in (("explicit", 40.0 * n / 16), ("implicit_exact", 60.0),
+                                              ("implicit_correction", 2.0), ("implicit_table", 2.5))]
+    return pd.DataFrame(rows), pd.DataFrame(frames)
+
+
+def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
+    """The page as a reader sees it: the export's picture decoded, its sentence and table; the implicit section's
+    goal, model by model, and the finding that names which model meets it, its link landing on the table."""
+    pytest.importorskip("mitsuba")
+    from roughlight.report import figures as F
+    from roughlight.report import page as R
+
+    from .browser import Browser
+
+    paths = {"shares": tmp_path / "shares.npz", "mitsuba": tmp_path / "brdf.bsdf"}
+    out = brdf_export.export_surface(SURFACE, paths, NODES | {"edge_on": False},
+                                     {"elevation": [5.0, 20.0, 45.0, 90.0], "phi_nodes": 4, "resolution": 16},
+                                     {"lights": 1, "views": 30, "seed": 5})
+    out["summary"].to_csv(tmp_path / "summary.csv", index=False)
+    out["check"].to_parquet(tmp_path / "check.parquet")
+    summary, checked = brdf_export.gather([tmp_path / "summary.csv"], [tmp_path / "check.parquet"])
+    chart = F.make("export", tmp_path / "export.png", tables=[out["table"]], check=checked)
+    validation, frames = _validation_and_frames(out["table"].nbytes)
+    html = R.build_report({"export_summary": summary, "export_png": chart, "implicit_validation": validation,
+                           "implicit_frames": frames}, {})
+    path = tmp_path / "report.html"
+    path.write_text(html, encoding="utf-8")
+    with Browser(1280, 900, workdir=tmp_path) as browser:
+        browser.open(path)
+        seen = browser.evaluate("""(() => { const s = document.getElementById('export');
+            const img = document.querySelector('#fig-export img');
+            const goal = document.getElementById('implicit-goal-table');
+            const link = [...document.querySelectorAll('[data-finding="implicit"] a')].map(a => a.getAttribute('href'));
+            return {img: !!img && img.complete && img.naturalWidth > 0, table: !!document.getElementById('export-table'),
+                    text: s.parentElement.innerText, goal: goal && goal.innerText, links: link,
+                    finding: document.querySelector('[data-finding="implicit"]').innerText,
+                    toc: !!document.querySelector('a[href="#export"]'),
+                    wide: [...document.querySelectorAll('body *')].filter(
+                      e => e.getBoundingClientRect().right > 1280 + 1).map(e => e.tagName).slice(0, 3)}; })()""")
+        assert browser.errors() == []
+    assert seen["img"] and seen["table"] and seen["toc"] and seen["wide"] == []
+    assert "truncation 0.5, aspect 0.8: the share table" in seen["text"]
+    assert "the Mitsuba file" in seen["text"] and "Measured and checked in" in seen["text"]
+    # the goal: 2.5 ms against 160 ms at N 64 is 64x, short of 100x; the exact form is accurate, the others not
+    assert "implicit_table" in seen["goal"] and "64" in seen["goal"]
+    assert "no implicit model meets it" in seen["finding"] and "#implicit-goal" in seen["links"]

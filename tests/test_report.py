@@ -406,6 +406,12 @@ def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
     assert jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml")) == off
     full = jobs("--config", "measurements={plan: full}")
     assert "speed_accuracy" in full and "stability_measurement" in full and "implicit_surface" in full
+    # the export: none unless export.surfaces names a surface, then one job a surface and the summary
+    assert "export" not in default
+    (workflow_dir / "export.yaml").write_text(json.dumps({"export": {"surfaces": [[1.0, 1.0], [0.5, 1.0]]}}))
+    exported = jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "export.yaml"))
+    counts = dict(re.findall(r"^(export\w*)\s+(\d+)$", exported, re.M))
+    assert counts == {"export": "2", "export_summary": "1"}, exported
 
 
 def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():
