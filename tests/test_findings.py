@@ -250,7 +250,7 @@ def test_every_statement_is_made_and_links_to_its_evidence(full_page):
     targets = {s["finding"]: s["links"] for s in full_page.statements}
     assert targets["ranking"] == ["#tables"] and targets["laws"] == ["#share-laws"]
     assert targets["random"] == ["#random-claim"] and targets["speed"] == ["#speed-accuracy"]
-    assert targets["accuracy"] == ["#renderer-validation"] and targets["implicit"] == ["#implicit-validation"]
+    assert targets["accuracy"] == ["#renderer-validation"] and targets["implicit"] == ["#implicit-goal", "#implicit-validation"]
     assert targets["implied"] == ["#implied-scale"] and targets["exact"] == ["#exact-peaks"]
     assert targets["light-transport"] == ["#light-transport"]
     assert full_page.statements[0]["text"].startswith("Tables 1–2 rank the models")

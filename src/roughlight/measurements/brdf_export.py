@@ -50,8 +50,8 @@ TABLE = {"incidence": [float(i) for i in range(0, 91, 5)], "edge_on": True, "lig
 #: The Mitsuba file by default (``export.mitsuba``): the detector's elevation nodes (``theta_i = 90 - elevation``;
 #: closer near the horizon), its azimuth nodes over the quarter the plugin folds views into (the square's mirrors:
 #: reduction 4) and the half-vector grid's side.
-MITSUBA = {"elevation": [2.0, 4.0, 7.0, 10.0, 15.0, 20.0, 30.0, 40.0, 50.0, 60.0, 75.0, 90.0], "phi_nodes": 10,
-           "resolution": 48}
+MITSUBA = {"elevation": [1.5, 3.0, 4.5, 6.0, 8.0, 10.0, 13.0, 16.0, 20.0, 25.0, 30.0, 37.0, 45.0, 53.0, 62.0, 72.0,
+                         81.0, 90.0], "phi_nodes": 19, "resolution": 32}
 
 #: The checks by default (``export.check``): lights and views drawn off the nodes, and the random seed.
 CHECK = {"lights": 3, "views": 400, "seed": 2001}

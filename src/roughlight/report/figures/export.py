@@ -54,8 +54,9 @@ def fig_export(tables: list, check: pd.DataFrame | None, lighting=None):
     table = tables[0]
     fig, axes = plt.subplots(1, len(LIGHTS) + 1, figsize=(4.0 * (len(LIGHTS) + 1), 3.8),
                              gridspec_kw={"width_ratios": [1] * len(LIGHTS) + [1.5]})
+    vmax = float(check["reference"][check["component"] == "total"].quantile(0.99))  # the checked views' range
     for ax, (incidence, psi) in zip(axes, LIGHTS):
-        image = _hemisphere(ax, table, incidence, psi, lighting, vmax=min(255.0, 2.0 * lighting.light))
+        image = _hemisphere(ax, table, incidence, psi, lighting, vmax=max(vmax, 1.0))
     fig.colorbar(image, ax=list(axes[: len(LIGHTS)]), shrink=0.8, label="total (0-255)")
     ax = axes[-1]
     total = check[check["component"] == "total"]

@@ -31,7 +31,8 @@ def export_section(export_summary: pd.DataFrame | None = None, export_png=None) 
         methods = {r.method: {"mae": float(r.mae), "p99": float(r.p99), "worst": float(r.worst),
                               "within": bool(r.within_level), "megabytes": float(r.megabytes),
                               "file_megabytes": float(r.file_megabytes), "views": int(r.views),
-                              "worst_elevation": float(r.worst_elevation), "worst_incidence": float(r.worst_incidence)}
+                              "worst_above": min(float(r.worst_elevation), 180.0 - float(r.worst_elevation)),
+                              "worst_incidence": float(r.worst_incidence)}
                    for r in rows.itertuples()}
         first = rows.iloc[0]
         surfaces.append({"truncation": float(t), "aspect": float(a), "methods": methods,
