@@ -216,3 +216,15 @@ class Browser:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def read_page(html: str, workdir, script: str, width: int = 1280, height: int = 900):
+    """Write the page ``html`` to ``workdir/report.html``, open it in Chromium and return what ``script`` (a
+    JavaScript expression) evaluates to there, after checking the page raised no error."""
+    path = Path(workdir) / "report.html"
+    path.write_text(html, encoding="utf-8")
+    with Browser(width, height, workdir=workdir) as browser:
+        browser.open(path)
+        seen = browser.evaluate(script)
+        assert browser.errors() == []
+    return seen

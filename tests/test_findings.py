@@ -525,7 +525,7 @@ def test_the_light_transport_section_and_its_finding_show_in_chromium(tmp_path):
     from roughlight.measurements.light_transport import interreflection_summary
     from roughlight.report import figures as F
 
-    from .browser import Browser
+    from .browser import read_page
 
     frames = light_frames()
     summary = frames["interreflection_summary"]
@@ -536,20 +536,15 @@ def test_the_light_transport_section_and_its_finding_show_in_chromium(tmp_path):
     chart = F.make("light_transport", tmp_path / "light_transport.png", summary=interreflection_summary(
         pd.DataFrame(rows)), frame=pd.DataFrame(rows))
     html = R.build_report({**frames, "light_transport_png": chart}, {})
-    path = tmp_path / "report.html"
-    path.write_text(html, encoding="utf-8")
-    with Browser(1280, 900, workdir=tmp_path) as browser:
-        browser.open(path)
-        seen = browser.evaluate("""(() => { const s = document.getElementById('light-transport');
-            const img = document.querySelector('#fig-light-transport img');
-            const link = document.querySelector('[data-finding="light-transport"] a');
-            return {img: !!img && img.complete && img.naturalWidth > 0,
-                    tables: ['mitsuba-agreement-table', 'interreflection-table'].map(
-                      id => !!document.getElementById(id)),
-                    text: s.parentElement.innerText, link: link && link.getAttribute('href'),
-                    wide: [...document.querySelectorAll('body *')].filter(
-                      e => e.getBoundingClientRect().right > 1280 + 1).map(e => e.tagName).slice(0, 3)}; })()""")
-        assert browser.errors() == []
+    seen = read_page(html, tmp_path, """(() => { const s = document.getElementById('light-transport');
+        const img = document.querySelector('#fig-light-transport img');
+        const link = document.querySelector('[data-finding="light-transport"] a');
+        return {img: !!img && img.complete && img.naturalWidth > 0,
+                tables: ['mitsuba-agreement-table', 'interreflection-table'].map(
+                  id => !!document.getElementById(id)),
+                text: s.parentElement.innerText, link: link && link.getAttribute('href'),
+                wide: [...document.querySelectorAll('body *')].filter(
+                  e => e.getBoundingClientRect().right > 1280 + 1).map(e => e.tagName).slice(0, 3)}; })()""")
     assert seen["img"] and seen["tables"] == [True, True] and seen["link"] == "#light-transport"
     assert seen["wide"] == []
     assert "views. Every view is within one level" in seen["text"]  # two sentences, the bounces named

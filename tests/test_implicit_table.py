@@ -200,7 +200,7 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     from roughlight.report import figures as F
     from roughlight.report import page as R
 
-    from .browser import Browser
+    from .browser import read_page
 
     paths = {"shares": tmp_path / "shares.npz", "mitsuba": tmp_path / "brdf.bsdf"}
     out = brdf_export.export_surface(SURFACE, paths, NODES | {"edge_on": False},
@@ -213,21 +213,16 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     validation, frames = _validation_and_frames(out["table"].nbytes)
     html = R.build_report({"export_summary": summary, "export_png": chart, "implicit_validation": validation,
                            "implicit_frames": frames}, {})
-    path = tmp_path / "report.html"
-    path.write_text(html, encoding="utf-8")
-    with Browser(1280, 900, workdir=tmp_path) as browser:
-        browser.open(path)
-        seen = browser.evaluate("""(() => { const s = document.getElementById('export');
-            const img = document.querySelector('#fig-export img');
-            const goal = document.getElementById('implicit-goal-table');
-            const link = [...document.querySelectorAll('[data-finding="implicit"] a')].map(a => a.getAttribute('href'));
-            return {img: !!img && img.complete && img.naturalWidth > 0, table: !!document.getElementById('export-table'),
-                    text: s.parentElement.innerText, goal: goal && goal.innerText, links: link,
-                    finding: document.querySelector('[data-finding="implicit"]').innerText,
-                    toc: !!document.querySelector('a[href="#export"]'),
-                    wide: [...document.querySelectorAll('body *')].filter(
-                      e => e.getBoundingClientRect().right > 1280 + 1).map(e => e.tagName).slice(0, 3)}; })()""")
-        assert browser.errors() == []
+    seen = read_page(html, tmp_path, """(() => { const s = document.getElementById('export');
+        const img = document.querySelector('#fig-export img');
+        const goal = document.getElementById('implicit-goal-table');
+        const link = [...document.querySelectorAll('[data-finding="implicit"] a')].map(a => a.getAttribute('href'));
+        return {img: !!img && img.complete && img.naturalWidth > 0, table: !!document.getElementById('export-table'),
+                text: s.parentElement.innerText, goal: goal && goal.innerText, links: link,
+                finding: document.querySelector('[data-finding="implicit"]').innerText,
+                toc: !!document.querySelector('a[href="#export"]'),
+                wide: [...document.querySelectorAll('body *')].filter(
+                  e => e.getBoundingClientRect().right > 1280 + 1).map(e => e.tagName).slice(0, 3)}; })()""")
     assert seen["img"] and seen["table"] and seen["toc"] and seen["wide"] == []
     assert "truncation 0.5, aspect 0.8: the share table" in seen["text"]
     assert "the Mitsuba file" in seen["text"] and "Measured and checked in" in seen["text"]
