@@ -329,7 +329,11 @@ def export_files():
     """Every file rule export writes for export.surfaces, and export_summary's table and picture ([] when none is
     exported)."""
     files = rl_plan.export_files(config)
-    return files + ["results/export/summary.csv", "results/export/export.png"] if files else []
+    return (
+        files + ["results/export/summary.csv", "results/export/export.png"]
+        if files
+        else []
+    )
 
 
 def _export_outputs(name):
