@@ -133,16 +133,25 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
 
     tiny = {"grid": ((1.0, 1.0),), "incidences": (30.0,), "random": 1, "steps": (15.0, 60.0), "fields": (4,),
             "frame_views": ((60.0, 20.0),), "repeats": 1}
+    from roughlight.measurements.brdf_export import measure_table
+
     monkeypatch.setitem(implicit_bench.PLANS, "tiny", tiny)
-    table = implicit_bench.validation("tiny")
+    # the table model on the surface a (small) table holds, as rule export's tables reach the validation
+    tables = {(1.0, 1.0): measure_table(Surface(1.0, 1.0), [0, 30, 60, 90], [0, 45], [5, 30, 60, 90], 30)}
+    table = implicit_bench.validation("tiny", tables=tables)
     assert set(table["method"]) == set(implicit_bench.VALIDATED) and set(table["kind"]) == {"grid", "random"}
+    assert set(table.loc[table["method"] == "implicit_table", "kind"]) == {"grid"}  # the random surface has none
+    assert (table.loc[table["method"] == "implicit_table", "memory_bytes"] == tables[(1.0, 1.0)].nbytes).all()
     exact = table[(table.method == "implicit_exact") & (table.component == "diffuse")]
     fast = table[(table.method == "fast") & (table.component == "diffuse")]
     assert exact["mae"].max() < fast["mae"].max()
     pictures = {}
-    frames = implicit_bench.frame_times("tiny", size=64, pictures=pictures)
+    frames = implicit_bench.frame_times("tiny", size=64, pictures=pictures, tables=tables)
     assert set(pictures) == set(frames["method"]) and all(p.shape == (64, 64) for p in pictures.values())
-    assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction"}
+    assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction", "implicit_table"}
+    goal = {g["method"]: g for g in implicit_bench.goal(table, frames)}
+    assert set(goal) == set(implicit_bench.MODEL_METHODS) and goal["implicit_table"]["memory_bytes"] > 0
+    assert all(g["meets"] == (g["accurate"] and g["fast"]) for g in goal.values())
     assert (frames.loc[frames.method != "explicit", "triangles"] == 2).all()
     assert frames.loc[frames.method == "implicit_exact", "error"].max() < 1.0
     figures.make("implicit", tmp_path / "implicit.png", validation=table, frames=frames, pictures=pictures)

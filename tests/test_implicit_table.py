@@ -110,8 +110,10 @@ def test_the_table_file_round_trips(table, tmp_path):
 
 
 def test_bad_tables_and_settings_are_refused(table, tmp_path):
-    with pytest.raises(ValueError, match="implicit_table.table"):
-        methods.settings("implicit_table", {})
+    with pytest.raises(ValueError, match="reads its shares from a table"):
+        methods.sweep("implicit_table", SURFACE, 30.0, [0.0], [30.0])
+    with pytest.raises(ValueError, match="takes no table"):
+        methods.settings("implicit_correction", {"table": table})
     with pytest.raises(FileNotFoundError, match="no share table"):
         methods.sweep("implicit_table", SURFACE, 30.0, [0.0], [30.0], settings={"table": str(tmp_path / "no.npz")})
     with pytest.raises(ValueError, match="not of"):

@@ -287,10 +287,14 @@ def test_each_method_records_how_it_sampled(tmp_path):
 
     sweep = {"elevation_step": 60, "azimuth_step": 90}  # 4 views
     lighting = shading.Lighting().as_dict()
+    from roughlight.measurements.brdf_export import measure_table
+
+    # the table model draws from a table of the surface's shares: a small one
+    tables = {"implicit_table": {"table": measure_table(Surface(0.5, 1.0), [0, 30, 90], [0, 45], [10, 45, 90], 45)}}
     seen = {}
     for method in methods.NAMES:
         path = tmp_path / f"{method}.parquet"
-        study.run_sweep(str(path), Surface(0.5, 1.0), 30.0, sweep, lighting, method, {})
+        study.run_sweep(str(path), Surface(0.5, 1.0), 30.0, sweep, lighting, method, tables.get(method, {}))
         table = pq.read_table(path).to_pandas()
         seen[method] = {c: table[c].astype(object).unique().tolist()
                         for c in ("method", "pixels_per_period", "sampling", "shadow_map_size")}
@@ -308,6 +312,8 @@ def test_each_method_records_how_it_sampled(tmp_path):
                              "shadow_map_size": [2048]}
     assert seen["reference"] == {"method": ["reference"], "pixels_per_period": [0], "sampling": ["exact"],
                                  "shadow_map_size": [0]}
+    assert seen["implicit_table"] == {"method": ["implicit_table"], "pixels_per_period": [65], "sampling": ["table"],
+                                      "shadow_map_size": [0]}
     with pytest.raises(ValueError, match="render.method"):
         methods.recorded("raytrace")
 

@@ -32,8 +32,8 @@ from .report_chain import SCHEMA, resolved, whole_report
 
 S32 = math.sqrt(3.0) / 2.0
 DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
-SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "random", "light-transport",
-            "stability", "provenance")
+SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "export", "random",
+            "light-transport", "stability", "provenance")
 
 
 def merged(base: dict, edits: dict) -> dict:
@@ -208,6 +208,13 @@ def test_any_users_grid_gives_the_whole_report(tmp_path_factory, truncation, asp
 
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
+#: An export of a few nodes (rule export's scripts run end to end in seconds; its accuracy has tests of its own).
+TINY_EXPORT = {"surfaces": [[0.5, 1.0]],
+               "table": {"incidence": [0, 30, 60, 90], "edge_on": False, "light_azimuth": [0, 45],
+                         "elevation": [5, 30, 90], "azimuth_step": 45},
+               "mitsuba": {"elevation": [10, 45, 90], "phi_nodes": 3, "resolution": 8},
+               "check": {"lights": 1, "views": 20}}
+
 
 @pytest.mark.slow
 def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
@@ -217,9 +224,10 @@ def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
     grids = [
         {"grid": {"truncation": [0.3, 1.0], "aspect": [0.6]}, "sweep": {"elevation_step": 30, "azimuth_step": 90},
-         "surface": {"seeds": SEEDS}},
+         "surface": {"seeds": SEEDS}, "export": TINY_EXPORT},
         {"grid": {"truncation": [0.2, 0.5, 0.8, 1.0], "aspect": [0.4, 0.9], "incidence": [45]},
-         "sweep": {"elevation_step": 30, "azimuth_step": 90}, "surface": {"kind": "random_pyramids", "seeds": SEEDS}},
+         "sweep": {"elevation_step": 30, "azimuth_step": 90}, "surface": {"kind": "random_pyramids", "seeds": SEEDS},
+         "export": TINY_EXPORT},
     ]
     for k, grid in enumerate(grids):
         user = workflow_dir / f"user{k}.yaml"
@@ -237,3 +245,7 @@ def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
         assert sorted(set(study.loc[study["kind"] == "pyramids", "truncation"])) == grid["grid"]["truncation"]
         tables = pd.read_csv(workflow_dir / "results" / "analysis" / "thesis_tables.csv")
         assert set(tables.loc[tables["source"] == "ours", "aspect"]) == set(cfg["report"]["table_aspects"])
+        # the export does not follow the grid: written by the first run, the same for the second
+        exported = pd.read_csv(workflow_dir / "results" / "export" / "summary.csv")
+        assert set(exported["method"]) == {"implicit_table", "mitsuba_measured"} and (exported["views"] == 20).all()
+        assert 'id="fig-export"' in html and "truncation 0.5, aspect 1: the share table" in html

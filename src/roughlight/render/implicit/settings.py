@@ -37,15 +37,18 @@ class ImplicitSettings:
         model_samples(self.model)  # refuses an unknown model
         if self.samples is not None and int(self.samples) not in FIBONACCI:
             raise ValueError(f"samples must be one of the Fibonacci numbers {FIBONACCI}, got {self.samples!r}")
-        if (self.model == "table") != (self.table is not None):
-            raise ValueError("the implicit table model reads its shares from a table: set render.implicit_table.table "
-                             "to a share table file (rule export writes one: results/export/<surface>/shares.npz)"
-                             if self.model == "table" else f"the implicit {self.model} model takes no table")
+        if self.model != "table" and self.table is not None:
+            raise ValueError(f"the implicit {self.model} model takes no table")
 
     def share_table(self):
-        """The table model's :class:`~roughlight.render.implicit.table.ShareTable` (read from its file once)."""
+        """The table model's :class:`~roughlight.render.implicit.table.ShareTable` (read from its file once);
+        ``ValueError`` when it has none."""
         from .table import ShareTable
 
+        if self.table is None:
+            raise ValueError("the implicit table model reads its shares from a table: give its settings one "
+                             "(ImplicitSettings(model='table', table=...): a ShareTable or the file rule export writes, "
+                             "results/export/t{truncation}_a{aspect}/shares.npz)")
         if isinstance(self.table, ShareTable):
             return self.table
         if not os.path.exists(self.table):
