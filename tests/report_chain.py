@@ -27,6 +27,16 @@ from .conftest import REPO
 
 SCHEMA = REPO / "workflow" / "schemas" / "config.schema.yaml"
 
+#: The chain checks the page's structure, not its pictures: every figure is drawn by its own function (so a figure
+#: that falls back to its placeholder still shows), then saved at this resolution without the tight bounding box,
+#: which took a third of an example's time (issue 46).
+DRAFT_DPI = 30
+
+
+def draft(fig, path) -> str:
+    """Save a drawn figure as the chain's draft (:data:`DRAFT_DPI`, no tight bounding box)."""
+    return F.save_figure(fig, path, dpi=DRAFT_DPI, bbox_inches=None)
+
 
 def resolved(user: dict) -> tuple[dict, list[str]]:
     """The config the workflow runs with (defaults filled, the grid's followers set) and the follow notes."""
@@ -61,7 +71,7 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
     glm, outputs["glm_messages"] = steps.analysis_glm(outputs["lobes_arc"], outputs["diffuse_levels"], settings,
                                                       lighting)
     outputs.update(glm, **steps.analysis_models(regular_study, settings, lighting))
-    figures = {name: F.save_figure(fig, workdir / "figures" / f"{name}.png")
+    figures = {name: draft(fig, workdir / "figures" / f"{name}.png")
                for name, fig in F.drawn_figures({"study": regular_study, **outputs}, settings)}
     # the renderer validation's arc curves (rule renderer_validation) follow the table aspects and the grid's arcs
     smoothness = arc_smoothness(study, settings["table_aspects"], settings["table_incidence"], Lighting(**lighting))
@@ -69,8 +79,8 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
     if rl_config.random_surfaces(cfg):
         outputs.update(steps.analysis_random(study, settings, lighting))
         # the charts rule analysis_random draws (the page is built without them: the chain checks the tables)
-        F.make("random_ensembles", workdir / "figures" / "random_ensembles.png", summary=outputs["random_ensembles"])
-        F.make("random_maps", workdir / "figures" / "random_maps.png", study=study)
+        draft(F.draw("random_ensembles", summary=outputs["random_ensembles"]), workdir / "figures" / "random_ensembles.png")
+        draft(F.draw("random_maps", study=study), workdir / "figures" / "random_maps.png")
     if cfg["report"]["explorer"]["enabled"]:  # rule explorer_data
         outputs["explorer_data"] = explorer_data(study_columns(study), budget=cfg["report"]["explorer"]["budget"])
     ran_on = renderers(sorted((workdir / "results" / "sweeps").rglob("*.parquet")))  # as study_table records them
