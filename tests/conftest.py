@@ -1,12 +1,18 @@
-"""Shared test settings: OSMesa before anything imports OpenGL; one llvmpipe thread."""
+"""Shared test settings: OSMesa before anything imports OpenGL; one llvmpipe thread; one Dr.Jit kernel cache."""
 import os
 import shutil
+import tempfile
 from pathlib import Path
 
 import pytest
 
 os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
 os.environ.setdefault("LP_NUM_THREADS", "1")
+# Mitsuba's kernels compiled once for every test, its workers and the workflows they run (each of which would
+# otherwise compile them again in its own .snakemake/drjit: 10 s of the quick light_transport job, issue 46); the
+# tests of where the cache goes set their own environment
+os.environ.setdefault("DRJIT_CACHE_DIR", os.path.join(tempfile.gettempdir(), f"roughlight-drjit-tests-{os.getuid()}"))
+os.makedirs(os.environ["DRJIT_CACHE_DIR"], exist_ok=True)
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -48,35 +54,36 @@ def broken_osmesa(tmp_path_factory):
 # scheduling on pytest-xdist's workers (make test: -n 2 with xdist's default --dist load; pyproject's --no-loadscope-reorder)
 
 #: Seconds a test (or a parametrized family: a node id prefix) took on the reference machine, from `pytest -n 2
-#: --durations=60` (2026-11-26, issue 35). Only the order comes from them: the longest run first, so that the two
-#: workers finish together instead of one starting a 150 s test while the other has nothing left.
+#: --durations=40` (2026-11-28, issue 46; a test below the 40 slowest, 1.6 s and less, at 1.5). Only the order
+#: comes from them: the longest run first, so that the two workers finish together instead of one starting a long
+#: test while the other has nothing left.
 EXPECTED_SECONDS = {
-    "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 380,
-    "tests/test_report.py::test_workflow_builds_the_report_and_lints": 250,
-    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 140,
-    "tests/test_cluster.py::": 135,
-    "tests/test_random.py::test_adding_a_seed_renders_only_it": 63,
-    "tests/test_workflow.py::test_killed_run_reruns_to_the_same_table": 45,
-    "tests/test_random.py::test_fast_renderer_matches_the_reference_on_a_random_tile": 30,
-    "tests/test_workflow.py::test_tiny_study_end_to_end": 44,
-    "tests/test_workflow.py::test_broken_osmesa_stops_before_any_job": 32,
-    "tests/test_report.py::test_optional_parts_follow_the_config_not_the_files": 24,
-    "tests/test_renderer_validation.py::test_adaptive_sampling_is_within_one_level_where_the_lattice_is_not": 16,
-    "tests/test_workflow.py::test_unwritable_results_and_corrupt_sweeps": 22,
-    "tests/test_config.py::test_validation_accepts_exactly_the_valid_grids": 21,
-    "tests/test_random.py::test_the_random_parts_of_the_report_follow_surface_kind": 19,
-    "tests/test_platforms.py::test_osmesa_and_egl_give_the_same_numbers_for_every_method": 19,
-    "tests/test_user_grids.py::test_every_grid_validates_and_its_followers": 17,
-    "tests/test_rendering.py::test_averaged_normals_shading_is_wrong_where_flat_is_right": 15,
-    "tests/test_benchmark.py::": 12,
-    "tests/test_workflow.py::test_a_second_run_stops_at_once": 14,
-    "tests/test_packaging.py::test_the_package_runs_from_the_wheel_alone": 12,
+    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 98,
+    "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 91,
+    "tests/test_cluster.py::": 57,
+    "tests/test_report.py::test_workflow_builds_the_report_and_lints": 35,
+    "tests/test_workflow.py::test_tiny_study_end_to_end": 17,
+    "tests/test_random.py::test_adding_a_seed_renders_only_it": 14,
+    "tests/test_workflow.py::test_unwritable_results_and_corrupt_sweeps": 11,
+    "tests/test_workflow.py::test_killed_run_reruns_to_the_same_table": 11,
+    "tests/test_random.py::test_fast_renderer_matches_the_reference_on_a_random_tile": 10,
+    "tests/test_workflow.py::test_broken_osmesa_stops_before_any_job": 7,
+    "tests/test_report.py::test_optional_parts_follow_the_config_not_the_files": 7,
+    "tests/test_workflow.py::test_a_second_run_stops_at_once": 6,
+    "tests/test_config.py::test_validation_accepts_exactly_the_valid_grids": 1.5,
+    "tests/test_random.py::test_the_random_parts_of_the_report_follow_surface_kind": 3,
+    "tests/test_platforms.py::test_osmesa_and_egl_give_the_same_numbers_for_every_method": 3,
+    "tests/test_user_grids.py::test_every_grid_validates_and_its_followers": 1.5,
+    "tests/test_rendering.py::test_averaged_normals_shading_is_wrong_where_flat_is_right": 4,
+    "tests/test_benchmark.py::": 1.5,
+    "tests/test_packaging.py::test_the_package_runs_from_the_wheel_alone": 2,
     "tests/test_renderer_validation.py::": 8,
     "tests/test_implicit.py::": 6,
-    "tests/test_random.py::test_random_accuracy_leaves_out": 11,
+    "tests/test_implicit_table.py::": 2,
+    "tests/test_random.py::test_random_accuracy_leaves_out": 2,
     "tests/test_lighting_against_reference.py::": 2,
-    "tests/test_random.py::test_ensemble_statistics_on_a_tiny_grid": 7,
-    "tests/test_study_table.py::test_the_study_is_written_a_sweep_at_a_time": 6,
+    "tests/test_random.py::test_ensemble_statistics_on_a_tiny_grid": 2,
+    "tests/test_study_table.py::test_the_study_is_written_a_sweep_at_a_time": 1.5,
     "tests/test_workflow.py::": 6,
 }
 
@@ -100,8 +107,8 @@ GROUPS = (
     ("tests/test_packaging.py::", "packaging"),
 )
 #: The seconds of a group's fixtures (its place in the order: their tests' seconds and these).
-FIXTURE_SECONDS = {"built": 40, "tiny_run": 15, "explorer": 17, "analysis": 12, "findings": 14, "stability": 11,
-                   "lighting": 11, "packaging": 7}
+FIXTURE_SECONDS = {"built": 12, "tiny_run": 5, "explorer": 6.5, "analysis": 3, "findings": 2, "stability": 2,
+                   "lighting": 3.5, "packaging": 2}
 
 
 def _expected(nodeid: str) -> float:
