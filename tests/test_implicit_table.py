@@ -93,9 +93,14 @@ def test_the_shader_reads_the_table_as_numpy_does(table):
 def test_the_table_model_draws_a_field_on_one_quad(table):
     from roughlight.render.implicit import render_field
 
+    from roughlight.render.gl.context import context
+
     image, seconds = render_field("table", SURFACE, 35.0, 60.0, 20.0, 8, size=64, table=table)
     expected = table_values(table, *_pairs(35.0, 0.0, [20.0], [60.0]))["total"][0]
     assert seconds > 0 and abs(image[..., 2].mean() - expected) < 1.5
+    # a second frame reads the textures the first uploaded (a scene keeps them resident), to the same picture
+    again, _ = render_field("table", SURFACE, 35.0, 60.0, 20.0, 8, size=64, table=table)
+    assert np.array_equal(again, image) and list(context(64, 64, 1)._share_tables) == [id(table)]
 
 
 def test_the_table_file_round_trips(table, tmp_path):
