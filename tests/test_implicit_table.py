@@ -91,9 +91,8 @@ def test_the_shader_reads_the_table_as_numpy_does(table):
 
 
 def test_the_table_model_draws_a_field_on_one_quad(table):
-    from roughlight.render.implicit import render_field
-
     from roughlight.render.gl.context import context
+    from roughlight.render.implicit import render_field
 
     image, seconds = render_field("table", SURFACE, 35.0, 60.0, 20.0, 8, size=64, table=table)
     expected = table_values(table, *_pairs(35.0, 0.0, [20.0], [60.0]))["total"][0]
