@@ -97,7 +97,7 @@ style: setup
 # the default workflow from a clean results/ (in a temporary copy of this tree: yours stay) against its budgets:
 # wall time, the largest job's memory, the time by part (docs/budgets.md)
 budget: setup
-	$(BIN)/python tests/budget.py --cores $(CORES)
+	$(BIN)/python tests/budget.py --cores $(CORES) $(if $(BASE),--baseline $(BASE))
 
 lint: style
 	$(BIN)/snakemake --lint

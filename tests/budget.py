@@ -1,6 +1,8 @@
 """The default workflow against its budgets: wall time, the largest job, and the time by part.
 
     python tests/budget.py            # (or `make budget`) a fresh copy of this tree, `snakemake --cores 2`
+    python tests/budget.py --baseline ea48dc6   # (`make budget BASE=ea48dc6`) that commit first, then this
+                                                # tree, back to back: the wall time as a ratio of the baseline's
     python tests/budget.py --run DIR  # an existing finished run's results/ (its wall time as --wall S)
 
 The run happens in a temporary copy of the working tree (tracked and untracked files, without results/, reports/,
@@ -23,9 +25,12 @@ from pathlib import Path
 import pandas as pd
 
 ROOT = Path(__file__).resolve().parents[1]
-#: The budgets (docs/budgets.md): the default workflow's wall seconds on 2 cores, one job's peak memory, MB, and a
-#: regular sweep's start-up beyond rendering, seconds (issue 35).
+#: The budgets (docs/budgets.md): the default workflow's wall seconds on 2 cores (and, measured back to back with
+#: the baseline commit ea48dc6, the share of its wall time), one job's peak memory, MB, and a regular sweep's
+#: start-up beyond rendering, seconds (issue 35).
 WALL_BUDGET_S = 180.0
+BASELINE = "ea48dc6"
+RATIO_BUDGET = 0.5
 JOB_BUDGET_MB = 1024.0
 STARTUP_BUDGET_S = 0.3
 SKIP = {"results", "reports", ".snakemake", ".venv", ".git", "__pycache__", ".pytest_cache", ".ruff_cache"}
@@ -107,19 +112,36 @@ def summary(table: pd.DataFrame, wall: float, startup: pd.Series | None = None) 
     return "\n".join(lines)
 
 
-def fresh_run(cores: int) -> tuple[Path, float]:
-    """Copy the working tree to a temporary directory and run the default workflow there; (its dir, wall s)."""
+def fresh_run(cores: int, revision: str | None = None) -> tuple[Path, float]:
+    """Copy the working tree (or the tracked files of the commit ``revision``) to a temporary directory and run the
+    default workflow there, its own ``src/`` first on ``PYTHONPATH`` and its bytecode compiled first, as `make
+    setup` compiles it; (its dir, wall s)."""
     where = Path(tempfile.mkdtemp(prefix="roughlight-budget-"))
-    shutil.copytree(ROOT, where, ignore=lambda d, names: [n for n in names if n in SKIP], symlinks=True,
-                    dirs_exist_ok=True)
+    if revision is None:
+        shutil.copytree(ROOT, where, ignore=lambda d, names: [n for n in names if n in SKIP], symlinks=True,
+                        dirs_exist_ok=True)
+    else:
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", revision], capture_output=True)
+        if archive.returncode != 0:
+            raise SystemExit(f"no commit {revision!r} here: {archive.stderr.decode()[-300:]}")
+        subprocess.run(["tar", "-x", "-C", str(where)], input=archive.stdout, check=True)
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(where / "src")], capture_output=True)
     snakemake = str(Path(sys.executable).with_name("snakemake"))
-    env = {**os.environ, "PYOPENGL_PLATFORM": os.environ.get("PYOPENGL_PLATFORM", "osmesa")}
+    env = {**os.environ, "PYOPENGL_PLATFORM": os.environ.get("PYOPENGL_PLATFORM", "osmesa"),
+           "PYTHONPATH": os.pathsep.join([str(where / "src"), *filter(None, [os.environ.get("PYTHONPATH")])])}
     start = time.perf_counter()
     done = subprocess.run([snakemake, "--cores", str(cores)], cwd=where, env=env, capture_output=True, text=True)
     wall = time.perf_counter() - start
     if done.returncode != 0:
         raise SystemExit(f"the workflow failed in {where}:\n{done.stderr[-3000:]}")
     return where, wall
+
+
+def ratio_line(wall: float, baseline: str, baseline_wall: float) -> str:
+    """The wall time against the baseline's, measured back to back, beside the budget (:data:`RATIO_BUDGET`)."""
+    ratio = wall / baseline_wall
+    return (f"against {baseline:<8} {ratio:6.2f}       budget {RATIO_BUDGET:.2f}    "
+            f"{'OVER' if ratio > RATIO_BUDGET else 'ok'}  ({wall:.1f} s against {baseline_wall:.1f} s, back to back)")
 
 
 def main(argv=None) -> int:
@@ -129,7 +151,15 @@ def main(argv=None) -> int:
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--strict", action="store_true", help="exit 1 when a budget is exceeded")
     parser.add_argument("--keep", action="store_true", help="keep the fresh run's directory")
+    parser.add_argument("--baseline", metavar="REV", help=f"run this commit first (the budget's: {BASELINE}) and "
+                        "give the wall time as a ratio of its, back to back")
     args = parser.parse_args(argv)
+    if args.run and args.baseline:
+        parser.error("--baseline runs both workflows itself: it takes no --run")
+    baseline_wall = None
+    if args.baseline:
+        base, baseline_wall = fresh_run(args.cores, args.baseline)
+        shutil.rmtree(base, ignore_errors=True)
     if args.run:
         if args.wall is None:
             parser.error("--run needs --wall (the run's wall time, seconds)")
@@ -138,11 +168,14 @@ def main(argv=None) -> int:
         run, wall = fresh_run(args.cores)
     table = jobs(run)
     print(summary(table, wall, startup(run, table)))
+    if baseline_wall is not None:
+        print(ratio_line(wall, args.baseline, baseline_wall))
     if not args.run:
         print(f"\n(the run: {run})" if args.keep else "")
         if not args.keep:
             shutil.rmtree(run, ignore_errors=True)
-    over = wall > WALL_BUDGET_S or table["max_rss_mb"].max() > JOB_BUDGET_MB
+    over = wall > WALL_BUDGET_S or table["max_rss_mb"].max() > JOB_BUDGET_MB or (
+        baseline_wall is not None and wall / baseline_wall > RATIO_BUDGET)
     return 1 if (args.strict and over) else 0
 
 

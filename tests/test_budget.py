@@ -57,3 +57,46 @@ def test_a_regular_sweeps_start_up_is_its_jobs_time_beyond_rendering_shared_by_i
     assert shares.to_dict() == pytest.approx({"sweeps/i30/t0.5": 0.4, "sweeps/i30/t1": 1.0})
     line = budget.summary(table, 100.0, shares).splitlines()[3]
     assert line.startswith("sweep start-up     0.70 s") and "OVER" in line
+
+
+def test_a_baseline_runs_first_from_its_own_commit_and_the_ratio_is_against_its_budget(tmp_path, monkeypatch):
+    """``--baseline REV``: the commit's tracked files in a directory of their own, run first; the tree's run next;
+    the ratio of their wall times printed beside its budget, OVER past it."""
+    runs = []
+
+    def fake(cores, revision=None):
+        where = tmp_path / (revision or "tree")
+        _bench(where / "results" / "logs" / "study.benchmark.tsv", 5.0, 300)
+        runs.append(revision)
+        return where, {"ea48dc6": 300.0, None: 200.0}[revision]
+
+    monkeypatch.setattr(budget, "fresh_run", fake)
+    assert budget.main(["--baseline", "ea48dc6", "--keep", "--strict"]) == 1  # 0.67 > 0.5
+    assert runs == ["ea48dc6", None]
+    line = budget.ratio_line(200.0, "ea48dc6", 300.0)
+    assert "0.67" in line and "OVER" in line and "200.0 s against 300.0 s" in line
+    assert "ok" in budget.ratio_line(140.0, "ea48dc6", 300.0)
+
+
+def test_a_baseline_is_the_commits_tracked_files(tmp_path, monkeypatch):
+    """The baseline's directory holds the commit's files (here: the README as it was), not the working tree's."""
+    import subprocess
+
+    monkeypatch.setattr(budget.subprocess, "run", _no_snakemake(subprocess.run))
+    where, _ = budget.fresh_run(1, "HEAD")
+    head = subprocess.run(["git", "-C", str(budget.ROOT), "show", "HEAD:README.md"], capture_output=True,
+                          text=True).stdout
+    assert (where / "README.md").read_text() == head and (where / "Snakefile").is_file()
+    assert not (where / ".venv").exists() and not (where / "results").exists()
+
+
+def _no_snakemake(run):
+    """subprocess.run, but a snakemake call returns at once with success."""
+    import subprocess
+
+    def fake(cmd, *args, **kwargs):
+        if str(cmd[0]).endswith("snakemake"):
+            return subprocess.CompletedProcess(cmd, 0, "", "")
+        return run(cmd, *args, **kwargs)
+
+    return fake
