@@ -24,12 +24,11 @@ share, 5-9 its shadowed share, facets in :data:`roughlight.surfaces.geometry.FAC
 
 from __future__ import annotations
 
-import os
-import tempfile
 from dataclasses import dataclass
 
 import numpy as np
 
+from ...atomic import atomic_path
 from ...surfaces.surface import Surface
 from ...surfaces.symmetry import canonical_directions
 from .. import shading
@@ -107,12 +106,10 @@ class ShareTable:
 
 def save_table(path, table: ShareTable) -> None:
     """Write ``table`` to ``path`` (NumPy ``.npz``), atomically: a temporary name in the same folder, then renamed."""
-    folder = os.path.dirname(os.path.abspath(path))
-    with tempfile.NamedTemporaryFile(dir=folder, suffix=".npz", delete=False) as handle:
+    with atomic_path(path) as temporary, open(temporary, "wb") as handle:
         np.savez_compressed(handle, truncation=table.truncation, aspect=table.aspect, shadows=table.shadows,
                             incidence=table.incidence, light_azimuth=table.light_azimuth,
                             elevation=table.elevation, azimuth_nodes=table.azimuth_nodes, shares=table.shares)
-    os.replace(handle.name, path)
 
 
 def load_table(path) -> ShareTable:

@@ -41,13 +41,13 @@ checking, ``channels="components"`` puts the diffuse, the specular and the total
 
 from __future__ import annotations
 
-import os
 import struct
 import tempfile
 from pathlib import Path
 
 import numpy as np
 
+from ...atomic import atomic_path
 from ..shading import Lighting, check_incidence, facet_components, light_direction, view_direction
 from .field import sensor_matrix
 
@@ -220,22 +220,11 @@ def _write_tensor_file(path: Path, fields: dict, align: int = 8) -> None:
         position += value.nbytes
     for name, offset in offsets.items():
         header[slots[name]:slots[name] + 8] = struct.pack("<Q", offset)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(handle, "wb") as stream:
-            stream.write(header)
-            for name, value in arrays.items():
-                stream.write(b"\x00" * (offsets[name] - stream.tell()))
-                stream.write(value.tobytes())
-        mask = os.umask(0)
-        os.umask(mask)
-        os.chmod(temporary, 0o666 & ~mask)  # as open() would create it (mkstemp makes it private)
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
+    with atomic_path(path) as temporary, open(temporary, "wb") as stream:
+        stream.write(header)
+        for name, value in arrays.items():
+            stream.write(b"\x00" * (offsets[name] - stream.tell()))
+            stream.write(value.tobytes())
 
 
 def write_measured(path, theta_nodes, phi_nodes, rgb, description: str) -> Path:
