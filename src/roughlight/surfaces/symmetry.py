@@ -56,17 +56,25 @@ def canonical_light(surface, light_azimuth: float) -> tuple[float, AzimuthMap]:
         tile) and ``g`` with ``g(light_azimuth) == psi0``: the view at azimuth ``phi`` under the light at
         ``light_azimuth`` sees what the view at ``g(phi)`` (same elevation) sees under the light at ``psi0``.
     """
-    psi = float(np.mod(float(light_azimuth), 360.0))
-    kind = symmetry(surface)
+    psi0, sign, offset = _folds(symmetry(surface), np.array([float(light_azimuth)]))
+    return float(psi0[0]), AzimuthMap(int(sign[0]), float(offset[0]))
+
+
+def _folds(kind: str, light_azimuth):
+    """The canonical light azimuths of many lights and the maps that take them there, arrays (n,): ``psi0``
+    (degrees), ``sign`` (1 a rotation, -1 a mirror) and ``offset`` (degrees) of :class:`AzimuthMap`, for a surface
+    of symmetry ``kind`` (:func:`symmetry`)."""
+    psi = np.mod(np.asarray(light_azimuth, float), 360.0)
+    ones = np.ones(psi.shape, int)
     if kind == "none":
-        return psi, AzimuthMap()
+        return psi, ones, np.zeros(psi.shape)
     if kind == "isotropic":
-        return 0.0, AzimuthMap(1, -psi)
+        return np.zeros(psi.shape), ones, -psi
     quarter = 90.0 * np.floor(psi / 90.0)  # turn into [0, 90) by a multiple of 90 degrees
     rest = psi - quarter
-    if rest <= 45.0:
-        return rest, AzimuthMap(1, -quarter)
-    return 90.0 - rest, AzimuthMap(-1, 90.0 + quarter)  # then mirror about the diagonal at 45 degrees
+    mirrored = rest > 45.0  # then mirror about the diagonal at 45 degrees
+    return (np.where(mirrored, 90.0 - rest, rest), np.where(mirrored, -1, 1),
+            np.where(mirrored, 90.0 + quarter, -quarter))
 
 
 def _turned(directions, degrees, mirrored):
@@ -97,15 +105,5 @@ def canonical_directions(surface, light, view):
         between them, so each facet's lighting equation is unchanged).
     """
     light, view = np.atleast_2d(np.asarray(light, float)), np.atleast_2d(np.asarray(view, float))
-    psi = np.mod(np.degrees(np.arctan2(light[:, 1], light[:, 0])), 360.0)
-    kind = symmetry(surface)
-    mirrored = np.zeros(psi.shape, bool)
-    if kind == "none":
-        return light.copy(), view.copy()
-    if kind == "isotropic":
-        offset = -psi
-    else:  # as canonical_light: a quarter turn into [0, 90), then the mirror about the diagonal past 45
-        quarter = 90.0 * np.floor(psi / 90.0)
-        mirrored = psi - quarter > 45.0
-        offset = np.where(mirrored, 90.0 + quarter, -quarter)
-    return _turned(light, offset, mirrored), _turned(view, offset, mirrored)
+    _, sign, offset = _folds(symmetry(surface), np.degrees(np.arctan2(light[:, 1], light[:, 0])))
+    return _turned(light, offset, sign < 0), _turned(view, offset, sign < 0)
