@@ -13,7 +13,8 @@ imported on first use, so a job imports only what its method needs: the exact re
 - ``implicit_exact`` and ``implicit_correction``: :func:`roughlight.render.implicit.shader.implicit_sweep`,
   :class:`roughlight.render.implicit.settings.ImplicitSettings` with ``model`` ``exact`` or ``correction``;
 - ``implicit_table``: the same with ``model`` ``table``: the facet shares read from a table of them
-  (:mod:`roughlight.render.implicit.table`, the file rule ``export`` writes; ``render.implicit_table.table``);
+  (:mod:`roughlight.render.implicit.table`; its settings' ``table``: a share table or the file rule ``export``
+  writes);
 - ``mitsuba``: :func:`roughlight.render.mitsuba.scene.mitsuba_sweep`,
   :class:`roughlight.render.mitsuba.settings.MitsubaSettings` (Mitsuba 3, no OpenGL; what it draws on is
   :func:`roughlight.render.mitsuba.runtime.identity`'s).

@@ -52,8 +52,8 @@ class ImplicitSettings:
         if isinstance(self.table, ShareTable):
             return self.table
         if not os.path.exists(self.table):
-            raise FileNotFoundError(f"render.implicit_table.table: no share table at {self.table!r} (rule export "
-                                    "writes one)")
+            raise FileNotFoundError(f"the implicit table model's table: no share table at {self.table!r} (rule "
+                                    "export writes one)")
         return _loaded(os.path.abspath(self.table), os.path.getmtime(self.table))
 
     @property
