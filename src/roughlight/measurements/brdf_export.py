@@ -33,8 +33,9 @@ from ..render.exact import LitScene, shares_under
 from ..render.implicit import CHANNELS, SCALE, ShareTable, table_values
 from ..surfaces.geometry import FACET_NAMES
 from ..surfaces.surface import Surface
+from . import comparison
 
-__all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_table", "mitsuba_nodes",
+__all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_table", "tabulate_surface", "mitsuba_nodes",
            "mitsuba_tables", "write_exports", "check_lights", "check_views", "check", "summary", "export_surface",
            "gather", "resolution_study"]
 
@@ -124,6 +125,15 @@ def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth
     stored = np.round(np.clip(shares, 0.0, 1.0) * SCALE).astype(np.uint16)
     return ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation,
                       int(round(nodes)), stored)
+
+
+def tabulate_surface(surface: Surface, nodes=None, shadows: bool = True, log=None) -> ShareTable:
+    """A surface's share table at the nodes ``nodes`` (``export.table``'s keys over :data:`TABLE`): the incidences
+    with their edge-on ones (:func:`incidence_nodes`), measured by :func:`measure_table`."""
+    nodes = {**TABLE, **(nodes or {})}
+    incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
+    return measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"], nodes["azimuth_step"],
+                         shadows, log)
 
 
 def _brdf_values(table: ShareTable, lighting):
@@ -284,8 +294,7 @@ def summary(checked, sizes: dict | None = None):
     for (method, component), part in checked.groupby(["method", "component"], sort=False):
         worst = part.loc[part["error"].idxmax()]
         rows.append({"method": method, "component": component, "views": int(len(part)),
-                     "mae": float(part["error"].mean()), "p99": float(np.percentile(part["error"], 99)),
-                     "worst": float(worst["error"]), "worst_incidence": float(worst["incidence"]),
+                     **comparison.error_statistics(part["error"]), "worst_incidence": float(worst["incidence"]),
                      "worst_light_azimuth": float(worst["light_azimuth"]), "worst_azimuth": float(worst["azimuth"]),
                      "worst_elevation": float(worst["elevation"]), "within_level": bool(worst["error"] <= 1.0),
                      "megabytes": (sizes or {}).get(method, math.nan) / 1e6})
@@ -314,13 +323,11 @@ def export_surface(surface: Surface, paths: dict, table_nodes=None, mitsuba=None
     """
     lighting = lighting or shading.Lighting()
     log = log or (lambda message: None)
-    nodes, mitsuba, checks = {**TABLE, **(table_nodes or {})}, {**MITSUBA, **(mitsuba or {})}, {**CHECK, **(checks or {})}
-    incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
+    mitsuba, checks = {**MITSUBA, **(mitsuba or {})}, {**CHECK, **(checks or {})}
     start = time.perf_counter()
-    table = measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"], nodes["azimuth_step"],
-                          lighting.shadows, log)
+    table = tabulate_surface(surface, table_nodes, lighting.shadows, log)
     seconds = {"table_seconds": time.perf_counter() - start}
-    log(f"share table: {incidence.size} incidences x {table.light_azimuth.size} light azimuths x "
+    log(f"share table: {table.incidence.size} incidences x {table.light_azimuth.size} light azimuths x "
         f"{table.elevation.size} elevations x {table.azimuth_nodes} azimuths in {seconds['table_seconds']:.1f} s")
     written = write_exports(table, paths["shares"], paths["mitsuba"], lighting, mitsuba)
     seconds["mitsuba_seconds"] = written["seconds"]
@@ -391,10 +398,8 @@ def resolution_study(surface: Surface, layouts=None, lights: int = 8, views: int
     tests = [(f"study views, incidence {i:g}", [(i, 0.0, azimuth[seen], elevation[seen])]) for i in
              (10.0, 30.0, 37.3, 63.1)] + [("random lights and views", drawn)]
     for name, layout in (layouts or LAYOUTS).items():
-        nodes = {**TABLE, **layout}
         start = time.perf_counter()
-        incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
-        table = measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"], nodes["azimuth_step"])
+        table = tabulate_surface(surface, layout)
         seconds = time.perf_counter() - start
         for test, pairs in tests:
             errors, above = [], []

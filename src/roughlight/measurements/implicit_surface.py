@@ -144,14 +144,10 @@ class _Tables(dict):
 def share_table(surface: Surface, lighting=None, log=None):
     """A validation surface's share table at the export's default nodes
     (:data:`roughlight.measurements.brdf_export.TABLE`), measured by the exact reference."""
-    from . import brdf_export
+    from .brdf_export import tabulate_surface
 
-    nodes = brdf_export.TABLE
-    lighting = lighting or shading.Lighting()
-    incidence = brdf_export.incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
     (log or (lambda message: None))(f"share table of t {surface.truncation:g}, a {surface.aspect:g}")
-    return brdf_export.measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"],
-                                     nodes["azimuth_step"], lighting.shadows)
+    return tabulate_surface(surface, shadows=(lighting or shading.Lighting()).shadows)
 
 
 #: Sweeps of the reference and the implicit models kept in a process (:func:`_sweep`).
