@@ -336,27 +336,19 @@ def export_files():
     )
 
 
-def _export_outputs(name):
-    """One of rule export's outputs (roughlight.study.plan.EXPORT_OUTPUTS) for every surface of export.surfaces."""
-    return [
-        f"{rl_plan.export_folder(t, a)}/{rl_plan.EXPORT_OUTPUTS[name]}"
-        for t, a in rl_config.export_surfaces(config)
-    ]
-
-
 def export_summary_files(wildcards):
     """Every exported surface's summary (rule export)."""
-    return _export_outputs("summary")
+    return rl_plan.export_files(config, ["summary"])
 
 
 def export_check_files(wildcards):
     """Every exported surface's check (rule export)."""
-    return _export_outputs("check")
+    return rl_plan.export_files(config, ["check"])
 
 
 def export_share_files(wildcards):
     """Every exported surface's share table (rule export)."""
-    return _export_outputs("shares")
+    return rl_plan.export_files(config, ["shares"])
 
 
 def export_surface_param(wildcards):

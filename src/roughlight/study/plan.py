@@ -199,7 +199,8 @@ def export_folder(truncation: float, aspect: float) -> str:
     return f"results/export/t{rl_config.label(truncation)}_a{rl_config.label(aspect)}"
 
 
-def export_files(config: dict) -> list[str]:
-    """Every file rule export writes: :data:`EXPORT_OUTPUTS` for each surface of ``export.surfaces``."""
-    return [f"{export_folder(t, a)}/{name}" for t, a in rl_config.export_surfaces(config)
-            for name in EXPORT_OUTPUTS.values()]
+def export_files(config: dict, outputs=tuple(EXPORT_OUTPUTS)) -> list[str]:
+    """The files rule export writes for each surface of ``export.surfaces``: its ``outputs``, named as in
+    :data:`EXPORT_OUTPUTS` (all of them by default)."""
+    return [f"{export_folder(t, a)}/{EXPORT_OUTPUTS[name]}" for t, a in rl_config.export_surfaces(config)
+            for name in outputs]
