@@ -16,7 +16,9 @@ SHOWN = ["truncation", "aspect", "method", "component", "views", "mae", "p99", "
 
 def exported(config) -> bool:
     """Whether ``export.surfaces`` names a surface (the section's switch)."""
-    return bool((config.get("export") or {}).get("surfaces"))
+    from ...study.config import export_surfaces
+
+    return bool(export_surfaces(config))
 
 
 def export_section(export_summary: pd.DataFrame | None = None, export_png=None) -> dict | None:
