@@ -82,14 +82,14 @@ def counted_batches(height, triangles, n_regions, views, shears, drawn, shadow_m
 def region_triangles(regions):
     """Each region triangulated: (T, 3, 3) corners (plan x, y and the facet's height, periods; counter-clockwise
     seen from above) and (T,) the region each triangle belongs to. The triangles of a region cover exactly its
-    polygons (constrained Delaunay triangulation, holes left out)."""
+    polygons (constrained Delaunay triangulation, holes left out), region after region. The regions are made valid
+    and triangulated in whole-array GEOS calls (one call a region was most of a coarse random sweep's time)."""
     import shapely
 
     from ..exact.clipping import area_parts
 
-    tris, owner = [], []
+    areas, kept = [], []
     for r, rings in enumerate(regions.rings):
-        f = regions.facet[r]
         polygons = []
         for ring in rings:
             x, y = ring[:, 0], ring[:, 1]
@@ -98,19 +98,25 @@ def region_triangles(regions):
                 polygons.append([ring[:, :2], []])
             elif twice_area < -1e-15 and polygons:  # a hole of the last exterior
                 polygons[-1][1].append(ring[:, :2])
-        if not polygons:  # zero-area slivers only
-            continue
-        area = area_parts(shapely.MultiPolygon([shapely.Polygon(ext, holes) for ext, holes in polygons]))
-        parts = shapely.get_parts(shapely.constrained_delaunay_triangles(area))
-        xy = shapely.get_coordinates(parts).reshape(len(parts), 4, 2)[:, :3]
-        flip = (xy[:, 1, 0] - xy[:, 0, 0]) * (xy[:, 2, 1] - xy[:, 0, 1]) \
-            - (xy[:, 1, 1] - xy[:, 0, 1]) * (xy[:, 2, 0] - xy[:, 0, 0]) < 0
-        xy[flip] = xy[flip][:, ::-1]
-        z0 = rings[0][0, 2] - regions.alpha[f] * rings[0][0, 0] - regions.beta[f] * rings[0][0, 1]
-        z = regions.alpha[f] * xy[..., 0] + regions.beta[f] * xy[..., 1] + z0
-        tris.append(np.concatenate([xy, z[..., None]], axis=2))
-        owner.append(np.full(len(parts), r))
-    return np.concatenate(tris), np.concatenate(owner)
+        if polygons:  # else zero-area slivers only
+            areas.append(shapely.MultiPolygon([shapely.Polygon(ext, holes) for ext, holes in polygons]))
+            kept.append(r)
+    if not kept:
+        return np.zeros((0, 3, 3)), np.zeros(0, int)
+    valid = np.array(shapely.make_valid(np.array(areas, dtype=object)), dtype=object, ndmin=1)
+    for i in np.flatnonzero(~np.isin(shapely.get_type_id(valid), (3, 6))):  # not polygons: as area_parts does
+        valid[i] = area_parts(areas[i])
+    parts, index = shapely.get_parts(shapely.constrained_delaunay_triangles(valid), return_index=True)
+    owner = np.asarray(kept, int)[index]
+    xy = shapely.get_coordinates(parts).reshape(len(parts), 4, 2)[:, :3]
+    flip = (xy[:, 1, 0] - xy[:, 0, 0]) * (xy[:, 2, 1] - xy[:, 0, 1]) \
+        - (xy[:, 1, 1] - xy[:, 0, 1]) * (xy[:, 2, 0] - xy[:, 0, 0]) < 0
+    xy[flip] = xy[flip][:, ::-1]
+    f = regions.facet[owner]
+    first = np.array([regions.rings[r][0][0] for r in kept])[index]  # a corner of each region's first ring
+    z0 = first[:, 2] - regions.alpha[f] * first[:, 0] - regions.beta[f] * first[:, 1]
+    z = regions.alpha[f, None] * xy[..., 0] + regions.beta[f, None] * xy[..., 1] + z0[:, None]
+    return np.concatenate([xy, z[..., None]], axis=2), owner
 
 
 def _count_batch(ctx, triangles, height, poses, matrix, width, height_px, buffer, slot_pixels, n_regions,
