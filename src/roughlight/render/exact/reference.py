@@ -194,13 +194,27 @@ def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, light_azimuth
         if det[f] <= EDGE_ON or ndotl[f] <= 0 or region.is_empty:
             out.append(shapely.Polygon())
             continue
-        plan = affinity.affine_transform(region, from_oblique(surf, f, d))
-        # the lit part lies on the facet: trim floating-point overhang
-        out.append(area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size)))
+        out.append(_lit_footprint(surf, f, region, det[f], d, grid_size))
     # mapped back onto their facets, the lit parts still fill the light's view (areas scale by det)
     _check_sum(float(sum(r.area * dt for r, dt in zip(out, det) if dt > EDGE_ON)),
                f"lit footprints (incidence {incidence})", grid_size)
     return out
+
+
+def _lit_footprint(surf: Facets, f: int, region, det: float, d, grid_size=None):
+    """Facet ``f``'s lit footprint: its visible ``region`` in the light's view (plan shift ``d``, area ratio
+    ``det``) mapped back onto its plan footprint, the floating-point overhang trimmed (the lit part lies on the
+    facet). In double precision GEOS can return most of the footprint as the intersection of a sliver with it (random
+    pyramids t 0.2, a 0.4, seed 1, incidence 30, facet c3_0_east_w00: 0.003054 of the light's view mapped back from
+    0.000098 visible), which the sum over facets then catches; where the area mapped back is not the visible area
+    to :data:`AREA_TOLERANCE`, this one overlay is snap-rounded to :data:`SNAP_GRID` instead of clipping the whole
+    light's view again snap-rounded (most random tiles' light views came out of double precision wrong this way,
+    and snap-rounding all of it took eight times as long)."""
+    plan = affinity.affine_transform(region, from_oblique(surf, f, d))
+    lit = area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size))
+    if grid_size is None and not abs(lit.area * det - region.area) <= AREA_TOLERANCE:
+        lit = area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=SNAP_GRID))
+    return lit
 
 
 def _without_slivers(region):
