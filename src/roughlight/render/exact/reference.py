@@ -110,7 +110,8 @@ AREA_TOLERANCE = 1e-9
 #: Snap-rounding grids (periods) of the robust fallbacks, finest first: when an overlay in double precision
 #: fails (GEOS's topology errors, or areas not summing to 1, seen on random tiles whose thin facets project to
 #: near-collinear slivers), the view is recomputed with every overlay snap-rounded to the first grid (GEOS
-#: OverlayNG in fixed precision, robust by construction), and if its checks still fail, to the next. Moving
+#: OverlayNG in fixed precision, robust by construction), and if its checks still fail, to the next (a lit
+#: footprint is first redone alone: :func:`_lit_footprint`). Moving
 #: vertices by at most a grid step changes an area by about its perimeter times it: at most
 #: :func:`snapped_tolerance` (1e-5 for the coarsest, 0.003 of an 8-bit level).
 SNAP_GRIDS = (1e-10, 1e-9, 1e-8)
