@@ -110,6 +110,29 @@ def test_the_reference_falls_back_to_coarser_grids_until_one_holds(monkeypatch):
         reference.with_fallback(never)
 
 
+@pytest.mark.parametrize("kind, truncation, aspect, seed", [("random_pyramids", 0.2, 0.4, 1),
+                                                             ("random_pyramids", 1.0, 1.0, 1)])
+def test_a_lit_footprint_geos_got_wrong_is_redone_alone(monkeypatch, kind, truncation, aspect, seed):
+    """In double precision GEOS returned most of a footprint as its intersection with a sliver of the light's view
+    (random pyramids t 0.2, a 0.4, seed 1, incidence 30) or raised a topology error (t 1, a 1, seed 1), and the
+    whole light's view was clipped again snap-rounded. That facet's overlay is now redone alone: the light's view
+    stays in double precision, and every facet's lit area is the whole snap-rounded clipping's."""
+    surf = clipping.period_facets(RandomSurface(kind, truncation, aspect, seed=seed))
+    tried = []
+    compute = reference._lit_regions_at
+
+    def recorded(*args, grid_size=None):
+        tried.append(grid_size)
+        return compute(*args, grid_size=grid_size)
+
+    monkeypatch.setattr(reference, "_lit_regions_at", recorded)
+    lit = reference._lit_regions(surf, 30.0, True)
+    assert tried == [None]
+    snapped = compute(surf, 30.0, True, grid_size=reference.SNAP_GRID)
+    np.testing.assert_allclose([r.area for r in lit], [r.area for r in snapped], rtol=0,
+                               atol=reference.snapped_tolerance(reference.SNAP_GRID))
+
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_the_reference_skips_only_copies_that_overlap_in_no_area(kind):
     """clipping.may_overlap drops a (facet, copy) pair without intersecting it where bounding boxes or a
