@@ -117,18 +117,24 @@ def test_a_lit_footprint_geos_got_wrong_is_redone_alone(monkeypatch, kind, trunc
     (random pyramids t 0.2, a 0.4, seed 1, incidence 30) or raised a topology error (t 1, a 1, seed 1), and the
     whole light's view was clipped again snap-rounded. That facet's overlay is now redone alone: the light's view
     stays in double precision, and every facet's lit area is the whole snap-rounded clipping's."""
-    surf = clipping.period_facets(RandomSurface(kind, truncation, aspect, seed=seed))
-    tried = []
-    compute = reference._lit_regions_at
+    tile = RandomSurface(kind, truncation, aspect, seed=seed)
+    tried, computed = [], []
+    fallback = reference.with_fallback
 
-    def recorded(*args, grid_size=None):
-        tried.append(grid_size)
-        return compute(*args, grid_size=grid_size)
+    def recorded(compute, *args):
+        computed.append((compute, args))
 
-    monkeypatch.setattr(reference, "_lit_regions_at", recorded)
-    lit = reference._lit_regions(surf, 30.0, True)
-    assert tried == [None]
-    snapped = compute(surf, 30.0, True, grid_size=reference.SNAP_GRID)
+        def compute_at(*args, grid_size=None):
+            tried.append(grid_size)
+            return compute(*args, grid_size=grid_size)
+
+        return fallback(compute_at, *args)
+
+    monkeypatch.setattr(reference, "with_fallback", recorded)
+    lit = reference.LitScene(tile, 30.0, True).lit
+    assert tried == [None]  # the light's view (the scene's one clipping) held in double precision
+    (compute, args), = computed
+    snapped = compute(*args, grid_size=reference.SNAP_GRID)
     np.testing.assert_allclose([r.area for r in lit], [r.area for r in snapped], rtol=0,
                                atol=reference.snapped_tolerance(reference.SNAP_GRID))
 
