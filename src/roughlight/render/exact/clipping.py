@@ -117,7 +117,14 @@ def _polygonal(geometry, grid_size):
 
 
 def area_parts(geometry):
-    """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area)."""
+    """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area);
+    of an array of geometries, each one's, made valid in one GEOS call."""
+    if isinstance(geometry, np.ndarray):
+        valid = np.array(shapely.make_valid(geometry), dtype=object, ndmin=1)
+        for i in np.flatnonzero(~np.isin(shapely.get_type_id(valid), (shapely.GeometryType.POLYGON,
+                                                                       shapely.GeometryType.MULTIPOLYGON))):
+            valid[i] = area_parts(valid[i])
+        return valid
     geometry = shapely.make_valid(geometry)
     if geometry.geom_type in ("Polygon", "MultiPolygon"):
         return geometry

@@ -212,15 +212,15 @@ def _lit_footprint(surf: Facets, f: int, region, det: float, d, grid_size=None):
     :data:`SNAP_GRID` instead of clipping the whole light's view again snap-rounded (most random tiles' light views
     came out of double precision wrong this way, and snap-rounding all of it took eight times as long)."""
     plan = affinity.affine_transform(region, from_oblique(surf, f, d))
-    if grid_size is not None:
-        return area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size))
-    try:
-        lit = area_parts(shapely.intersection(plan, surf.footprints[f]))
-        if abs(lit.area * det - region.area) <= AREA_TOLERANCE:
-            return lit
-    except shapely.errors.GEOSException:  # a topology error (random pyramids t 1, a 1, seed 1, incidence 30)
-        pass
-    return area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=SNAP_GRID))
+    if grid_size is None:
+        try:
+            lit = area_parts(shapely.intersection(plan, surf.footprints[f]))
+            if abs(lit.area * det - region.area) <= AREA_TOLERANCE:
+                return lit
+        except shapely.errors.GEOSException:  # a topology error (random pyramids t 1, a 1, seed 1, incidence 30)
+            pass
+        grid_size = SNAP_GRID
+    return area_parts(overlay(shapely.intersection, plan, surf.footprints[f], grid_size=grid_size))
 
 
 def _without_slivers(region):

@@ -103,9 +103,7 @@ def region_triangles(regions):
             kept.append(r)
     if not kept:
         return np.zeros((0, 3, 3)), np.zeros(0, int)
-    valid = np.array(shapely.make_valid(np.array(areas, dtype=object)), dtype=object, ndmin=1)
-    for i in np.flatnonzero(~np.isin(shapely.get_type_id(valid), (3, 6))):  # not polygons: as area_parts does
-        valid[i] = area_parts(areas[i])
+    valid = area_parts(np.array(areas, dtype=object))
     parts, index = shapely.get_parts(shapely.constrained_delaunay_triangles(valid), return_index=True)
     owner = np.asarray(kept, int)[index]
     xy = shapely.get_coordinates(parts).reshape(len(parts), 4, 2)[:, :3]
