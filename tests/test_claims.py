@@ -47,6 +47,18 @@ def test_lobe_shape_tells_rectangles_from_ellipses():
     assert rectangle["phase_shift"] > 2.0
 
 
+def test_a_tangent_patch_reads_each_field_on_the_same_views_afresh():
+    """The patch's geometry is made once for a direction and a field's views (issue 46): every field on those
+    views is still read at its own values, as :func:`field_values` reads it at the patch's directions."""
+    centre = S.direction(0.0, 120.0)
+    for width in (10, 6, 14):  # the second and third reuse the first's geometry
+        field = _field(C.synthetic_lobe(AZ, EL, centre, (width, width)))
+        X, Y, values, directions = S.tangent_patch(field, centre)
+        np.testing.assert_array_equal(values, S.field_values(field, directions))
+        assert X.shape == values.shape == directions.shape[:2] and not directions.flags.writeable
+    assert np.nanmax(values) > 0 and np.isfinite(values).mean() > 0.9
+
+
 def test_a_lobe_the_horizon_cuts_or_below_the_floor_is_not_measured():
     low = _shape(C.synthetic_lobe(AZ, EL, S.direction(0.0, 8.0), (10, 10)))
     assert not low["measurable"] and "horizon" in low["why"]

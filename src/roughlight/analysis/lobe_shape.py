@@ -28,6 +28,7 @@ Angles are degrees: azimuth phi in [0, 180), elevation e in [0, 180] (a view's d
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -118,13 +119,25 @@ def field_values(field, directions) -> np.ndarray:
     between the four measured views around each; NaN below the horizon or where one of the four was not
     measured."""
     az, el, vals = field
+    return _interpolated(vals, _lookup(az, el, directions))
+
+
+def _lookup(az, el, directions) -> tuple:
+    """Where unit ``directions`` (..., 3) fall between a field's views: the (azimuth, elevation) indices of the
+    corner below each, the four corners' weights and whether all four exist."""
     phi, e = _view_coordinates(directions)
     ia, wa = _bilinear(az, phi)
     ie, we = _bilinear(el, e)
     ok = (ia >= 0) & (ie >= 0)
     ia, ie = np.where(ok, ia, 0), np.where(ok, ie, 0)
-    out = ((1 - wa) * (1 - we) * vals[ia, ie] + wa * (1 - we) * vals[ia + 1, ie]
-           + (1 - wa) * we * vals[ia, ie + 1] + wa * we * vals[ia + 1, ie + 1])
+    weights = ((1 - wa) * (1 - we), wa * (1 - we), (1 - wa) * we, wa * we)
+    return ia, ie, weights, ok
+
+
+def _interpolated(vals, lookup) -> np.ndarray:
+    """A field's (A + 1, E) ``vals`` at the places of a :func:`_lookup`; NaN where a corner is missing."""
+    ia, ie, (w00, w10, w01, w11), ok = lookup
+    out = w00 * vals[ia, ie] + w10 * vals[ia + 1, ie] + w01 * vals[ia, ie + 1] + w11 * vals[ia + 1, ie + 1]
     return np.where(ok, out, np.nan)
 
 
@@ -150,12 +163,27 @@ def tangent_patch(field, centre, radius: float = SEARCH_RADIUS, resolution: floa
     values : (G, G) the field there (:func:`field_values`), NaN below the horizon or next to an unmeasured view
     directions : (G, G, 3) the unit directions of the grid's points
     """
+    az, el, vals = field
+    c = np.asarray(centre, float)
+    X, Y, d, lookup = _patch(c.tobytes(), float(radius), float(resolution), np.asarray(az, float).tobytes(),
+                             np.asarray(el, float).tobytes())
+    return X, Y, _interpolated(vals, lookup), d
+
+
+@functools.lru_cache(maxsize=4)  # about 5.5 MB each at the default radius and resolution
+def _patch(centre: bytes, radius: float, resolution: float, az: bytes, el: bytes) -> tuple:
+    """A tangent patch's grid, directions and :func:`_lookup` in a field's view axes, read-only: the same for
+    every field on the same views around the same direction (the claim design's synthetic lobes, at every peak),
+    so made once. The arguments are the float64 arrays' bytes."""
     axis = np.arange(-radius, radius + resolution / 2, resolution)
     X, Y = np.meshgrid(axis, axis, indexing="ij")
-    u1, u2 = tangent_basis(centre)
-    d = np.asarray(centre, float) + np.radians(X)[..., None] * u1 + np.radians(Y)[..., None] * u2
+    u1, u2 = tangent_basis(np.frombuffer(centre))
+    d = np.frombuffer(centre) + np.radians(X)[..., None] * u1 + np.radians(Y)[..., None] * u2
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
-    return X, Y, field_values(field, d), d
+    ia, ie, weights, ok = _lookup(np.frombuffer(az), np.frombuffer(el), d)
+    for array in (X, Y, d, ia, ie, ok, *weights):
+        array.flags.writeable = False
+    return X, Y, d, (ia, ie, weights, ok)
 
 
 def _peak_region(values, inside, peak: float) -> np.ndarray:
