@@ -24,8 +24,6 @@ SMALL = {
 }
 #: Columns that hold wall time, which no two runs share.
 TIMING = ["render_seconds"]
-#: Seconds before the executor's first status check in this test (profiles/slurm sets 10 for real clusters).
-FIRST_CHECK = 7
 
 pytestmark = pytest.mark.skipif(
     not single_node.installed() or os.geteuid() != 0,
@@ -49,16 +47,11 @@ def test_the_study_on_slurm_equals_a_local_run_and_a_second_driver_stops_at_once
 
     cluster = single_node.start(state=tmp_path_factory.mktemp("slurm"))
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
-    # the profile as a user has it, less the account (this cluster keeps none) and with the first status check at
-    # 7 s instead of 10: the plugin checks again that much later, 10 s more after each check that finds no job
-    # done, and the group job takes about 18 s here, the study table 3-6 s (measured: the run took 52 s at 10,
-    # 35-47 s at 4-6)
-    command = [SNAKEMAKE, STUDY, "--profile", "profiles/slurm", "--slurm-no-account",
-               "--slurm-init-seconds-before-status-checks", str(FIRST_CHECK)]
+    command = [SNAKEMAKE, STUDY, "--profile", "profiles/slurm", "--slurm-no-account"]
     first = None
     try:
-        # a hard timeout, so that a status query that never sees the jobs finish fails the test instead of
-        # hanging it
+        # the profile as a user has it, less the account (this cluster keeps none); a hard timeout, so that a
+        # status query that never sees the jobs finish fails the test instead of hanging it
         first = subprocess.Popen(command, cwd=workflow_dir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                                  text=True, env=env)
         lock = workflow_dir / ".snakemake" / "roughlight.lock"
