@@ -170,15 +170,16 @@ def tangent_patch(field, centre, radius: float = SEARCH_RADIUS, resolution: floa
     return X, Y, _interpolated(vals, lookup), d
 
 
-@functools.lru_cache(maxsize=4)  # about 5.5 MB each at the default radius and resolution
+@functools.lru_cache(maxsize=4)  # 5.2 MB each at the default radius and resolution
 def _patch(centre: bytes, radius: float, resolution: float, az: bytes, el: bytes) -> tuple:
     """A tangent patch's grid, directions and :func:`_lookup` in a field's view axes, read-only: the same for
     every field on the same views around the same direction (the claim design's synthetic lobes, at every peak),
     so made once. The arguments are the float64 arrays' bytes."""
     axis = np.arange(-radius, radius + resolution / 2, resolution)
     X, Y = np.meshgrid(axis, axis, indexing="ij")
-    u1, u2 = tangent_basis(np.frombuffer(centre))
-    d = np.frombuffer(centre) + np.radians(X)[..., None] * u1 + np.radians(Y)[..., None] * u2
+    c = np.frombuffer(centre)
+    u1, u2 = tangent_basis(c)
+    d = c + np.radians(X)[..., None] * u1 + np.radians(Y)[..., None] * u2
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
     ia, ie, weights, ok = _lookup(np.frombuffer(az), np.frombuffer(el), d)
     for array in (X, Y, d, ia, ie, ok, *weights):
