@@ -1,7 +1,9 @@
 """Shared test settings: OSMesa before anything imports OpenGL; one llvmpipe thread; one Dr.Jit kernel cache."""
 import os
 import shutil
+import sys
 import tempfile
+import uuid
 from pathlib import Path
 
 import pytest
@@ -15,6 +17,8 @@ os.environ.setdefault("DRJIT_CACHE_DIR", os.path.join(tempfile.gettempdir(), f"r
 os.makedirs(os.environ["DRJIT_CACHE_DIR"], exist_ok=True)
 
 REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "tests" / "cluster"))
+import scenario  # noqa: E402
 
 
 def copy_workflow(directory: Path) -> Path:
@@ -60,7 +64,7 @@ def broken_osmesa(tmp_path_factory):
 EXPECTED_SECONDS = {
     "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 98,
     "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 91,
-    "tests/test_cluster.py::": 57,
+    "tests/test_cluster.py::": 1.5,  # its scenario runs in the background from the start (scenario.py)
     "tests/test_report.py::test_workflow_builds_the_report_and_lints": 35,
     "tests/test_workflow.py::test_tiny_study_end_to_end": 17,
     "tests/test_random.py::test_adding_a_seed_renders_only_it": 14,
@@ -144,3 +148,39 @@ def pytest_xdist_make_scheduler(config, log):
             return work_unit(nodeid)
 
     return Units(config, log)
+
+
+# ---------------------------------------------------------------------------
+# the cluster test's scenario, in the background (tests/cluster/scenario.py)
+
+_RUN_ID = pytest.StashKey[str]()
+
+
+def _cluster_directory(config) -> Path:
+    """Where this session's cluster scenario runs: one directory for all of xdist's workers (their run's id)."""
+    run_id = getattr(config, "workerinput", {}).get("testrunuid")
+    if run_id is None:
+        run_id = config.stash.setdefault(_RUN_ID, uuid.uuid4().hex)
+    return Path(tempfile.gettempdir()) / f"roughlight-cluster-{run_id}"
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_finish(session):
+    """Start the cluster scenario as soon as the session holds its test (on one worker: gw0, or the only process),
+    so that its minute of waiting on SLURM passes while the other tests run."""
+    config = session.config
+    if config.option.collectonly or getattr(config, "workerinput", {}).get("workerid", "gw0") != "gw0":
+        return
+    if scenario.available() and any(item.nodeid.startswith("tests/test_cluster.py::") for item in session.items):
+        scenario.launch(_cluster_directory(config))
+
+
+def pytest_sessionfinish(session):
+    """A scenario this process started ends before it does (its SLURM daemons torn down)."""
+    scenario.finish()
+
+
+@pytest.fixture
+def cluster_scenario(request) -> Path:
+    """The directory of this session's cluster scenario (started at collection, or now if it was not)."""
+    return _cluster_directory(request.config)
