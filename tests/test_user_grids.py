@@ -21,7 +21,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 import yaml
-from hypothesis import HealthCheck, example, given, settings
+from hypothesis import HealthCheck, example, given, seed, settings
 from hypothesis import strategies as st
 
 from roughlight.study import config as rl_config
@@ -184,13 +184,42 @@ coarse = st.fixed_dictionaries({"elevation_step": st.sampled_from([15, 30, 45, 9
                                 "azimuth_step": st.sampled_from([45, 60, 90, 180])})
 
 
-@settings(max_examples=6, deadline=None, derandomize=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(truncation=st.lists(st.sampled_from([0.0, 0.2, 0.5, 0.8, 1.0]), min_size=1, max_size=3, unique=True),
-       aspect=st.lists(st.sampled_from([0.0, 0.4, S32, 0.9, 1.0, 2.0]), min_size=1, max_size=2, unique=True),
-       incidence=st.lists(st.sampled_from([0, 20, 30, 60, 90]), min_size=1, max_size=2, unique=True),
-       sweep=coarse)
-@example(truncation=[0.3, 1.0], aspect=[0.6], incidence=[30], sweep={"elevation_step": 30, "azimuth_step": 90})
+#: A user's grid and coarse sweep, as hypothesis draws them for the whole report.
+user_grids = {"truncation": st.lists(st.sampled_from([0.0, 0.2, 0.5, 0.8, 1.0]), min_size=1, max_size=3, unique=True),
+              "aspect": st.lists(st.sampled_from([0.0, 0.4, S32, 0.9, 1.0, 2.0]), min_size=1, max_size=2, unique=True),
+              "incidence": st.lists(st.sampled_from([0, 20, 30, 60, 90]), min_size=1, max_size=2, unique=True),
+              "sweep": coarse}
+
+#: The seed of the six drawn grids, fixed. With ``derandomize`` alone hypothesis seeds the draw from the test's source,
+#: so any edit (a docstring, an example) drew six other grids, at another cost (issue 46). This is the seed
+#: ``derandomize`` gave the test's source until then, so the grids are those the suite always drew (:data:`DRAWN`).
+DRAW_SEED = int("18155c9dc690637aac8d84efabcc2d4715337a2821ab03b2c157f0b9956936263501118db576fa6d1a3e8d431a3293bd", 16)
+#: The grids :data:`DRAW_SEED` draws (truncation, aspect, incidence, sweep steps: elevation, azimuth).
+DRAWN = [([0.0], [0.0], [0], (15, 45)), ([0.2, 0.0, 0.8], [0.4], [60, 0], (15, 180)),
+         ([1.0], [2.0, S32], [90], (180, 60)), ([0.0, 1.0], [2.0], [20], (180, 45)),
+         ([0.2], [2.0], [30, 60], (45, 180)), ([0.2, 1.0], [0.9, 2.0], [60], (45, 60))]
+WHOLE_REPORT = settings(max_examples=6, deadline=None, derandomize=True,
+                        suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+
+
+def test_the_whole_report_draws_the_same_grids():
+    """The drawn grids stay those of :data:`DRAWN` (a new hypothesis could draw others: say so, and their cost)."""
+    drawn = []
+
+    @seed(DRAW_SEED)
+    @WHOLE_REPORT
+    @given(**user_grids)
+    def record(truncation, aspect, incidence, sweep):
+        drawn.append((truncation, aspect, incidence, (sweep["elevation_step"], sweep["azimuth_step"])))
+
+    record()
+    assert drawn == DRAWN
+
+
+@seed(DRAW_SEED)
+@WHOLE_REPORT
+@given(**user_grids)
+# the issue's first grid (t 0.3, 1 a 0.6 i 30 at 30 x 90 degrees) is built end to end by snakemake below
 @example(truncation=[0.2, 0.5, 0.8, 1.0], aspect=[0.4, 0.9], incidence=[30],
          sweep={"elevation_step": 15, "azimuth_step": 45})
 @example(truncation=[0.5], aspect=[1.0], incidence=[45], sweep={"elevation_step": 45, "azimuth_step": 180})
