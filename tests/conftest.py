@@ -175,9 +175,10 @@ def pytest_collection_finish(session):
         scenario.launch(_cluster_directory(config))
 
 
-def pytest_sessionfinish(session):
-    """A scenario this process started ends before it does (its SLURM daemons torn down)."""
-    scenario.finish()
+def pytest_sessionfinish(session, exitstatus):
+    """A scenario this process started ends before it does (its SLURM daemons torn down): waited for, or stopped
+    at once when the session was interrupted."""
+    scenario.finish(interrupted=exitstatus == pytest.ExitCode.INTERRUPTED)
 
 
 @pytest.fixture

@@ -166,11 +166,14 @@ def result(directory: Path, timeout: float = TIMEOUT) -> dict:
     return json.loads(path.read_text())
 
 
-def finish() -> None:
-    """At the session's end: wait for a scenario this process started (it tears its cluster down), or stop it."""
+def finish(interrupted: bool = False) -> None:
+    """At the session's end: wait for a scenario this process started (it tears its cluster down), or stop it at
+    once when the session was interrupted (SIGTERM: the scenario's ``finally`` still stops its SLURM daemons)."""
     if _started is None or _started.poll() is not None:
         return
     try:
+        if interrupted:
+            raise subprocess.TimeoutExpired(_started.args, 0)
         _started.wait(timeout=TIMEOUT)
     except subprocess.TimeoutExpired:
         _started.terminate()
