@@ -16,20 +16,10 @@ os.environ.setdefault("LP_NUM_THREADS", "1")
 os.environ.setdefault("DRJIT_CACHE_DIR", os.path.join(tempfile.gettempdir(), f"roughlight-drjit-tests-{os.getuid()}"))
 os.makedirs(os.environ["DRJIT_CACHE_DIR"], exist_ok=True)
 
-REPO = Path(__file__).resolve().parents[1]
+from .workflow_copy import REPO, copy_workflow  # noqa: E402,F401 (the tests import both from here)
+
 sys.path.insert(0, str(REPO / "tests" / "cluster"))
 import scenario  # noqa: E402
-
-
-def copy_workflow(directory: Path) -> Path:
-    """A copy of the workflow (Snakefile, workflow/, config/, envs/, profiles/) in ``directory``."""
-    for name in ("Snakefile", "workflow", "config", "envs", "profiles"):
-        src = REPO / name
-        if src.is_dir():
-            shutil.copytree(src, directory / name, ignore=shutil.ignore_patterns("__pycache__"))
-        else:
-            shutil.copy(src, directory / name)
-    return directory
 
 
 @pytest.fixture

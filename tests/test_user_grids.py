@@ -202,7 +202,7 @@ DRAW_SEED = int("18155c9dc690637aac8d84efabcc2d4715337a2821ab03b2c157f0b99569362
 DRAWN = [([0.0], [0.0], [0], (15, 45)), ([0.2, 0.0, 0.8], [0.4], [60, 0], (15, 180)),
          ([1.0], [2.0, S32], [90], (180, 60)), ([0.0, 1.0], [2.0], [20], (180, 45)),
          ([0.2], [2.0], [30, 60], (45, 180)), ([0.2, 1.0], [0.9, 2.0], [60], (45, 60))]
-WHOLE_REPORT = settings(max_examples=6, deadline=None, derandomize=True,
+WHOLE_REPORT = settings(max_examples=6, deadline=None,
                         suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 
 

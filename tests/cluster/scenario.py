@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 import signal
 import subprocess
 import sys
@@ -31,9 +30,11 @@ from pathlib import Path
 import yaml
 
 HERE = Path(__file__).resolve().parent
-REPO = HERE.parents[1]
 sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parents[1]))
 import single_node  # noqa: E402
+
+from tests.workflow_copy import copy_workflow  # noqa: E402
 
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 STUDY = "results/study.parquet"
@@ -42,8 +43,6 @@ SMALL = {
     "grid": {"truncation": [0.0, 0.5, 1.0], "aspect": [1.0], "incidence": [30]},
     "sweep": {"elevation_step": 30, "azimuth_step": 60},
 }
-#: The parts of the workflow a run needs (as tests/conftest.py's copy_workflow).
-WORKFLOW = ("Snakefile", "workflow", "config", "envs", "profiles")
 #: Seconds the whole scenario may take before the session's end stops it (the test waits as long).
 TIMEOUT = 900
 
@@ -55,12 +54,7 @@ def available() -> bool:
 
 def _workflow(directory: Path) -> Path:
     directory.mkdir(parents=True, exist_ok=True)
-    for name in WORKFLOW:
-        source = REPO / name
-        if source.is_dir():
-            shutil.copytree(source, directory / name, ignore=shutil.ignore_patterns("__pycache__"))
-        elif source.exists():
-            shutil.copy(source, directory / name)
+    copy_workflow(directory)
     (directory / "config" / "config.yaml").write_text(yaml.safe_dump(SMALL))
     return directory
 
@@ -145,9 +139,9 @@ def launch(directory: Path) -> None:
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)
-    except ProcessLookupError:
+        return not Path(f"/proc/{pid}/stat").read_text().split(") ")[-1].startswith("Z")
+    except (ProcessLookupError, FileNotFoundError):  # gone, or gone between the two
         return False
-    return not Path(f"/proc/{pid}/stat").read_text().split(") ")[-1].startswith("Z")
 
 
 def result(directory: Path, timeout: float = TIMEOUT) -> dict:
