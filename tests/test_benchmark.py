@@ -36,13 +36,17 @@ def test_benchmark_runs_every_method_against_the_reference(tmp_path):
 
 
 def test_plans_name_their_sizes():
-    assert set(benchmark.PLANS) == {"full", "quick"}
-    full, quick = benchmark.PLANS["full"], benchmark.PLANS["quick"]
+    assert set(benchmark.PLANS) == {"full", "quick", "smoke"}
+    full, quick, smoke = benchmark.PLANS["full"], benchmark.PLANS["quick"], benchmark.PLANS["smoke"]
     assert [c.label for c in full["configs"]()] == [c.label for c in benchmark.default_configs()]
     assert full["surfaces"] == benchmark.BENCH_SURFACES
     assert len(quick["configs"]()) < len(full["configs"]()) and len(quick["surfaces"]) < len(full["surfaces"])
     assert {c.method for c in quick["configs"]()} == {"naive", "reference", "fast", "implicit_exact",
                                                      "implicit_correction"}
+    # smoke: every config of quick (the report's section shows each method), on fewer surfaces and views
+    assert [c.label for c in smoke["configs"]()] == [c.label for c in quick["configs"]()]
+    assert len(smoke["surfaces"]) < len(quick["surfaces"])
+    assert len(benchmark.bench_views(*smoke["views"])[0]) < len(benchmark.bench_views(*quick["views"])[0])
 
 
 def test_random_tiles_samplings_are_charted_on_tiles_of_their_own(tmp_path):

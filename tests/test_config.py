@@ -196,3 +196,20 @@ def test_the_export_settings_reach_the_jobs_as_plain_values():
     assert rl_plan.export_files(cfg)[:2] == ["results/export/t0.5_a1/shares.npz", "results/export/t0.5_a1/brdf.bsdf"]
     cfg["export"]["surfaces"] = []
     assert rl_plan.export_files(cfg) == []
+
+
+def test_every_measurement_has_every_plan_the_config_allows():
+    """measurements.plan names a size of every measurement (each module's PLANS), and the workflow's plan wildcard
+    matches exactly those names: a plan the schema allows that one measurement lacks would fail in its job."""
+    import re
+
+    from roughlight.measurements import (implicit_surface, light_transport, random_tiles, renderer_validation,
+                                         speed_accuracy, stability)
+
+    schema = yaml.safe_load(SCHEMA.read_text())
+    plans = set(schema["properties"]["measurements"]["properties"]["plan"]["enum"])
+    assert plans == {"smoke", "quick", "full"}
+    for module in (implicit_surface, light_transport, random_tiles, renderer_validation, speed_accuracy, stability):
+        assert set(module.PLANS) == plans, module.__name__
+    common = (REPO / "workflow" / "rules" / "common.smk").read_text()
+    assert set(re.search(r'plan="([^"]+)"', common).group(1).split("|")) == plans

@@ -129,7 +129,7 @@ def test_importing_stability_loads_no_opengl():
 
 
 def test_every_plan_names_every_measurement():
-    assert set(stability.PLANS) == {"full", "quick"}
+    assert set(stability.PLANS) == {"full", "quick", "smoke"} == set(stability.JOBS)
     for plan in stability.PLANS.values():
         assert set(plan) == set(stability.MEASUREMENTS)
 

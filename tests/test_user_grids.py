@@ -53,6 +53,11 @@ PILOT_SEEDS = 2
 #: own too (the tile-size benchmark, tests/test_random.py), and the snakemake test below builds its grids with the
 #: shipped 4. Two cells a side took the largest example from 15.8-18.9 s to 11.6-12.5 s (issue 46).
 DRAWN_CELLS = 2
+#: The measurements' size in the snakemake test (measurements.plan): the grid-independent sections (speed and
+#: accuracy, stability, the implicit surface, light transport, the random tiles' benchmark) are on the page whatever
+#: the grid, and each measurement has tests of its own; at the shipped quick plan they were 57 of the test's 97
+#: job-seconds (issue 46).
+MEASUREMENTS = {"plan": "smoke"}
 
 
 def user_config(grid: dict, sweep: dict | None = None) -> dict:
@@ -256,15 +261,16 @@ TINY_EXPORT = {"surfaces": [[0.5, 1.0]],
 @pytest.mark.slow
 def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
     """The issue's grids, one after the other in one directory, each edited into a user's --configfile over
-    config/config.yaml as shipped (random kinds, every report section; :data:`SEEDS` seeds a kind): each run ends
-    with the whole report."""
+    config/config.yaml as shipped (random kinds, every report section; :data:`SEEDS` seeds a kind, the measurements
+    at :data:`MEASUREMENTS`' plan): each run ends with the whole report."""
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
     grids = [
         {"grid": {"truncation": [0.3, 1.0], "aspect": [0.6]}, "sweep": {"elevation_step": 30, "azimuth_step": 90},
-         "surface": {"seeds": SEEDS}, "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT},
+         "surface": {"seeds": SEEDS}, "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT,
+         "measurements": MEASUREMENTS},
         {"grid": {"truncation": [0.2, 0.5, 0.8, 1.0], "aspect": [0.4, 0.9], "incidence": [45]},
          "sweep": {"elevation_step": 30, "azimuth_step": 90}, "surface": {"kind": "random_pyramids", "seeds": SEEDS},
-         "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT},
+         "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT, "measurements": MEASUREMENTS},
     ]
     for k, grid in enumerate(grids):
         user = workflow_dir / f"user{k}.yaml"
@@ -286,3 +292,5 @@ def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
         exported = pd.read_csv(workflow_dir / "results" / "export" / "summary.csv")
         assert set(exported["method"]) == {"implicit_table", "mitsuba_measured"} and (exported["views"] == 20).all()
         assert 'id="fig-export"' in html and "truncation 0.5, aspect 1: the share table" in html
+        # the measured sections at the user's plan, and only there
+        assert sorted(p.name for p in (workflow_dir / "results" / "benchmarks").iterdir()) == ["smoke"]

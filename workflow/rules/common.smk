@@ -19,7 +19,7 @@ except (
 
 
 wildcard_constraints:
-    plan="quick|full",
+    plan="quick|full|smoke",
     incidence=r"[0-9][0-9.e+-]*",
     truncation=r"[0-9][0-9.e+-]*",
     aspect=r"[0-9][0-9.e+-]*",

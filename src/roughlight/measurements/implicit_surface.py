@@ -53,6 +53,9 @@ PLANS = {
              "repeats": 3},
     "quick": {"grid": ((1.0, 1.0), (0.5, 0.5)), "incidences": (30.0,), "random": 1, "steps": (6.0, 30.0),
               "fields": (16, 64), "frame_views": ((60.0, 20.0),), "repeats": 1},
+    # a check that a config builds the whole report, in seconds (its numbers are not for reading)
+    "smoke": {"grid": ((1.0, 1.0),), "incidences": (30.0,), "random": 1, "steps": (15.0, 45.0),
+              "fields": (16,), "frame_views": ((60.0, 20.0),), "repeats": 1},
 }
 
 #: Seed of the random (truncation, aspect, incidence) triples.

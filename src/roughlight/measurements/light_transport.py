@@ -49,6 +49,11 @@ PLANS = {
               "tiles": (("random_pyramids", 1.0, 1.0, 1), ("random_heightfield", 1.0, 1.0, 1)),
               "arc_step": 20.0, "hemisphere": (30.0, 45.0), "check_sampling": (32, 16), "sampling": (16, 4),
               "variant": "scalar_rgb"},
+    # a check that a config builds the whole report, in seconds (its numbers are not for reading)
+    "smoke": {"grid": ((0.5, 0.3), (1.0, 1.0)), "check": ((1.0, 1.0),),
+              "tiles": (("random_pyramids", 1.0, 1.0, 1), ("random_heightfield", 1.0, 1.0, 1)),
+              "arc_step": 45.0, "hemisphere": (45.0, 90.0), "check_sampling": (16, 4), "sampling": (8, 2),
+              "variant": "scalar_rgb"},
     "full": {"grid": tuple((t, a) for t in (0.25, 0.5, 0.75, 1.0) for a in (0.1, 0.25, 0.5, 0.75, SQRT3_2, 1.0)),
              "check": tuple((t, a) for t in (0.25, 0.5, 0.75, 1.0) for a in (0.1, 0.25, 0.5, 0.75, SQRT3_2, 1.0)),
              "tiles": tuple((kind, t, a, seed) for kind in ("random_pyramids", "random_heightfield")

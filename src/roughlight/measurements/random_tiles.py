@@ -31,6 +31,11 @@ PLANS = {
               "views": (3.0, 10.0),
               "accuracy_cells": 4, "accuracy_seeds": 1, "accuracy_views": (30.0, 45.0),
               "accuracy_points": ((1.0, 1.0),)},
+    # a check that a config builds the whole report, in seconds (its numbers are not for reading)
+    "smoke": {"point": (1.0, 1.0, 30.0), "kinds": ("random_pyramids",), "cells": (1, 2), "seeds": 2,
+              "views": (10.0, 30.0),
+              "accuracy_cells": 2, "accuracy_seeds": 1, "accuracy_views": (45.0, 90.0),
+              "accuracy_points": ((1.0, 1.0),)},
     "full": {"point": (1.0, 1.0, 30.0), "kinds": RANDOM_KINDS, "cells": (1, 2, 3, 4, 6), "seeds": 6,
              "views": (1.0, 5.0),
              "accuracy_cells": 4, "accuracy_seeds": 2, "accuracy_views": (5.0, 15.0),

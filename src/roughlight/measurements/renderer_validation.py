@@ -24,6 +24,7 @@ from . import comparison
 #: and centre, the table aspect sqrt(3)/2 and two surfaces off the grid's lines, on every view of a sweep.
 PLANS = {
     "quick": {"surfaces": ((0.1, 1.0), (1.0, 1.0), (0.5, 0.5)), "steps": (5.0, 20.0)},
+    "smoke": {"surfaces": ((1.0, 1.0),), "steps": (20.0, 60.0)},  # a check that the report builds, in seconds
     "full": {
         "surfaces": ((0.1, 0.1), (0.1, 0.5), (0.1, 1.0), (0.5, 0.1), (0.5, 0.5), (0.5, 1.0), (1.0, 0.1),
                      (1.0, 0.5), (1.0, 1.0), (1.0, SQRT3_2), (0.3, 0.8), (0.8, 0.3)),

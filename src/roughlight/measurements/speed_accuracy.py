@@ -123,13 +123,16 @@ def tile_surfaces(kinds=RANDOM_KINDS, point=(1.0, 1.0, 30.0), seed: int = 1) -> 
     return tuple((make_surface(kind, t, a, seed), i) for kind in kinds)
 
 
-#: Sizes of the benchmark, by name (``report.speed_accuracy.plan`` in the config): ``full`` is
+#: Sizes of the benchmark, by name (``measurements.plan`` in the config): ``full`` is
 #: ``make bench``'s measurement; ``quick`` the same code on fewer configs, surfaces and views,
-#: sized for the default workflow's chart.
+#: sized for the default workflow's chart; ``smoke`` quick's configs on one surface and a few views (a check that a
+#: config builds the whole report, in seconds; its numbers are not for reading).
 PLANS = {
     "full": {"configs": default_configs, "surfaces": BENCH_SURFACES, "views": (5.0, 20.0), "repeats": 3,
              "tiles": {"configs": partial(tile_configs, (8, 12, 16, 24, 32), (8, 16, 24, 32)), "kinds": RANDOM_KINDS}},
     "quick": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:4:2], "views": (20.0, 45.0), "repeats": 1,
+              "tiles": {"configs": partial(tile_configs, (8, 16), (16,)), "kinds": ("random_pyramids",)}},
+    "smoke": {"configs": quick_configs, "surfaces": BENCH_SURFACES[1:2], "views": (40.0, 90.0), "repeats": 1,
               "tiles": {"configs": partial(tile_configs, (8, 16), (16,)), "kinds": ("random_pyramids",)}},
 }
 

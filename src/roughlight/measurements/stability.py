@@ -386,10 +386,14 @@ MEASUREMENTS = {
 
 #: The quick plan's surfaces: the thesis's half and full pyramids (fast) and its half pyramid (naive).
 QUICK_SURFACES = {"fast": SURFACES[1:3], "naive": NAIVE_SURFACES[:1]}
+#: The smoke plan's surfaces: the thesis's full pyramid, for each method.
+SMOKE_SURFACES = {"fast": SURFACES[2:3], "naive": NAIVE_SURFACES[1:]}
 
 #: Sizes of the measurements, by name (``measurements.plan`` in the config): ``full`` is ``make bench``'s
 #: (every measurement at its defaults above); ``quick`` runs the same code on fewer surfaces, settings and
-#: views, sized for the default workflow's "Where methods fail" section.
+#: views, sized for the default workflow's "Where methods fail" section; ``smoke`` the same code on one surface and
+#: two or three values a knob (a check that a config builds the whole report, in seconds; its numbers are not for
+#: reading).
 PLANS = {
     "full": {name: {} for name in MEASUREMENTS},
     "quick": {
@@ -404,14 +408,24 @@ PLANS = {
         "clipping": {"surfaces": ((PLATE, 30.0),) + SURFACES[1:3], "elevation_step": 4.0},
         "tiles": {"kinds": ("random_pyramids",), "pixels": (4, 8, 16)},
     },
+    "smoke": {
+        "pixels": {"surfaces": SMOKE_SURFACES, "fast_pixels": (8, 16), "naive_pixels": (10.0,), "n_jitter": 2,
+                   "naive_jitter_pixels": ()},
+        "elevation": {"surfaces": SMOKE_SURFACES, "elevations": (5.0, 90.0), "azimuths": {"fast": (0.0,), "naive": (0.0,)}},
+        "shadows": {"surfaces": SMOKE_SURFACES, "incidences": (45.0,), "biases": (0.0, 1e-4), "map_sizes": (32, 512)},
+        "shininess": {"surfaces": SMOKE_SURFACES, "shininess": (64.0,)},
+        "normals": {"surfaces": NORMALS_SURFACES[1:2], "views": _views((60.0, 120.0), (0.0,))},
+        "clipping": {"surfaces": ((PLATE, 30.0), SURFACES[2]), "elevation_step": 10.0},
+        "tiles": {"kinds": ("random_pyramids",), "pixels": (8, 16)},
+    },
 }
 
 
 def plan_surfaces(plan: str = "full") -> dict:
-    """The (Surface, incidence) pairs each method is measured on in a plan: {method: tuple}."""
-    if plan == "quick":
-        return {**QUICK_SURFACES, "normals": NORMALS_SURFACES[1:2]}
-    return {**PLAN, "normals": NORMALS_SURFACES}
+    """The (Surface, incidence) pairs each method is measured on in a plan: {method: tuple} (the pixel scan's, and
+    the normals scan's as ``normals``)."""
+    size = comparison.plan_size(PLANS, plan, "stability")
+    return {**size["pixels"].get("surfaces", PLAN), "normals": size["normals"].get("surfaces", NORMALS_SURFACES)}
 
 
 def run_measurement(name, lighting=None, plan: str = "full") -> pd.DataFrame:
@@ -426,7 +440,7 @@ def run_measurement(name, lighting=None, plan: str = "full") -> pd.DataFrame:
 #: every one in one process (:func:`run_job`). ``full``: one job a measurement (minutes each: both cores busy, and
 #: an interrupted run keeps the scans already written); ``quick``: one job for all (seconds each, about what a
 #: job's own start-up costs: the interpreter, the imports, the OpenGL context, the renderers' shaders).
-JOBS = {"full": tuple(MEASUREMENTS), "quick": ("all",)}
+JOBS = {"full": tuple(MEASUREMENTS), "quick": ("all",), "smoke": ("all",)}
 
 
 def run_job(job, lighting=None, plan: str = "full") -> pd.DataFrame:
