@@ -16,7 +16,7 @@ os.environ.setdefault("LP_NUM_THREADS", "1")
 os.environ.setdefault("DRJIT_CACHE_DIR", os.path.join(tempfile.gettempdir(), f"roughlight-drjit-tests-{os.getuid()}"))
 os.makedirs(os.environ["DRJIT_CACHE_DIR"], exist_ok=True)
 
-from .workflow_copy import REPO, copy_workflow  # noqa: E402,F401 (the tests import both from here)
+from .workflow_copy import REPO, copy_workflow, once_a_session  # noqa: E402,F401 (tests import the first two here)
 
 sys.path.insert(0, str(REPO / "tests" / "cluster"))
 import scenario  # noqa: E402
@@ -26,6 +26,15 @@ import scenario  # noqa: E402
 def workflow_dir(tmp_path):
     """A copy of the workflow (Snakefile, workflow/, config/) in a temporary directory."""
     return copy_workflow(tmp_path)
+
+
+@pytest.fixture(scope="session")
+def users_workflow(tmp_path_factory, worker_id):
+    """The user-grid issue's grids run through snakemake one after the other in one workflow copy, once a session
+    (tests/users_workflow.py): each grid's report and tables kept, the copy finished at the last grid."""
+    from .users_workflow import run_grids
+
+    return once_a_session(tmp_path_factory, worker_id, "users-workflow", run_grids)
 
 
 @pytest.fixture
@@ -52,10 +61,10 @@ def broken_osmesa(tmp_path_factory):
 #: comes from them: the longest run first, so that the two workers finish together instead of one starting a long
 #: test while the other has nothing left.
 EXPECTED_SECONDS = {
-    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 98,
+    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 1.5,  # reads users_workflow's
     "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 91,
     "tests/test_cluster.py::": 1.5,  # its scenario runs in the background from the start (scenario.py)
-    "tests/test_report.py::test_workflow_builds_the_report_and_lints": 35,
+    "tests/test_report.py::test_workflow_builds_the_report_and_lints": 25,
     "tests/test_workflow.py::test_tiny_study_end_to_end": 17,
     "tests/test_random.py::test_adding_a_seed_renders_only_it": 14,
     "tests/test_workflow.py::test_unwritable_results_and_corrupt_sweeps": 11,
@@ -89,7 +98,8 @@ GROUPS = (
     ("tests/test_workflow.py::test_tiny_study_end_to_end", "tiny_run"),
     ("tests/test_workflow.py::test_unwritable_results", "tiny_run"),
     ("tests/test_workflow.py::test_broken_osmesa", "tiny_run"),
-    ("tests/test_report.py::test_workflow_builds_the_report_and_lints", None),
+    ("tests/test_report.py::test_workflow_builds_the_report_and_lints", "users_workflow"),
+    ("tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid", "users_workflow"),
     ("tests/test_report.py::test_optional_parts_follow_the_config_not_the_files", None),
     ("tests/test_report.py::", "built"),
     ("tests/test_report_tables.py::", "built"),
@@ -101,8 +111,8 @@ GROUPS = (
     ("tests/test_packaging.py::", "packaging"),
 )
 #: The seconds of a group's fixtures (its place in the order: their tests' seconds and these).
-FIXTURE_SECONDS = {"built": 12, "tiny_run": 5, "explorer": 6.5, "analysis": 3, "findings": 2, "stability": 2,
-                   "lighting": 3.5, "packaging": 2}
+FIXTURE_SECONDS = {"users_workflow": 60, "built": 12, "tiny_run": 5, "explorer": 6.5, "analysis": 3, "findings": 2,
+                   "stability": 2, "lighting": 3.5, "packaging": 2}
 
 
 def _expected(nodeid: str) -> float:

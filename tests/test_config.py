@@ -203,8 +203,14 @@ def test_every_measurement_has_every_plan_the_config_allows():
     matches exactly those names: a plan the schema allows that one measurement lacks would fail in its job."""
     import re
 
-    from roughlight.measurements import (implicit_surface, light_transport, random_tiles, renderer_validation,
-                                         speed_accuracy, stability)
+    from roughlight.measurements import (
+        implicit_surface,
+        light_transport,
+        random_tiles,
+        renderer_validation,
+        speed_accuracy,
+        stability,
+    )
 
     schema = yaml.safe_load(SCHEMA.read_text())
     plans = set(schema["properties"]["measurements"]["properties"]["plan"]["enum"])

@@ -16,7 +16,6 @@ import json
 import math
 import os
 import re
-import shutil
 import subprocess
 import sys
 from html.parser import HTMLParser
@@ -51,11 +50,16 @@ from roughlight.report.explorer import DEFAULT_BUDGET, explorer_data, study_colu
 from roughlight.report.sections.explorer import explorer_script
 from roughlight.study.selection import find_aspect
 from roughlight.study.tables import study_summary
+from roughlight.surfaces.surface import aspect_label
 
 from .browser import Browser
 from .conftest import REPO
+from .report_chain import resolved
 from .test_analysis import make_study
 from .test_explorer import check_explorer
+from .test_user_grids import DEFAULT, merged
+from .users_workflow import GRIDS, MEASUREMENTS, user_file
+from .workflow_copy import copy_finished
 
 S32 = math.sqrt(3.0) / 2.0
 SETTINGS = {"table_aspects": [1.0, S32], "table_incidence": 30, "lobe_halfwidth": 40, "collinearity_limit": 100,
@@ -317,35 +321,27 @@ def test_captions_exist_for_every_figure():
 
 
 @pytest.mark.slow
-def test_workflow_builds_the_report_and_lints(workflow_dir):
-    """End to end: a tiny grid through the whole workflow, then `snakemake --lint` on the report rules."""
-    if (REPO / "envs").is_dir() and not (workflow_dir / "envs").exists():
-        shutil.copytree(REPO / "envs", workflow_dir / "envs")  # the rules' conda: files (lint checks them)
-    snakefile = workflow_dir / "Snakefile"
-    text = snakefile.read_text()
-    if "workflow/rules/report.smk" not in text:
-        text += '\n\ninclude: "workflow/rules/report.smk"\n'
-        snakefile.write_text(text)
-    config = {
-        "grid": {"truncation": [0.0, 0.5, 1.0], "aspect": [1.0, S32], "incidence": [30]},
-        "sweep": {"elevation_step": 5, "azimuth_step": 90},
-        # the measurements have tests of their own
-        "report": {"speed_accuracy": False, "stability": False, "implicit": False, "light_transport": {"enabled": False}},
-    }
-    (workflow_dir / "config" / "config.yaml").write_text(json.dumps(config))
+def test_workflow_builds_the_report_and_lints(workflow_dir, users_workflow):
+    """End to end: the user-grid runs' finished workflow (tests/users_workflow.py: every section on), its page
+    whole, then `snakemake --lint` on the report rules, `snakemake --report`, and report settings that reach their
+    consumers without rendering any sweep again."""
+    last = len(GRIDS) - 1
+    copy_finished(users_workflow, workflow_dir, ("results", ".snakemake", "reports", user_file(users_workflow, last).name))
+    user = str(user_file(workflow_dir, last))
     env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
     snakemake = [sys.executable, "-m", "snakemake", "--cores", "2", "--directory", str(workflow_dir),
-                 "--snakefile", str(snakefile)]
-    res = subprocess.run(snakemake + ["reports/roughlight_report.html"], capture_output=True, text=True,
-                         env=env, timeout=600)
-    assert res.returncode == 0, res.stderr[-4000:]
+                 "--configfile", user]
     html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
-    assert html.count('class="thesis-table"') == 4 and html.count("<img ") == len(FIGURE_RULES_DRAW)
-    for figure in FIGURE_RULES_DRAW:  # every caption of the registry is on the page
+    table_aspects = resolved(merged(DEFAULT, GRIDS[last]))[0]["report"]["table_aspects"]  # as they followed the grid
+    assert html.count('class="thesis-table"') == 2 * len(table_aspects)  # Tables 1-2 at each table aspect
+    assert html.count("<img ") == len(registry.FIGURES)  # every section on: every figure of the registry
+    for figure in FIGURE_RULES_DRAW:  # every caption of the thesis's figures and beyond is on the page
         assert f'id="fig-{figure.name}"' in html
     # the provenance lists what the sweeps ran on, from the study table's record
     ran_on = re.search(r'<ul id="renderers">(.*?)</ul>', html, re.S).group(1)
     assert "llvmpipe" in ran_on and "osmesa" in ran_on
+    dry = subprocess.run(snakemake + ["--dry-run"], capture_output=True, text=True, env=env, timeout=300)
+    assert "Nothing to be done" in dry.stdout + dry.stderr, dry.stdout[-3000:]  # the copy is finished
     lint = subprocess.run(snakemake + ["--lint"], capture_output=True, text=True, env=env, timeout=300)
     text = lint.stdout + lint.stderr
     assert "report.smk" not in text, text[-3000:]
@@ -355,26 +351,25 @@ def test_workflow_builds_the_report_and_lints(workflow_dir):
     res = subprocess.run(snakemake + ["--report", str(archive)], capture_output=True, text=True, env=env, timeout=300)
     assert res.returncode == 0 and archive.stat().st_size > 0, res.stderr[-3000:]
 
-    # every setting reaches every consumer: other table aspects, incidence and figure lights/incidences
+    # every setting reaches every consumer: another table aspect, figure incidences and lights
     sweeps = sorted((workflow_dir / "results" / "sweeps").rglob("*.parquet"))
     stamps = [p.stat().st_mtime_ns for p in sweeps]
-    follow = {"report": {"speed_accuracy": False, "stability": False, "implicit": False,
-                         "light_transport": {"enabled": False}, "table_aspects": [S32],
-                         "table_incidence": 30,
-                         "figure_incidences": [30, 60], "figure_lights": [127]}}
+    other = next(a for a in GRIDS[last]["grid"]["aspect"] if a not in table_aspects)  # a grid aspect not shown yet
+    follow = {"report": {"table_aspects": [other], "figure_incidences": [30, 60], "figure_lights": [127]}}
     (workflow_dir / "follow.yaml").write_text(json.dumps(follow))
-    configs = [str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "follow.yaml")]
-    res = subprocess.run(snakemake + ["reports/roughlight_report.html", "--configfile", *configs],
-                         capture_output=True, text=True, env=env, timeout=600)
+    res = subprocess.run(snakemake + [str(workflow_dir / "follow.yaml")], capture_output=True, text=True, env=env,
+                         timeout=600)
     assert res.returncode == 0, res.stderr[-4000:]
     assert [p.stat().st_mtime_ns for p in sweeps] == stamps  # report settings render no sweep again
     html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
-    aspects = {t["data-aspect"] for t in _parse(html).tables if t.get("class") == "thesis-table"}
-    assert aspects == {"√3/2"} and html.count('class="thesis-table"') == 2
+    shown = {t["data-aspect"] for t in _parse(html).tables if t.get("class") == "thesis-table"}
+    assert shown == {aspect_label(other)} and html.count('class="thesis-table"') == 2
     plates = pd.read_parquet(workflow_dir / "results" / "analysis" / "plate_sweeps.parquet")
-    assert set(plates["incidence"]) == {30.0, 60.0} and set(plates["light"]) == {127.0}
+    assert set(plates["incidence"]) >= {30.0, 60.0} and set(plates["light"]) == {127.0}
     tables = pd.read_csv(workflow_dir / "results" / "analysis" / "thesis_tables.csv")
-    assert set(tables.loc[tables["source"] == "ours", "aspect_label"]) == {"√3/2"}
+    assert set(tables.loc[tables["source"] == "ours", "aspect"]) == {other}
+    arcs = pd.read_parquet(workflow_dir / "results" / "benchmarks" / MEASUREMENTS["plan"] / "arc_smoothness.parquet")
+    assert set(arcs["aspect"]) <= {other}  # the renderer validation's arc curves follow the table aspects
 
 
 def test_optional_parts_follow_the_config_not_the_files(workflow_dir):

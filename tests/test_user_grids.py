@@ -11,12 +11,8 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
-import subprocess
-import sys
 from html.parser import HTMLParser
-from pathlib import Path
 
 import pandas as pd
 import pytest
@@ -29,6 +25,7 @@ from roughlight.surfaces.surface import aspect_label
 
 from .conftest import REPO
 from .report_chain import SCHEMA, resolved, whole_report
+from .users_workflow import GRIDS, MEASUREMENTS, PILOT_SEEDS, SEEDS, kept
 
 S32 = math.sqrt(3.0) / 2.0
 DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
@@ -44,20 +41,10 @@ def merged(base: dict, edits: dict) -> dict:
     return out
 
 
-#: The tested and pilot seeds of each random kind in these tests: they vary the grid, and the ensembles' size and
-#: the claim's design have tests of their own (tests/test_random.py, tests/test_claims.py); the shipped 4 and 3
-#: would add half again to every report built here (issue 46: the random sweeps were most of an example's time).
-SEEDS = 2
-PILOT_SEEDS = 2
 #: The random tiles' cells a side in the in-process whole reports (the hypothesis test): their size has tests of its
 #: own too (the tile-size benchmark, tests/test_random.py), and the snakemake test below builds its grids with the
 #: shipped 4. Two cells a side took the largest example from 15.8-18.9 s to 11.6-12.5 s (issue 46).
 DRAWN_CELLS = 2
-#: The measurements' size in the snakemake test (measurements.plan): the grid-independent sections (speed and
-#: accuracy, stability, the implicit surface, light transport, the random tiles' benchmark) are on the page whatever
-#: the grid, and each measurement has tests of its own; at the shipped quick plan they were 57 of the test's 97
-#: job-seconds (issue 46).
-MEASUREMENTS = {"plan": "smoke"}
 
 
 def user_config(grid: dict, sweep: dict | None = None) -> dict:
@@ -248,49 +235,26 @@ def test_any_users_grid_gives_the_whole_report(tmp_path_factory, truncation, asp
 # the same through snakemake, as a user runs it
 
 
-SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
-
-#: An export of a few nodes (rule export's scripts run end to end in seconds; its accuracy has tests of its own).
-TINY_EXPORT = {"surfaces": [[0.5, 1.0]],
-               "table": {"incidence": [0, 30, 60, 90], "edge_on": False, "light_azimuth": [0, 45],
-                         "elevation": [5, 30, 90], "azimuth_step": 45},
-               "mitsuba": {"elevation": [10, 45, 90], "phi_nodes": 3, "resolution": 8},
-               "check": {"lights": 1, "views": 20}}
-
-
 @pytest.mark.slow
-def test_workflow_builds_a_report_for_each_users_grid(workflow_dir):
+def test_workflow_builds_a_report_for_each_users_grid(users_workflow):
     """The issue's grids, one after the other in one directory, each edited into a user's --configfile over
     config/config.yaml as shipped (random kinds, every report section; :data:`SEEDS` seeds a kind, the measurements
-    at :data:`MEASUREMENTS`' plan): each run ends with the whole report."""
-    env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
-    grids = [
-        {"grid": {"truncation": [0.3, 1.0], "aspect": [0.6]}, "sweep": {"elevation_step": 30, "azimuth_step": 90},
-         "surface": {"seeds": SEEDS}, "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT,
-         "measurements": MEASUREMENTS},
-        {"grid": {"truncation": [0.2, 0.5, 0.8, 1.0], "aspect": [0.4, 0.9], "incidence": [45]},
-         "sweep": {"elevation_step": 30, "azimuth_step": 90}, "surface": {"kind": "random_pyramids", "seeds": SEEDS},
-         "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT, "measurements": MEASUREMENTS},
-    ]
-    for k, grid in enumerate(grids):
-        user = workflow_dir / f"user{k}.yaml"
-        user.write_text(yaml.safe_dump(grid))
-        proc = subprocess.run([SNAKEMAKE, "--cores", "2", "--configfile", str(user)], cwd=workflow_dir,
-                              capture_output=True, text=True, timeout=900, env=env)
-        log = proc.stdout + proc.stderr
-        assert proc.returncode == 0, log[-4000:]
+    at :data:`MEASUREMENTS`' plan; tests/users_workflow.py runs them): each run ends with the whole report."""
+    for k, grid in enumerate(GRIDS):
+        out = kept(users_workflow, k)
+        log = (out / "snakemake.log").read_text()
         cfg, followed = resolved(merged(DEFAULT, grid))
         for line in followed:  # the log says which values were used
             assert f"config: {line}" in log
-        html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
+        html = (out / "report.html").read_text(encoding="utf-8")
         check_complete(html, followed)
-        study = pd.read_parquet(workflow_dir / "results" / "study.parquet")
+        study = pd.read_parquet(out / "study.parquet")
         assert sorted(set(study.loc[study["kind"] == "pyramids", "truncation"])) == grid["grid"]["truncation"]
-        tables = pd.read_csv(workflow_dir / "results" / "analysis" / "thesis_tables.csv")
+        tables = pd.read_csv(out / "thesis_tables.csv")
         assert set(tables.loc[tables["source"] == "ours", "aspect"]) == set(cfg["report"]["table_aspects"])
         # the export does not follow the grid: written by the first run, the same for the second
-        exported = pd.read_csv(workflow_dir / "results" / "export" / "summary.csv")
+        exported = pd.read_csv(out / "export_summary.csv")
         assert set(exported["method"]) == {"implicit_table", "mitsuba_measured"} and (exported["views"] == 20).all()
         assert 'id="fig-export"' in html and "truncation 0.5, aspect 1: the share table" in html
-        # the measured sections at the user's plan, and only there
-        assert sorted(p.name for p in (workflow_dir / "results" / "benchmarks").iterdir()) == ["smoke"]
+    # the measured sections at the users' plan, and only there
+    assert sorted(p.name for p in (users_workflow / "results" / "benchmarks").iterdir()) == [MEASUREMENTS["plan"]]

@@ -1,6 +1,4 @@
 """End to end: snakemake on a tiny grid in a temporary directory."""
-import fcntl
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -12,7 +10,7 @@ import yaml
 
 from roughlight.study.tables import STUDY_COLUMNS, renderers
 
-from .conftest import copy_workflow
+from .workflow_copy import copy_finished, copy_workflow, once_a_session
 
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
@@ -44,26 +42,19 @@ def tiny_run(tmp_path_factory, worker_id):
     """A workflow copy where ``snakemake STUDY MESH`` ran on :data:`TINY`, once a test session: the pytest-xdist
     workers share it (the first to come runs it under a lock). The tests that start from TINY's finished study copy
     its results/ and .snakemake/ (:func:`finished_tiny`) instead of rendering the same sweeps again."""
-    shared = tmp_path_factory.getbasetemp() if worker_id == "master" else tmp_path_factory.getbasetemp().parent
-    workdir = shared / "tiny-run"
-    with open(shared / "tiny-run.lock", "w") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if not (workdir / "done").exists():
-            shutil.rmtree(workdir, ignore_errors=True)
-            workdir.mkdir()
-            copy_workflow(workdir)
-            write_config(workdir, TINY)
-            snakemake(workdir, STUDY, MESH)
-            (workdir / "done").touch()
-    return workdir
+    def build(workdir):
+        copy_workflow(workdir)
+        write_config(workdir, TINY)
+        snakemake(workdir, STUDY, MESH)
+
+    return once_a_session(tmp_path_factory, worker_id, "tiny-run", build)
 
 
 def finished_tiny(workflow_dir, tiny_run):
     """TINY's config, study table, sweeps, mesh and Snakemake's records of them in ``workflow_dir``, as if
     ``snakemake STUDY MESH`` had just run there (times kept: nothing is out of date)."""
     write_config(workflow_dir, TINY)
-    for name in ("results", ".snakemake"):
-        shutil.copytree(tiny_run / name, workflow_dir / name, symlinks=True, dirs_exist_ok=True)
+    copy_finished(tiny_run, workflow_dir)
 
 
 def planned_jobs(workdir):

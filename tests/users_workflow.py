@@ -1,0 +1,85 @@
+"""The user-grid issue's grids through snakemake, once a test session, for two tests to read.
+
+The grids run one after the other in one workflow copy, each a user's ``--configfile`` over config/config.yaml as
+shipped (random kinds and every report section). After each run, what its report and tables say is kept in
+``grids/<k>/`` (:data:`KEPT`), for ``tests/test_user_grids.py`` to check each grid's whole report; the copy itself
+ends finished at the last grid, for ``tests/test_report.py`` to lint it, build Snakemake's own report and follow
+report settings from it. One run serves both: apart, each built a whole workflow of its own (issue 46).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import yaml
+
+from .workflow_copy import copy_workflow
+
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+
+#: The tested and pilot seeds of each random kind in the user-grid tests: they vary the grid, and the ensembles'
+#: size and the claim's design have tests of their own (tests/test_random.py, tests/test_claims.py); the shipped 4
+#: and 3 would add half again to every report built there (issue 46: the random sweeps were most of an example's
+#: time).
+SEEDS = 2
+PILOT_SEEDS = 2
+#: The measurements' size in these runs (measurements.plan): the grid-independent sections (speed and accuracy,
+#: stability, the implicit surface, light transport, the random tiles' benchmark) are on the page whatever the grid,
+#: and each measurement has tests of its own; at the shipped quick plan they were 57 of the runs' 97 job-seconds
+#: (issue 46).
+MEASUREMENTS = {"plan": "smoke"}
+#: An export of a few nodes (rule export's scripts run end to end in seconds; its accuracy has tests of its own).
+TINY_EXPORT = {"surfaces": [[0.5, 1.0]],
+               "table": {"incidence": [0, 30, 60, 90], "edge_on": False, "light_azimuth": [0, 45],
+                         "elevation": [5, 30, 90], "azimuth_step": 45},
+               "mitsuba": {"elevation": [10, 45, 90], "phi_nodes": 3, "resolution": 8},
+               "check": {"lights": 1, "views": 20}}
+
+#: The issue's grids, each a user's --configfile, in the order they run.
+GRIDS = [
+    {"grid": {"truncation": [0.3, 1.0], "aspect": [0.6]}, "sweep": {"elevation_step": 30, "azimuth_step": 90},
+     "surface": {"seeds": SEEDS}, "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT,
+     "measurements": MEASUREMENTS},
+    {"grid": {"truncation": [0.2, 0.5, 0.8, 1.0], "aspect": [0.4, 0.9], "incidence": [45]},
+     "sweep": {"elevation_step": 30, "azimuth_step": 90}, "surface": {"kind": "random_pyramids", "seeds": SEEDS},
+     "claims": {"pilot_seeds": PILOT_SEEDS}, "export": TINY_EXPORT, "measurements": MEASUREMENTS},
+]
+
+#: What each grid's run leaves that the tests read, kept under ``grids/<k>/`` by its name there (the run's log as
+#: ``snakemake.log``).
+KEPT = {"report.html": "reports/roughlight_report.html", "study.parquet": "results/study.parquet",
+        "thesis_tables.csv": "results/analysis/thesis_tables.csv", "export_summary.csv": "results/export/summary.csv"}
+
+
+def user_file(workdir: Path, k: int) -> Path:
+    """The --configfile of grid ``k``."""
+    return workdir / f"user{k}.yaml"
+
+
+def kept(workdir: Path, k: int) -> Path:
+    """Where grid ``k``'s run left its log, report and tables (:data:`KEPT`)."""
+    return workdir / "grids" / str(k)
+
+
+def run_grids(workdir: Path) -> Path:
+    """Copy the workflow into ``workdir`` and run :data:`GRIDS` there one after the other (``snakemake --cores 2
+    --configfile user<k>.yaml``), keeping what each run left (:func:`kept`). A failed run raises with its log."""
+    copy_workflow(workdir)
+    env = {**os.environ, "PYOPENGL_PLATFORM": "osmesa"}
+    for k, grid in enumerate(GRIDS):
+        user = user_file(workdir, k)
+        user.write_text(yaml.safe_dump(grid))
+        proc = subprocess.run([SNAKEMAKE, "--cores", "2", "--configfile", str(user)], cwd=workdir,
+                              capture_output=True, text=True, timeout=900, env=env)
+        log = proc.stdout + proc.stderr
+        assert proc.returncode == 0, log[-4000:]
+        out = kept(workdir, k)
+        out.mkdir(parents=True)
+        (out / "snakemake.log").write_text(log)
+        for name, path in KEPT.items():
+            shutil.copy2(workdir / path, out / name)
+    return workdir
