@@ -258,3 +258,28 @@ def test_workflow_builds_a_report_for_each_users_grid(users_workflow):
         assert 'id="fig-export"' in html and "truncation 0.5, aspect 1: the share table" in html
     # the measured sections at the users' plan, and only there
     assert sorted(p.name for p in (users_workflow / "results" / "benchmarks").iterdir()) == [MEASUREMENTS["plan"]]
+
+
+def test_the_chains_draft_draws_every_artist(tmp_path):
+    """The in-process chain's drafts paint no pixel but draw every artist: text laid out with its font (mathtext
+    parsed) and images through their colour maps, so a figure that would fail in the workflow fails here too."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.colors import LogNorm
+
+    from .report_chain import DRAFT_PNG, draft
+
+    fig, ax = plt.subplots()
+    ax.imshow(np.arange(1.0, 7.0).reshape(2, 3), norm=LogNorm())
+    ax.set_title(r"$\sqrt{3}/2$")
+    assert draft(fig, tmp_path / "ok.png") == str(tmp_path / "ok.png")
+    assert (tmp_path / "ok.png").read_bytes() == DRAFT_PNG
+    fig, ax = plt.subplots()
+    ax.set_title(r"$\notacommand{3}$")  # Agg raises on it when it lays the title out
+    with pytest.raises(ValueError):
+        draft(fig, tmp_path / "mathtext.png")
+    fig, ax = plt.subplots()
+    ax.imshow(np.array([[-1.0, 0.0], [0.0, -2.0]]), norm=LogNorm(vmin=-1.0, vmax=1.0))  # invalid on drawing
+    with pytest.raises(ValueError):
+        draft(fig, tmp_path / "norm.png")
+    assert not (tmp_path / "mathtext.png").exists() and not (tmp_path / "norm.png").exists()
