@@ -61,7 +61,7 @@ def broken_osmesa(tmp_path_factory):
 #: comes from them: the longest run first, so that the two workers finish together instead of one starting a long
 #: test while the other has nothing left.
 EXPECTED_SECONDS = {
-    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 1.5,  # reads users_workflow's
+    "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 1.5,  # reads what users_workflow kept
     "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 45,  # alone, with the drafts
     "tests/test_cluster.py::": 1.5,  # its scenario runs in the background from the start (scenario.py)
     "tests/test_report.py::test_workflow_builds_the_report_and_lints": 25,
