@@ -54,11 +54,9 @@ from roughlight.surfaces.surface import aspect_label
 
 from .browser import Browser
 from .conftest import REPO
-from .report_chain import resolved
 from .test_analysis import make_study
 from .test_explorer import check_explorer
-from .test_user_grids import DEFAULT, merged
-from .users_workflow import GRIDS, MEASUREMENTS, user_file
+from .users_workflow import GRIDS, MEASUREMENTS, grid_config, user_file
 from .workflow_copy import copy_finished
 
 S32 = math.sqrt(3.0) / 2.0
@@ -332,7 +330,7 @@ def test_workflow_builds_the_report_and_lints(workflow_dir, users_workflow):
     snakemake = [sys.executable, "-m", "snakemake", "--cores", "2", "--directory", str(workflow_dir),
                  "--configfile", user]
     html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
-    table_aspects = resolved(merged(DEFAULT, GRIDS[last]))[0]["report"]["table_aspects"]  # as they followed the grid
+    table_aspects = grid_config(last)[0]["report"]["table_aspects"]  # as they followed the grid
     assert html.count('class="thesis-table"') == 2 * len(table_aspects)  # Tables 1-2 at each table aspect
     assert html.count("<img ") == len(registry.FIGURES)  # every section on: every figure of the registry
     for figure in FIGURE_RULES_DRAW:  # every caption of the thesis's figures and beyond is on the page

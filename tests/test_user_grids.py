@@ -16,29 +16,18 @@ from html.parser import HTMLParser
 
 import pandas as pd
 import pytest
-import yaml
 from hypothesis import HealthCheck, example, given, seed, settings
 from hypothesis import strategies as st
 
 from roughlight.study import config as rl_config
 from roughlight.surfaces.surface import aspect_label
 
-from .conftest import REPO
 from .report_chain import SCHEMA, resolved, whole_report
-from .users_workflow import GRIDS, MEASUREMENTS, PILOT_SEEDS, SEEDS, kept
+from .users_workflow import DEFAULT, GRIDS, MEASUREMENTS, PILOT_SEEDS, SEEDS, grid_config, kept
 
 S32 = math.sqrt(3.0) / 2.0
-DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
 SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "export", "random",
             "light-transport", "stability", "provenance")
-
-
-def merged(base: dict, edits: dict) -> dict:
-    """``edits`` over ``base``, mapping by mapping (as snakemake merges a --configfile over the Snakefile's)."""
-    out = json.loads(json.dumps(base))
-    for key, value in edits.items():
-        out[key] = merged(out.get(key, {}), value) if isinstance(value, dict) else value
-    return out
 
 
 #: The random tiles' cells a side in the in-process whole reports (the hypothesis test): their size has tests of its
@@ -215,7 +204,8 @@ def test_the_whole_report_draws_the_same_grids():
 @seed(DRAW_SEED)
 @WHOLE_REPORT
 @given(**user_grids)
-# the issue's first grid (t 0.3, 1 a 0.6 i 30 at 30 x 90 degrees) is built end to end by snakemake below
+# the issue's first grid (t 0.3, 1 a 0.6 i 30 at 30 x 90 degrees) is built end to end by snakemake
+# (tests/users_workflow.py, checked below)
 @example(truncation=[0.2, 0.5, 0.8, 1.0], aspect=[0.4, 0.9], incidence=[30],
          sweep={"elevation_step": 15, "azimuth_step": 45})
 @example(truncation=[0.5], aspect=[1.0], incidence=[45], sweep={"elevation_step": 45, "azimuth_step": 180})
@@ -243,7 +233,7 @@ def test_workflow_builds_a_report_for_each_users_grid(users_workflow):
     for k, grid in enumerate(GRIDS):
         out = kept(users_workflow, k)
         log = (out / "snakemake.log").read_text()
-        cfg, followed = resolved(merged(DEFAULT, grid))
+        cfg, followed = grid_config(k)
         for line in followed:  # the log says which values were used
             assert f"config: {line}" in log
         html = (out / "report.html").read_text(encoding="utf-8")

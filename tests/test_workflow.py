@@ -1,7 +1,5 @@
 """End to end: snakemake on a tiny grid in a temporary directory."""
 import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -10,9 +8,7 @@ import yaml
 
 from roughlight.study.tables import STUDY_COLUMNS, renderers
 
-from .workflow_copy import copy_finished, copy_workflow, once_a_session
-
-SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+from .workflow_copy import SNAKEMAKE, copy_finished, copy_workflow, once_a_session
 
 TINY = {
     "grid": {"truncation": [0.0, 1.0], "aspect": [1.0], "incidence": [30]},

@@ -9,17 +9,19 @@ report settings from it. One run serves both: apart, each built a whole workflow
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
-import sys
 from pathlib import Path
 
 import yaml
 
-from .workflow_copy import copy_workflow
+from .report_chain import resolved
+from .workflow_copy import REPO, SNAKEMAKE, copy_workflow
 
-SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+#: config/config.yaml as shipped: what a user's --configfile edits.
+DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
 
 #: The tested and pilot seeds of each random kind in the user-grid tests: they vary the grid, and the ensembles'
 #: size and the claim's design have tests of their own (tests/test_random.py, tests/test_claims.py); the shipped 4
@@ -53,6 +55,19 @@ GRIDS = [
 #: ``snakemake.log``).
 KEPT = {"report.html": "reports/roughlight_report.html", "study.parquet": "results/study.parquet",
         "thesis_tables.csv": "results/analysis/thesis_tables.csv", "export_summary.csv": "results/export/summary.csv"}
+
+
+def merged(base: dict, edits: dict) -> dict:
+    """``edits`` over ``base``, mapping by mapping (as snakemake merges a --configfile over the Snakefile's)."""
+    out = json.loads(json.dumps(base))
+    for key, value in edits.items():
+        out[key] = merged(out.get(key, {}), value) if isinstance(value, dict) else value
+    return out
+
+
+def grid_config(k: int) -> tuple[dict, list[str]]:
+    """The config grid ``k``'s run ran with (defaults filled, the grid's followers set) and its follow notes."""
+    return resolved(merged(DEFAULT, GRIDS[k]))
 
 
 def user_file(workdir: Path, k: int) -> Path:

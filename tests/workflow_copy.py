@@ -1,10 +1,13 @@
 """A copy of the workflow for a test to run Snakemake in (the tests' fixtures and the cluster scenario, which runs
-as a script of its own), and a finished run shared by the tests of a session."""
+as a script of its own), the command that runs it, and a finished run shared by the tests of a session."""
 import fcntl
 import shutil
+import sys
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
+#: The snakemake command of the environment the tests run in.
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 #: What a run of the workflow needs from the repository.
 WORKFLOW = ("Snakefile", "workflow", "config", "envs", "profiles")
 

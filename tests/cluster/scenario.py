@@ -34,9 +34,8 @@ sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parents[1]))
 import single_node  # noqa: E402
 
-from tests.workflow_copy import copy_workflow  # noqa: E402
+from tests.workflow_copy import SNAKEMAKE, copy_workflow  # noqa: E402
 
-SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 STUDY = "results/study.parquet"
 #: Three surfaces and the control at a coarse sweep: two group jobs of sweeps, then the study table.
 SMALL = {
