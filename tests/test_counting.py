@@ -6,7 +6,7 @@ import shapely
 
 from roughlight.render import shading
 from roughlight.render.exact import clipping, reference
-from roughlight.render.fast import counting, periodic, sampling, shares
+from roughlight.render.fast import counting, periodic, raster, sampling, shares
 from roughlight.render.fast.settings import FastSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.roughness import RandomSurface
@@ -21,27 +21,68 @@ def _views(elevation, azimuth):
 @pytest.mark.parametrize("kind", KINDS)
 @pytest.mark.parametrize("shadows", [False, True])
 def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, shadows):
-    """The GL side draws each region (the lit or the shadowed part of a facet) as its own triangles, so its
-    visible + hidden count must be the pixel centres inside its projected polygon counted from the polygon
-    (shares.counts_and_areas): equal but where a centre lies within float32 rounding of an edge (about 1% of the
-    regions here, one pixel each), with shadows or without."""
+    """Each region (the lit or the shadowed part of a facet) is counted as its own triangles, so its total must be
+    the pixel centres inside its projected polygon counted from the polygon (shares.counts_and_areas): equal but
+    where a centre lies within rounding of an edge, with shadows or without (in double precision one centre on
+    under 1% of the regions here, none on random pyramids; llvmpipe, snapping corners to 1/256 of a pixel, was off on about 1%). The visible centres
+    fill each view once."""
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
     settings = FastSettings().tile_settings().for_tile(tile.cells)
     regions = shares.facet_regions(tile, 30.0, shadows)
     views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
     shears = views[:, :2] / views[:, 2:3]
     plan = shares.region_plan_areas(regions)
-    drawn = sampling.tile_pass(np.arange(len(views)), settings.sampling_matrix(), settings)
-    visible, total, per_tile = counting.counted_pixels(tile.height, regions, views, shears, drawn,
-                                                       settings.shadow_map_size)
+    drawn = sampling.tile_pass(np.arange(len(views)), settings.sampling_matrix())
+    visible, total, per_tile = counting.counted_pixels(regions, shears, drawn)
     expected, areas = shares.counts_and_areas(regions, shears, settings.sampling_matrix())
     assert per_tile == abs(round(np.linalg.det(settings.sampling_matrix())))
     difference = np.abs(total - expected)
-    assert difference.max() <= 1 and (difference > 0).mean() < 0.02, (difference.max(), (difference > 0).mean())
-    assert np.corrcoef(total.ravel(), expected.ravel())[0, 1] > 0.9999
+    assert difference.max() <= 1 and (difference > 0).mean() < 0.01, (difference.max(), (difference > 0).mean())
     assert np.all(visible <= total) and np.all(visible.sum(axis=1) == per_tile)
+    assert (visible < total).sum() > 10  # views that hide something
     # the exact projected areas are the polygons' (shoelace over the projected rings)
     np.testing.assert_allclose(shares.projected_areas(regions, plan, shears), areas, atol=1e-12)
+
+
+@pytest.mark.parametrize("matrix", [[[64, 0], [0, 64]], [[53, 34], [-34, 53]], [[71, 36], [-36, 71]], [[9, 4], [-4, 9]]])
+def test_the_torus_holds_each_pixel_centre_of_a_period_once(matrix):
+    """raster.torus_basis: the pixels of one period (those whose centre lies in the tile, as the GL layout
+    finds them) fall each on its own torus pixel, and pixels some lattice vectors away on the same ones."""
+    matrix = np.array(matrix)
+    a, b, c = raster.torus_basis(matrix)
+    det = round(abs(np.linalg.det(matrix)))
+    assert a * c == det and 0 <= b < a
+
+    def index(i, j):
+        q = np.floor_divide(j, c)
+        return (j - q * c) * a + np.mod(i - q * b, a)
+
+    home = sampling._home_pixels(matrix.astype(float), np.linalg.inv(matrix), det)
+    np.testing.assert_array_equal(np.sort(index(home[:, 0], home[:, 1])), np.arange(det))
+    for k, l in ((1, 0), (0, 1), (-3, 2), (5, -7)):
+        moved = home + matrix @ np.array([k, l])
+        np.testing.assert_array_equal(index(moved[:, 0], moved[:, 1]), index(home[:, 0], home[:, 1]))
+    with pytest.raises(ValueError, match="non-singular"):
+        raster.torus_basis(np.array([[2, 4], [1, 2]]))
+
+
+def test_the_highest_triangle_is_seen_and_back_faces_are_not_counted():
+    """Two unit squares over the whole period, one at height 0.2 and one at 0.6 (regions 0 and 1), seen from
+    above: every pixel shows the higher one, in either drawing order, and each has every pixel as its total. The
+    lower square turned clockwise (facing down) is not counted at all."""
+    low = np.array([[[0, 0, 0.2], [1, 0, 0.2], [1, 1, 0.2]], [[0, 0, 0.2], [1, 1, 0.2], [0, 1, 0.2]]])
+    high = low + [0, 0, 0.4]
+    matrix = np.array([[7, 2], [-3, 5]])
+    shears = np.array([[0.0, 0.0], [0.3, -0.8]])
+    for tris, region in ((np.concatenate([low, high]), [0, 0, 1, 1]), (np.concatenate([high, low]), [1, 1, 0, 0])):
+        visible, total, per_tile = raster.count_views(tris, np.array(region), 2, shears, matrix)
+        np.testing.assert_array_equal(visible, [[0, per_tile]] * 2)
+        np.testing.assert_array_equal(total, [[per_tile, per_tile]] * 2)
+    visible, total, _ = raster.count_views(np.concatenate([low[:, ::-1], high]), np.array([0, 0, 1, 1]), 2,
+                                           shears, matrix, totals=False)
+    assert total is None and visible[:, 0].sum() == 0
+    with pytest.raises(ValueError, match="regions must lie"):
+        raster.count_views(low, np.array([0, 2]), 2, shears, matrix)
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -246,20 +287,17 @@ def test_views_the_shadow_map_pass_got_wrong_are_within_a_level():
 
 
 def test_views_counted_without_totals_see_what_the_counted_pass_sees():
-    """The views within GRAZING_BAND are drawn with early depth tests and no fragment counted: their visible
-    pixels are exactly those of the pass that counts every fragment, and no total comes back."""
+    """The views within GRAZING_BAND are counted without totals: their visible pixels are exactly those of the
+    pass that counts every centre, and no total comes back."""
     tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=2)
     views = _views([3.0, 177.0, 8.0], [30.0, 120.0, 75.0])
     settings = FastSettings().tile_settings().for_tile(tile.cells)
     regions = shares.facet_regions(tile, 30.0, True)
     shears = views[:, :2] / views[:, 2:3]
-    triangles = counting.region_triangles(regions)
-    both = [list(counting.counted_batches(tile.height, triangles, len(regions.rings), views, shears,
-                                           sampling.tile_pass(np.arange(3), settings.sampling_matrix(), settings,
-                                                              totals), settings.shadow_map_size))
+    both = [counting.counted_pixels(regions, shears, sampling.tile_pass(np.arange(3), settings.sampling_matrix(),
+                                                                        totals))
             for totals in (True, False)]
-    (_, counted, total, _), = both[0]
-    (_, seen, none, _), = both[1]
+    (counted, total, _), (seen, none, _) = both
     assert none is None and total.sum() > 3 * counted.sum() > 0
     np.testing.assert_array_equal(seen, counted)
 

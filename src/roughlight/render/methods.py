@@ -100,7 +100,8 @@ class Method:
                                  f"{light_azimuth!r}: a light from another azimuth is measured by {lit}")
             light = {"light_azimuth": float(light_azimuth)}
         out = _load(self.sweeper)(surface, incidence, azimuth, elevation, lighting, settings, **light)
-        out["renderer"] = self.drawn_on(settings, made=True)
+        if "renderer" not in out:  # a sweep that drew on nothing of the method's says what it counted on
+            out["renderer"] = self.drawn_on(settings, made=True)
         return out
 
     def drawn_on(self, settings=None, made: bool = False) -> str:

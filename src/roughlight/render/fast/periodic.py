@@ -84,14 +84,17 @@ def fast_sweep(
         ``diffuse``, ``specular``, ``total``: (n_views,) means of the 8-bit
         pixel values of the view's tile (0-255); ``coverage``: (n_views,)
         fraction of the tile's pixels showing the surface; ``seconds``: wall
-        time of the sweep.
+        time of the sweep; ``renderer`` for a random tile with adaptive sampling, which draws nothing with
+        OpenGL (:func:`roughlight.render.fast.raster.identity`).
     """
     settings = (settings or FastSettings()).for_surface(surface)
     light_azimuth = shading.check_light_azimuth(light_azimuth)
 
+    counted = hasattr(surface, "cells") and settings.sampling == "adaptive"  # a random tile: counted on the CPU
+
     def step(out, views, incidence, lighting):
         light = (incidence, light_azimuth)
-        if hasattr(surface, "cells") and settings.sampling == "adaptive":  # a random tile: counted on the GL side
+        if counted:
             _counted_views(out, surface, light, views.measured, views.directions(), lighting, settings)
         else:
             _render_views(out, surface, light, views.measured, views.directions(), lighting, settings)
@@ -102,12 +105,17 @@ def fast_sweep(
     # rendered its truncation's row in order. A new context costs nothing measurable here: Mesa keeps the
     # compiled shaders on disk.
     release_contexts()
-    return sweep.measure(step, incidence, azimuth, elevation, lighting)
+    out = sweep.measure(step, incidence, azimuth, elevation, lighting)
+    if counted:
+        from .raster import identity
+
+        out["renderer"] = identity()
+    return out
 
 
 def _counted_views(out, surface, light, todo, views, lighting, settings) -> None:
     """Fill ``out`` at the non-grazing views ``todo`` of a random tile with adaptive sampling: each region's share
-    counted on the GL side (:func:`counted_shares`), weighted by its 8-bit values. ``light``: (incidence, light
+    counted on the CPU (:func:`counted_shares`), weighted by its 8-bit values. ``light``: (incidence, light
     azimuth), degrees."""
     incidence, light_azimuth = light
     regions = shares.adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
@@ -119,9 +127,9 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     """Each facet's lit and shadowed share of each view's image, for a random tile (:mod:`roughlight.render.fast.counting`).
 
     Where nothing is hidden (:func:`roughlight.render.fast.shares.exact_views`) they are the exact projected
-    areas (:func:`roughlight.render.fast.shares.projected_areas`); the other views are counted on the GL side on
+    areas (:func:`roughlight.render.fast.shares.projected_areas`); the other views are counted on the CPU on
     the lattices of :func:`roughlight.render.fast.sampling.counting_passes`
-    (:func:`roughlight.render.fast.counting.counted_batches`), each region's count corrected by its exact area
+    (:func:`roughlight.render.fast.counting.counted_views`), each region's count corrected by its exact area
     (:func:`roughlight.render.fast.shares.normalised_shares`).
 
     Parameters
@@ -145,7 +153,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
         Each facet's lit and shadowed share (summing to 1 a view).
     regions : Regions
     """
-    from .counting import counted_batches, region_triangles
+    from .counting import counted_views, region_triangles
 
     regions = regions if regions is not None else shares.facet_regions(surface, incidence, lighting.shadows)
     views = np.atleast_2d(np.asarray(views, float))
@@ -159,8 +167,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     hidden = np.setdiff1d(np.arange(len(views)), whole)
     triangles = region_triangles(regions) if hidden.size else None
     for drawn in sampling.counting_passes(views, hidden, settings):
-        for idx, visible, total, per_tile in counted_batches(surface.height, triangles, len(regions.rings), views,
-                                                              shears, drawn, settings.shadow_map_size):
+        for idx, visible, total, per_tile in counted_views(triangles, len(regions.rings), shears, drawn):
             areas = None if total is None else shares.projected_areas(regions, plan, shears[idx])
             _store(lit, shadow, idx, shares.normalised_shares(visible, per_tile, total, areas))
     return lit, shadow, regions

@@ -25,12 +25,6 @@ import numpy as np
 #: Pixel sampling patterns of the fast renderer (``render.sampling``).
 SAMPLINGS = ("lattice", "grid", "adaptive")
 
-#: Largest framebuffer side (pixels) of the random tiles' counting pass. A 4096-pixel framebuffer holds four times
-#: the views a pass, but with its depth buffer and the counts it took a heightfield tile sweep to 1.2 GB; at 2048
-#: it stays under 0.75 GB and is no slower (random heightfield t 0.5, a 1, seed 2: 1.22 GB in 6.2 s against
-#: 0.73 GB in 5.9 s, one llvmpipe thread).
-FRAMEBUFFER = 2048
-
 #: Views within this many degrees of the horizon are counted at ``TileSettings.grazing_scale`` times the
 #: pixels (:func:`counting_passes`).
 GRAZING_BAND = 10.0
@@ -41,8 +35,9 @@ ORIENTED_BAND = 30.0
 
 
 class LatticePass(NamedTuple):
-    """Views drawn on one lattice: a pass of the GL side (:mod:`roughlight.render.fast.periodic`,
-    :mod:`roughlight.render.fast.counting`), as many framebuffers as its layout needs."""
+    """Views drawn on one lattice: a pass of the GL side (:mod:`roughlight.render.fast.periodic`), as many
+    framebuffers as its layout needs, or a random tile's views counted on one lattice
+    (:mod:`roughlight.render.fast.counting`)."""
 
     #: (2, 2) int array, cell coordinates to window pixels
     matrix: np.ndarray
@@ -52,8 +47,9 @@ class LatticePass(NamedTuple):
     members: np.ndarray
     #: (n,) float array, each view's weight in its value (1, or 1 / K for a view drawn on K lattices)
     weights: np.ndarray
-    #: :func:`cached_layout` of the lattice for ``n`` views: width, height, slots, pixel_order
-    layout: tuple
+    #: :func:`cached_layout` of the lattice for ``n`` views: width, height, slots, pixel_order (None: counted, not
+    #: drawn)
+    layout: tuple | None
     #: counting only: count every fragment (False: the visible pixels alone)
     totals: bool = True
 
@@ -271,7 +267,7 @@ def one_lattice(n_views: int, settings) -> list[LatticePass]:
 
 def counting_passes(views, hidden, settings) -> list[LatticePass]:
     """How a random tile's views ``hidden`` (indices into the (V, 3) unit ``views``) are counted: one pass a
-    lattice and density, unshifted, each view with weight 1, laid out at most :data:`FRAMEBUFFER` a side.
+    lattice and density, unshifted, each view with weight 1 (:func:`tile_pass`).
 
     Views more than :data:`ORIENTED_BAND` degrees above the horizon are drawn on the tile's lattice
     (``settings.sampling_matrix()``). Nearer the horizon each view is drawn on the rotated lattice across whose
@@ -292,16 +288,14 @@ def counting_passes(views, hidden, settings) -> list[LatticePass]:
         azimuth = np.degrees(np.arctan2(views[part, 1], views[part, 0]))
         matrices, choice = oriented_lattices(int(part_settings.pixels_per_period), azimuth)
         parts += [(part[choice == k], matrix, totals) for k, matrix in enumerate(matrices)]
-    return [tile_pass(part, matrix, settings, totals) for part, matrix, totals in parts if part.size]
+    return [tile_pass(part, matrix, totals) for part, matrix, totals in parts if part.size]
 
 
-def tile_pass(members, matrix, settings, totals: bool = True) -> LatticePass:
+def tile_pass(members, matrix, totals: bool = True) -> LatticePass:
     """A random tile's counting pass of the views ``members`` on ``matrix``: unshifted, each view with weight 1,
-    laid out in at most ``settings.max_framebuffer`` and :data:`FRAMEBUFFER` pixels a side."""
+    no framebuffer layout (the views are counted on the CPU, :mod:`roughlight.render.fast.raster`)."""
     members = np.asarray(members)
-    side = min(int(settings.max_framebuffer), FRAMEBUFFER)
-    return LatticePass(matrix, np.zeros(2), members, np.ones(members.size),
-                       cached_layout(matrix, members.size, side), totals)
+    return LatticePass(matrix, np.zeros(2), members, np.ones(members.size), None, totals)
 
 
 def grazing_settings(settings):

@@ -31,9 +31,9 @@ class TileSettings:
     Attributes
     ----------
     sampling : str
-        ``"adaptive"`` (the default) draws each region (the exact lit or shadowed part of a facet), counts its
-        visible and hidden pixels on the GL side and corrects them by its exact area
-        (:mod:`roughlight.render.fast.counting`), with no shadow map; ``"lattice"`` and ``"grid"`` take the tile
+        ``"adaptive"`` (the default) counts each region's (the exact lit or shadowed part of a facet) visible and
+        hidden pixels on the CPU and corrects them by its exact area (:mod:`roughlight.render.fast.counting`), with
+        no shadow map and no OpenGL; ``"lattice"`` and ``"grid"`` take the tile
         mean of the shader's values, shadowed by a shadow map of ``shadow_map_size`` texels a cell.
     pixels_per_period : int
         Pixels a cell along each direction.
