@@ -24,8 +24,8 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
     """Each region (the lit or the shadowed part of a facet) is counted as its own triangles, so its total must be
     the pixel centres inside its projected polygon counted from the polygon (shares.counts_and_areas): equal but
     where a centre lies within rounding of an edge, with shadows or without (in double precision one centre on
-    under 1% of the regions here, none on random pyramids; llvmpipe, snapping corners to 1/256 of a pixel, was off on about 1%). The visible centres
-    fill each view once."""
+    under 1% of the regions here, none on random pyramids; llvmpipe, snapping corners to 1/256 of a pixel, was off
+    on about 1%). The visible centres fill each view once."""
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
     settings = FastSettings().tile_settings().for_tile(tile.cells)
     regions = shares.facet_regions(tile, 30.0, shadows)
@@ -59,8 +59,8 @@ def test_the_torus_holds_each_pixel_centre_of_a_period_once(matrix):
 
     home = sampling._home_pixels(matrix.astype(float), np.linalg.inv(matrix), det)
     np.testing.assert_array_equal(np.sort(index(home[:, 0], home[:, 1])), np.arange(det))
-    for k, l in ((1, 0), (0, 1), (-3, 2), (5, -7)):
-        moved = home + matrix @ np.array([k, l])
+    for step in ((1, 0), (0, 1), (-3, 2), (5, -7)):
+        moved = home + matrix @ np.array(step)
         np.testing.assert_array_equal(index(moved[:, 0], moved[:, 1]), index(home[:, 0], home[:, 1]))
     with pytest.raises(ValueError, match="non-singular"):
         raster.torus_basis(np.array([[2, 4], [1, 2]]))

@@ -127,8 +127,9 @@ SHADER_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file
 #: What to do when OpenGL cannot start: the one message a sweep job ends with.
 OSMESA_HELP = "could not create an OpenGL core context with OSMesa (software rendering): " + _OSMESA_HELP
 _START_HELP = OSMESA_HELP if PLATFORM == "osmesa" else egl.HELP
-#: The oldest OpenGL the renderers run on: the random tiles' counting pass (``periodic_count.frag``) needs
-#: shader storage buffers with ``atomicAdd`` in the fragment stage and ``early_fragment_tests``.
+#: The oldest OpenGL the renderers are run on. The random tiles' counting pass needed it (shader storage buffers
+#: with ``atomicAdd``) until it moved to the CPU (:mod:`roughlight.render.fast.raster`); the shaders left ask for
+#: 3.3 with ``GL_ARB_shading_language_420pack``, but no older context has been tried.
 REQUIRED_VERSION = (4, 3)
 
 #: The renderer and OpenGL version of this process's contexts (:func:`renderer`), once one is made.
@@ -144,9 +145,8 @@ def check_version(version: str, renderer: str = "") -> tuple[int, int]:
     major_minor = (int(found.group(1)), int(found.group(2)))
     if major_minor < REQUIRED_VERSION:
         raise Unavailable(
-            f"OpenGL {version} on {renderer or PLATFORM} is older than 4.3 core, which the renderers need (shader "
-            f"storage buffers and atomicAdd in fragment shaders, for counting random tiles' pixels): use a newer "
-            f"driver or Mesa, or render.platform {'osmesa' if PLATFORM == 'egl' else 'egl'}"
+            f"OpenGL {version} on {renderer or PLATFORM} is older than 4.3 core, the oldest the renderers are run "
+            f"on: use a newer driver or Mesa, or render.platform {'osmesa' if PLATFORM == 'egl' else 'egl'}"
         )
     return major_minor
 
