@@ -257,7 +257,7 @@ def random_pictures(plan: str = "quick", lighting=None, cells: int = 4) -> list:
     return out
 
 
-#: The samplings the tile scan compares: the default (adaptive: regions counted on the GL side) and the shader's
+#: The samplings the tile scan compares: the default (adaptive: regions counted on the CPU) and the shader's
 #: tile mean (lattice), each at its own densities a cell.
 TILE_SAMPLINGS = ("adaptive", "lattice")
 

@@ -111,7 +111,7 @@ def quick_configs() -> list[Config]:
 
 
 def tile_configs(adaptive=(8, 16, 24), lattice=(16, 24)) -> list[Config]:
-    """The random tiles' fast configs: adaptive sampling (counted on the GL side, the default) and lattice sampling
+    """The random tiles' fast configs: adaptive sampling (counted on the CPU, the default) and lattice sampling
     (the shader's tile mean) at these pixels a cell."""
     return ([Config("fast", {"tile_sampling": "adaptive", "tile_pixels_per_period": p}) for p in adaptive]
             + [Config("fast", {"tile_sampling": "lattice", "tile_pixels_per_period": p}) for p in lattice])
