@@ -46,8 +46,8 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
 
 @pytest.mark.parametrize("matrix", [[[64, 0], [0, 64]], [[53, 34], [-34, 53]], [[71, 36], [-36, 71]], [[9, 4], [-4, 9]]])
 def test_the_torus_holds_each_pixel_centre_of_a_period_once(matrix):
-    """raster.torus_basis: the pixels of one period (those whose centre lies in the tile, as the GL layout
-    finds them) fall each on its own torus pixel, and pixels some lattice vectors away on the same ones."""
+    """raster.torus_basis: the pixels of one period (those whose centre lies in the tile) fall each on its own
+    torus pixel, and pixels some lattice vectors away on the same ones."""
     matrix = np.array(matrix)
     a, b, c = raster.torus_basis(matrix)
     det = round(abs(np.linalg.det(matrix)))
@@ -57,7 +57,11 @@ def test_the_torus_holds_each_pixel_centre_of_a_period_once(matrix):
         q = np.floor_divide(j, c)
         return (j - q * c) * a + np.mod(i - q * b, a)
 
-    home = sampling._home_pixels(matrix.astype(float), np.linalg.inv(matrix), det)
+    reach = int(np.abs(matrix).sum()) + 1  # the pixels whose centre lies in the tile matrix @ [0, 1)^2
+    i, j = (g.ravel() for g in np.meshgrid(np.arange(-reach, reach), np.arange(-reach, reach)))
+    cell = np.linalg.solve(matrix.astype(float), np.stack([i + 0.5, j + 0.5]))
+    home = np.stack([i, j], axis=1)[np.all(np.floor(cell) == 0, axis=0)]
+    assert len(home) == det
     np.testing.assert_array_equal(np.sort(index(home[:, 0], home[:, 1])), np.arange(det))
     for step in ((1, 0), (0, 1), (-3, 2), (5, -7)):
         moved = home + matrix @ np.array(step)

@@ -44,7 +44,7 @@ import numpy as np
 from ...surfaces.surface import Surface
 from .. import shading, sweep
 from ..gl.context import context, gl, release_contexts
-from . import sampling, shares
+from . import raster, sampling, shares
 from .passes import Scene, batch_poses, begin_pass, draw, make_scene, primitive, set_lighting_uniforms, set_viewport_uniforms
 from .settings import FastSettings
 
@@ -93,11 +93,8 @@ def fast_sweep(
     counted = hasattr(surface, "cells") and settings.sampling == "adaptive"  # a random tile: counted on the CPU
 
     def step(out, views, incidence, lighting):
-        light = (incidence, light_azimuth)
-        if counted:
-            _counted_views(out, surface, light, views.measured, views.directions(), lighting, settings)
-        else:
-            _render_views(out, surface, light, views.measured, views.directions(), lighting, settings)
+        fill = _counted_views if counted else _render_views
+        fill(out, surface, (incidence, light_azimuth), views.measured, views.directions(), lighting, settings)
 
     # Every sweep draws in contexts of its own, as in a fresh process: a context left by an earlier sweep has a
     # framebuffer as large as that sweep's largest, and llvmpipe clips a draw to the framebuffer, not to the
@@ -107,9 +104,7 @@ def fast_sweep(
     release_contexts()
     out = sweep.measure(step, incidence, azimuth, elevation, lighting)
     if counted:
-        from .raster import identity
-
-        out["renderer"] = identity()
+        out["renderer"] = raster.identity()
     return out
 
 

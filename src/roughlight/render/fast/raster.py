@@ -107,84 +107,92 @@ def identity() -> str:
 
 
 _COMPILED = []
+#: :func:`_scan` compiled, set by :func:`_kernel` before it compiles :func:`_count`, which calls it.
+_scan_compiled = None
 
 
 def _kernel():
     """The compiled :func:`_count` (numba, cached on disk beside this module: a process pays about half a second to
     load it, the first one on a machine about two seconds to compile it)."""
+    global _scan_compiled
     if not _COMPILED:
         import numba
 
+        _scan_compiled = numba.njit(cache=True, nogil=True)(_scan)
         _COMPILED.append(numba.njit(cache=True, nogil=True)(_count))
     return _COMPILED[0]
 
 
 def _count(tris, region, n_regions, shears, matrix, a, b, c, totals):  # pragma: no cover - compiled
-    n_views, n_tris, n_pix = shears.shape[0], tris.shape[0], a * c
+    """Each view: the buffers cleared, every triangle scanned (:func:`_scan`), the visible regions tallied."""
+    n_views, n_pix = shears.shape[0], a * c
     visible = np.zeros((n_views, n_regions))
     total = np.zeros((n_views, n_regions))
     zbuf = np.empty(n_pix)
     rbuf = np.empty(n_pix, np.int64)
     px, py = np.empty(3), np.empty(3)
-    m00, m01, m10, m11 = matrix[0, 0], matrix[0, 1], matrix[1, 0], matrix[1, 1]
     for v in range(n_views):
-        dx, dy = shears[v, 0], shears[v, 1]
         zbuf[:] = -np.inf
         rbuf[:] = -1
-        for t in range(n_tris):
-            for k in range(3):
-                cx = tris[t, k, 0] - tris[t, k, 2] * dx
-                cy = tris[t, k, 1] - tris[t, k, 2] * dy
-                px[k] = m00 * cx + m01 * cy
-                py[k] = m10 * cx + m11 * cy
-            twice = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0])
-            if twice <= 0.0:  # faces away, or edge-on
-                continue
-            # the height over the pixel plane: z = z_base + gx x + gy y
-            e1z, e2z = tris[t, 1, 2] - tris[t, 0, 2], tris[t, 2, 2] - tris[t, 0, 2]
-            gx = (e1z * (py[2] - py[0]) - e2z * (py[1] - py[0])) / twice
-            gy = (e2z * (px[1] - px[0]) - e1z * (px[2] - px[0])) / twice
-            z_base = tris[t, 0, 2] - gx * px[0] - gy * py[0]
-            # corners in (y, x) order: each edge is walked from its lower end, the same way in both its triangles
-            i0, i1, i2 = 0, 1, 2
-            if py[i1] < py[i0] or (py[i1] == py[i0] and px[i1] < px[i0]):
-                i0, i1 = i1, i0
-            if py[i2] < py[i1] or (py[i2] == py[i1] and px[i2] < px[i1]):
-                i1, i2 = i2, i1
-                if py[i1] < py[i0] or (py[i1] == py[i0] and px[i1] < px[i0]):
-                    i0, i1 = i1, i0
-            x0, y0, x1, y1, x2, y2 = px[i0], py[i0], px[i1], py[i1], px[i2], py[i2]
-            first, middle, last = math.ceil(y0 - 0.5), math.ceil(y1 - 0.5), math.ceil(y2 - 0.5)
-            if last <= first:
-                continue
-            s02 = (x2 - x0) / (y2 - y0)
-            s01 = (x1 - x0) / (y1 - y0) if y1 > y0 else 0.0
-            s12 = (x2 - x1) / (y2 - y1) if y2 > y1 else 0.0
-            r = region[t]
-            for j in range(first, last):  # rows whose centre y = j + 1/2 lies in [y0, y2)
-                yc = j + 0.5
-                xa = x0 + (yc - y0) * s02
-                xb = x0 + (yc - y0) * s01 if j < middle else x1 + (yc - y1) * s12
-                if xa > xb:
-                    xa, xb = xb, xa
-                i_first, i_last = math.ceil(xa - 0.5), math.ceil(xb - 0.5)  # centres xa <= i + 1/2 < xb
-                if i_last <= i_first:
-                    continue
-                if totals:
-                    total[v, r] += i_last - i_first
-                q = j // c
-                row = (j - q * c) * a
-                col = (i_first - q * b) % a
-                z = z_base + gy * yc + gx * (i_first + 0.5)
-                for _ in range(i_first, i_last):
-                    if z > zbuf[row + col]:
-                        zbuf[row + col] = z
-                        rbuf[row + col] = r
-                    z += gx
-                    col += 1
-                    if col == a:
-                        col = 0
+        for t in range(tris.shape[0]):
+            for k in range(3):  # the corner in pixels: matrix @ ((x, y) - z d)
+                cx = tris[t, k, 0] - tris[t, k, 2] * shears[v, 0]
+                cy = tris[t, k, 1] - tris[t, k, 2] * shears[v, 1]
+                px[k] = matrix[0, 0] * cx + matrix[0, 1] * cy
+                py[k] = matrix[1, 0] * cx + matrix[1, 1] * cy
+            _scan_compiled(px, py, tris[t, :, 2], region[t], a, b, c, zbuf, rbuf, total[v], totals)
         for p in range(n_pix):
             if rbuf[p] >= 0:
                 visible[v, rbuf[p]] += 1.0
     return visible, total
+
+
+def _scan(px, py, pz, r, a, b, c, zbuf, rbuf, total, totals):  # pragma: no cover - compiled
+    """One triangle, its corners at pixels ``(px, py)`` and heights ``pz``, scanned onto the torus ``(a, b, c)``:
+    each centre inside adds one to ``total[r]`` (if ``totals``) and keeps ``r`` where it is the highest yet."""
+    twice = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0])
+    if twice <= 0.0:  # faces away, or edge-on
+        return
+    # the height over the pixel plane: z = z_base + gx x + gy y
+    e1z, e2z = pz[1] - pz[0], pz[2] - pz[0]
+    gx = (e1z * (py[2] - py[0]) - e2z * (py[1] - py[0])) / twice
+    gy = (e2z * (px[1] - px[0]) - e1z * (px[2] - px[0])) / twice
+    z_base = pz[0] - gx * px[0] - gy * py[0]
+    # corners in (y, x) order: each edge is walked from its lower end, the same way in both its triangles
+    i0, i1, i2 = 0, 1, 2
+    if py[i1] < py[i0] or (py[i1] == py[i0] and px[i1] < px[i0]):
+        i0, i1 = i1, i0
+    if py[i2] < py[i1] or (py[i2] == py[i1] and px[i2] < px[i1]):
+        i1, i2 = i2, i1
+        if py[i1] < py[i0] or (py[i1] == py[i0] and px[i1] < px[i0]):
+            i0, i1 = i1, i0
+    x0, y0, x1, y1, x2, y2 = px[i0], py[i0], px[i1], py[i1], px[i2], py[i2]
+    first, middle, last = math.ceil(y0 - 0.5), math.ceil(y1 - 0.5), math.ceil(y2 - 0.5)
+    if last <= first:
+        return
+    s02 = (x2 - x0) / (y2 - y0)
+    s01 = (x1 - x0) / (y1 - y0) if y1 > y0 else 0.0
+    s12 = (x2 - x1) / (y2 - y1) if y2 > y1 else 0.0
+    for j in range(first, last):  # rows whose centre y = j + 1/2 lies in [y0, y2)
+        yc = j + 0.5
+        xa = x0 + (yc - y0) * s02
+        xb = x0 + (yc - y0) * s01 if j < middle else x1 + (yc - y1) * s12
+        if xa > xb:
+            xa, xb = xb, xa
+        i_first, i_last = math.ceil(xa - 0.5), math.ceil(xb - 0.5)  # centres xa <= i + 1/2 < xb
+        if i_last <= i_first:
+            continue
+        if totals:
+            total[r] += i_last - i_first
+        q = j // c
+        row = (j - q * c) * a
+        col = (i_first - q * b) % a
+        z = z_base + gy * yc + gx * (i_first + 0.5)
+        for _ in range(i_first, i_last):
+            if z > zbuf[row + col]:
+                zbuf[row + col] = z
+                rbuf[row + col] = r
+            z += gx
+            col += 1
+            if col == a:
+                col = 0
