@@ -205,13 +205,20 @@ def _facet_terms(normals, light_dir, view_dirs, lighting: Lighting):
     ndotl = np.sum(n * lvec, axis=-1)
     if lighting.specular_model == "phong":
         r = 2.0 * ndotl[..., None] * n - lvec
-        base = np.sum(r * v, axis=-1)
+        base = _dot(r, v)
     else:
         h = lvec + v
         h = h / np.maximum(np.linalg.norm(h, axis=-1, keepdims=True), 1e-12)
-        base = np.sum(n * h, axis=-1)
+        base = _dot(n, h)
     facing = ndotl > 0
     return ndotl, facing, np.where(facing, np.maximum(base, 0.0) ** lighting.shininess, 0.0)
+
+
+def _dot(a, b) -> np.ndarray:
+    """The dot products of (..., 3) arrays broadcast against each other, summed left to right as ``np.sum(a * b,
+    axis=-1)`` sums them (the same value to the bit), without the (..., 3) array of products: a random tile's
+    views x facets made it 0.1 s a sweep."""
+    return (a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]) + a[..., 2] * b[..., 2]
 
 
 def _components(terms, lighting: Lighting, lit):
