@@ -62,7 +62,7 @@ rule renderer_validation:
 # The implicit rough surface (one flat quad through shaders/implicit.frag): its exact form, first-order
 # correction and table (on the surfaces rule export tabulated) against the exact reference on every view of the
 # validation surfaces, beside the fast renderer and the V-cavity facet model; and frame times of an N x N field
-# drawn explicitly against one implicit quad. As soon as rule export's tables are there (its priority).
+# drawn explicitly against one implicit quad.
 rule implicit_surface:
     input:
         tables=export_share_files,
@@ -84,7 +84,7 @@ rule implicit_surface:
         "results/logs/benchmarks/{plan}/implicit.log",
     benchmark:
         "results/logs/benchmarks/{plan}/implicit.benchmark.tsv"
-    priority: 1
+    priority: PRIORITY_EXPORT
     conda:
         "../../envs/render.yaml"
     threads: 1

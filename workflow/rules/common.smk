@@ -32,9 +32,13 @@ wildcard_constraints:
 # no sweep waits for) fill the other core while it runs, instead of leaving a core idle at the end.
 # Among the sweeps the random tiles' go first: the longest jobs (a heightfield's takes ten regular sweeps' time),
 # so that the short regular sweeps even out the two cores at the end instead of one tile sweep running alone.
+# The export and the implicit surface's check of its tables (a chain of about 35 s, needing no sweep) go with the
+# regular sweeps: at priority 0, with no input, the greedy scheduler (the largest inputs first) left them to run
+# alone at the end of the default run, one core idle for half a minute (issue 46).
 PRIORITY_SWEEPS = 1
 PRIORITY_TILE_SWEEPS = 2
 PRIORITY_STUDY_CHAIN = 2
+PRIORITY_EXPORT = 1
 
 
 # the keys left unset that follow the grid, one line each (roughlight.study.config.follow_grid): logged at the start

@@ -1,8 +1,6 @@
 # The measured BRDF exported for a light from any direction (export.surfaces; docs/export.md): one surface a job,
 # its table of facet shares (render.method implicit_table draws it on one quad) and a file Mitsuba 3's own
-# measured plugin loads, each checked against the exact reference at lights and views off its nodes. It needs no
-# input, and rule implicit_surface waits for it: first among the jobs ready (the greedy scheduler otherwise
-# picks the jobs with the largest inputs first, and this chain ran alone at the end of the default run).
+# measured plugin loads, each checked against the exact reference at lights and views off its nodes.
 rule export:
     output:
         shares="results/export/t{truncation}_a{aspect}/shares.npz",
@@ -13,7 +11,7 @@ rule export:
         "results/logs/export/t{truncation}_a{aspect}.log",
     benchmark:
         "results/logs/export/t{truncation}_a{aspect}.benchmark.tsv"
-    priority: 1
+    priority: PRIORITY_EXPORT
     conda:
         "../../envs/render.yaml"
     threads: 1
