@@ -26,7 +26,7 @@ import math
 
 import numpy as np
 
-__all__ = ["torus_basis", "count_views", "identity"]
+__all__ = ["torus_basis", "count_views", "identity", "compile_kernel"]
 
 
 def torus_basis(matrix) -> tuple[int, int, int]:
@@ -104,6 +104,12 @@ def identity() -> str:
     from importlib import metadata
 
     return f"counted on the CPU (numba {metadata.version('numba')})"
+
+
+def compile_kernel() -> None:
+    """Compile the counting kernel now, or load it from the cache: ``make setup`` calls it once, so that the first
+    jobs of a fresh clone, starting together, do not each spend seconds compiling it."""
+    count_views(np.zeros((1, 3, 3)), np.zeros(1, np.int64), 1, np.zeros((1, 2)), np.eye(2, dtype=np.int64))
 
 
 _COMPILED = []
