@@ -30,7 +30,8 @@ wildcard_constraints:
 # Job order on a workstation (Snakemake runs the ready job of highest priority first): the sweeps, then the chain
 # from the study table to the figures, which runs one job at a time, so that the benchmarks and scans (which
 # no sweep waits for) fill the other core while it runs, instead of leaving a core idle at the end.
-# Among the sweeps the random tiles' go first: the longest jobs (a heightfield's takes ten regular sweeps' time),
+# Among the sweeps the random tiles' go first: the longest sweep jobs (a heightfield ensemble's seven seeds took
+# 9-17 s in two default runs, a truncation's row of regular sweeps 3-7 s; issue 46),
 # so that the short regular sweeps even out the two cores at the end instead of one tile sweep running alone.
 # The export and the implicit surface's check of its tables (a chain of about 35 s, needing no sweep) go with the
 # regular sweeps: at priority 0, with no input, the greedy scheduler (the largest inputs first) left them to run
