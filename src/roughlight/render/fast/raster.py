@@ -43,9 +43,7 @@ def torus_basis(matrix) -> tuple[int, int, int]:
     if not np.array_equal(m, np.round(m)) or round(abs(np.linalg.det(m))) == 0:
         raise ValueError(f"a torus needs a non-singular integer matrix, got {m.tolist()}")
     (u0, v0), (u1, v1) = [[int(x) for x in row] for row in m]
-    g, s, t = _extended_gcd(u1, v1)  # s u1 + t v1 = g > 0
-    if g == 0:
-        raise ValueError(f"a torus needs a non-singular integer matrix, got {m.tolist()}")
+    g, s, t = _extended_gcd(u1, v1)  # s u1 + t v1 = g > 0 (not both 0: the matrix is non-singular)
     a = abs((v1 // g) * u0 - (u1 // g) * v0)  # the combination with no second component
     return a, (s * u0 + t * v0) % a, g
 
@@ -112,21 +110,21 @@ def compile_kernel() -> None:
     count_views(np.zeros((1, 3, 3)), np.zeros(1, np.int64), 1, np.zeros((1, 2)), np.eye(2, dtype=np.int64))
 
 
-_COMPILED = []
-#: :func:`_scan` compiled, set by :func:`_kernel` before it compiles :func:`_count`, which calls it.
-_scan_compiled = None
+#: :func:`_scan` and :func:`_count` compiled, set by :func:`_kernel` on first use (``_count`` calls ``_scan``).
+_scan_compiled = _count_compiled = None
 
 
 def _kernel():
     """The compiled :func:`_count` (numba, cached on disk beside this module: a process pays about half a second to
     load it, the first one on a machine about two seconds to compile it)."""
-    global _scan_compiled
-    if not _COMPILED:
+    global _scan_compiled, _count_compiled
+    if _count_compiled is None:
         import numba
 
-        _scan_compiled = numba.njit(cache=True, nogil=True)(_scan)
-        _COMPILED.append(numba.njit(cache=True, nogil=True)(_count))
-    return _COMPILED[0]
+        jit = numba.njit(cache=True, nogil=True)
+        _scan_compiled = jit(_scan)
+        _count_compiled = jit(_count)
+    return _count_compiled
 
 
 def _count(tris, region, n_regions, shears, matrix, a, b, c, totals):  # pragma: no cover - compiled
