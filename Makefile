@@ -1,8 +1,8 @@
 # roughlight: `make study` runs the default study, `make test` the tests.
-# Both set everything up first: Debian's libosmesa6 and libllvm19 (Mitsuba's
-# LLVM variant; and chromium for the report's browser test) through apt-get
-# when missing, and the pinned Python packages (requirements.lock) into the
-# project virtual environment .venv.
+# Both set everything up first: Debian's libosmesa6, libllvm19 (Mitsuba's
+# LLVM variant), a C compiler (the random tiles' counting kernel) and chromium
+# (the report's browser test) through apt-get when missing, and the pinned
+# Python packages (requirements.lock) into the project virtual environment .venv.
 
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -21,7 +21,7 @@ export PYOPENGL_PLATFORM := osmesa
 # this machine) every job would otherwise compile the package's modules from source, 0.1-0.2 s a sweep job
 setup: system-deps $(STAMP)
 	@$(BIN)/python -m compileall -q src
-	@# the random tiles' counting kernel (numba) compiled into its cache once, not by each of the first jobs
+	@# the random tiles' counting kernel (render/fast/raster.c) built once, not by each of the first jobs
 	@$(BIN)/python -c "from roughlight.render.fast import raster; raster.compile_kernel()"
 
 # OpenGL headless, both platforms (render.platform): OSMesa (libosmesa6) and EGL's device route (libegl1 with
@@ -38,6 +38,11 @@ system-deps:
 	fi
 	@ldconfig -p | grep -q 'libOSMesa\.so' || { echo "libOSMesa is still missing: install Debian's libosmesa6" >&2; exit 1; }
 	@ldconfig -p | grep -q 'libEGL\.so\.1' || { echo "libEGL is still missing: install Debian's $(EGL_PACKAGES)" >&2; exit 1; }
+	@if ! command -v "$${CC:-cc}" >/dev/null; then \
+		echo "installing Debian's gcc (the random tiles' counting kernel, render/fast/raster.c)"; \
+		$(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq gcc libc6-dev >/dev/null; \
+	fi
+	@command -v "$${CC:-cc}" >/dev/null || { echo "no C compiler ($${CC:-cc}): install Debian's gcc" >&2; exit 1; }
 	@if ! ldconfig -p | grep -q 'libLLVM\.so\.19\|libLLVM-19\.so'; then \
 		echo "installing Debian's libllvm19 (Mitsuba's LLVM variant)"; \
 		$(SUDO) apt-get update -qq && $(SUDO) apt-get install -y -qq libllvm19 >/dev/null \

@@ -89,6 +89,26 @@ def test_the_highest_triangle_is_seen_and_back_faces_are_not_counted():
         raster.count_views(low, np.array([0, 2]), 2, shears, matrix)
 
 
+
+def test_the_kernel_is_built_once_atomically_and_a_missing_compiler_is_said(tmp_path, monkeypatch):
+    """The C kernel is built into the cache folder under its digest and found there the second time (the same
+    file, not rebuilt); no temporary file is left; the compiler that built it is what the sweeps record. Without a
+    compiler, or with one that fails, the error says what is missing."""
+    first = raster.build_kernel(tmp_path)
+    built = first.stat().st_mtime_ns
+    assert first.parent == tmp_path and first.name.startswith("raster-") and first.suffix == ".so"
+    assert raster.build_kernel(tmp_path) == first and first.stat().st_mtime_ns == built
+    assert [p.name for p in tmp_path.iterdir()] == [first.name]
+    assert raster.identity().startswith("counted on the CPU (C, ") and any(
+        name in raster.identity() for name in ("gcc ", "clang "))
+    monkeypatch.setenv("CC", "no-such-compiler")
+    with pytest.raises(RuntimeError, match="needs a C compiler, and 'no-such-compiler' is not on PATH"):
+        raster.build_kernel(tmp_path / "none")
+    monkeypatch.setenv("CC", "false")  # a compiler that fails
+    with pytest.raises(RuntimeError, match="false could not build the counting kernel"):
+        raster.build_kernel(tmp_path / "failed")
+    assert list((tmp_path / "failed").iterdir()) == []
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_region_triangles_cover_each_region_exactly(kind):
     """The counting pass draws the regions' triangles: they must tile each region (areas equal to its polygons'),

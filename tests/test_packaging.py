@@ -47,7 +47,8 @@ def test_the_wheel_holds_every_file_of_the_package(wheel):
     assert expected - names == set()
     # the files the code is known to open, by name: a pattern dropped from package-data is caught here too
     for name in ("roughlight/render/shaders/implicit_model.glsl", "roughlight/render/shaders/periodic.frag",
-                 "roughlight/study/config.schema.yaml", "roughlight/report/captions/fig19_topdown.rst"):
+                 "roughlight/study/config.schema.yaml", "roughlight/report/captions/fig19_topdown.rst",
+                 "roughlight/render/fast/raster.c"):
         assert name in names
 
 
@@ -64,6 +65,11 @@ from roughlight.surfaces.surface import Surface
 for method in ("fast", "naive", "implicit_exact"):                # every shader program, implicit_model.glsl too
     out = methods.sweep(method, Surface(0.5, 1.0), 30.0, np.array([0.0]), np.array([60.0]))
     assert np.isfinite(out["total"]).all(), method
+from roughlight.render.fast import raster                         # the C kernel, built from the wheel's raster.c
+assert raster.build_kernel().is_relative_to(Path({where!r})), raster.build_kernel()
+square = np.array([[[0, 0, 0], [1, 0, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [0, 1, 0]]])  # the period, flat
+visible, total, per_tile = raster.count_views(square, np.array([0, 0]), 1, np.zeros((1, 2)), np.eye(2, dtype=int) * 4)
+assert visible.sum() == total.sum() == per_tile == 16, (visible, total)
 from roughlight.report import page
 html = page.build_report({{}}, {{}})                                # the page's templates
 assert "<html" in html

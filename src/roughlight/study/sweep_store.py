@@ -10,7 +10,9 @@ digest matches:
 - the sweep's settings, as the rule's params pass them (surface, incidence, views, lighting, method, renderer
   knobs, OpenGL platform);
 - the source of the ``roughlight`` package (every file of it: a changed renderer never serves an old sweep);
-- the versions of the libraries that draw, count and write it (numpy, trimesh, pyrender2, PyOpenGL, pyarrow, numba);
+- the versions of the libraries that draw and write it (numpy, trimesh, pyrender2, PyOpenGL, pyarrow); the random
+  tiles' counting kernel is C in the package (``render/fast/raster.c``), and the compiler that built it is recorded
+  as what counted them;
 - what draws it: the OpenGL renderer, its version and driver and the platform, as the GL reports them
   (``llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6, osmesa``;
   :func:`roughlight.render.methods.renderer_identity`), so that a GPU run never takes llvmpipe's sweeps, nor the
@@ -38,7 +40,7 @@ __all__ = ["STORE", "LIBRARIES", "code_digest", "sweep_key", "stored", "fetch", 
 #: The store's folder, relative to the workflow's directory.
 STORE = "results/sweep_store"
 #: The distributions (as pip names them) whose version is part of every sweep's key.
-LIBRARIES = ("numpy", "trimesh", "pyrender2", "PyOpenGL", "pyarrow", "numba")
+LIBRARIES = ("numpy", "trimesh", "pyrender2", "PyOpenGL", "pyarrow")
 
 
 @functools.lru_cache(maxsize=1)

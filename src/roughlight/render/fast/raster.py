@@ -14,19 +14,32 @@ On that torus every periodic copy of a triangle is the triangle itself, so each 
   hit is the highest one (``shaders/periodic.vert`` draws with the same depth).
 * Triangles whose projection turns clockwise face away from the view and are left out (back faces).
 
-:func:`count_views` runs that for many views in compiled code (numba); OpenGL on llvmpipe took three to six times
-as long for the same counts, set up and rasterised triangle by triangle (docs/budgets.md). Coordinates are
-double precision, so a centre is misplaced only within rounding of an edge, where llvmpipe snaps vertices to 1/256
-of a pixel.
+:func:`count_views` runs that for many views in C (``raster.c`` beside this module, built once by the machine's C
+compiler and loaded with :mod:`ctypes`: :func:`build_kernel`); OpenGL on llvmpipe took three to six times as long
+for the same counts, set up and rasterised triangle by triangle (docs/budgets.md). Coordinates are double precision,
+so a centre is misplaced only within rounding of an edge, where llvmpipe snaps vertices to 1/256 of a pixel.
 """
 
 from __future__ import annotations
 
-import math
+import ctypes
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["torus_basis", "count_views", "identity", "compile_kernel"]
+__all__ = ["torus_basis", "count_views", "identity", "build_kernel", "compile_kernel", "SOURCE", "FLAGS"]
+
+#: The kernel's C source.
+SOURCE = Path(__file__).with_name("raster.c")
+#: How it is compiled: optimised, as a shared library, and with no fused multiply-adds or fast-math, so that every
+#: compiler gives the same counts to the bit (the environment's CFLAGS are not read).
+FLAGS = ("-O2", "-std=c99", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-shared")
+
 
 
 def torus_basis(matrix) -> tuple[int, int, int]:
@@ -87,116 +100,105 @@ def count_views(triangles, region, n_regions: int, shears, matrix, totals: bool 
     a, b, c = torus_basis(matrix)
     if np.linalg.det(np.asarray(matrix, float)) < 0:
         raise ValueError("count_views needs a matrix that keeps orientation (det > 0): back faces are told by it")
-    region = np.asarray(region, np.int64)
-    if region.size and (region.min() < 0 or region.max() >= n_regions):
-        raise ValueError(f"regions must lie in [0, {n_regions})")
-    visible, total = _kernel()(np.ascontiguousarray(triangles, np.float64), region, int(n_regions),
-                               np.ascontiguousarray(shears, np.float64), np.asarray(matrix, np.float64),
-                               a, b, c, bool(totals))
+    tris = np.ascontiguousarray(triangles, np.float64).reshape(-1, 3, 3)
+    region = np.ascontiguousarray(region, np.int64)
+    shears = np.ascontiguousarray(shears, np.float64).reshape(-1, 2)
+    if region.shape != (len(tris),):
+        raise ValueError(f"{len(tris)} triangles need as many regions, got shape {region.shape}")
+    if region.size and (region.min() < 0 or region.max() >= n_regions or n_regions >= 2**31):
+        raise ValueError(f"regions must lie in [0, {n_regions}), fewer than 2**31")
+    visible, total = np.zeros((2, len(shears), int(n_regions)))
+    kernel = _library().roughlight_count_views
+    kernel(_pointer(tris), _pointer(region), len(tris), int(n_regions), _pointer(shears), len(shears),
+           _pointer(np.asarray(matrix, np.float64).copy()), a, b, c, bool(totals), _pointer(visible),
+           _pointer(total), _pointer(np.empty(a * c)), _pointer(np.empty(a * c, np.int32)))
     return visible, (total if totals else None), a * c
 
 
 def identity() -> str:
-    """What the counts run on, as a sweep records it in place of an OpenGL renderer: ``"counted on the CPU
-    (numba 0.68.1)"``."""
-    from importlib import metadata
+    """What the counts run on, as a sweep records it in place of an OpenGL renderer: ``"counted on the CPU (C,
+    gcc 12.2.0)"``, the compiler that built the kernel."""
+    return f"counted on the CPU (C, {_library().roughlight_compiler().decode()})"
 
-    return f"counted on the CPU (numba {metadata.version('numba')})"
+
+def build_kernel(cache=None) -> Path:
+    """The kernel's shared library, built from :data:`SOURCE` with :data:`FLAGS` if it is not yet there.
+
+    It is named by a digest of the source, the flags and the compiler, in ``__pycache__`` beside this module (or,
+    where that cannot be written, in ``$XDG_CACHE_HOME/roughlight``, by default ``~/.cache/roughlight``), and
+    written under a temporary name, then renamed: jobs starting together may each build it, none loads half a file.
+    The compiler is ``$CC``, else ``cc``: about 0.2 s, once a machine (``make setup`` builds it).
+
+    Parameters
+    ----------
+    cache : path-like, optional
+        The folder to keep it in, instead of the ones above.
+
+    Raises
+    ------
+    RuntimeError
+        No C compiler, or the compiler failed (its message is included).
+    """
+    compiler = os.environ.get("CC") or "cc"
+    if shutil.which(compiler) is None:
+        raise RuntimeError(f"the random tiles' counting kernel ({SOURCE.name}) needs a C compiler, and {compiler!r} "
+                           "is not on PATH: install one (Debian: apt-get install gcc; `make setup` does) or set CC")
+    source = SOURCE.read_bytes()
+    digest = hashlib.sha256(b"\0".join([source, " ".join(FLAGS).encode(), compiler.encode()])).hexdigest()[:16]
+    folders = [Path(cache)] if cache is not None else [SOURCE.with_name("__pycache__"), _user_cache()]
+    for folder in folders:
+        target = folder / f"raster-{digest}.so"
+        if target.is_file():
+            return target
+    for folder in folders:
+        try:
+            folder.mkdir(parents=True, exist_ok=True)
+            handle, tmp = tempfile.mkstemp(prefix=".raster-", suffix=".so", dir=folder)
+        except OSError:
+            continue
+        os.close(handle)
+        try:
+            done = subprocess.run([compiler, *FLAGS, str(SOURCE), "-o", tmp, "-lm"], capture_output=True, text=True)
+            if done.returncode != 0:
+                raise RuntimeError(f"{compiler} could not build the counting kernel {SOURCE}:\n{done.stderr.strip()}")
+            target = folder / f"raster-{digest}.so"
+            os.replace(tmp, target)
+            return target
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    raise RuntimeError(f"no folder to keep the counting kernel in: {', '.join(map(str, folders))} cannot be written")
 
 
 def compile_kernel() -> None:
-    """Compile the counting kernel now, or load it from the cache: ``make setup`` calls it once, so that the first
-    jobs of a fresh clone, starting together, do not each spend seconds compiling it."""
-    count_views(np.zeros((1, 3, 3)), np.zeros(1, np.int64), 1, np.zeros((1, 2)), np.eye(2, dtype=np.int64))
+    """Build the counting kernel now (:func:`build_kernel`) and load it: ``make setup`` calls it once, so that the
+    first jobs of a fresh clone do not each build it, and a missing compiler is said at set-up."""
+    _library()
 
 
-#: :func:`_scan` and :func:`_count` compiled, set by :func:`_kernel` on first use (``_count`` calls ``_scan``).
-_scan_compiled = _count_compiled = None
+def _user_cache() -> Path:
+    """``$XDG_CACHE_HOME/roughlight``, by default ``~/.cache/roughlight``."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "roughlight"
 
 
-def _kernel():
-    """The compiled :func:`_count` (numba, cached on disk beside this module: a process pays about half a second to
-    load it, the first one on a machine about two seconds to compile it)."""
-    global _scan_compiled, _count_compiled
-    if _count_compiled is None:
-        import numba
-
-        jit = numba.njit(cache=True, nogil=True)
-        _scan_compiled = jit(_scan)
-        _count_compiled = jit(_count)
-    return _count_compiled
+#: The loaded kernel (:func:`_library`), one a process.
+_loaded = None
 
 
-def _count(tris, region, n_regions, shears, matrix, a, b, c, totals):  # pragma: no cover - compiled
-    """Each view: the buffers cleared, every triangle scanned (:func:`_scan`), the visible regions tallied."""
-    n_views, n_pix = shears.shape[0], a * c
-    visible = np.zeros((n_views, n_regions))
-    total = np.zeros((n_views, n_regions))
-    zbuf = np.empty(n_pix)
-    rbuf = np.empty(n_pix, np.int64)
-    px, py = np.empty(3), np.empty(3)
-    for v in range(n_views):
-        zbuf[:] = -np.inf
-        rbuf[:] = -1
-        for t in range(tris.shape[0]):
-            for k in range(3):  # the corner in pixels: matrix @ ((x, y) - z d)
-                cx = tris[t, k, 0] - tris[t, k, 2] * shears[v, 0]
-                cy = tris[t, k, 1] - tris[t, k, 2] * shears[v, 1]
-                px[k] = matrix[0, 0] * cx + matrix[0, 1] * cy
-                py[k] = matrix[1, 0] * cx + matrix[1, 1] * cy
-            _scan_compiled(px, py, tris[t, :, 2], region[t], a, b, c, zbuf, rbuf, total[v], totals)
-        for p in range(n_pix):
-            if rbuf[p] >= 0:
-                visible[v, rbuf[p]] += 1.0
-    return visible, total
+def _library():
+    """The kernel loaded (:func:`build_kernel`), its function's argument types declared."""
+    global _loaded
+    if _loaded is None:
+        library = ctypes.CDLL(str(build_kernel()))
+        p, n = ctypes.c_void_p, ctypes.c_int64
+        library.roughlight_count_views.argtypes = [p, p, n, n, p, n, p, n, n, n, ctypes.c_int, p, p, p, p]
+        library.roughlight_count_views.restype = None
+        library.roughlight_compiler.restype = ctypes.c_char_p
+        _loaded = library
+    return _loaded
 
 
-def _scan(px, py, pz, r, a, b, c, zbuf, rbuf, total, totals):  # pragma: no cover - compiled
-    """One triangle, its corners at pixels ``(px, py)`` and heights ``pz``, scanned onto the torus ``(a, b, c)``:
-    each centre inside adds one to ``total[r]`` (if ``totals``) and keeps ``r`` where it is the highest yet."""
-    twice = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0])
-    if twice <= 0.0:  # faces away, or edge-on
-        return
-    # the height over the pixel plane: z = z_base + gx x + gy y
-    e1z, e2z = pz[1] - pz[0], pz[2] - pz[0]
-    gx = (e1z * (py[2] - py[0]) - e2z * (py[1] - py[0])) / twice
-    gy = (e2z * (px[1] - px[0]) - e1z * (px[2] - px[0])) / twice
-    z_base = pz[0] - gx * px[0] - gy * py[0]
-    # corners in (y, x) order: each edge is walked from its lower end, the same way in both its triangles
-    i0, i1, i2 = 0, 1, 2
-    if py[i1] < py[i0] or (py[i1] == py[i0] and px[i1] < px[i0]):
-        i0, i1 = i1, i0
-    if py[i2] < py[i1] or (py[i2] == py[i1] and px[i2] < px[i1]):
-        i1, i2 = i2, i1
-        if py[i1] < py[i0] or (py[i1] == py[i0] and px[i1] < px[i0]):
-            i0, i1 = i1, i0
-    x0, y0, x1, y1, x2, y2 = px[i0], py[i0], px[i1], py[i1], px[i2], py[i2]
-    first, middle, last = math.ceil(y0 - 0.5), math.ceil(y1 - 0.5), math.ceil(y2 - 0.5)
-    if last <= first:
-        return
-    s02 = (x2 - x0) / (y2 - y0)
-    s01 = (x1 - x0) / (y1 - y0) if y1 > y0 else 0.0
-    s12 = (x2 - x1) / (y2 - y1) if y2 > y1 else 0.0
-    for j in range(first, last):  # rows whose centre y = j + 1/2 lies in [y0, y2)
-        yc = j + 0.5
-        xa = x0 + (yc - y0) * s02
-        xb = x0 + (yc - y0) * s01 if j < middle else x1 + (yc - y1) * s12
-        if xa > xb:
-            xa, xb = xb, xa
-        i_first, i_last = math.ceil(xa - 0.5), math.ceil(xb - 0.5)  # centres xa <= i + 1/2 < xb
-        if i_last <= i_first:
-            continue
-        if totals:
-            total[r] += i_last - i_first
-        q = j // c
-        row = (j - q * c) * a
-        col = (i_first - q * b) % a
-        z = z_base + gy * yc + gx * (i_first + 0.5)
-        for _ in range(i_first, i_last):
-            if z > zbuf[row + col]:
-                zbuf[row + col] = z
-                rbuf[row + col] = r
-            z += gx
-            col += 1
-            if col == a:
-                col = 0
+def _pointer(array: np.ndarray):
+    """A C-contiguous array's data, for the kernel."""
+    assert array.flags.c_contiguous
+    return array.ctypes.data_as(ctypes.c_void_p)
