@@ -83,7 +83,9 @@ def test_a_baseline_is_the_commits_tracked_files(tmp_path, monkeypatch):
     import subprocess
 
     monkeypatch.setattr(budget.subprocess, "run", _no_snakemake(subprocess.run))
+    monkeypatch.setattr(budget.tempfile, "tempdir", str(tmp_path))  # its copy under pytest's, not left in /tmp
     where, _ = budget.fresh_run(1, "HEAD")
+    assert where.parent == tmp_path
     head = subprocess.run(["git", "-C", str(budget.ROOT), "show", "HEAD:README.md"], capture_output=True,
                           text=True).stdout
     assert (where / "README.md").read_text() == head and (where / "Snakefile").is_file()
