@@ -2,8 +2,8 @@
  * roughlight/render/fast/raster.py, which documents the method and builds this file (raster.build_kernel).
  *
  * Every quantity follows raster.py's description, in double precision, with the same operations in the same order
- * for every view: built without fused multiply-adds or fast-math (-ffp-contract=off), the counts are the same on
- * every machine and compiler. */
+ * for every view: built without fused multiply-adds or fast-math (-ffp-contract=off), the counts are the same
+ * with every compiler on machines with IEEE double arithmetic (x86-64, arm64). */
 
 #include <math.h>
 #include <stdint.h>

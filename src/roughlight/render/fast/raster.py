@@ -37,7 +37,8 @@ __all__ = ["torus_basis", "count_views", "identity", "build_kernel", "compile_ke
 #: The kernel's C source.
 SOURCE = Path(__file__).with_name("raster.c")
 #: How it is compiled: optimised, as a shared library, and with no fused multiply-adds or fast-math, so that every
-#: compiler gives the same counts to the bit (the environment's CFLAGS are not read).
+#: compiler gives the same counts to the bit on a machine with IEEE double arithmetic, as x86-64 and arm64 have
+#: (the environment's CFLAGS are not read).
 FLAGS = ("-O2", "-std=c99", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-shared")
 
 
@@ -107,11 +108,12 @@ def count_views(triangles, region, n_regions: int, shears, matrix, totals: bool 
         raise ValueError(f"{len(tris)} triangles need as many regions, got shape {region.shape}")
     if region.size and (region.min() < 0 or region.max() >= n_regions or n_regions >= 2**31):
         raise ValueError(f"regions must lie in [0, {n_regions}), fewer than 2**31")
+    matrix = np.ascontiguousarray(matrix, np.float64)
     visible, total = np.zeros((2, len(shears), int(n_regions)))
-    kernel = _library().roughlight_count_views
-    kernel(_pointer(tris), _pointer(region), len(tris), int(n_regions), _pointer(shears), len(shears),
-           _pointer(np.asarray(matrix, np.float64).copy()), a, b, c, bool(totals), _pointer(visible),
-           _pointer(total), _pointer(np.empty(a * c)), _pointer(np.empty(a * c, np.int32)))
+    zbuf, rbuf = np.empty(a * c), np.empty(a * c, np.int32)  # each torus pixel's highest surface and its region
+    _library().roughlight_count_views(
+        _pointer(tris), _pointer(region), len(tris), int(n_regions), _pointer(shears), len(shears), _pointer(matrix),
+        a, b, c, bool(totals), _pointer(visible), _pointer(total), _pointer(zbuf), _pointer(rbuf))
     return visible, (total if totals else None), a * c
 
 
