@@ -27,10 +27,11 @@ import hashlib
 import os
 import shutil
 import subprocess
-import tempfile
 from pathlib import Path
 
 import numpy as np
+
+from ...atomic import atomic_path
 
 __all__ = ["torus_basis", "count_views", "identity", "build_kernel", "compile_kernel", "SOURCE", "FLAGS"]
 
@@ -128,7 +129,8 @@ def build_kernel(cache=None) -> Path:
 
     It is named by a digest of the source, the flags and the compiler, in ``__pycache__`` beside this module (or,
     where that cannot be written, in ``$XDG_CACHE_HOME/roughlight``, by default ``~/.cache/roughlight``), and
-    written under a temporary name, then renamed: jobs starting together may each build it, none loads half a file.
+    written under a temporary name, then renamed (:func:`roughlight.atomic.atomic_path`, which also gives it an
+    ordinary file's permissions): jobs starting together may each build it, none loads half a file.
     The compiler is ``$CC``, else ``cc``: about 0.2 s, once a machine (``make setup`` builds it).
 
     Parameters
@@ -155,20 +157,16 @@ def build_kernel(cache=None) -> Path:
     for folder in folders:
         try:
             folder.mkdir(parents=True, exist_ok=True)
-            handle, tmp = tempfile.mkstemp(prefix=".raster-", suffix=".so", dir=folder)
         except OSError:
             continue
-        os.close(handle)
-        try:
+        if not os.access(folder, os.W_OK):
+            continue
+        target = folder / f"raster-{digest}.so"
+        with atomic_path(target) as tmp:
             done = subprocess.run([compiler, *FLAGS, str(SOURCE), "-o", tmp, "-lm"], capture_output=True, text=True)
             if done.returncode != 0:
                 raise RuntimeError(f"{compiler} could not build the counting kernel {SOURCE}:\n{done.stderr.strip()}")
-            target = folder / f"raster-{digest}.so"
-            os.replace(tmp, target)
-            return target
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+        return target
     raise RuntimeError(f"no folder to keep the counting kernel in: {', '.join(map(str, folders))} cannot be written")
 
 
