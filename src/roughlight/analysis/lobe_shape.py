@@ -45,6 +45,9 @@ __all__ = [
     "lobe_shape",
     "phase_shift",
     "lobe_statistics",
+    "lobe_reading",
+    "CAP_RADIUS",
+    "synthetic_lobe",
     "SHAPE_STATISTICS",
     "shape_misfits",
     "back_lobe_peak",
@@ -377,6 +380,97 @@ def lobe_statistics(field, peak_direction, min_peak: float = 0.5) -> dict:
     if np.isfinite(shape["centre_azimuth"]):
         arcs = phase_shift(field, direction(shape["centre_azimuth"], shape["centre_elevation"]), shape["peak"])
     return {**shape, **arcs}
+
+
+#: The cap around a lobe's expected direction whose mean is its height in :func:`lobe_reading`, degrees.
+CAP_RADIUS = 3.0
+
+
+def lobe_reading(field, centre, radius: float, cap: float = CAP_RADIUS, resolution: float = RESOLUTION) -> dict:
+    """A lobe read against its own background, in a disc around the direction it is expected in.
+
+    The lobe is looked for in the disc of ``radius`` degrees of tangent plane around the unit direction ``centre``
+    (a facet's mirror direction: geometry, not the data). Its **contrast** is the mean of the field over the cap
+    of ``cap`` degrees around ``centre`` less its **background**, the mean over the disc's rim: a lobe stands
+    above the rim by its contrast, a plane or a slope through the disc has none (the mean of a linear field over a
+    circle is its value at the centre), a dip has a negative one. Its shape is that of the region above half its
+    contrast: the connected part of the disc at or above ``background + (peak - background) / 2`` that holds the
+    disc's highest point, with :func:`shape_misfits`' statistics and :func:`phase_shift`'s around the region's
+    centre (the field less its background; each arc's peak looked for within the region's own reach of where the
+    circular lobe's would be).
+
+    Parameters
+    ----------
+    field : from :func:`measured_field`: the measured views only, each once
+    centre : (3,) unit direction
+    radius, cap, resolution : degrees of tangent plane
+
+    Returns
+    -------
+    dict: ``contrast``, ``background``, ``peak`` (the field's units), the :func:`shape_misfits` keys, ``phase_shift``,
+    ``signed_shift``, ``arcs``, ``measurable`` (whether the shape could be read) and ``why`` ('' or why not:
+    "cut by the horizon: ...", "wider than the search disc: ...", "no lobe: ..."). The contrast is given wherever the
+    whole disc was measured, the shape only where the region closes inside it.
+    """
+    out = {key: np.nan for key in ("contrast", "background", "peak", *SHAPE_KEYS[5:], "centre_x", "centre_y",
+                                   "phase_shift", "signed_shift")}
+    out.update(arcs=0, measurable=False, why="")
+    X, Y, values, directions = tangent_patch(field, centre, radius, resolution)
+    r = np.hypot(X, Y)
+    disc = r <= radius
+    if not np.isfinite(values[disc]).all():
+        out["why"] = f"cut by the horizon: the {radius:g} deg disc reaches views that were not rendered"
+        return out
+    rim = disc & (r > radius - 2 * resolution)
+    background = float(values[rim].mean())
+    top = np.where(disc, values, -np.inf)
+    ip = np.unravel_index(int(np.argmax(top)), top.shape)
+    peak = float(top[ip])
+    out.update(contrast=float(values[r <= cap].mean()) - background, background=background, peak=peak)
+    if not peak > background:
+        out["why"] = "no lobe: nothing in the disc stands above its rim"
+        return out
+    from scipy import ndimage
+
+    labels, _ = ndimage.label(disc & (values >= background + (peak - background) / 2.0))
+    region = labels == labels[ip]
+    if (region & rim).any():
+        out["why"] = f"wider than the search disc: its half-contrast region reaches the {radius:g} deg rim"
+        return out
+    out.update(shape_misfits(X, Y, region, resolution))
+    region_centre = _tangent_direction(centre, out["centre_x"], out["centre_y"])
+    if region_centre is None or not np.isfinite(out["squareness"]):
+        out["why"] = "half-contrast region too small to have a shape"
+        return out
+    # each arc looks for its peak within the region's own reach from its centre: the lobe's, not the disc's
+    reach = float(np.max(np.hypot(X[region] - out["centre_x"], Y[region] - out["centre_y"]))) + resolution
+    az, el, vals = field
+    out.update(phase_shift((az, el, vals - background), region_centre, peak - background, reach))
+    out["measurable"] = True
+    return out
+
+
+def synthetic_lobe(azimuth, elevation, centre, half_widths, soft=None, rotation=0.0, peak=100.0) -> np.ndarray:
+    """(A, E) values of a synthetic lobe around the unit direction ``centre`` on the view grid: a Gaussian
+    ``peak exp(-(x/wx)^2 - (y/wy)^2)`` or, with ``soft`` (degrees), a rectangle of half-widths (wx, wy) with
+    logistic edges, in gnomonic tangent-plane coordinates (degrees) rotated by ``rotation``; 0 where the view
+    faces away from ``centre``. For tests and for checking what a statistic reads."""
+    A, El = np.meshgrid(np.asarray(azimuth, float), np.asarray(elevation, float), indexing="ij")
+    V = view_direction(El, A)
+    D = np.asarray(centre, float)
+    u1, u2 = tangent_basis(D)
+    cos_d = V @ D
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x0, y0 = np.degrees((V @ u1) / cos_d), np.degrees((V @ u2) / cos_d)
+    c, s = math.cos(math.radians(rotation)), math.sin(math.radians(rotation))
+    x, y = c * x0 + s * y0, -s * x0 + c * y0
+    wx, wy = half_widths
+    if soft is None:
+        values = peak * np.exp(-((x / wx) ** 2 + (y / wy) ** 2))
+    else:
+        edge = np.clip(np.maximum(np.abs(x) - wx, np.abs(y) - wy) / soft, -50, 50)
+        values = peak / (1 + np.exp(edge))
+    return np.where(cos_d > 0, values, 0.0)
 
 
 def direction(azimuth: float, elevation: float) -> np.ndarray:
