@@ -1,5 +1,6 @@
 """Measure a report as a reviewer meets it, in headless Chromium at 1280 px: its size, its height with every fold
-closed, the widest thing on it, the tables of more than 20 rows left open, and when the hemisphere explorer is ready.
+closed (and each section's share of it: from its heading to the next section's), the widest thing on it, the tables
+of more than 20 rows left open, and when the hemisphere explorer is ready.
 
     python tests/measure_report.py reports/roughlight_report.html [--loads 3]
 
@@ -26,7 +27,14 @@ LAYOUT = """(() => {
           tables: tables.length, folds: document.querySelectorAll('details').length,
           open_over_20_rows: tables.filter(t => t.tBodies[0] && t.tBodies[0].rows.length > 20 && !t.closest('details'))
                                    .map(caption),
-          figures: document.querySelectorAll('figure img').length};
+          figures: document.querySelectorAll('figure img').length, sections: sections()};
+  function sections() {  // the title and its line, then each <h2> to the next (the contents in the findings')
+    const heads = [...document.querySelectorAll('main h2')], top = e => e.getBoundingClientRect().top + scrollY;
+    const out = {}, ends = [...heads.map(top), document.documentElement.scrollHeight];
+    out.top = Math.round(ends[0]);
+    heads.forEach((h, i) => { out[h.id || h.closest('[id]')?.id || h.textContent] = Math.round(ends[i + 1] - ends[i]); });
+    return out;
+  }
 })()"""
 
 READY = """window.roughlight && window.roughlight.explorer ? window.roughlight.explorer.ready.then(() => {

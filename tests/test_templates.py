@@ -30,9 +30,9 @@ def png(tmp_path) -> str:
     return str(path)
 
 
-def figure(title: str, path=None) -> dict:
+def figure(title: str, path=None, folded=False) -> dict:
     return {"stem": "fig99_test", "title": title, "thesis": "thesis <saw>", "ours": "ours <see>", "path": path,
-            "exists": path is not None}
+            "exists": path is not None, "folded": folded}
 
 
 def line() -> dict:
@@ -89,10 +89,11 @@ def case_thesis_table(png):
 
 
 def case_figures(png):
-    s = {"section": "specular", "figures": [figure("Fig. <1>", png), figure("Fig. <2>")]}
+    s = {"section": "specular", "figures": [figure("Fig. <1>", png), figure("Fig. <2>"), figure("Fig. <3>", png, True)]}
     return {"s": s}, ['<h2 id="specular">The specular component', 'id="fig-fig99_test"', 'alt="Fig. &lt;1&gt;"',
                       "<b>Fig. &lt;1&gt;.</b>", "thesis &lt;saw&gt;", "Figure Fig. &lt;2&gt; is missing (not produced)",
-                      "data:image/png;base64,"], ["<saw>", "<see>"]
+                      "data:image/png;base64,", '<details class="fold secondary"><summary>Fig. &lt;3&gt; (figure)'
+                      '</summary>\n<figure id="fig-fig99_test"><img'], ["<saw>", "<see>"]
 
 
 def case_diffuse_parts(png):

@@ -189,11 +189,12 @@ def safe(fragment: str | None):
 
 
 def figure(stem: str, figures: dict) -> dict:
-    """One figure of the registry for ``macros.html``'s ``figure``: its caption, its PNG and whether it exists."""
+    """One figure of the registry for ``macros.html``'s ``figure``: its caption, its PNG, whether it exists and
+    whether the page folds it (the registry's ``folded``)."""
     cap = registry.caption(stem)
     path = figures.get(stem)
     return {"stem": stem, "title": cap["title"], "thesis": cap["thesis"], "ours": cap["ours"], "path": path,
-            "exists": bool(path and os.path.exists(path))}
+            "exists": bool(path and os.path.exists(path)), "folded": registry.figure(stem).folded}
 
 
 def section_figures(section: str, figures: dict) -> list[dict]:

@@ -50,6 +50,9 @@ class Figure:
         Its resolution (None: :data:`roughlight.report.figures.DPI`).
     tight : bool
         Whether it is saved with a tight bounding box.
+    folded : bool
+        Whether the HTML page shows it folded, under its title (secondary to its section: a diagnostic, a timing),
+        so that what a reader must see stays open and the page short (docs/report.md, "Size and speed").
     """
 
     name: str
@@ -58,6 +61,7 @@ class Figure:
     folder: str = "results/figures"
     dpi: int | None = None
     tight: bool = True
+    folded: bool = False
 
     @property
     def rendered(self) -> bool:
@@ -116,10 +120,10 @@ FIGURES = (
     Figure("fig10_grazing", "pictures", rule="render_figures"),
     Figure("fig13_tops", "pictures", rule="render_figures"),
     Figure("lobe_geometry", "lobes"),
-    Figure("glm_diagnostics", "glm"),
+    Figure("glm_diagnostics", "glm", folded=True),
     Figure("model_fits", "models"),
-    Figure("hapke", "models"),
-    Figure("timings", "provenance"),
+    Figure("hapke", "models", folded=True),
+    Figure("timings", "provenance", folded=True),
     Figure("implicit", "implicit", rule="implicit_surface", folder=_BENCHMARKS, dpi=120),
     Figure("implicit_maps", "implicit", rule="implicit_surface", folder=_BENCHMARKS, dpi=110),
     Figure("random_ensembles", "random", rule="analysis_random"),
