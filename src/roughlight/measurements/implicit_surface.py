@@ -98,7 +98,8 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
     pandas.DataFrame, one row per surface x method x component: ``truncation``,
     ``aspect``, ``incidence``, ``kind`` (grid | random), ``band``, ``method``
     (:data:`VALIDATED`), ``component``, ``n_views`` (views with surface,
-    0 < e < 180, that the reference could compute), ``mae``, ``p99``,
+    0 < e < 180, that the reference could compute, each once: the zenith
+    once, not once per azimuth), ``mae``, ``p99``,
     ``worst`` (0-255), ``seconds`` (the method's time for the sweep) and
     ``reference_failures`` (views where the exact reference's own check
     refused its clipping: left out of the comparison and counted here).
@@ -183,7 +184,7 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     from ..render.exact import reference_views
 
     lighting = lighting or shading.Lighting()
-    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    seen = sweeps.distinct_views(azimuth, elevation)  # rendered, each once: the zenith once, not once per azimuth
     # a view the reference's own checks refuse is left out of the comparison and counted
     try:
         exact = _sweep("reference", surface, incidence, azimuth, elevation, lighting)
