@@ -423,6 +423,51 @@ def test_render_timings():
     assert summary["total_seconds"] == pytest.approx(per["seconds"].sum())
 
 
+def _arc_study(truncations, aspects, incidences):
+    """A made-up study of the light's plane (azimuth 0, elevations 0..180 by 1): each surface's specular has a
+    forward lobe at the mirror elevation 180 - i and a back lobe at 180 - 2 atan(2 aspect) - i (Gaussian, 6 deg
+    wide, heights from truncation and aspect); e = 0 and 180 were not rendered (coverage 0, value 0)."""
+    e = np.arange(0.0, 181.0, 1.0)
+    frames = []
+    for t in truncations:
+        for a in aspects:
+            for i in incidences:
+                centres = lobe_centres(i, a)
+                rough = (100 * (1 - t) ** 2 + 10 * a) * np.exp(-0.5 * ((e - centres["forward"]) / 6.0) ** 2)
+                rough += 40 * t * a * np.exp(-0.5 * ((e - centres["back"]) / 6.0) ** 2)
+                rendered = (e > 0) & (e < 180)
+                frames.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": i, "azimuth": 0.0,
+                                            "elevation": e, "phase": phase_angle(i, e, 0.0), "component": "specular",
+                                            "rough": np.where(rendered, rough, 0.0), "control": 0.0,
+                                            "coverage": rendered.astype(float)}))
+    return pd.concat(frames, ignore_index=True)
+
+
+def test_a_lobe_the_horizon_cuts_is_left_out_of_its_glm_and_counted():
+    """At incidence 1 the forward lobe's maximum is on the last rendered view, e = 179, beside the unrendered 180:
+    the horizon cuts it, its peak may lie beyond. It is no peak (arc_lobes says why) and the forward peak's GLM
+    leaves those surfaces out and counts them; the back peak's GLM keeps them."""
+    from roughlight.analysis.lobes import HORIZON_CUT
+
+    ts, as_ = [0.25, 0.5, 0.75, 1.0], [0.5, 0.75, 1.0]
+    lobes = arc_lobes(_arc_study(ts, as_, [1.0, 30.0]))
+    forward = lobes[lobes["lobe"] == "forward"]
+    cut = forward[forward["incidence"] == 1.0]
+    assert cut["peak"].isna().all() and cut["note"].str.startswith(HORIZON_CUT).all()
+    assert (cut["note"].str.contains("179 deg")).all()
+    kept = forward[forward["incidence"] == 30.0]
+    assert np.isfinite(kept["peak"]).all() and (kept["peak_elevation"] == 150.0).all()
+    levels = lobes[["truncation", "aspect", "incidence"]].drop_duplicates().assign(diffuse_level=lambda d: d["aspect"])
+    summary, _, diagnostics, messages = grid_glms(lobes, levels)
+    rows = summary.set_index("response")
+    n = len(ts) * len(as_)
+    assert rows.loc["forward_peak", "n"] == n and rows.loc["forward_peak", "cut_by_horizon"] == n
+    assert rows.loc["back_peak", "n"] == 2 * n and rows.loc["back_peak", "cut_by_horizon"] == 0
+    assert f"forward_peak: {n} surfaces whose lobe the horizon cuts" in " ".join(messages)
+    fitted = diagnostics[diagnostics["response"] == "forward_peak"]
+    assert (fitted["incidence"] == 30.0).all()
+
+
 def test_grid_glm_uses_incidence_when_the_grid_has_several():
     g = np.round(np.arange(0.1, 1.01, 0.1), 10)
     a = _grid(g, g, lambda t, a_: 1 + 2 * t + 3 * a_, noise=0.05)
@@ -486,9 +531,15 @@ def test_a_maximum_on_the_windows_edge_is_no_lobe():
     assert np.isnan(tail["peak"]) and "window's edge at 138" in tail["note"]
     real = profile_lobe(e, values, centre=150.0, window=(110.0, 180.0))
     assert real["peak"] == pytest.approx(100.0) and real["note"] == ""
-    # at the end of the arc the edge is the horizon, not another lobe's tail: a peak there stays a peak
+    # where the profile ends (no view past its last one) nothing lies beyond: a maximum there stays a peak
     rising = profile_lobe(e, e, centre=170.0, window=(140.0, 180.0))
     assert rising["peak"] == 180.0
+    # a view past the edge without a value (not rendered: e = 0, 180) is the horizon: the lobe is cut, no peak
+    unrendered = np.where((e > 0) & (e < 180), e, np.nan)
+    cut = profile_lobe(e, unrendered, centre=170.0, window=(140.0, 180.0))
+    assert np.isnan(cut["peak"]) and cut["note"].startswith("cut by the horizon") and "179 deg" in cut["note"]
+    falling = profile_lobe(e, np.where((e > 0) & (e < 180), 200.0 - e, np.nan), centre=10.0, window=(0.0, 40.0))
+    assert np.isnan(falling["peak"]) and falling["note"].startswith("cut by the horizon") and "at 1 deg" in falling["note"]
 
 
 def test_the_three_part_model_is_continuous_at_its_second_break():

@@ -1,4 +1,5 @@
 """tests/budget.py reads a run's benchmark files into the budget table, and says OVER where a budget is exceeded."""
+import os
 import sys
 from pathlib import Path
 
@@ -79,17 +80,44 @@ def test_a_baseline_runs_first_from_its_own_commit_and_the_ratio_is_against_its_
 
 
 def test_a_baseline_is_the_commits_tracked_files(tmp_path, monkeypatch):
-    """The baseline's directory holds the commit's files (here: the README as it was), not the working tree's."""
+    """The baseline's directory holds the commit's tracked files, not the working tree's: a repository made here
+    (the tests run from a release tarball too, which is no repository), whose README changed after the commit and
+    whose tree holds untracked files and a results/ folder."""
     import subprocess
 
+    repo = _repository(tmp_path / "repo", {"README.md": "as committed\n", "Snakefile": "rule all:\n"})
+    (repo / "README.md").write_text("changed since\n")
+    (repo / "untracked.txt").write_text("never committed\n")
+    (repo / "results").mkdir()
+    (repo / "results" / "study.parquet").write_text("a result\n")
+    monkeypatch.setattr(budget, "ROOT", repo)
     monkeypatch.setattr(budget.subprocess, "run", _no_snakemake(subprocess.run))
-    monkeypatch.setattr(budget.tempfile, "tempdir", str(tmp_path))  # its copy under pytest's, not left in /tmp
+    copies = tmp_path / "copies"
+    copies.mkdir()
+    monkeypatch.setattr(budget.tempfile, "tempdir", str(copies))  # its copy under pytest's, not left in /tmp
     where, _ = budget.fresh_run(1, "HEAD")
-    assert where.parent == tmp_path
-    head = subprocess.run(["git", "-C", str(budget.ROOT), "show", "HEAD:README.md"], capture_output=True,
-                          text=True).stdout
-    assert (where / "README.md").read_text() == head and (where / "Snakefile").is_file()
-    assert not (where / ".venv").exists() and not (where / "results").exists()
+    assert where.parent == copies
+    assert (where / "README.md").read_text() == "as committed\n" and (where / "Snakefile").is_file()
+    assert not (where / "untracked.txt").exists() and not (where / "results").exists()
+    assert not (where / ".git").exists()
+    with pytest.raises(SystemExit, match="no commit 'no-such-commit'"):
+        budget.fresh_run(1, "no-such-commit")
+
+
+def _repository(where: Path, files: dict) -> Path:
+    """A git repository at ``where`` with ``files`` (name -> text) committed, its own identity and settings (none
+    of the user's configuration: no signing, no hooks)."""
+    import subprocess
+
+    where.mkdir(parents=True)
+    for name, text in files.items():
+        (where / name).write_text(text)
+    env = {"GIT_CONFIG_GLOBAL": "/dev/null", "GIT_CONFIG_SYSTEM": "/dev/null", "GIT_AUTHOR_NAME": "test",
+           "GIT_AUTHOR_EMAIL": "test@example.org", "GIT_COMMITTER_NAME": "test", "GIT_COMMITTER_EMAIL": "test@example.org"}
+    for args in (["init", "-q"], ["add", "--", *files], ["commit", "-q", "-m", "the files"]):
+        subprocess.run(["git", "-C", str(where), *args], check=True, capture_output=True,
+                       env={**{k: v for k, v in os.environ.items() if not k.startswith("GIT_")}, **env})
+    return where
 
 
 def _no_snakemake(run):

@@ -132,10 +132,12 @@ def assert_drawn_from_measured(map_, azimuth, elevation, value):
         for b in bands:
             assert levels[b] - 1e-9 <= v <= levels[b + 1] + 1e-9, (
                 f"at view ({phi:g}, {e:g}) the map shows {levels[b]:.2f}-{levels[b + 1]:.2f}, measured {v:.3f}")
-    # the triangles cover the disc from the horizon's views: each wedge between neighbouring half great circles,
-    # the last one (up to azimuth 180) closed by azimuth 0's views, twice (near and far side), sin(wedge) / 2 each
+    # the triangles cover the disc from the outermost views (the horizon's, or the lowest rendered, e and 180 - e):
+    # each wedge between neighbouring half great circles, the last one (up to azimuth 180) closed by azimuth 0's
+    # views, twice (near and far side), r^2 sin(wedge) / 2 each, r the outermost views' distance from the centre
     wedges = np.diff(np.append(np.unique(azimuth), 180.0))
-    assert triangle_areas(map_.triangulation).sum() == pytest.approx(np.sin(np.radians(wedges)).sum(), rel=1e-9)
+    r = np.abs(np.cos(np.radians(elevation))).max()
+    assert triangle_areas(map_.triangulation).sum() == pytest.approx(r**2 * np.sin(np.radians(wedges)).sum(), rel=1e-9)
 
 
 # ---------------------------------------------------------------------------
@@ -230,24 +232,55 @@ def test_fig19_maps_show_the_measured_views(grid, drawn):
 # the implicit surface's maps
 
 
-@pytest.mark.parametrize("grid", GRIDS)
-def test_implicit_maps_show_the_measured_differences(grid, drawn, tmp_path):
-    """The exact map, and each model's difference from it taken view by view (rows in any order)."""
+def implicit_maps(grid, not_rendered=0.0):
+    """Made-up hemisphere maps of one surface (:func:`roughlight.measurements.implicit_surface.hemisphere_maps`'
+    columns, rows in any order): the exact values and each model's, by method ({method: (n,) total}), and the
+    frame, whose views not rendered (e = 0, 180) hold ``not_rendered`` in every method and component."""
     azimuth, elevation = views(grid)
     reference = asymmetric(azimuth, elevation)
     phi, e = np.radians(azimuth), np.radians(elevation)
     models = {"reference": reference,
               "implicit_exact": reference + np.sin(phi) * np.cos(e),  # changes sign in the mirror image
               "implicit_correction": reference + 2.0 * np.cos(phi) + np.sin(2 * e)}
+    grazing = sweeps.is_grazing(elevation)
     maps = pd.concat([pd.DataFrame({"truncation": 1.0, "aspect": 1.0, "incidence": 30.0, "azimuth": azimuth,
-                                    "elevation": elevation, "method": method, "total": total, "diffuse": 0.0,
-                                    "specular": 0.0}) for method, total in models.items()], ignore_index=True)
-    maps = maps.sample(frac=1.0, random_state=5).reset_index(drop=True)
+                                    "elevation": elevation, "method": method,
+                                    "total": np.where(grazing, not_rendered, total),
+                                    "diffuse": np.where(grazing, not_rendered, 0.0),
+                                    "specular": np.where(grazing, not_rendered, 0.0)})
+                      for method, total in models.items()], ignore_index=True)
+    return models, maps.sample(frac=1.0, random_state=5).reset_index(drop=True)
+
+
+@pytest.mark.parametrize("grid", GRIDS)
+def test_implicit_maps_show_the_measured_differences(grid, drawn, tmp_path):
+    """The exact map, and each model's difference from it taken view by view (rows in any order), at every view
+    that was rendered (0 < e < 180)."""
+    azimuth, elevation = views(grid)
+    models, maps = implicit_maps(grid)
     implicit.fig_implicit_maps(maps)
     assert len(drawn) == 3
+    rendered = ~sweeps.is_grazing(elevation)
     for map_, method in zip(drawn, models):
-        value = models[method] - (0.0 if method == "reference" else reference)
-        assert_drawn_from_measured(map_, azimuth, elevation, value)
+        value = models[method] - (0.0 if method == "reference" else models["reference"])
+        assert_drawn_from_measured(map_, azimuth[rendered], elevation[rendered], value[rendered])
+
+
+@pytest.mark.parametrize("grid", GRIDS)
+def test_implicit_maps_leave_out_the_views_not_rendered(grid, drawn):
+    """The views not rendered (e = 0 and 180, coverage 0) are no measurement: whatever their rows hold (0, as a
+    sweep stores them, 255 or NaN), every map draws the same nodes, values, triangles and bands."""
+    for not_rendered in (0.0, 255.0, np.nan):
+        implicit.fig_implicit_maps(implicit_maps(grid, not_rendered)[1])
+        plt.close("all")
+    assert len(drawn) == 9
+    for first, other in zip(drawn[:3] * 2, drawn[3:]):
+        np.testing.assert_array_equal(first.z, other.z)
+        np.testing.assert_array_equal(first.triangulation.get_masked_triangles(),
+                                      other.triangulation.get_masked_triangles())
+        np.testing.assert_array_equal(first.contours.levels, other.contours.levels)
+    # no node on the horizon (e = 0, 180: the disc's rim)
+    assert all(np.hypot(map_.x, map_.y).max() < 1.0 - 1e-6 for map_ in drawn)
 
 
 def test_implicit_difference_needs_the_same_views():

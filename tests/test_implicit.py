@@ -158,6 +158,11 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     monkeypatch.setattr(implicit_bench, "MAP_SURFACES", implicit_bench.MAP_SURFACES[:1])
     maps = implicit_bench.hemisphere_maps("tiny")
     assert set(maps["method"]) == {"reference", "implicit_exact", "implicit_correction"}
+    # the views not rendered (e = 0, 180: coverage 0) are no measurement: NaN, never a value of 0 to draw
+    components = list(shading.COMPONENTS)
+    grazing = maps["elevation"].isin([0.0, 180.0])
+    assert grazing.any() and maps.loc[grazing, components].isna().all().all()
+    assert maps.loc[~grazing, components].notna().all().all()
     figures.make("implicit_maps", tmp_path / "maps.png", maps=maps)
     html = report.render_section("implicit", implicit_validation=table, implicit_frames=frames,
                                  implicit_png=str(tmp_path / "implicit.png"), plan="tiny",
@@ -194,7 +199,8 @@ def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
     rows = implicit_bench.validate_surface(Surface(1.0, 1.0), 30.0, "grid", az, el)
     refused = int((el > 170).sum())
     assert refused and all(r["reference_failures"] == refused for r in rows)
-    assert all(r["n_views"] == int((~sweeps.is_grazing(el) & (el <= 170)).sum()) for r in rows)
+    # each view once: the zenith, on both half great circles (azimuths 0 and 90), counts once
+    assert all(r["n_views"] == int((~sweeps.is_grazing(el) & (el <= 170)).sum()) - 1 for r in rows)
     assert all(np.isfinite(r["mae"]) for r in rows)
 
 

@@ -23,6 +23,7 @@ import math
 import numpy as np
 import pandas as pd
 
+from ..render.views import distinct_views
 from ..study.selection import SURFACE_KEYS
 from .claims import is_pilot
 from .grids import surface_value_grids
@@ -281,7 +282,9 @@ def ensemble_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
     the V-cavity facets, Hapke), plus ``rmse_regular_*``: the error of
     predicting the tile by the regular surface at its grid point (what the
     implicit shader's exact form, which reproduces the regular surface
-    within 0.02 levels, would predict), diffuse and specular.
+    within 0.02 levels, would predict), diffuse and specular, over the tile's
+    rendered views, each once (the zenith once, not once per azimuth:
+    :func:`roughlight.render.views.distinct_views`).
 
     Returns
     -------
@@ -298,9 +301,10 @@ def ensemble_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
         fits.insert(0, "kind", kind)
         fits.insert(1, "seed", seed)
         joined = group.join(regular.rename("regular"), on=keys)
-        seen = joined["coverage"] > 0
+        seen = distinct_views(joined["azimuth"], joined["elevation"], joined["coverage"],
+                              joined.groupby(SURFACE_KEYS + ["component"], observed=True).ngroup())
         for component in ("diffuse", "specular"):
-            part = joined[seen & (joined["component"].astype(str) == component)]
+            part = joined[seen & (joined["component"].astype(str) == component).to_numpy()]
             err = (part["rough"] - part["regular"]) ** 2
             rmse = err.groupby([part[k] for k in SURFACE_KEYS]).mean() ** 0.5
             fits[f"rmse_regular_{component}"] = [float(rmse.get(tuple(k), np.nan))

@@ -17,6 +17,10 @@ import numpy as np
 import pandas as pd
 
 from ..study.selection import SURFACE_KEYS
+from .lobes import HORIZON_CUT
+
+#: The suffix of a response's column that says which surfaces' lobe the horizon cuts (:func:`horizon_cut`).
+CUT_BY_HORIZON = "_cut_by_horizon"
 
 
 @dataclass
@@ -42,24 +46,45 @@ def scaled_condition(X: np.ndarray) -> float:
 
 
 def fitted_surfaces(data: pd.DataFrame, response: str, messages: list) -> pd.DataFrame:
-    """The surfaces a grid GLM is fitted on: no plate, no missing value.
+    """The surfaces a grid GLM is fitted on: no plate, no lobe the horizon cuts, no missing value.
 
     Plate surfaces (truncation 0 or aspect 0) are the same surface whatever
-    the other parameter is (zero-variance cells); surfaces without a value
-    have no lobe. Both are kept out, each with a message appended to ``messages``.
+    the other parameter is (zero-variance cells); a surface whose lobe the
+    horizon cuts (``data``'s column ``{response}_cut_by_horizon`` true: its
+    maximum on the first or last rendered view, e = 1 or 179, its true peak
+    perhaps beyond; :func:`roughlight.analysis.lobes.profile_lobe`) has no
+    peak; other surfaces without a value have no lobe. Each kind is kept out
+    and counted in a message appended to ``messages``.
     """
     d = data[SURFACE_KEYS + [response]].copy()
-    plate = (d["truncation"] * d["aspect"]) < 1e-9
+    plate = is_plate_row(d)
     if plate.any():
         messages.append(
             f"{response}: {int(plate.sum())} plate surfaces (truncation 0 or aspect 0: the same flat plate "
             "whatever the other parameter) kept out of the fit"
         )
-    d = d[~plate]
-    n_nan = int(d[response].isna().sum())
+    cut = horizon_cut(data, response) & ~plate
+    if cut.any():
+        messages.append(f"{response}: {int(cut.sum())} surfaces whose lobe the horizon cuts (the maximum on the "
+                        "first or last rendered view, e = 1 or 179: the peak may lie beyond) kept out of the fit")
+    n_nan = int((d[response].isna() & ~plate & ~cut).sum())
     if n_nan:
         messages.append(f"{response}: {n_nan} surfaces without a value (no lobe found) kept out of the fit")
-    return d.dropna()
+    return d[~plate & ~cut].dropna()
+
+
+def is_plate_row(data: pd.DataFrame) -> pd.Series:
+    """Whether each surface (row) of ``data`` is the flat plate: truncation 0 or aspect 0."""
+    return (data["truncation"] * data["aspect"]) < 1e-9
+
+
+def horizon_cut(data: pd.DataFrame, response: str) -> pd.Series:
+    """Whether each surface (row) of ``data`` has a lobe the horizon cuts for ``response``: its column
+    ``{response}_cut_by_horizon`` (false where it is missing or NaN, or ``data`` has no such column)."""
+    column = f"{response}{CUT_BY_HORIZON}"
+    if column not in data:
+        return pd.Series(False, index=data.index)
+    return data[column].fillna(False).astype(bool)
 
 
 def candidate_terms(d: pd.DataFrame, response: str, messages: list) -> list[str]:
@@ -149,14 +174,16 @@ def diagnostics(res, d: pd.DataFrame, y: np.ndarray, response: str) -> pd.DataFr
 def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.0) -> GLMResult:
     """Gaussian GLM (IRLS) of one response over the grid: truncation, aspect, their interaction (and incidence).
 
-    Plates and surfaces without a value are kept out (:func:`fitted_surfaces`);
+    Plates, surfaces whose lobe the horizon cuts and surfaces without a value
+    are kept out (:func:`fitted_surfaces`);
     predictors without variance are dropped (:func:`candidate_terms`); terms are
     dropped while the design is near-collinear (:func:`collinearity`). Every such
     decision is a message; nothing raises.
 
     Parameters
     ----------
-    data : DataFrame with ``truncation``, ``aspect``, ``incidence`` and ``response`` columns.
+    data : DataFrame with ``truncation``, ``aspect``, ``incidence`` and ``response`` columns, and optionally
+        ``{response}_cut_by_horizon`` (bool: the surface's lobe is cut by the horizon, :func:`horizon_cut`).
     response : str
     collinearity_limit : float
         Largest acceptable condition number of the scaled design (30 is
@@ -165,15 +192,16 @@ def grid_glm(data: pd.DataFrame, response: str, collinearity_limit: float = 100.
     Returns
     -------
     GLMResult
-        ``summary``: n, terms, dropped terms, converged, iterations, deviance,
-        AIC, pseudo R^2, condition numbers (raw and scaled), status;
+        ``summary``: n (surfaces fitted), cut_by_horizon (rough surfaces kept
+        out because the horizon cuts their lobe), terms, dropped terms,
+        converged, iterations, deviance, AIC, pseudo R^2, condition numbers (raw and scaled), status;
         ``coefficients``: term, estimate, std error, z, p, 95% CI;
         ``diagnostics``: per surface fitted value, response/Pearson residuals,
         leverage (hat), Cook's distance.
     """
     messages = []
-    summary = {"response": response, "n": 0, "terms": "", "dropped": "", "converged": False, "iterations": np.nan,
-               "deviance": np.nan, "aic": np.nan, "pseudo_r2": np.nan, "condition_raw": np.nan,
+    summary = {"response": response, "n": 0, "cut_by_horizon": 0, "terms": "", "dropped": "", "converged": False,
+               "iterations": np.nan, "deviance": np.nan, "aic": np.nan, "pseudo_r2": np.nan, "condition_raw": np.nan,
                "condition_scaled": np.nan, "status": "not fitted"}
     prepared = _fit_inputs(data, response, collinearity_limit, summary, messages)
     if prepared is None:
@@ -210,6 +238,7 @@ def _fit_inputs(data: pd.DataFrame, response: str, collinearity_limit: float, su
         messages.append(f"{response}: no such column")
         return None
     d = fitted_surfaces(data, response, messages)
+    summary["cut_by_horizon"] = int((horizon_cut(data, response) & ~is_plate_row(data)).sum())
     terms = candidate_terms(d, response, messages)
     summary["dropped"] = ", ".join(collinearity(d, terms, response, collinearity_limit, messages))
     summary["n"] = int(len(d))
@@ -238,6 +267,13 @@ def goodness_of_fit(res, y: np.ndarray) -> dict:
 def grid_glms(lobes: pd.DataFrame, levels: pd.DataFrame, collinearity_limit: float = 100.0):
     """Grid GLMs of the forward lobe peak, back lobe peak and diffuse level.
 
+    A surface whose forward (back) lobe the horizon cuts, its maximum on the
+    first or last rendered view (e = 1 or 179, beside the views not rendered,
+    e = 0 and 180: :func:`roughlight.analysis.lobes.arc_lobes`' note
+    :data:`roughlight.analysis.lobes.HORIZON_CUT`), has no peak: it is left
+    out of that lobe's GLM, counted in the summary's ``cut_by_horizon`` and
+    in a message, and stays in the other GLMs.
+
     Parameters
     ----------
     lobes : :func:`arc_lobes` output; levels : :func:`diffuse_levels` output.
@@ -247,9 +283,7 @@ def grid_glms(lobes: pd.DataFrame, levels: pd.DataFrame, collinearity_limit: flo
     summary, coefficients, diagnostics : DataFrames (one block per response)
     messages : list of str
     """
-    wide = lobes.pivot_table(index=SURFACE_KEYS, columns="lobe", values="peak", aggfunc="first")
-    wide = wide.rename(columns={"forward": "forward_peak", "back": "back_peak"}).reset_index()
-    data = levels[SURFACE_KEYS + ["diffuse_level"]].merge(wide, on=SURFACE_KEYS, how="outer")
+    data = levels[SURFACE_KEYS + ["diffuse_level"]].merge(lobe_peaks(lobes), on=SURFACE_KEYS, how="outer")
     results = [grid_glm(data, r, collinearity_limit) for r in ("forward_peak", "back_peak", "diffuse_level")]
     summary = pd.DataFrame([r.summary for r in results])
     coefs = pd.concat([r.coefficients for r in results if len(r.coefficients)], ignore_index=True) \
@@ -258,3 +292,18 @@ def grid_glms(lobes: pd.DataFrame, levels: pd.DataFrame, collinearity_limit: flo
         if any(len(r.diagnostics) for r in results) else pd.DataFrame()
     messages = [m for r in results for m in r.messages]
     return summary, coefs, diags, messages
+
+
+def lobe_peaks(lobes: pd.DataFrame) -> pd.DataFrame:
+    """One row a surface: its keys, ``forward_peak`` and ``back_peak`` (0-255, NaN without a peak) and
+    ``forward_peak_cut_by_horizon``, ``back_peak_cut_by_horizon`` (bool: the note of :func:`arc_lobes` says the
+    horizon cuts the lobe)."""
+    lobes = lobes[lobes["lobe"].isin(["forward", "back"])].assign(
+        cut=lobes["note"].fillna("").astype(str).str.startswith(HORIZON_CUT))
+    wide = lobes.pivot_table(index=SURFACE_KEYS, columns="lobe", values="peak", aggfunc="first", dropna=False)
+    cut = lobes.pivot_table(index=SURFACE_KEYS, columns="lobe", values="cut", aggfunc="any")
+    out = pd.DataFrame(index=cut.index)
+    for lobe in ("forward", "back"):
+        out[f"{lobe}_peak"] = wide[lobe] if lobe in wide else np.nan
+        out[f"{lobe}_peak{CUT_BY_HORIZON}"] = cut[lobe].astype(bool) if lobe in cut else False
+    return out.reset_index()

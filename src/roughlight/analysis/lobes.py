@@ -31,6 +31,10 @@ from .grids import arc, surface_value_grids
 #: A lobe whose peak is below this (0-255 scale) is "no lobe" (less than an 8-bit step).
 MIN_LOBE_PEAK = 0.5
 
+#: How the note of a lobe the horizon cuts starts (:func:`profile_lobe`): its maximum is on the first or last
+#: rendered view of the arc (e = 1 or 179 by default), beside views that were not rendered (e = 0, 180).
+HORIZON_CUT = "cut by the horizon"
+
 
 def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) -> dict:
     """Peak, centre and full width at half maximum of one lobe of a 1-D profile.
@@ -48,8 +52,11 @@ def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) 
     -------
     dict
         ``peak`` (max value in the window; NaN when that maximum sits on a
-        window edge that the arc continues past: the tail of another lobe,
-        not a peak of this one), ``peak_elevation`` (mean of the
+        window edge that the arc ``elevation`` continues past: the tail of
+        another lobe, not a peak of this one; or, where the views past that
+        edge have no value (NaN: not rendered, e = 0 or 180), a lobe the
+        horizon cuts, whose true peak may lie beyond; the note then starts
+        with :data:`HORIZON_CUT`), ``peak_elevation`` (mean of the
         elevations attaining it), ``centroid`` (value-weighted mean elevation
         over the part above half maximum), ``fwhm`` (degrees, half-maximum
         crossings interpolated linearly; NaN when a crossing lies outside the
@@ -70,11 +77,12 @@ def profile_lobe(elevation, values, centre: float, window: tuple[float, float]) 
         return out
     at = np.flatnonzero(vw == peak)
     # a maximum on the window's edge, where the arc goes on, is the tail of a neighbouring lobe rising out of
-    # the window, not a peak of this one: no value enters a fit or a table
+    # the window, or a lobe the horizon cuts (the arc goes on past it to views not rendered), not a peak of this
+    # one: no value enters a fit or a table
     edge = _edge_maxima(e, ew, at)
     if edge:
         out["peak"] = np.nan
-        out["note"] = f"no lobe: the maximum ({peak:.3g}) is on the window's edge at {edge[0]:g} deg, another lobe's tail"
+        out["note"] = _edge_note(e, v, ew, edge[0], peak)
         return out
     out["peak_elevation"] = float(ew[at].mean())
     half = peak / 2.0
@@ -93,6 +101,17 @@ def _edge_maxima(e, ew, at) -> list:
     ``ew``) that lie on an edge of the window past which the whole arc ``e`` goes on."""
     last = len(ew) - 1
     return [ew[j] for j in (at[0], at[-1]) if (j == 0 and ew[0] > e.min()) or (j == last and ew[-1] < e.max())]
+
+
+def _edge_note(e, v, ew, edge: float, peak: float) -> str:
+    """Why a maximum ``peak`` on the edge at elevation ``edge`` (degrees) of the window's views ``ew`` is no peak:
+    another lobe's tail where the arc (elevations ``e``, values ``v``) was measured past that edge; the horizon
+    where no view past it has a value (the views not rendered, e = 0 or 180)."""
+    beyond = v[e < edge] if edge == ew[0] and edge > e.min() else v[e > edge]
+    if not np.isfinite(beyond).any():
+        return (f"{HORIZON_CUT}: the maximum ({peak:.3g}) is on the rendered view nearest the horizon, at "
+                f"{edge:g} deg; the peak may lie beyond")
+    return f"no lobe: the maximum ({peak:.3g}) is on the window's edge at {edge:g} deg, another lobe's tail"
 
 
 def _above_half(vw, at, half: float) -> tuple[int, int]:
@@ -152,7 +171,10 @@ def arc_lobes(study: pd.DataFrame, azimuth: float = 0.0, max_halfwidth: float = 
     ``window_lo``/``window_hi``, ``peak`` (0-255), ``peak_elevation``,
     ``centroid``, ``fwhm`` (degrees), ``phase_at_peak`` (degrees),
     ``offset`` (peak elevation minus predicted, degrees), ``plate`` (bool),
-    ``note``.
+    ``note``. The views that were not rendered (coverage 0: e = 0 and 180)
+    have no value; a maximum beside them, on the first or last rendered view
+    (e = 1 or 179), is a lobe the horizon cuts (:func:`profile_lobe`): no
+    peak (NaN), and the note starts with :data:`HORIZON_CUT`.
     """
     spec = arc(study, "specular", azimuth)
     rows = []
@@ -176,9 +198,10 @@ def _surface_arc_lobes(key, group: pd.DataFrame, max_halfwidth: float) -> list[d
     t, a, i = (float(k) for k in key)
     centres = lobe_centres(i, a)
     windows = _arc_windows(centres, max_halfwidth)
-    group = group[group["coverage"].to_numpy(float) > 0]  # a view that was not rendered (e = 0, 180): no dark view
     e = group["elevation"].to_numpy(float)
-    v = group["rough"].to_numpy(float)
+    # a view that was not rendered (e = 0, 180) is no dark view: no value, but the arc goes on there, so that a
+    # maximum on the last rendered view is a lobe the horizon cuts (profile_lobe)
+    v = np.where(group["coverage"].to_numpy(float) > 0, group["rough"].to_numpy(float), np.nan)
     rows = []
     for lobe in ("forward", "back", "west"):
         if centres[lobe] is None and lobe == "west":

@@ -4,7 +4,8 @@ The Torrance-Sparrow V-cavity facet model (:func:`facet_model`: the surface's
 own facets, each lit and seen as far as V-cavity masking and shadowing
 allow), Oren-Nayar's diffuse model (:func:`oren_nayar`, with sigma from the
 facets' slopes or fitted) and Hapke's opposition term (:func:`fit_hapke`),
-scored by RMSE on every view of every surface (:func:`analytic_model_fits`)
+scored by RMSE on every rendered view of every surface, each once (the zenith counted once, not once per
+azimuth: :func:`roughlight.render.views.distinct_views`; :func:`analytic_model_fits`)
 and summarised per band of the grid (:func:`model_fit_summary`). Angles are
 degrees; values 0-255.
 """
@@ -17,6 +18,7 @@ import numpy as np
 import pandas as pd
 
 from ..render.shading import light_direction, quantize, view_direction
+from ..render.views import distinct_views
 from ..study.selection import SURFACE_KEYS, recorded_lighting
 from ..surfaces.geometry import facets, side_slope_deg
 from ..surfaces.surface import is_plate
@@ -291,6 +293,8 @@ def _best(errors: dict):
 
 
 def _rmse(a, b, mask=None):
+    """Root mean square of ``a - b`` (0-255) over the rows ``mask`` (bool, default all) with a finite difference;
+    NaN when there is none."""
     d = np.asarray(a, float) - np.asarray(b, float)
     if mask is not None:
         d = d[mask]
@@ -298,11 +302,18 @@ def _rmse(a, b, mask=None):
     return float(np.sqrt(np.mean(d**2))) if len(d) else np.nan
 
 
+def seen_views(views: pd.DataFrame) -> np.ndarray:
+    """The rows of one surface's views of one component (``azimuth``, ``elevation``, ``coverage``) that its scores
+    count: rendered (coverage above 0), each view once (:func:`roughlight.render.views.distinct_views`)."""
+    return distinct_views(views["azimuth"], views["elevation"], views["coverage"])
+
+
 def analytic_model_fits(study: pd.DataFrame, lighting: dict | None = None,
                         hapke_max_phase: float = 60.0) -> pd.DataFrame:
     """Fit errors of analytic rough-surface models against every surface of the study.
 
-    Over all non-grazing views of each surface:
+    Over the views of each surface that were rendered (coverage above 0), each view once: the zenith, on every
+    half great circle, counts once (:func:`seen_views`):
 
     * diffuse: Lambert (the plate, i.e. the ``control`` column); Oren-Nayar
       with sigma from the pyramid's slopes (:func:`oren_nayar_sigma`) and with
@@ -358,7 +369,7 @@ def _surface_fits(key, gd: pd.DataFrame, gs: pd.DataFrame, gt: pd.DataFrame, lig
     """One row of :func:`analytic_model_fits`: the surface ``key`` (truncation, aspect, incidence), its diffuse,
     specular and total views ``gd``, ``gs``, ``gt``, and ``light`` (:func:`_model_lighting`)."""
     t, a, i = (float(k) for k in key)
-    seen = gd["coverage"].to_numpy(float) > 0
+    seen = seen_views(gd)
     row = {"truncation": t, "aspect": a, "incidence": i}
     row.update(_diffuse_fits(t, a, i, gd, seen, light))
     row.update(_specular_fits(t, a, i, gs, light))
@@ -412,7 +423,7 @@ def _specular_fits(t: float, a: float, i: float, gs: pd.DataFrame, light: dict) 
     (``control``), the facet model without masking and with V-cavity masking-shadowing."""
     es, ps = gs["elevation"].to_numpy(float), gs["azimuth"].to_numpy(float)
     ys = gs["rough"].to_numpy(float)
-    seen = gs["coverage"].to_numpy(float) > 0
+    seen = seen_views(gs)
     fs = facet_model(t, a, i, es, ps, masking="v-cavity", **light)["specular"]
     fs0 = facet_model(t, a, i, es, ps, masking="none", **light)["specular"]
     return {"rmse_phong_plate": _rmse(ys, gs["control"].to_numpy(float), seen),
@@ -422,7 +433,7 @@ def _specular_fits(t: float, a: float, i: float, gs: pd.DataFrame, light: dict) 
 def _opposition_fits(gd: pd.DataFrame, gt: pd.DataFrame, seen, hapke_max_phase: float) -> dict:
     """Hapke's surge (:func:`fit_hapke`) near opposition on one surface's seen total views ``gt`` and on its
     diffuse views ``gd`` at ``seen``: the ``rmse_hapke*``, ``hapke_*`` and background columns."""
-    mt = gt["coverage"].to_numpy(float) > 0
+    mt = seen_views(gt)
     hp = fit_hapke(gt["phase"].to_numpy(float)[mt], gt["rough"].to_numpy(float)[mt], hapke_max_phase)
     row = dict(rmse_hapke=hp["rmse"], rmse_constant_near_opposition=hp["rmse_constant"],
                rmse_hapke_heldout=hp["rmse_heldout"], rmse_constant_heldout=hp["rmse_constant_heldout"],

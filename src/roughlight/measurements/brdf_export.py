@@ -376,8 +376,9 @@ LAYOUTS = {
 def resolution_study(surface: Surface, layouts=None, lights: int = 8, views: int = 400, seed: int = 9, log=None):
     """What a share table's nodes cost and buy: for each layout (``export.table`` keys over :data:`TABLE`), its
     build time and bytes, and its total's error against the exact reference (numpy, :func:`table_values`) on the
-    study's full view grid (1 by 5 degrees) at the study's light azimuth, incidences 10, 30 (nodes), 37.3 and 63.1
-    (off the nodes), and at ``lights`` x ``views`` lights and views drawn at random (any azimuth).
+    study's full view grid (1 by 5 degrees; its rendered views, each once: the zenith once, not once per azimuth)
+    at the study's light azimuth, incidences 10, 30 (nodes), 37.3 and 63.1 (off the nodes), and at ``lights`` x
+    ``views`` lights and views drawn at random (any azimuth).
 
     Returns
     -------
@@ -391,7 +392,7 @@ def resolution_study(surface: Surface, layouts=None, lights: int = 8, views: int
     log = log or (lambda message: None)
     rows = []
     azimuth, elevation = sweeps.view_grid(1.0, 5.0)
-    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    seen = sweeps.distinct_views(azimuth, elevation)
     rng = np.random.default_rng(seed)
     drawn = [(rng.uniform(10, 80), rng.uniform(0, 360), rng.uniform(0, 180, views), rng.uniform(1, 179, views))
              for _ in range(lights)]

@@ -8,7 +8,9 @@ views. This module is what they share:
   views, lighting, settings) in a process, through the registry (:func:`roughlight.render.methods.sweep`);
 - :func:`absolute_errors` and :func:`pooled_errors`: ``|rendered - exact|`` of each component (0-255), of one
   sweep or of several sweeps end to end;
-- :func:`error_statistics`: the statistics of those errors the tables report (:data:`STATISTICS`);
+- :func:`error_statistics`: the statistics of those errors the tables report (:data:`STATISTICS`), over the views
+  that were rendered, each once (the zenith once, not once per azimuth: the ``seen`` views, from
+  :func:`roughlight.render.views.distinct_views`);
 - :func:`plan_size`: the size of a measurement named by its plan (``measurements.plan``), refused with the
   choices for any other name.
 """
@@ -91,13 +93,15 @@ def absolute_errors(rendered: dict, exact: dict, seen=None, components=COMPONENT
     return errors
 
 
-def pooled_errors(pairs) -> dict:
+def pooled_errors(pairs, seen=None) -> dict:
     """:func:`absolute_errors` of several sweeps end to end: the errors over every surface's views.
 
     Parameters
     ----------
     pairs : iterable of (rendered, exact)
         One pair of sweep results a surface, in the order the errors are joined.
+    seen : (n_views,) bool array, optional
+        The views compared in every sweep (default: every view; the sweeps share their views).
 
     Returns
     -------
@@ -106,7 +110,7 @@ def pooled_errors(pairs) -> dict:
     """
     parts = {component: [] for component in COMPONENTS}
     for rendered, exact in pairs:
-        for component, error in absolute_errors(rendered, exact).items():
+        for component, error in absolute_errors(rendered, exact, seen).items():
             parts[component].append(error)
     return {component: np.concatenate(errors) for component, errors in parts.items()}
 

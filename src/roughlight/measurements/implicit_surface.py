@@ -98,7 +98,8 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
     pandas.DataFrame, one row per surface x method x component: ``truncation``,
     ``aspect``, ``incidence``, ``kind`` (grid | random), ``band``, ``method``
     (:data:`VALIDATED`), ``component``, ``n_views`` (views with surface,
-    0 < e < 180, that the reference could compute), ``mae``, ``p99``,
+    0 < e < 180, that the reference could compute, each once: the zenith
+    once, not once per azimuth), ``mae``, ``p99``,
     ``worst`` (0-255), ``seconds`` (the method's time for the sweep) and
     ``reference_failures`` (views where the exact reference's own check
     refused its clipping: left out of the comparison and counted here).
@@ -183,7 +184,7 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     from ..render.exact import reference_views
 
     lighting = lighting or shading.Lighting()
-    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    seen = sweeps.distinct_views(azimuth, elevation)  # rendered, each once: the zenith once, not once per azimuth
     # a view the reference's own checks refuse is left out of the comparison and counted
     try:
         exact = _sweep("reference", surface, incidence, azimuth, elevation, lighting)
@@ -419,7 +420,8 @@ def hemisphere_maps(plan: str = "full", lighting=None, tables=None):
     ``elevation``, ``method`` (``reference``, ``implicit_exact``,
     ``implicit_correction``, and ``implicit_table`` where ``tables``, as :func:`validation` takes them, holds the
     surface's) and the three components (0-255), on the plan's
-    view grid.
+    view grid; NaN at the views that were not rendered (coverage 0: e = 0 and 180, where the detector looks
+    along the plane), which are no measurement and are not drawn (:func:`_rendered_values`).
     """
     import pandas as pd
 
@@ -436,5 +438,12 @@ def hemisphere_maps(plan: str = "full", lighting=None, tables=None):
             out = _sweep(method, surface, incidence, azimuth, elevation, lighting, table)
             parts.append(pd.DataFrame({"truncation": surface.truncation, "aspect": surface.aspect,
                                        "incidence": incidence, "azimuth": azimuth, "elevation": elevation,
-                                       "method": method, **{c: out[c] for c in shading.COMPONENTS}}))
+                                       "method": method, **_rendered_values(out, elevation)}))
     return pd.concat(parts, ignore_index=True)
+
+
+def _rendered_values(out: dict, elevation) -> dict:
+    """A sweep's components (component -> (n_views,) 0-255) with NaN at the views it did not render: coverage 0,
+    and the grazing views (e = 0, 180) whatever they hold. ``out`` is left as it is (a cached sweep's)."""
+    missing = (np.asarray(out["coverage"], float) <= 0) | sweeps.is_grazing(elevation)
+    return {c: np.where(missing, np.nan, np.asarray(out[c], float)) for c in shading.COMPONENTS}

@@ -25,6 +25,7 @@ import pandas as pd
 
 from ..analysis.thesis import SQRT3_2, THESIS_INCIDENCE
 from ..render import methods, shading
+from ..render.views import distinct_views
 from ..surfaces.roughness import kind_and_seed, make_surface
 from ..surfaces.surface import Surface
 from .renderer_validation import view_errors
@@ -179,14 +180,16 @@ def interreflection(plan: str = "quick", incidence: float = THESIS_INCIDENCE, li
 
 
 def interreflection_summary(frame: pd.DataFrame, level: float = LEVEL) -> pd.DataFrame:
-    """Each surface's gain from light that bounces, per albedo and set of views (with its ``bounces``):
-    ``mean_gain`` and ``worst_gain`` (levels), ``mean_percent`` and ``worst_percent`` (of direct light, over views
-    with at least one level of it), ``worst_elevation`` and ``worst_azimuth`` (the view of the worst gain), and
-    ``within_level`` (the worst gain is below ``level``: the OpenGL equation's diffuse is within a level of light
-    transport at every view)."""
+    """Each surface's gain from light that bounces, per albedo and set of views (with its ``bounces``), over the
+    set's views each once (``n_views``; the zenith once, not once per azimuth:
+    :func:`roughlight.render.views.distinct_views`): ``mean_gain`` and ``worst_gain`` (levels), ``mean_percent``
+    and ``worst_percent`` (of direct light, over views with at least one level of it), ``worst_elevation`` and
+    ``worst_azimuth`` (the view of the worst gain), and ``within_level`` (the worst gain is below ``level``: the
+    OpenGL equation's diffuse is within a level of light transport at every view)."""
     keys = ["truncation", "aspect", "incidence", "albedo", "views", "bounces"]
     rows = []
     for key, g in frame.groupby(keys, sort=True):
+        g = g[distinct_views(g["azimuth"], g["elevation"])]
         k = g["gain"].to_numpy().argmax()
         rows.append({**dict(zip(keys, key)), "n_views": len(g), "mean_gain": float(g["gain"].mean()),
                      "worst_gain": float(g["gain"].max()), "mean_percent": float(g["gain_percent"].mean()),

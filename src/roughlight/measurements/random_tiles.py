@@ -20,6 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ..render import methods
+from ..render.views import distinct_views
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from . import comparison
 
@@ -122,7 +123,8 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     -------
     DataFrame, one row per surface x component: ``kind``, ``truncation``, ``aspect``, ``cells``, ``seed``,
     ``component``, ``views``
-    (compared), ``reference_refused`` (views the reference's own checks refused, left out), ``mae``, ``p99``,
+    (compared: rendered, each once, the zenith once and not once per azimuth), ``reference_refused`` (views the
+    reference's own checks refused, left out), ``mae``, ``p99``,
     ``worst`` (0-255), ``fast_views_per_second``, ``reference_seconds``.
     """
     from ..render.exact import reference_views
@@ -135,7 +137,8 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
     settings = methods.settings("fast", settings)
     i = p["point"][2]
     azimuth, elevation = view_grid(*p["accuracy_views"])
-    seen = np.sin(np.radians(elevation)) > 1e-9
+    rendered = np.sin(np.radians(elevation)) > 1e-9
+    seen = distinct_views(azimuth, elevation)
     runs = [("pyramids", t, a, 1, 0) for t, a in p["accuracy_points"]]
     runs += [(kind, t, a, p["accuracy_cells"], seed) for kind in RANDOM_KINDS for t, a in p["accuracy_points"]
              for seed in range(1, p["accuracy_seeds"] + 1)]
@@ -153,7 +156,7 @@ def random_accuracy(plan: str = "quick", lighting=None, settings=None, log=None)
                          "seed": seed,
                          "component": component, "views": int(compared.sum()),
                          "reference_refused": int((seen & refused).sum()), **comparison.error_statistics(error),
-                         "fast_views_per_second": int(seen.sum()) / fast["seconds"],  # the rendered views
+                         "fast_views_per_second": int(rendered.sum()) / fast["seconds"],  # the rendered views
                          "reference_seconds": reference_seconds})
         log(f"accuracy {kind} t={t} a={a} cells={cells} seed={seed}: total MAE {rows[-1]['mae']:.3f}, "
             f"worst {rows[-1]['worst']:.2f}; reference {reference_seconds:.1f} s")
@@ -200,8 +203,8 @@ def every_view_errors(sweep: pd.DataFrame, surface, incidence: float, lighting=N
 
 
 def every_view_summary(errors: pd.DataFrame) -> pd.DataFrame:
-    """Per tile and component: views compared (the rendered ones: elevations strictly between 0 and 180), views
-    the reference refused, mean and worst error (8-bit levels),
+    """Per tile and component: views compared (the rendered ones: elevations strictly between 0 and 180, each once:
+    the zenith once, not once per azimuth), views the reference refused, mean and worst error (8-bit levels),
     where the worst is, views over one level, and the reference's seconds. Component ``all`` takes each view's
     largest error over the three components.
 
@@ -217,6 +220,7 @@ def every_view_summary(errors: pd.DataFrame) -> pd.DataFrame:
         rendered = group[(group["elevation"] > 0) & (group["elevation"] < 180)]
         view = rendered.groupby(["elevation", "azimuth"]).agg(error=("error", "max"),
                                                                refused=("exact", lambda x: bool(x.isna().any())))
+        view = view[distinct_views(view.index.get_level_values("azimuth"), view.index.get_level_values("elevation"))]
         seen = view.loc[~view["refused"], "error"]
         worst = seen.idxmax() if len(seen) else (np.nan, np.nan)
         statistics = comparison.error_statistics(seen.to_numpy(float), ("mae", "worst")) if len(seen) \
@@ -286,7 +290,7 @@ def tile_pixel_scan(kinds=RANDOM_KINDS, pixels=(4, 8, 12, 16, 24), samplings=TIL
     lighting = lighting or Lighting()
     t, a, i = point
     azimuth, elevation = view_grid(*views)
-    seen = np.sin(np.radians(elevation)) > 1e-9
+    seen = distinct_views(azimuth, elevation)  # rendered, each once: the zenith once, not once per azimuth
     rows = []
     for kind in kinds:
         tile = make_surface(kind, t, a, seed, cells=cells)

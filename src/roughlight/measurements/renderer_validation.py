@@ -48,16 +48,17 @@ def view_errors(rendered: dict, exact: dict, azimuth, elevation) -> list[dict]:
     rendered, exact : dict
         ``diffuse``, ``specular``, ``total``: (n_views,) values, 0-255.
     azimuth, elevation : (n_views,) arrays
-        The views, degrees. Views without surface (e = 0, 180) are left out.
+        The views, degrees. Views without surface (e = 0, 180) are left out, and each view counts once (the
+        zenith once, not once per azimuth: :func:`roughlight.render.views.distinct_views`).
 
     Returns
     -------
-    list of dicts: ``component``, ``n_views``, ``mae``, ``p99``, ``worst`` (0-255), ``worst_elevation``,
+    list of dicts: ``component``, ``n_views`` (the views compared), ``mae``, ``p99``, ``worst`` (0-255), ``worst_elevation``,
     ``worst_azimuth`` (degrees) and ``grazing_worst`` (the worst of the views within :data:`GRAZING` of the
     horizon).
     """
     azimuth, elevation = np.asarray(azimuth, float), np.asarray(elevation, float)
-    seen = ~np.asarray(sweeps.is_grazing(elevation))
+    seen = sweeps.distinct_views(azimuth, elevation)
     grazing = seen & ((elevation < GRAZING) | (elevation > 180.0 - GRAZING))
     rows = []
     for component, err in comparison.absolute_errors(rendered, exact).items():

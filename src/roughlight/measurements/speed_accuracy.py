@@ -15,6 +15,7 @@ import numpy as np
 
 from ..render import methods, shading
 from ..render.shading import COMPONENTS
+from ..render.views import distinct_views
 from ..surfaces.roughness import RANDOM_KINDS, make_surface
 from ..surfaces.surface import SQRT3_2, Surface
 from . import comparison
@@ -179,8 +180,9 @@ def run_benchmark(configs=None, surfaces=BENCH_SURFACES, views=None, lighting=No
     Returns
     -------
     pandas.DataFrame, one row per config x component: method ("fast tiles" for a random tiles' config), label,
-    settings columns (sampling, pixels_per_period, shadow_map_size, shadow_bias; a tile's per cell), n_views,
-    seconds, views_per_second, ms_per_view, mae, max_error, component, surfaces ("regular surfaces" or "random
+    settings columns (sampling, pixels_per_period, shadow_map_size, shadow_bias; a tile's per cell), n_views
+    (the views rendered, whose time is measured), seconds, views_per_second, ms_per_view, mae, max_error (over
+    the views, each once: the zenith once, not once per azimuth), component, surfaces ("regular surfaces" or "random
     tiles"), speedup_vs_naive (views per second over the naive method's, same run and surfaces), default (the
     fast method's default settings), pareto (on the front of error against time per view for that component,
     among the same surfaces).
@@ -216,8 +218,9 @@ def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting,
     Returns
     -------
     seconds : float, the fastest run's wall time over all surfaces
-    errors : dict component -> (n_surfaces * n_views,) array, ``|value - exact|`` (0-255) over every surface's
-        views (:func:`roughlight.measurements.comparison.pooled_errors`), of the last run
+    errors : dict component -> array, ``|value - exact|`` (0-255) over every surface's views, each view once (the
+        zenith once, not once per azimuth: :func:`roughlight.render.views.distinct_views`;
+        :func:`roughlight.measurements.comparison.pooled_errors`), of the last run
     """
     # warm up: context, layout, shaders. The naive method draws a view at a time (its warm-up is its first view:
     # a whole sweep took 2 s of the quick plan's 20); the others lay out the whole sweep at once.
@@ -232,7 +235,7 @@ def _timed_errors(config: Config, surfaces, exact, azimuth, elevation, lighting,
             outputs.append(_measure(config, surface, azimuth, elevation, lighting))
             seconds += time.perf_counter() - start
         runs.append(seconds)
-    return min(runs), comparison.pooled_errors(zip(outputs, exact))
+    return min(runs), comparison.pooled_errors(zip(outputs, exact), distinct_views(azimuth, elevation))
 
 
 def _config_rows(config: Config, seconds: float, errors: dict, n_views: int) -> list[dict]:

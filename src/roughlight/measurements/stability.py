@@ -23,7 +23,8 @@ Metrics: ``mae`` (mean absolute error against the reference, 0-255 scale,
 over the surfaces and views), ``max_error`` (0-255), ``jitter_sd`` (standard
 deviation of a view's value over sub-pixel camera jitters, 0-255, averaged
 over views and surfaces), ``coverage`` (mean fraction of the capture window
-showing the surface), ``clipped_fraction`` (fraction of views whose total has
+showing the surface; means over a scan's views count each view once:
+:func:`roughlight.render.views.distinct_views`), ``clipped_fraction`` (fraction of views whose total has
 a pixel clamped at 255), ``peak_shift`` / ``centre_shift`` (degrees of
 elevation a lobe's peak / intensity-weighted centre moves from source 127 to
 source 255) and ``peak_ratio`` (lobe peak at 255 over twice the peak at 127).
@@ -37,6 +38,7 @@ import pandas as pd
 from ..render import methods as registry
 from ..render import shading
 from ..render.shading import COMPONENTS, SHADINGS
+from ..render.views import distinct_views
 from ..surfaces.surface import PLATE, SQRT3_2, Surface
 from . import comparison
 
@@ -111,14 +113,16 @@ def _compare(surfaces, azimuth, elevation, lighting, run):
     """``run(surface, incidence)`` against the reference (:func:`roughlight.measurements.comparison.reference`)
     on every (Surface, incidence) of ``surfaces``.
 
-    Returns ({component: |error| over every surface's views, 0-255}, mean coverage, [outputs]).
+    Returns ({component: |error| over every surface's views, 0-255}, mean coverage, [outputs]): over the views
+    each once (:func:`roughlight.render.views.distinct_views`).
     """
     truths, outputs = [], []
     for surface, incidence in surfaces:
         truths.append(comparison.reference(surface, incidence, azimuth, elevation, lighting))
         outputs.append(run(surface, incidence))
-    coverage = float(np.concatenate([out["coverage"] for out in outputs]).mean())
-    return comparison.pooled_errors(zip(outputs, truths)), coverage, outputs
+    seen = distinct_views(azimuth, elevation)
+    coverage = float(np.concatenate([np.asarray(out["coverage"])[seen] for out in outputs]).mean())
+    return comparison.pooled_errors(zip(outputs, truths), seen), coverage, outputs
 
 
 def _rows(experiment, method, variable, x, setting, errors, extra=None, per_component=None):
@@ -187,7 +191,8 @@ def pixel_scan(surfaces=PLAN, fast_pixels=FAST_PIXELS, naive_pixels=NAIVE_PIXELS
             errors, coverage, _ = _compare(_for(surfaces, method), az, el, lighting, run)
             extra = {"coverage": coverage}
             if method == "fast" or p in naive_jitter_pixels:
-                spread = [np.std([run(*s, jitter=j)["total"] for j in jitters], axis=0) for s in _for(surfaces, method)]
+                spread = [np.std([run(*s, jitter=j)["total"] for j in jitters], axis=0)[distinct_views(az, el)]
+                          for s in _for(surfaces, method)]
                 extra["jitter_sd"] = np.concatenate(spread).mean()
             rows += _rows("pixels", method, "pixels_per_period", p, "", errors, extra)
     return pd.DataFrame(rows)
@@ -294,8 +299,8 @@ def normals_scan(surfaces=NORMALS_SURFACES, models=SHADINGS, lighting=None, view
             flat = outputs
         per = {}
         if flat is not None:
-            per["mae_vs_flat"] = {c: comparison.error_statistics(err, ("mae",))["mae"]
-                                  for c, err in comparison.pooled_errors(zip(outputs, flat)).items()}
+            per["mae_vs_flat"] = {c: comparison.error_statistics(err, ("mae",))["mae"] for c, err in
+                                  comparison.pooled_errors(zip(outputs, flat), distinct_views(az, el)).items()}
         ratios = []
         for (surface, incidence), out in zip(surfaces, outputs):
             peak = float(np.max(comparison.reference(surface, incidence, az, el, lighting)["specular"]))

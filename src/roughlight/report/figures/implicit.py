@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import seaborn as sns
 
+from ...render.views import is_grazing
 from ...surfaces.surface import aspect_label
 from .common import hemisphere_frame, hemisphere_map, legend_below, theme
 
@@ -49,7 +50,8 @@ def map_panel(fig, ax, cur, ref, method, component, surface) -> None:
     """The exact map of one surface (15 bands from 0 to its maximum), or an implicit model's difference from it
     on a symmetric scale (16 bands), drawn from the measured views (:func:`.common.hemisphere_map`). ``cur`` and
     ``ref``: the method's and the reference's rows of one surface, ``azimuth`` and ``elevation`` in degrees and
-    the components 0-255; the difference is taken view by view, so both must hold the same views."""
+    the components 0-255; the difference is taken view by view, so both must hold the same views. The views that
+    were not rendered (e = 0 and 180: coverage 0) are left out whatever their rows hold, never drawn as a value."""
     t, a, i = surface
     keys = ["azimuth", "elevation"]
     if method == "reference":
@@ -61,6 +63,7 @@ def map_panel(fig, ax, cur, ref, method, component, surface) -> None:
             raise ValueError(f"{method} and the reference were not measured on the same views")
         value = views[component].to_numpy(float) - views[f"{component}_ref"].to_numpy(float)
     azimuth, elevation = views["azimuth"].to_numpy(float), views["elevation"].to_numpy(float)
+    value = np.where(is_grazing(elevation), np.nan, value)
     if method == "reference":
         levels, cmap = np.linspace(0, max(float(np.nanmax(value)), 1.0), 16), "magma"
         title = f"t {t:g}, aspect {aspect_label(a)}, i {i:g}: exact {component}"

@@ -15,7 +15,8 @@ def regressions_section(glm_summary: pd.DataFrame | None = None, glm_messages: l
     """The regressions' part of "Where methods fail": the GLMs' status, the Tables 1-2 rows with a note."""
     summary = glm_summary
     if summary is not None and len(summary):
-        summary = summary[[c for c in ("response", "n", "terms", "dropped", "converged", "condition_scaled", "status")
+        summary = summary[[c for c in ("response", "n", "cut_by_horizon", "terms", "dropped", "converged",
+                                     "condition_scaled", "status")
                            if c in summary.columns]]
     else:
         summary = None
