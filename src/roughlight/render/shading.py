@@ -39,6 +39,7 @@ import numpy as np
 
 __all__ = [
     "COMPONENTS",
+    "EXTRAS",
     "SPECULAR_MODELS",
     "Lighting",
     "check_incidence",
@@ -49,12 +50,17 @@ __all__ = [
     "facet_components",
     "facet_values",
     "facet_sum",
+    "facet_sums",
     "quantize",
     "material_uniforms",
 ]
 
 #: Components written to the study table, in this order.
 COMPONENTS = ("diffuse", "specular", "total")
+#: What :func:`facet_sums` gives beside each component's 8-bit mean, each under ``{component}_{extra}``:
+#: ``unrounded``, the mean of each value clamped to [0, 255] but not rounded; ``unshadowed``, the same with inner
+#: shadows off (every seen point lit).
+EXTRAS = ("unrounded", "unshadowed")
 #: Specular models the renderer and the reference both implement.
 SPECULAR_MODELS = ("phong", "blinn")
 
@@ -286,6 +292,56 @@ def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, qu
             for name, v_on, v_off in zip(COMPONENTS, on, off)}
 
 
+def facet_sums(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, quantized: bool = True) -> dict:
+    """:func:`facet_sum` and, from the same evaluation of the facets' terms, each component's mean before rounding
+    and with inner shadows off.
+
+    Parameters
+    ----------
+    normals, light_dir, view_dirs, lit, shadow, lighting, quantized
+        As :func:`facet_sum`.
+
+    Returns
+    -------
+    dict of (n_views,) arrays (0-255):
+
+    - ``diffuse``, ``specular``, ``total``: :func:`facet_sum`'s, bit for bit;
+    - ``{component}_unrounded``: every facet's value clamped to [0, 255] but not rounded, weighted by its lit and its
+      shadowed share (with ``quantized`` at every view within ``0.5 + tie slack`` of the 8-bit mean, the slack
+      :func:`quantize`'s 1e-6: each value is);
+    - ``{component}_unshadowed``: the same with each facet's shadowed share counted lit (inner shadows off: the
+      same visible shares, every seen point lit; a facet turned from the light, ``N.L <= 0``, keeps its ambient
+      only, lit or not, as :func:`facet_components` has it).
+    """
+    normals = np.asarray(normals, float)[None, :, :]
+    views = np.asarray(view_dirs, float)[:, None, :]
+    lit, shadow = np.asarray(lit), np.asarray(shadow)
+    terms = _facet_terms(normals, light_dir, views, lighting)
+    on, off = _components(terms, lighting, 1.0), _components(terms, lighting, 0.0)
+    out = {}
+    for name, v_on, v_off in zip(COMPONENTS, on, off):
+        c_on, c_off = _clamped(np.asarray(v_on, float)), _clamped(np.asarray(v_off, float))
+        if quantized:  # quantize's operations on the clamped values, in new arrays: the clamped ones are kept
+            q_on, q_off = (_rounded(c, out=np.empty_like(c)) for c in (c_on, c_off))
+        else:
+            q_on, q_off = v_on, v_off
+        # facet_sum's expression, bit for bit (a (1, F) value times the (V, F) share is the broadcast one's)
+        out[name] = (q_on * lit).sum(axis=1) + (q_off * shadow).sum(axis=1)
+        del q_on, q_off
+        lit_part = _row_dots(c_on, lit)
+        out[f"{name}_unrounded"] = lit_part + _row_dots(c_off, shadow)
+        out[f"{name}_unshadowed"] = lit_part + _row_dots(c_on, shadow)
+    return out
+
+
+def _row_dots(values, shares) -> np.ndarray:
+    """Each view's sum over facets of ``values * shares``: (V, F) shares with (V, F) values or one (1, F) row of
+    them for every view (a matrix-vector product), without a (V, F) array of products."""
+    if values.shape[0] == 1 and shares.shape[0] != 1:
+        return shares @ values[0]
+    return np.einsum("vf,vf->v", np.broadcast_to(values, shares.shape), shares)
+
+
 #: Values within this of a half step round up, as the framebuffer's float to
 #: 8-bit conversion does for exact ties such as 127 sin(30 deg) = 63.5 (which
 #: double precision computes as 63.49999999999999).
@@ -298,12 +354,26 @@ def quantize(values, tie_slack: float = _TIE_SLACK) -> np.ndarray:
     values = np.asarray(values, float)
     # np.floor(np.clip(values, 0, 255) + 0.5 + tie_slack), the same operations in one new array (a random tile's
     # views x facets took four): clip is maximum then minimum
+    out = _rounded(_clamped(values), tie_slack)
+    return out if out.ndim else out[()]
+
+
+def _clamped(values: np.ndarray) -> np.ndarray:
+    """``np.clip(values, 0, 255)`` in a new array: the value before :func:`quantize` rounds it."""
     out = np.maximum(values, 0.0, out=np.empty_like(values))
     np.minimum(out, 255.0, out=out)
-    out += 0.5
+    return out
+
+
+def _rounded(clamped: np.ndarray, tie_slack: float = _TIE_SLACK, out=None) -> np.ndarray:
+    """:func:`quantize`'s rounding of :func:`_clamped` values (``floor(clamped + 0.5 + tie_slack)``), in place
+    unless ``out`` is given (``out=np.empty_like(clamped)``: ``clamped`` kept)."""
+    if out is None:
+        out = clamped
+    np.add(clamped, 0.5, out=out)
     out += tie_slack
     np.floor(out, out=out)
-    return out if out.ndim else out[()]
+    return out
 
 
 def material_uniforms(lighting: Lighting, light_dir) -> dict:
