@@ -317,28 +317,33 @@ def facet_sums(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, q
     views = np.asarray(view_dirs, float)[:, None, :]
     lit, shadow = np.asarray(lit), np.asarray(shadow)
     terms = _facet_terms(normals, light_dir, views, lighting)
-    on, off = _components(terms, lighting, 1.0), _components(terms, lighting, 0.0)
     out = {}
-    for name, v_on, v_off in zip(COMPONENTS, on, off):
-        c_on, c_off = _clamped(np.asarray(v_on, float)), _clamped(np.asarray(v_off, float))
-        if quantized:  # quantize's operations on the clamped values, in new arrays: the clamped ones are kept
-            q_on, q_off = (_rounded(c, out=np.empty_like(c)) for c in (c_on, c_off))
-        else:
-            q_on, q_off = v_on, v_off
-        # facet_sum's expression, bit for bit (a (1, F) value times the (V, F) share is the broadcast one's)
-        out[name] = (q_on * lit).sum(axis=1) + (q_off * shadow).sum(axis=1)
-        del q_on, q_off
-        lit_part = _row_dots(c_on, lit)
-        out[f"{name}_unrounded"] = lit_part + _row_dots(c_off, shadow)
-        out[f"{name}_unshadowed"] = lit_part + _row_dots(c_on, shadow)
+    # the lit values first, then the shadowed: three arrays of values held at a time, as facet_values holds them
+    for is_lit, shares in ((True, lit), (False, shadow)):
+        values = list(_components(terms, lighting, 1.0 if is_lit else 0.0))
+        for name in COMPONENTS:
+            value = values.pop(0)
+            if quantized:  # clamped in place (the array is this call's own), then rounded as quantize rounds
+                clamped = _clamped(value, out=value)
+                value = _rounded(clamped, out=np.empty_like(clamped))
+            else:
+                clamped = _clamped(value)
+            # facet_sum's sum, bit for bit: (8-bit lit values * lit).sum(axis=1) + (shadowed * shadow).sum(axis=1)
+            part = (value * shares).sum(axis=1)
+            del value
+            if is_lit:
+                out[name] = part
+                lit_part = out[f"{name}_unrounded"] = _row_dots(clamped, lit)
+                out[f"{name}_unshadowed"] = lit_part + _row_dots(clamped, shadow)
+            else:
+                out[name] = out[name] + part
+                out[f"{name}_unrounded"] = out[f"{name}_unrounded"] + _row_dots(clamped, shadow)
     return out
 
 
 def _row_dots(values, shares) -> np.ndarray:
-    """Each view's sum over facets of ``values * shares``: (V, F) shares with (V, F) values or one (1, F) row of
-    them for every view (a matrix-vector product), without a (V, F) array of products."""
-    if values.shape[0] == 1 and shares.shape[0] != 1:
-        return shares @ values[0]
+    """Each view's sum over facets of ``values * shares``, (V, F) shares with (V, F) values or a (1, F) row of them
+    for every view, without a (V, F) array of products (``einsum``: a third of the product and its sum's time)."""
     return np.einsum("vf,vf->v", np.broadcast_to(values, shares.shape), shares)
 
 
@@ -358,9 +363,10 @@ def quantize(values, tie_slack: float = _TIE_SLACK) -> np.ndarray:
     return out if out.ndim else out[()]
 
 
-def _clamped(values: np.ndarray) -> np.ndarray:
-    """``np.clip(values, 0, 255)`` in a new array: the value before :func:`quantize` rounds it."""
-    out = np.maximum(values, 0.0, out=np.empty_like(values))
+def _clamped(values: np.ndarray, out=None) -> np.ndarray:
+    """``np.clip(values, 0, 255)``, the value before :func:`quantize` rounds it: in a new array, or in ``out``
+    (``out=values``: in place)."""
+    out = np.maximum(values, 0.0, out=np.empty_like(values) if out is None else out)
     np.minimum(out, 255.0, out=out)
     return out
 
