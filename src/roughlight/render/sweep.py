@@ -24,10 +24,11 @@ Beside its 8-bit mean ``c``, each component ``c`` has (:data:`roughlight.render.
 
 A method gives them only where its values come from each facet's value before it is rounded: the exact reference,
 the fast method's adaptive sampling (regular surfaces and random tiles, from the facets' shares) and the implicit
-models' numpy sweeps give both; Mitsuba and the implicit shader (a float film, a float render target) give
-``_unrounded`` only; the naive method and the fast method's lattice and grid sampling average 8-bit framebuffer
-pixels and give neither. A method's step says which it fills (:func:`measure`'s ``gives``); the others are NaN at
-every measured view. Grazing views are 0 in every array, as they are in the 8-bit ones.
+models' numpy sweeps give both; Mitsuba (a float film, but its light always casts shadows) gives ``_unrounded``
+only; the naive method, the fast method's lattice and grid sampling and the implicit shader average 8-bit
+framebuffer pixels and give neither (docs/conventions.md, "Before rounding and without shadows", says why). A
+method's step says which it fills (:func:`measure`'s ``gives``); the others are NaN at every measured view.
+Grazing views are 0 in every array, as they are in the 8-bit ones.
 """
 
 from __future__ import annotations
