@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 
 from roughlight.analysis.inputs import STUDY_COLUMNS
+from roughlight.study import tables
 from roughlight.study.tables import read_study
 
 
@@ -19,10 +20,13 @@ def study_file(tmp_path, with_kind=True):
         "truncation": 0.5, "aspect": 1.0, "incidence": 30.0, "azimuth": np.tile([0.0, 5.0], n // 2),
         "elevation": np.arange(n, dtype=float), "phase": rng.uniform(0, 180, n),
         "component": np.tile(["diffuse", "specular", "total"], n // 3), "rough": rng.uniform(0, 255, n),
-        "control": rng.uniform(0, 255, n), "coverage": 1.0, "light": 255.0, "ambient": 0.0, "shininess": 64.0,
+        "control": rng.uniform(0, 255, n), "coverage": 1.0, "rough_unrounded": rng.uniform(0, 255, n),
+        "control_unrounded": rng.uniform(0, 255, n), "rough_unshadowed": rng.uniform(0, 255, n), "light": 255.0,
+        "ambient": 0.0, "shininess": 64.0,
         "specular_model": pd.Categorical(["phong"] * n), "shadows": True, "specular_shadows": False,
         "method": pd.Categorical(["fast"] * n), "pixels_per_period": 16, "sampling": pd.Categorical(["lattice"] * n),
         "shadow_map_size": 1024, "render_seconds": rng.uniform(0, 1, n)})
+    assert list(frame.columns) == tables.STUDY_COLUMNS  # every column, in the table's order
     if not with_kind:
         frame = frame.drop(columns=["kind", "seed"])
     path = tmp_path / "study.parquet"

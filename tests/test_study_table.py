@@ -9,6 +9,7 @@ import pytest
 from roughlight import atomic
 from roughlight.render import views as sweeps
 from roughlight.render.shading import COMPONENTS, Lighting
+from roughlight.render.sweep import EXTRA_KEYS
 from roughlight.study.tables import STUDY_COLUMNS, aggregate, write_study
 from roughlight.study.tables import sweep_table as make_sweep_table
 from roughlight.surfaces.roughness import make_surface
@@ -19,7 +20,7 @@ SETTINGS = {"pixels_per_period": 16, "sampling": "adaptive", "shadow_map_size": 
 def _sweep(surface, incidence, seed):
     azimuth, elevation = sweeps.view_grid(30, 45)
     rng = np.random.default_rng(seed)
-    result = {key: rng.uniform(0, 255, azimuth.size) for key in ("diffuse", "specular", "total")}
+    result = {key: rng.uniform(0, 255, azimuth.size) for key in ("diffuse", "specular", "total") + EXTRA_KEYS}
     result.update(coverage=np.ones(azimuth.size), seconds=0.5)
     return make_sweep_table(result, surface, incidence, azimuth, elevation, Lighting(), "fast", SETTINGS)
 
@@ -46,11 +47,14 @@ def _merged_and_sorted(rough_paths, control_paths):
     rough = pd.concat([pd.read_parquet(p) for p in rough_paths], ignore_index=True)
     control = pd.concat([pd.read_parquet(p) for p in control_paths], ignore_index=True)
     join = ["incidence", "azimuth", "elevation", "component"]
-    control = control[join + ["value"]].rename(columns={"value": "control"})
+    control = control[join + ["value", "value_unrounded"]].rename(columns={"value": "control",
+                                                                         "value_unrounded": "control_unrounded"})
     for frame in (rough, control):
         frame["component"] = frame["component"].astype(str)
     rough["kind"] = rough["kind"].astype(str)
-    study = rough.rename(columns={"value": "rough"}).merge(control, on=join, how="left", validate="many_to_one")
+    rough = rough.rename(columns={"value": "rough", "value_unrounded": "rough_unrounded",
+                                  "value_unshadowed": "rough_unshadowed"})
+    study = rough.merge(control, on=join, how="left", validate="many_to_one")
     study["component"] = pd.Categorical(study["component"], categories=list(COMPONENTS))
     kind = pd.Categorical(study["kind"], categories=["pyramids", "random_pyramids", "random_heightfield"])
     study = study.assign(_kind=kind).sort_values(
@@ -121,3 +125,35 @@ def test_two_sweeps_of_one_surface_and_light_stop_the_study(tmp_path):
     rough, control = _sweep_files(tmp_path)
     with pytest.raises(ValueError, match="measure the same surface under the same light"):
         aggregate(rough + rough[:1], control)
+
+
+def test_the_means_before_rounding_and_without_shadows_are_joined_as_the_values_are(tmp_path):
+    """rough_unrounded and rough_unshadowed are the rough sweep's, control_unrounded its control's at the same view;
+    NaN where a sweep holds NaN (a method that cannot give them) and nowhere else."""
+    rough, control = _sweep_files(tmp_path)
+    lattice = _sweep(make_surface("pyramids", 0.2, 0.2), 30.0, 7)
+    for name in ("value_unrounded", "value_unshadowed"):  # as a method averaging 8-bit pixels writes them
+        lattice = lattice.set_column(lattice.schema.get_field_index(name), name,
+                                     pa.array(np.full(lattice.num_rows, np.nan)))
+    pq.write_table(lattice, tmp_path / "lattice.parquet")
+    study = aggregate(rough + [tmp_path / "lattice.parquet"], control)
+    assert [c for c in STUDY_COLUMNS if c.endswith(("_unrounded", "_unshadowed"))] == [
+        "rough_unrounded", "control_unrounded", "rough_unshadowed"]
+    nan = (study["truncation"] == 0.2) & (study["aspect"] == 0.2)
+    for name in ("rough_unrounded", "rough_unshadowed"):
+        assert study[name].dtype == np.float64 and study[name].isna().equals(nan)
+    assert study["control_unrounded"].notna().all()
+    controls = pd.concat([pd.read_parquet(p) for p in control]).set_index(["incidence", "azimuth", "elevation",
+                                                                          "component"])
+    at = pd.MultiIndex.from_frame(study[["incidence", "azimuth", "elevation", "component"]])
+    np.testing.assert_array_equal(study["control_unrounded"], controls["value_unrounded"].reindex(at))
+
+
+def test_a_sweep_file_of_an_earlier_format_is_named(tmp_path):
+    """A sweep written before the means before rounding existed lacks them: the aggregate says which file and
+    what to do, rather than fill a column the method could give (the sweep rules rerun it: SWEEP_FORMAT)."""
+    rough, control = _sweep_files(tmp_path)
+    old = pq.read_table(rough[0]).drop_columns(["value_unrounded", "value_unshadowed"])
+    pq.write_table(old, rough[0])
+    with pytest.raises(ValueError, match=r"lacks columns \['value_unrounded', 'value_unshadowed'\]; delete it"):
+        aggregate(rough, control)

@@ -100,3 +100,19 @@ def test_keys_follow_settings_not_their_order():
 def test_files_and_surfaces_must_pair_up(tmp_path):
     with pytest.raises(ValueError, match="2 output files for 1 surfaces"):
         sweep_store.measure_sweeps(["a", "b"], surfaces(1.0), SETTINGS, fake_measure([]), store=tmp_path)
+
+
+def test_a_sweep_stored_in_an_earlier_format_is_never_handed_back(tmp_path, monkeypatch):
+    """The key holds the sweep files' format (roughlight.study.tables.SWEEP_FORMAT): a sweep stored before the
+    means before rounding and without shadows were columns is measured anew, though settings and code agree."""
+    from roughlight.study import tables
+
+    store, calls = tmp_path / "store", []
+    path = [tmp_path / "a.parquet"]
+    monkeypatch.setattr(sweep_store, "code_digest", lambda: "the same code")
+    monkeypatch.setattr(tables, "SWEEP_FORMAT", 1)
+    sweep_store.measure_sweeps(path, surfaces(1.0), SETTINGS, fake_measure(calls), store=store)
+    monkeypatch.setattr(tables, "SWEEP_FORMAT", 2)
+    sweep_store.measure_sweeps(path, surfaces(1.0), SETTINGS, fake_measure(calls), store=store)
+    sweep_store.measure_sweeps(path, surfaces(1.0), SETTINGS, fake_measure(calls), store=store)
+    assert calls == [1.0, 1.0]

@@ -6,6 +6,7 @@ try:
     from roughlight.study import runs as rl_runs
     from roughlight.study import plan as rl_plan
     from roughlight.study import sweep_store as rl_sweep_store
+    from roughlight.study import tables as rl_tables
     from roughlight.report import registry as rl_registry
     from roughlight.report import sections as rl_sections
     from roughlight.measurements import stability as rl_stability

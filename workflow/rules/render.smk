@@ -1,7 +1,9 @@
 # Sweeps: one job a truncation and incidence (its sweeps at every grid aspect), one a random kind's ensemble at a
 # grid point and incidence (a folder, a file a seed in it), and one control (flat plate) per incidence. Every sweep
 # job keeps what it measures in the sweep store and takes from it what it holds (roughlight.study.sweep_store), so
-# that a job rerun for a new aspect or seed renders only the new sweeps.
+# that a job rerun for a new aspect or seed renders only the new sweeps. The sweep files' format (`format`,
+# roughlight.study.tables.SWEEP_FORMAT) is a param, so that a sweep written in an earlier format (without the
+# columns the study table now carries) is measured again, and is part of the store's key.
 
 
 rule control_sweep:
@@ -28,6 +30,7 @@ rule control_sweep:
         method=method_param,
         render=render_params,
         store=rl_sweep_store.STORE,
+        format=rl_tables.SWEEP_FORMAT,
     script:
         "../scripts/sweep.py"
 
@@ -56,6 +59,7 @@ rule rough_sweeps:
         method=method_param,
         render=render_params,
         store=rl_sweep_store.STORE,
+        format=rl_tables.SWEEP_FORMAT,
     script:
         "../scripts/sweep.py"
 
@@ -85,6 +89,7 @@ rule random_sweeps:
         method=method_param,
         render=random_render_params,
         store=rl_sweep_store.STORE,
+        format=rl_tables.SWEEP_FORMAT,
     script:
         "../scripts/sweep.py"
 

@@ -1,9 +1,10 @@
 """The columns of the study table each report job reads.
 
-``results/study.parquet`` has 23 columns; the thesis's analyses, the analytic models and the figures use 11 to 16
-of them. Reading only those (:func:`roughlight.study.tables.read_study`'s ``columns``) takes a third less time
-and about 0.3 GB less memory a job on the default study (the labels ``kind`` and the settings columns are never
-converted to pandas).
+``results/study.parquet`` has 26 columns; the thesis's analyses, the analytic models and the figures use 11 to 16
+of them (none yet the means before rounding and without inner shadows, ``rough_unrounded``,
+``control_unrounded`` and ``rough_unshadowed``). Reading only those
+(:func:`roughlight.study.tables.read_study`'s ``columns``) takes a third less time and about 0.3 GB less memory
+a job on the default study (the labels ``kind`` and the settings columns are never converted to pandas).
 """
 
 from __future__ import annotations

@@ -39,6 +39,7 @@ import numpy as np
 
 __all__ = [
     "COMPONENTS",
+    "EXTRAS",
     "SPECULAR_MODELS",
     "Lighting",
     "check_incidence",
@@ -49,12 +50,17 @@ __all__ = [
     "facet_components",
     "facet_values",
     "facet_sum",
+    "facet_sums",
     "quantize",
     "material_uniforms",
 ]
 
 #: Components written to the study table, in this order.
 COMPONENTS = ("diffuse", "specular", "total")
+#: What :func:`facet_sums` gives beside each component's 8-bit mean, each under ``{component}_{extra}``:
+#: ``unrounded``, the mean of each value clamped to [0, 255] but not rounded; ``unshadowed``, the same with inner
+#: shadows off (every seen point lit).
+EXTRAS = ("unrounded", "unshadowed")
 #: Specular models the renderer and the reference both implement.
 SPECULAR_MODELS = ("phong", "blinn")
 
@@ -286,6 +292,61 @@ def facet_sum(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, qu
             for name, v_on, v_off in zip(COMPONENTS, on, off)}
 
 
+def facet_sums(normals, light_dir, view_dirs, lit, shadow, lighting: Lighting, quantized: bool = True) -> dict:
+    """:func:`facet_sum` and, from the same evaluation of the facets' terms, each component's mean before rounding
+    and with inner shadows off.
+
+    Parameters
+    ----------
+    normals, light_dir, view_dirs, lit, shadow, lighting, quantized
+        As :func:`facet_sum`.
+
+    Returns
+    -------
+    dict of (n_views,) arrays (0-255):
+
+    - ``diffuse``, ``specular``, ``total``: :func:`facet_sum`'s, bit for bit;
+    - ``{component}_unrounded``: every facet's value clamped to [0, 255] but not rounded, weighted by its lit and its
+      shadowed share (with ``quantized`` at every view within ``0.5 + tie slack`` of the 8-bit mean, the slack
+      :func:`quantize`'s 1e-6: each value is);
+    - ``{component}_unshadowed``: the same with each facet's shadowed share counted lit (inner shadows off: the
+      same visible shares, every seen point lit; a facet turned from the light, ``N.L <= 0``, keeps its ambient
+      only, lit or not, as :func:`facet_components` has it).
+    """
+    normals = np.asarray(normals, float)[None, :, :]
+    views = np.asarray(view_dirs, float)[:, None, :]
+    lit, shadow = np.asarray(lit), np.asarray(shadow)
+    terms = _facet_terms(normals, light_dir, views, lighting)
+    out = {}
+    # the lit values first, then the shadowed: three arrays of values held at a time, as facet_values holds them
+    for is_lit, shares in ((True, lit), (False, shadow)):
+        values = list(_components(terms, lighting, 1.0 if is_lit else 0.0))
+        for name in COMPONENTS:
+            value = values.pop(0)
+            if quantized:  # clamped in place (the array is this call's own), then rounded as quantize rounds
+                clamped = _clamped(value, out=value)
+                value = _rounded(clamped, out=np.empty_like(clamped))
+            else:
+                clamped = _clamped(value)
+            # facet_sum's sum, bit for bit: (8-bit lit values * lit).sum(axis=1) + (shadowed * shadow).sum(axis=1)
+            part = (value * shares).sum(axis=1)
+            del value
+            if is_lit:
+                out[name] = part
+                lit_part = out[f"{name}_unrounded"] = _row_dots(clamped, lit)
+                out[f"{name}_unshadowed"] = lit_part + _row_dots(clamped, shadow)
+            else:
+                out[name] = out[name] + part
+                out[f"{name}_unrounded"] = out[f"{name}_unrounded"] + _row_dots(clamped, shadow)
+    return out
+
+
+def _row_dots(values, shares) -> np.ndarray:
+    """Each view's sum over facets of ``values * shares``, (V, F) shares with (V, F) values or a (1, F) row of them
+    for every view, without a (V, F) array of products (``einsum``: a third of the product and its sum's time)."""
+    return np.einsum("vf,vf->v", np.broadcast_to(values, shares.shape), shares)
+
+
 #: Values within this of a half step round up, as the framebuffer's float to
 #: 8-bit conversion does for exact ties such as 127 sin(30 deg) = 63.5 (which
 #: double precision computes as 63.49999999999999).
@@ -298,12 +359,27 @@ def quantize(values, tie_slack: float = _TIE_SLACK) -> np.ndarray:
     values = np.asarray(values, float)
     # np.floor(np.clip(values, 0, 255) + 0.5 + tie_slack), the same operations in one new array (a random tile's
     # views x facets took four): clip is maximum then minimum
-    out = np.maximum(values, 0.0, out=np.empty_like(values))
+    out = _rounded(_clamped(values), tie_slack)
+    return out if out.ndim else out[()]
+
+
+def _clamped(values: np.ndarray, out=None) -> np.ndarray:
+    """``np.clip(values, 0, 255)``, the value before :func:`quantize` rounds it: in a new array, or in ``out``
+    (``out=values``: in place)."""
+    out = np.maximum(values, 0.0, out=np.empty_like(values) if out is None else out)
     np.minimum(out, 255.0, out=out)
-    out += 0.5
+    return out
+
+
+def _rounded(clamped: np.ndarray, tie_slack: float = _TIE_SLACK, out=None) -> np.ndarray:
+    """:func:`quantize`'s rounding of :func:`_clamped` values (``floor(clamped + 0.5 + tie_slack)``), in place
+    unless ``out`` is given (``out=np.empty_like(clamped)``: ``clamped`` kept)."""
+    if out is None:
+        out = clamped
+    np.add(clamped, 0.5, out=out)
     out += tie_slack
     np.floor(out, out=out)
-    return out if out.ndim else out[()]
+    return out
 
 
 def material_uniforms(lighting: Lighting, light_dir) -> dict:

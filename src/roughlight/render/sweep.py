@@ -11,7 +11,24 @@ own step only the views it must measure. A method writes only that step::
 
 The result (:data:`RESULT`) is a dict: ``diffuse``, ``specular``, ``total`` ((n_views,) float arrays, the mean
 8-bit value of the view's image, 0-255), ``coverage`` ((n_views,), the fraction of the image showing the
-surface, 0-1) and ``seconds`` (the sweep's wall time).
+surface, 0-1), each component's mean before rounding and with inner shadows off (:data:`EXTRA_KEYS`, NaN where
+the method cannot give them) and ``seconds`` (the sweep's wall time).
+
+Beside its 8-bit mean ``c``, each component ``c`` has (:data:`roughlight.render.shading.EXTRAS`):
+
+- ``{c}_unrounded``: the mean of each pixel's value clamped to [0, 255] but not rounded, so within 0.5 of ``c``
+  at every measured view (and the rounding's tie slack: :func:`roughlight.render.shading.quantize`'s 1e-6,
+  Mitsuba's 2e-3);
+- ``{c}_unshadowed``: the same unrounded mean with inner (cast) shadows off: every seen point lit, the view's
+  visible shares unchanged (what the shadow-hiding function ``diffuse_on / diffuse_off`` is made of).
+
+A method gives them only where its values come from each facet's value before it is rounded: the exact reference,
+the fast method's adaptive sampling (regular surfaces and random tiles, from the facets' shares) and the implicit
+models' numpy sweeps give both; Mitsuba (a float film, but its light always casts shadows) gives ``_unrounded``
+only; the naive method, the fast method's lattice and grid sampling and the implicit shader average 8-bit
+framebuffer pixels and give neither (docs/conventions.md, "Before rounding and without shadows", says why). A
+method's step says which it fills (:func:`measure`'s ``gives``); the others are NaN at every measured view.
+Grazing views are 0 in every array, as they are in the 8-bit ones.
 """
 
 from __future__ import annotations
@@ -25,10 +42,19 @@ import numpy as np
 from . import shading
 from .views import is_grazing
 
-__all__ = ["RESULT", "SweepViews", "sweep_views", "measure"]
+__all__ = ["RESULT", "EXTRA_KEYS", "extra_keys", "SweepViews", "sweep_views", "measure"]
 
+
+def extra_keys(extras=shading.EXTRAS) -> tuple:
+    """The result's keys of ``extras`` (some of :data:`roughlight.render.shading.EXTRAS`), a component at a time:
+    ``diffuse_unrounded``, ``specular_unrounded``, ..."""
+    return tuple(f"{component}_{extra}" for extra in extras for component in shading.COMPONENTS)
+
+
+#: Each component's mean before rounding and with inner shadows off (NaN where a method cannot give them).
+EXTRA_KEYS = extra_keys()
 #: The arrays of a sweep's result, one value a view (and ``seconds``, its wall time).
-RESULT = ("diffuse", "specular", "total", "coverage")
+RESULT = ("diffuse", "specular", "total", "coverage") + EXTRA_KEYS
 
 
 @dataclass(frozen=True)
@@ -74,23 +100,31 @@ def sweep_views(azimuth, elevation) -> SweepViews:
     return SweepViews(az, el, np.flatnonzero(~is_grazing(el)))
 
 
-def measure(step: Callable, incidence, azimuth, elevation, lighting=None) -> dict:
+def measure(step: Callable, incidence, azimuth, elevation, lighting=None, gives=()) -> dict:
     """Run one sweep: check the light and the views, call ``step(out, views, incidence, lighting)`` when some
     view is not grazing, and return :data:`RESULT` with the sweep's ``seconds``.
 
     Parameters
     ----------
-    step : the method's own step; it fills ``out``'s arrays at ``views.measured`` and returns nothing.
+    step : the method's own step; it fills ``out``'s arrays at ``views.measured`` and returns nothing (every array
+        starts at 0).
     incidence : float, light elevation above the surface plane, degrees in [0, 90] (light at azimuth 0).
     azimuth, elevation : the views (:func:`sweep_views`).
     lighting : Lighting, optional (``Lighting()``).
+    gives : some of :data:`roughlight.render.shading.EXTRAS`: what the step fills beside the 8-bit means
+        (:data:`EXTRA_KEYS`); the others are NaN at the measured views, whatever the step left there.
     """
     start = time.perf_counter()
     incidence = shading.check_incidence(incidence)
     views = sweep_views(azimuth, elevation)
     lighting = lighting or shading.Lighting()
+    unknown = set(gives) - set(shading.EXTRAS)
+    if unknown:
+        raise ValueError(f"a method gives some of {shading.EXTRAS}, not {sorted(unknown)}")
     out = {key: np.zeros(len(views)) for key in RESULT}
     if views.measured.size:
         step(out, views, incidence, lighting)
+        for key in extra_keys(e for e in shading.EXTRAS if e not in gives):
+            out[key][views.measured] = np.nan
     out["seconds"] = time.perf_counter() - start
     return out

@@ -7,6 +7,9 @@ row. Every sweep job therefore keeps a copy of each sweep it writes under ``resu
 digest of everything the sweep's file depends on, and takes a sweep from there instead of rendering it when the
 digest matches:
 
+- the sweep files' format (:data:`roughlight.study.tables.SWEEP_FORMAT`: 2 since each view's means before
+  rounding and without inner shadows were added), so that a sweep stored without a column the study table now
+  carries is never handed back;
 - the sweep's settings, as the rule's params pass them (surface, incidence, views, lighting, method, renderer
   knobs, OpenGL platform);
 - the source of the ``roughlight`` package (every file of it: a changed renderer never serves an old sweep);
@@ -62,10 +65,13 @@ def code_digest() -> str:
 
 
 def sweep_key(settings: dict) -> str:
-    """The store's name for a sweep: SHA-256 (hex) of its settings (JSON, keys sorted; any JSON-able dict) and of
+    """The store's name for a sweep: SHA-256 (hex) of the sweep files' format
+    (:data:`roughlight.study.tables.SWEEP_FORMAT`), its settings (JSON, keys sorted; any JSON-able dict) and
     :func:`code_digest`."""
+    from .tables import SWEEP_FORMAT
+
     text = json.dumps(settings, sort_keys=True, default=str)
-    return hashlib.sha256((code_digest() + "\0" + text).encode()).hexdigest()
+    return hashlib.sha256(f"format {SWEEP_FORMAT}\0{code_digest()}\0{text}".encode()).hexdigest()
 
 
 def stored(store, key: str) -> Path:

@@ -18,6 +18,13 @@ rough          float64 rough surface: mean 8-bit value of the view, 0-255
 control        float64 flat plate under the same light and view, 0-255
 coverage       float64 fraction of the capture window showing the surface (0: not rendered, e = 0 and 180;
                        its rough and control are no measurement)
+rough_unrounded   float64 rough's mean before rounding: each pixel's value clamped to [0, 255], not rounded
+                       (within 0.5 of rough, and the rounding's tie slack); NaN where the method averages
+                       8-bit framebuffer pixels (naive, fast lattice and grid sampling, implicit_exact and
+                       implicit_correction)
+control_unrounded float64 control's mean before rounding (NaN as rough_unrounded)
+rough_unshadowed  float64 rough_unrounded with inner shadows off: every seen point lit (NaN also for mitsuba,
+                       whose light always casts them)
 light          float64 light intensity J, 0-255
 ambient        float64 ambient light level A, fraction of J
 shininess      float64 specular exponent
@@ -35,8 +42,10 @@ render_seconds float64 wall time of the sweep that produced the row
 ============== ======= =====================================================
 
 Per-sweep files (``results/sweeps/i{incidence}/...``) hold the same columns
-but ``control`` (the rough sweep's ``value`` is renamed ``rough`` when the
-aggregate joins it to its control sweep).
+but ``control`` and ``control_unrounded`` (the rough sweep's ``value``, ``value_unrounded`` and
+``value_unshadowed`` are renamed ``rough``, ``rough_unrounded`` and ``rough_unshadowed`` when the aggregate joins
+it to its control sweep, whose ``value`` and ``value_unrounded`` become ``control`` and ``control_unrounded``).
+Their format is :data:`SWEEP_FORMAT`.
 """
 
 from __future__ import annotations
@@ -50,6 +59,7 @@ from ..surfaces.surface import Surface
 
 __all__ = [
     "STUDY_COLUMNS",
+    "SWEEP_FORMAT",
     "sweep_table",
     "read_sweep",
     "aggregate",
@@ -71,8 +81,16 @@ SETTING_COLUMNS = [
     "sampling",
     "shadow_map_size",
 ]
-STUDY_COLUMNS = KEY_COLUMNS + ["rough", "control", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
-SWEEP_COLUMNS = KEY_COLUMNS + ["value", "coverage"] + SETTING_COLUMNS + ["render_seconds"]
+#: Each view's means before rounding and with inner shadows off (:data:`roughlight.render.sweep.EXTRA_KEYS`), as a
+#: rough sweep's study columns; the plate has no inner shadows, so its control has no ``_unshadowed``.
+EXTRA_COLUMNS = ["rough_unrounded", "control_unrounded", "rough_unshadowed"]
+STUDY_COLUMNS = KEY_COLUMNS + ["rough", "control", "coverage"] + EXTRA_COLUMNS + SETTING_COLUMNS + ["render_seconds"]
+SWEEP_COLUMNS = (KEY_COLUMNS + ["value", "coverage", "value_unrounded", "value_unshadowed"] + SETTING_COLUMNS
+                 + ["render_seconds"])
+#: The sweep files' format, part of the sweep store's key (:func:`roughlight.study.sweep_store.sweep_key`) and a
+#: param of the sweep rules, so that a sweep of an earlier format is never taken for one of this: 1, the 8-bit
+#: means; 2, with each view's ``value_unrounded`` and ``value_unshadowed``.
+SWEEP_FORMAT = 2
 
 
 def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, lighting, method, render_settings):
@@ -114,8 +132,10 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
         "elevation": np.repeat(elevation, k),
         "phase": np.repeat(phase_angle(incidence, elevation, azimuth), k),
         "component": _labels(COMPONENTS, np.tile(np.arange(k, dtype=np.int8), n)),
-        "value": np.stack([np.asarray(result[c], float) for c in COMPONENTS], axis=1).ravel(),
+        "value": _by_component(result, ""),
         "coverage": np.repeat(np.asarray(result["coverage"], float), k),
+        "value_unrounded": _by_component(result, "_unrounded"),
+        "value_unshadowed": _by_component(result, "_unshadowed"),
         "light": np.full(rows, float(lighting.light)),
         "ambient": np.full(rows, float(lighting.ambient)),
         "shininess": np.full(rows, float(lighting.shininess)),
@@ -132,6 +152,11 @@ def sweep_table(result: dict, surface: Surface, incidence, azimuth, elevation, l
     table = pa.Table.from_arrays([c if isinstance(c, pa.Array) else _column(c) for c in columns.values()],
                                  names=names)
     return table.replace_schema_metadata({RENDERER_KEY: str(result.get("renderer", ""))})
+
+
+def _by_component(result: dict, suffix: str) -> np.ndarray:
+    """A sweep's per-view arrays ``{component}{suffix}`` as one column, a view's components in a row."""
+    return np.stack([np.asarray(result[c + suffix], float) for c in COMPONENTS], axis=1).ravel()
 
 
 #: The Parquet metadata key of what a sweep ran on (:func:`roughlight.render.methods.sweep`'s ``renderer``);
@@ -332,23 +357,28 @@ class _ControlViews:
         if not self.views.is_unique:
             raise ValueError("the control sweeps measure some view twice (one control sweep an incidence is expected)")
         self.values = control["value"].to_numpy()
+        self.unrounded = control["value_unrounded"].to_numpy()
 
     def joined(self, rough) -> dict:
         """A rough sweep frame's columns (:func:`sweep_table`'s), each a Series of its own memory (columns that
         share a frame's block would not be freed one by one), with ``kind`` and ``component`` as strings, its
-        ``value`` as ``rough``, the control's value of each row's view as ``control``, and the sort codes of
+        ``value`` as ``rough`` (``value_unrounded``, ``value_unshadowed`` as ``rough_unrounded``,
+        ``rough_unshadowed``), the control's value of each row's view as ``control`` (its ``value_unrounded`` as
+        ``control_unrounded``), and the sort codes of
         ``kind`` and ``component`` (in :data:`~roughlight.surfaces.roughness.KINDS` and
         :data:`~roughlight.render.shading.COMPONENTS` order)."""
         import pandas as pd
 
         columns = {name: frame_column.copy() for name, frame_column in rough.items()}
-        columns["rough"] = columns.pop("value")
+        for extra in ("", "_unrounded", "_unshadowed"):
+            columns["rough" + extra] = columns.pop("value" + extra)
         columns["kind"], columns["component"] = columns["kind"].astype(str), columns["component"].astype(str)
         where = self.views.get_indexer(pd.MultiIndex.from_arrays([columns[name] for name in CONTROL_KEY]))
         if np.any(where < 0):
             missing = rough.loc[where < 0, CONTROL_KEY[:3]].drop_duplicates()
             raise ValueError(f"no control measurement for {len(missing)} views, e.g. {missing.iloc[0].to_dict()}")
         columns["control"] = pd.Series(self.values[where])
+        columns["control_unrounded"] = pd.Series(self.unrounded[where])
         columns["_kind"] = pd.Categorical(columns["kind"], categories=list(KINDS)).codes
         columns["_component"] = pd.Categorical(columns["component"], categories=list(COMPONENTS)).codes
         return columns

@@ -81,7 +81,7 @@ from shapely import affinity
 
 from ...surfaces.surface import Surface
 from .. import sweep
-from ..shading import Lighting, check_incidence, check_light_azimuth, facet_sum, light_direction, view_direction
+from ..shading import EXTRAS, Lighting, check_incidence, check_light_azimuth, facet_sums, light_direction, view_direction
 from ..sweep import sweep_views
 from ..views import is_grazing
 from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
@@ -463,7 +463,8 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         the mean over the projected image on the 0-255 scale (the area
         weighted sum of the facets' values); ``'coverage'``: (n_views,), the
         fraction of the image showing the surface: 1 (to 1e-9) for
-        ``0 < e < 180``, 0 for grazing views (where all components are 0).
+        ``0 < e < 180``, 0 for grazing views (where all components are 0); ``'{component}_unrounded'``,
+        ``'{component}_unshadowed'``: :func:`roughlight.render.shading.facet_sums`'.
 
     light_azimuth : float, optional
         The light's azimuth psi, degrees: ``L = (cos i cos psi, cos i sin psi, sin i)`` (0, the study's).
@@ -485,13 +486,12 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         shadow = np.zeros_like(lit)
         for row, k in enumerate(measured):
             lit[row], shadow[row] = scene.areas(float(views.elevation[k]), float(views.azimuth[k]))
-        values = facet_sum(scene.surf.normals, scene.light, views.directions(), lit, shadow,
-                           lighting, quantized)
+        values = facet_sums(scene.surf.normals, scene.light, views.directions(), lit, shadow, lighting, quantized)
         for name, value in values.items():
             out[name][measured] = value
         out["coverage"][measured] = (lit + shadow).sum(axis=1)
 
-    return sweep.measure(step, incidence, azimuth, elevation, lighting)
+    return sweep.measure(step, incidence, azimuth, elevation, lighting, gives=EXTRAS)
 
 
 def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None):

@@ -83,7 +83,8 @@ def fast_sweep(
     dict
         ``diffuse``, ``specular``, ``total``: (n_views,) means of the 8-bit
         pixel values of the view's tile (0-255); ``coverage``: (n_views,)
-        fraction of the tile's pixels showing the surface; ``seconds``: wall
+        fraction of the tile's pixels showing the surface; :data:`roughlight.render.sweep.EXTRA_KEYS` (NaN
+        but with adaptive sampling); ``seconds``: wall
         time of the sweep; ``renderer`` for a random tile with adaptive sampling, which draws nothing with
         OpenGL (:func:`roughlight.render.fast.raster.identity`).
     """
@@ -102,7 +103,8 @@ def fast_sweep(
     # rendered its truncation's row in order. A new context costs nothing measurable here: Mesa keeps the
     # compiled shaders on disk.
     release_contexts()
-    out = sweep.measure(step, incidence, azimuth, elevation, lighting)
+    gives = shading.EXTRAS if settings.sampling == "adaptive" else ()  # lattice, grid: 8-bit pixels averaged
+    out = sweep.measure(step, incidence, azimuth, elevation, lighting, gives)
     if counted:
         out["renderer"] = raster.identity()
     return out
@@ -270,8 +272,9 @@ def _adaptive_values(out, target, weight, ids, regions, shear, views, matrix, sh
 
 def _add_from_shares(out, target, weight, regions, views, lit, shadow, light_dir, lighting, coverage) -> None:
     """Add at ``target`` (no repeats), times ``weight``, each component's facet sum of the (V, F) ``lit`` and
-    ``shadow`` shares, and ``coverage``."""
-    values = shading.facet_sum(regions.normals, light_dir, views, lit, shadow, lighting)
-    for component in shading.COMPONENTS:
-        out[component][target] += weight * values[component]
+    ``shadow`` shares, its sums before rounding and without inner shadows (:func:`roughlight.render.shading.facet_sums`),
+    and ``coverage``."""
+    values = shading.facet_sums(regions.normals, light_dir, views, lit, shadow, lighting)
+    for key, value in values.items():
+        out[key][target] += weight * value
     out["coverage"][target] += weight * coverage

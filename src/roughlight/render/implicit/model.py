@@ -351,7 +351,7 @@ def exact_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None,
         lit, shadow = exact_shares(surface, incidence, az, el, samples, lighting.shadows)
         _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting))
 
-    return measure(step, incidence, azimuth, elevation, lighting)
+    return measure(step, incidence, azimuth, elevation, lighting, gives=shading.EXTRAS)
 
 
 def _store(out: dict, measured, values: dict) -> None:
@@ -364,9 +364,10 @@ def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, ligh
     """The facet sum: 8-bit facet values weighted by their lit and shadowed shares.
 
     ``lit`` and ``shadow`` are (n_views, 5) shares; returns ``diffuse``,
-    ``specular``, ``total`` and ``coverage`` as (n_views,) arrays.
+    ``specular``, ``total`` and ``coverage`` as (n_views,) arrays, and each component's sum before rounding and
+    with inner shadows off (:func:`roughlight.render.shading.facet_sums`).
     """
-    out = shading.facet_sum(facet_normals(surface), shading.light_direction(shading.check_incidence(incidence)),
+    out = shading.facet_sums(facet_normals(surface), shading.light_direction(shading.check_incidence(incidence)),
                             shading.view_direction(elevation, azimuth), lit, shadow, lighting)
     out["coverage"] = (lit + shadow).sum(axis=1)
     return out
@@ -487,7 +488,7 @@ def correction_sweep(surface: Surface, incidence, azimuth, elevation, lighting=N
         lit, shadow = correction_shares(surface, incidence, az, el, lighting.shadows)
         _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting))
 
-    return measure(step, incidence, azimuth, elevation, lighting)
+    return measure(step, incidence, azimuth, elevation, lighting, gives=shading.EXTRAS)
 
 
 def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samples: int | None = None) -> dict:

@@ -100,7 +100,8 @@ def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=Non
     Returns
     -------
     dict as :func:`roughlight.render.fast.periodic.fast_sweep`: ``diffuse``, ``specular``,
-    ``total``, ``coverage`` (n_views,) and ``seconds``.
+    ``total``, ``coverage`` (n_views,) and ``seconds``; the means before rounding and without inner shadows are NaN
+    (an 8-bit framebuffer: a float target beside it cost 10-14% of the sweep; docs/conventions.md).
     """
     settings = settings or ImplicitSettings()
     uniforms = shader_uniforms(settings.model, surface, incidence, lighting, settings.samples)  # checks every input

@@ -124,21 +124,27 @@ class FieldScene:
         return film
 
     def view(self, view_dir, seed: int = 0) -> dict:
-        """The view's ``diffuse``, ``specular``, ``total`` (mean 8-bit value, 0-255; NaN where not measured) and
+        """The view's ``diffuse``, ``specular``, ``total`` (mean 8-bit value, 0-255; NaN where not measured), each one's
+        ``{component}_unrounded`` (the mean of the film's values clamped to [0, 255], not rounded) and
         ``coverage``."""
         film = self.render(view_dir, seed)
         j = float(self.lighting.light)
         ambient = j * float(self.lighting.ambient_reflectance) * float(self.lighting.ambient)
-        diffuse = quantize(j * self.material["diffuse_scale"] * film[..., 0] + ambient, TIE_SLACK).mean()
+        pixels = {"diffuse": j * self.material["diffuse_scale"] * film[..., 0] + ambient}
         kind = self.material["specular"]
         if kind == "measured":
-            specular = quantize(j * film[..., 1], TIE_SLACK).mean()
-            total = quantize(j * film[..., 2] + ambient, TIE_SLACK).mean()
-        elif kind == "zero":
-            specular, total = 0.0, diffuse
-        else:
-            specular = total = float("nan")
-        return {"diffuse": diffuse, "specular": specular, "total": total, "coverage": float(film[..., 3].mean())}
+            pixels.update(specular=j * film[..., 1], total=j * film[..., 2] + ambient)
+        out = {}
+        for name in ("diffuse", "specular", "total"):
+            if name in pixels:
+                out[name] = quantize(pixels[name], TIE_SLACK).mean()
+                out[f"{name}_unrounded"] = np.clip(pixels[name], 0.0, 255.0).mean()  # the float film's, clamped
+            elif kind == "zero":  # no specular: the total is the diffuse
+                out[name], out[f"{name}_unrounded"] = (0.0, 0.0) if name == "specular" else (
+                    out["diffuse"], out["diffuse_unrounded"])
+            else:
+                out[name] = out[f"{name}_unrounded"] = float("nan")
+        return {**out, "coverage": float(film[..., 3].mean())}
 
 
 def mitsuba_sweep(surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0) -> dict:
@@ -156,9 +162,10 @@ def mitsuba_sweep(surface, incidence, azimuth, elevation, lighting=None, setting
     Returns
     -------
     dict as every method's (:data:`roughlight.render.sweep.RESULT`): ``diffuse``, ``specular``, ``total``
-    (NaN where the settings do not measure them: :func:`roughlight.render.mitsuba.bsdf.material`), ``coverage``
-    (1 at every measured view; RuntimeError if a view's window sees past the field) and ``seconds``; grazing views
-    are 0.
+    (NaN where the settings do not measure them: :func:`roughlight.render.mitsuba.bsdf.material`), their
+    ``_unrounded`` means (the float film's; NaN where they are), ``_unshadowed`` NaN (Mitsuba always casts the
+    shadows), ``coverage`` (1 at every measured view; RuntimeError if a view's window sees past the field) and
+    ``seconds``; grazing views are 0.
     """
     lighting = Lighting() if lighting is None else lighting
     settings = MitsubaSettings() if settings is None else settings
@@ -183,4 +190,6 @@ def mitsuba_sweep(surface, incidence, azimuth, elevation, lighting=None, setting
                     out[name][k] = value
             del field
 
-    return sweep.measure(step, incidence, azimuth, elevation, lighting)
+    # the film is float: the means before rounding; inner shadows cannot be switched off (Mitsuba's light always
+    # casts them, refusal), so no mean without them (NaN)
+    return sweep.measure(step, incidence, azimuth, elevation, lighting, gives=("unrounded",))

@@ -233,6 +233,7 @@ def naive_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, 
             out["diffuse"][k], out["specular"][k], out["total"][k] = means[:3]
             out["coverage"][k] = float(np.mean(depth[box] > 0))
 
+    # an 8-bit framebuffer read back: no mean before rounding, none without the shadows (NaN)
     return sweep.measure(step, incidence, azimuth, elevation, lighting)
 
 
