@@ -200,3 +200,29 @@ rule every_view_summary:
         mem_mb=1024,
     script:
         "../scripts/every_view_summary.py"
+
+
+# the claim's regular lobes around each lobe, unrounded: the fast method at the study's azimuth step, half of it
+# and 1 degree, and the exact reference at the study's (every step at the full plan), for two of the claim's
+# margins and the page's table of each lobe by step (roughlight.measurements.claim_grid)
+rule claim_grid:
+    input:
+        geometry="results/analysis/random_claim_geometry.csv",
+    output:
+        "results/benchmarks/{plan}/claim_grid.parquet",
+    log:
+        "results/logs/benchmarks/{plan}/claim_grid.log",
+    benchmark:
+        "results/logs/benchmarks/{plan}/claim_grid.benchmark.tsv"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        gl=gl_params,
+        lighting=lighting_params,
+        sweep=sweep_params,
+        render=fast_render_params,
+    script:
+        "../scripts/claim_grid.py"

@@ -300,6 +300,11 @@ def measurement_plan(wildcards=None):
     return config["measurements"]["plan"]
 
 
+def claim_grid_file(wildcards):
+    """The claim's regular lobes measured around each lobe at measurements.plan (rule claim_grid)."""
+    return f"results/benchmarks/{measurement_plan()}/claim_grid.parquet"
+
+
 def explorer_budget(wildcards):
     """report.explorer.budget: the bytes the explorer's data may take in the page."""
     return int(config["report"]["explorer"]["budget"])

@@ -188,9 +188,35 @@ rule render_figures:
         "../scripts/render_figures.py"
 
 
+# the random-roughness claim's lobes and search discs, from geometry, the regular surfaces and the pilot seeds
+# alone (roughlight.analysis.claims.claim_discs): no tested seed is read
+rule claim_discs:
+    input:
+        study="results/study.parquet",
+    output:
+        random_claim_geometry="results/analysis/random_claim_geometry.csv",
+        random_claim_radii="results/analysis/random_claim_radii.csv",
+    log:
+        "results/logs/report/claim_discs.log",
+    benchmark:
+        "results/logs/report/claim_discs.benchmark.tsv"
+    conda:
+        "../../envs/study.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        lighting=lighting_params,
+    script:
+        "../scripts/claim_discs.py"
+
+
 rule analysis_random:
     input:
         study="results/study.parquet",
+        radii="results/analysis/random_claim_radii.csv",
+        geometry="results/analysis/random_claim_geometry.csv",
+        claim_grid=claim_grid_file,
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(
@@ -209,8 +235,8 @@ rule analysis_random:
         ),
         random_claim_design="results/analysis/random_claim_design.csv",
         random_claim_margins="results/analysis/random_claim_margins.csv",
-        random_claim_floor="results/analysis/random_claim_floor.csv",
-        random_claim_noise="results/analysis/random_claim_noise.csv",
+        random_claim_errors="results/analysis/random_claim_errors.csv",
+        random_claim_grid="results/analysis/random_claim_grid.csv",
         random_ensembles_png=report(
             "results/figures/random_ensembles.png",
             caption="../report/random_ensembles.rst",
@@ -236,6 +262,7 @@ rule analysis_random:
         settings=report_settings,
         lighting=lighting_params,
         claims=claim_settings,
+        elevation_step=float(config["sweep"]["elevation_step"]),
     script:
         "../scripts/analysis_random.py"
 

@@ -6,6 +6,7 @@ import sys
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
+import pandas as pd  # noqa: E402
 
 from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
@@ -16,7 +17,10 @@ from roughlight.study.tables import read_study  # noqa: E402
 log = _log.setup(snakemake)
 out = snakemake.output
 study = read_study(snakemake.input.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
-tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims)
+discs = {"radii": pd.read_csv(snakemake.input.radii), "geometry": pd.read_csv(snakemake.input.geometry),
+         "grid": pd.read_parquet(snakemake.input.claim_grid)}
+tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims, discs,
+                         elevation_step=snakemake.params.elevation_step)
 for name, frame in tables.items():
     write_frame(frame, out[name])
 stats, summary = tables["random_statistics"], tables["random_ensembles"]
@@ -25,8 +29,9 @@ log(f"ensembles: {summary.groupby(['kind', 'truncation', 'aspect', 'incidence'])
 F.make("random_ensembles", out.random_ensembles_png, summary=summary)
 F.make("random_maps", out.random_maps_png, study=study)
 claims = tables["random_claims"]
-log(f"claim: {len(claims)} tests at the family level {claims['level'].min() if len(claims) else float('nan'):.4f}: "
-    + ", ".join(f"{n} {v}" for v, n in claims["verdict"].value_counts().items()))
+for reading, part in claims.groupby("reading", sort=False):
+    log(f"claim ({reading}): {len(part)} tests at the family level {part['level'].min():.4f}: "
+        + ", ".join(f"{n} {v}" for v, n in part["verdict"].value_counts().items()))
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
 _log.end_job()

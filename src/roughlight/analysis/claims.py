@@ -1,36 +1,43 @@
-"""The thesis's random-roughness claim as a design stated before the test, and its verdict.
+"""The thesis's random-roughness claim as a design fixed before the test, and its verdict.
 
 The claim (Ch. IV.C, VI): regular pyramids reflect in "rectangular" patterns whose peak shifts off the light's
-plane, where surfaces with random facets reflect in circular lobes. Two statistics of the back lobe (the
-light-facing facets' mirror direction) put it into numbers, both read from the measured views of the whole lobe
-(:mod:`roughlight.analysis.lobe_shape`):
+plane, where natural rough surfaces, whose facets are random, reflect in circular lobes (Fig. 18: the halo
+around an airplane's shadow on grass). The surface the thesis means is a large random surface: an ensemble's
+mean over its tiles (:mod:`roughlight.analysis.claim_readings`), compared with the regular surface at the same
+grid point and light, on two lobes:
 
-* ``back_squareness``: how much closer the lobe's half-maximum region lies to its rectangle than to its ellipse
-  (each with the region's own second moments): > 0 rectangular, < 0 elliptical (a circle is an ellipse). On
-  synthetic lobes a rectangle gives +0.10 to +0.15 and an ellipse -0.17 to -0.19. The claim: a random surface's
-  lobe is less square than the regular surface's.
-* ``back_phase_shift``: the mean distance (degrees) of each measured arc's peak from where a circular lobe around
-  the region's centre would put it (Fig. 19's "phase shift"). The claim: a random surface's is smaller.
+* the **back lobe** (the light-facing facet's mirror direction, Tables 1-2 and Fig. 19): does it exist (its
+  contrast over its background), and is a random one less square and less phase-shifted than the regular one;
+* the **hot spot** (V = L, Fig. 18): does its halo exist, and is a random one's edge rounder (less flat) than the
+  regular one's.
 
-The design, fixed before any tested seed is read (:func:`claim_design`):
+The design (:func:`design_tables`), fixed from geometry, the regular surfaces, the exact reference and the pilot
+seeds, before any tested seed is read:
 
-* **What can be measured.** A lobe is measurable when its half-maximum region closes inside the measured views
-  (the horizon cuts none of it) and its peak is at least ``min_peak`` 8-bit levels (:func:`floor_effect` measures
-  what rounding each view to whole levels does to the statistics of synthetic lobes of a given peak).
-* **Margins.** A difference counts, and "no difference" can be concluded, relative to a margin a statistic:
-  the largest of the regular surface's own rendering noise (the same statistic from the two halves of the
-  hemisphere of a mirror-symmetric surface, each measured separately, :func:`rendering_noise`) and the 8-bit
-  floor's effect on a lobe at least ``min_peak`` high. Smaller differences are within what rendering and 8 bits
-  alone produce.
-* **Family.** Every planned test (random kind x grid point x statistic) is one of a family whose error is
-  controlled together: each interval is a Student-t interval at the Bonferroni level ``1 - alpha / m``.
-* **Seeds.** Each ensemble has pilot seeds (numbered from :data:`PILOT_SEED_BASE` + 1) that are never tested: their
-  spread and effect give the test seeds each test needs (:func:`planned_seeds`); the test seeds are those the config
-  names (1 ... n), counted beside what the pilot asks for.
-* **Decision** (:func:`decide`): "difference" when the interval lies wholly outside the margin around the regular
-  value, "no difference" when wholly inside it, "undecided" otherwise (with the seeds the pilot's spread says would
-  decide it), and "not measurable" when the regular lobe is not, or fewer than half of the tested seeds (or
-  fewer than 2) have a measurable lobe: a statistic of a minority of tiles says nothing of the kind.
+* **Which lobes, where** (:func:`claim_geometry`): each random grid point's lobe enters the claim when its regular
+  lobe clears the horizon by :data:`CLEARANCE` of its own widths (the back mirror direction lies at elevation
+  180 - (i + 2 alpha) for a facet tilted alpha toward a light at incidence i; the hot spot at i), and, for the hot
+  spot, when the regular surface has shadows there to hide.
+* **Search discs** (:func:`search_radii`): :data:`CLEARANCE` times the lobe's expected width: the pilot
+  ensemble's own where it has a lobe, never less than the regular lobe's, and never past the horizon.
+* **Margins** (:func:`margins`): what counts as a difference, for each test: the largest of the regular surface's
+  rendering noise (each half of the hemisphere of a mirror-symmetric surface, read on its own), the fast method's
+  sampling error against the exact reference on the study's view grid, and the view grid's own effect (the exact
+  reference at the study's azimuth step against 1 deg); the 8-bit reading adds what rounding does to the regular
+  lobe. No 8-bit floor: the unrounded values read lobes a few levels high.
+* **Family** (:func:`claim_design`): every planned test (ensemble x lobe x statistic) is one of a family whose
+  error is controlled together: each interval is a Student-t interval at the Bonferroni level ``1 - alpha / m``
+  on the jackknife standard error over seeds.
+* **Seeds** (:func:`planned_seeds`): the pilot ensemble's mean and standard error give the tested seeds each test
+  needs; an ensemble tests as many as its most demanding test, up to ``claims.max_seeds``.
+
+The verdict (:func:`claim_table`), from the tested seeds only, in both readings (unrounded and 8-bit):
+
+* a lobe's **contrast**: *lobe* when its interval lies wholly above the margin; otherwise *no lobe* (its contrast
+  is within the noise: random roughness removes it);
+* a lobe's **shape**, where it has one: *difference* (the interval wholly beyond the margin around the regular
+  value; the table says whether the way the thesis claims), *no difference* (wholly within it), *undecided*
+  otherwise (with the seeds that would decide it); *no lobe* where the contrast test found none.
 """
 
 from __future__ import annotations
@@ -40,40 +47,70 @@ import math
 import numpy as np
 import pandas as pd
 
+from ..render.shading import view_direction
 from ..study.config import PILOT_SEED_BASE
 from ..study.selection import SURFACE_KEYS
+from .claim_readings import READINGS, SeedStack, lobe_centres, pooled_readings, surface_readings
 
 __all__ = [
     "PILOT_SEED_BASE",
-    "CLAIMS",
+    "CLEARANCE",
+    "TESTS",
     "is_pilot",
-    "floor_effect",
-    "rendering_noise",
+    "lobe_width",
+    "claim_geometry",
+    "search_radii",
+    "mirrored_half",
     "margins",
-    "planned_seeds",
     "fewest_seeds",
+    "planned_seeds",
     "claim_design",
     "decide",
     "claim_table",
+    "reference_steps",
+    "reference_views",
+    "reference_stacks",
+    "grid_table",
+    "instrument_errors",
+    "claim_discs",
+    "design_tables",
 ]
 
-#: The claim's tests, a statistic each: what the thesis says of a random surface against the regular one, which
-#: way, what the statistic shows, and the range it takes.
-CLAIMS = {
+#: How many of a lobe's own half-widths its search disc reaches, and its regular lobe must clear the horizon by.
+CLEARANCE = 3.0
+
+#: The claim's tests: what the thesis says of a random surface against the regular one, which way, and the range
+#: the statistic takes. ``role`` "lobe": does the lobe exist; "shape": its shape, where it does.
+TESTS = {
+    "back_contrast": {
+        "lobe": "back", "role": "lobe", "unit": "levels", "range": (-math.inf, math.inf),
+        "claim": "the back lobe stands above its background (a lobe to compare)",
+        "shows": "the specular's mean over a 3-degree cap at the mirror direction less its mean on the search "
+                 "disc's rim",
+    },
     "back_squareness": {
+        "lobe": "back", "role": "shape", "expected": "below", "unit": "", "range": (-1.0, 1.0),
         "claim": "random lobes are rounder (less rectangular) than the regular surface's",
-        "expected": "below",
-        "shows": "the half-maximum region's misfit to its ellipse less its misfit to its rectangle (> 0 nearer a "
-                 "rectangle, < 0 nearer an ellipse)",
-        "unit": "",
-        "range": (-1.0, 1.0),
+        "shows": "the half-contrast region's misfit to its ellipse less its misfit to its rectangle (> 0 nearer "
+                 "a rectangle, < 0 nearer an ellipse)",
     },
     "back_phase_shift": {
+        "lobe": "back", "role": "shape", "expected": "below", "unit": "deg", "range": (0.0, math.inf),
         "claim": "random lobes peak where a circular lobe would: less phase shift off the light's plane",
-        "expected": "below",
         "shows": "mean distance of the measured arcs' peaks from a circular lobe's, both sides of the light's plane",
-        "unit": "deg",
-        "range": (0.0, math.inf),
+    },
+    "hot_spot_contrast": {
+        "lobe": "hot_spot", "role": "lobe", "unit": "levels", "range": (-math.inf, math.inf),
+        "claim": "the hot spot stands above its background (a halo to compare)",
+        "shows": "the shadow-hiding function at V = L less its mean above the light on the search circle, times "
+                 "the diffuse at V = L",
+    },
+    "hot_spot_flatness": {
+        "lobe": "hot_spot", "role": "shape", "expected": "below", "unit": "", "range": (-math.inf, math.inf),
+        "claim": "a random surface's halo is round (its edge falls away beside the light) where the regular one's "
+                 "is flat",
+        "shows": "the halo's edge one width to either side of the light over its width above it (0 a circle "
+                 "around L, 1 a flat edge)",
     },
 }
 
@@ -84,72 +121,117 @@ def is_pilot(seed) -> np.ndarray | bool:
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# the design's measurements
+# which lobes, where, and how far to look
 
 
-#: The synthetic lobes :func:`floor_effect` rounds: Gaussian ellipses and soft-edged rectangles of several sizes
-#: and orientations, (half-widths in degrees of tangent plane, edge softness or None, rotation in degrees).
-SYNTHETIC_LOBES = (
-    (10.0, 10.0, None, 0.0), (12.0, 5.0, None, 30.0), (6.0, 4.0, None, 0.0),
-    (8.0, 8.0, 0.5, 0.0), (12.0, 6.0, 0.5, 30.0), (5.0, 3.0, 0.5, 0.0),
-)
+def lobe_width(shininess: float, specular_model: str = "phong") -> float:
+    """Half-width at half maximum (degrees) of a flat facet's specular lobe over view directions: Phong's
+    ``(R.V)^zeta`` halves at ``acos(2^(-1/zeta))``; Blinn-Phong's ``(N.H)^zeta`` at twice that (H turns half as
+    fast as V)."""
+    half = math.degrees(math.acos(0.5 ** (1.0 / float(shininess))))
+    return half if specular_model == "phong" else 2.0 * half
 
 
-def synthetic_lobe(azimuth, elevation, centre, half_widths, soft=None, rotation=0.0, peak=100.0) -> np.ndarray:
-    """(A, E) values of a synthetic lobe around the unit direction ``centre`` on the view grid: a Gaussian
-    ``peak exp(-(x/wx)^2 - (y/wy)^2)`` or, with ``soft`` (degrees), a rectangle of half-widths (wx, wy) with
-    logistic edges, in gnomonic tangent-plane coordinates (degrees) rotated by ``rotation``; 0 where the view
-    faces away from ``centre``."""
-    from ..render.shading import view_direction
-    from .lobe_shape import tangent_basis
-
-    A, El = np.meshgrid(np.asarray(azimuth, float), np.asarray(elevation, float), indexing="ij")
-    V = view_direction(El, A)
-    D = np.asarray(centre, float)
-    u1, u2 = tangent_basis(D)
-    cos_d = V @ D
-    with np.errstate(divide="ignore", invalid="ignore"):
-        x0, y0 = np.degrees((V @ u1) / cos_d), np.degrees((V @ u2) / cos_d)
-    c, s = math.cos(math.radians(rotation)), math.sin(math.radians(rotation))
-    x, y = c * x0 + s * y0, -s * x0 + c * y0
-    wx, wy = half_widths
-    if soft is None:
-        values = peak * np.exp(-((x / wx) ** 2 + (y / wy) ** 2))
-    else:
-        edge = np.clip(np.maximum(np.abs(x) - wx, np.abs(y) - wy) / soft, -50, 50)
-        values = peak / (1 + np.exp(edge))
-    return np.where(cos_d > 0, values, 0.0)
+#: The search circle the regular halo's own width is read in, degrees (its design radius is then
+#: :data:`CLEARANCE` of those widths).
+HOT_SPOT_PROBE = 30.0
 
 
-def floor_effect(peaks, centre_elevation: float, azimuth, elevation) -> pd.DataFrame:
-    """What rounding every view to whole 8-bit levels does to the claim's statistics, lobe by lobe.
+def _elevation(d) -> float:
+    return math.degrees(math.asin(max(-1.0, min(1.0, float(d[2])))))
 
-    Each of :data:`SYNTHETIC_LOBES`, centred at ``centre_elevation`` on the light's plane and scaled to each of
-    ``peaks`` (0-255), is measured on the view grid (``azimuth`` x ``elevation``, degrees) as it is and rounded to
-    whole levels (the worst case: a view's capture window all one value; a real view averages many pixels).
+
+def claim_geometry(regular: list[SeedStack], lighting: dict) -> pd.DataFrame:
+    """Which lobes of which grid points enter the claim, from geometry and the regular surfaces alone.
+
+    Parameters
+    ----------
+    regular : the regular surface at each random grid point (:func:`roughlight.analysis.claim_readings.seed_stacks`
+        of its rows: one tile, seed 0)
+    lighting : the study's lighting (``shininess``, ``specular_model``)
 
     Returns
     -------
-    DataFrame, one row a peak: ``peak`` and, per claim statistic, the largest change over the synthetic lobes.
+    DataFrame, a row a grid point and lobe: surface keys, ``lobe``, ``centre_azimuth``, ``centre_elevation``
+    (degrees), ``width`` (the regular lobe's half-width, degrees: the Phong lobe's for the back lobe, the halo's
+    width above the light for the hot spot), ``clearance`` (degrees between the lobe's centre and the nearer of the
+    horizon and the other side's horizon), ``cap`` (the widest search disc the horizon allows, degrees),
+    ``in_claim`` and ``why`` (why not).
     """
-    from .lobe_shape import SHAPE_STATISTICS, direction, lobe_statistics, measured_field
-
-    az, el = np.asarray(azimuth, float), np.asarray(elevation, float)
-    coverage = np.ones((len(az), len(el)))
-    coverage[:, (el <= 0) | (el >= 180)] = 0.0
-    centre = direction(0.0, centre_elevation)
+    phong = lobe_width(float(lighting.get("shininess", 64.0)), str(lighting.get("specular_model", "phong")))
     rows = []
-    for peak in peaks:
-        worst = dict.fromkeys(CLAIMS, 0.0)
-        for wx, wy, soft, rotation in SYNTHETIC_LOBES:
-            values = synthetic_lobe(az, el, centre, (wx, wy), soft, rotation, float(peak))
-            exact, rounded = (lobe_statistics(measured_field(az, el, v, coverage), centre)
-                              for v in (values, np.floor(values + 0.5)))
-            for name in CLAIMS:
-                change = abs(exact[SHAPE_STATISTICS[name]] - rounded[SHAPE_STATISTICS[name]])
-                worst[name] = max(worst[name], float(change) if np.isfinite(change) else np.inf)
-        rows.append({"peak": float(peak), **worst})
-    return pd.DataFrame(rows)
+    for stack in regular:
+        centres = lobe_centres(stack.key)
+        for lobe in ("back", "hot_spot"):
+            row = dict(zip(SURFACE_KEYS, stack.key), lobe=lobe, centre_azimuth=0.0, centre_elevation=np.nan,
+                       width=np.nan, clearance=np.nan, cap=np.nan, in_claim=False, why="")
+            if lobe not in centres:
+                rows.append({**row, "why": "its mirror direction lies below the horizon"})
+                continue
+            e = _elevation(centres[lobe])
+            row.update(centre_elevation=e, clearance=min(e, 180.0 - e) - 1.0)
+            if lobe == "back":
+                apart = math.degrees(math.acos(float(np.clip(centres["back"] @ _forward(stack.key[2]), -1, 1))))
+                row.update(width=phong, cap=min(row["clearance"], apart / 2.0))
+            else:
+                spot = surface_readings(stack, centres, {"hot_spot": HOT_SPOT_PROBE})
+                row.update(width=spot["hot_spot_width"], cap=min(60.0, 179.0 - e))
+                if not spot["hot_spot_contrast"] > 0 or not np.isfinite(spot["hot_spot_width"]):
+                    rows.append({**row, "why": "the regular surface hides no shadow here: "
+                                               + (spot["hot_spot_why"] or "no contrast")})
+                    continue
+            need = CLEARANCE * row["width"]
+            if need > row["cap"]:
+                row["why"] = (f"its regular lobe does not clear the horizon by {CLEARANCE:g} widths "
+                              f"({need:.1f} deg needed, {row['cap']:.1f} deg free)")
+            else:
+                row["in_claim"] = True
+            rows.append(row)
+    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "centre_azimuth", "centre_elevation", "width",
+                                                      "clearance", "cap", "in_claim", "why"])
+
+
+def _forward(incidence: float) -> np.ndarray:
+    """The plate's mirror direction under a light at ``incidence`` (the forward lobe's centre)."""
+    return np.asarray(view_direction(180.0 - float(incidence), 0.0), float)
+
+
+def search_radii(geometry: pd.DataFrame, pilots: dict) -> pd.DataFrame:
+    """Each random kind's search disc for each lobe in the claim: :data:`CLEARANCE` times its expected width.
+
+    The expected width is the pilot ensemble's own (its mean's lobe read in the widest disc the horizon allows)
+    where it has a lobe, and never less than the regular lobe's; the disc never reaches past the horizon.
+
+    Parameters
+    ----------
+    geometry : :func:`claim_geometry`
+    pilots : (kind, truncation, aspect, incidence) -> the pilot seeds' :class:`SeedStack`
+
+    Returns
+    -------
+    DataFrame: kind, surface keys, ``lobe``, ``radius`` (degrees), ``pilot_width`` (degrees, NaN without a pilot
+    lobe), ``from`` (what set it).
+    """
+    rows = []
+    for (kind, t, a, i), stack in sorted(pilots.items()):
+        for g in geometry[(geometry["truncation"] == t) & (geometry["aspect"] == a) & (geometry["incidence"] == i)
+                          & geometry["in_claim"]].itertuples(index=False):
+            wide = surface_readings(stack, lobe_centres((t, a, i)), {g.lobe: g.cap})
+            pilot = float(wide[f"{g.lobe}_width"])
+            least = CLEARANCE * g.width
+            if np.isfinite(pilot) and CLEARANCE * pilot > least:
+                radius, source = min(CLEARANCE * pilot, g.cap), "the pilot lobe's width"
+                if radius < CLEARANCE * pilot:
+                    source += " (cut to the horizon's room)"
+            else:
+                radius, source = least, "the regular lobe's width"
+            rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "lobe": g.lobe,
+                         "radius": float(radius), "pilot_width": pilot, "from": source})
+    return pd.DataFrame(rows, columns=["kind"] + SURFACE_KEYS + ["lobe", "radius", "pilot_width", "from"])
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# margins
 
 
 def mirrored_half(values, side: int) -> np.ndarray:
@@ -167,55 +249,103 @@ def mirrored_half(values, side: int) -> np.ndarray:
     return out
 
 
-def rendering_noise(grids: dict, min_peak: float) -> pd.DataFrame:
-    """The regular surface's rendering noise in each claim statistic: the statistic from each half of the
-    hemisphere (:func:`mirrored_half`), measured separately, one against the other.
+def _halves(stack: SeedStack) -> list[SeedStack]:
+    """The regular surface's two halves (:func:`mirrored_half`), each a surface of its own."""
+    def half(side):
+        flip = lambda v: np.stack([mirrored_half(x, side) for x in v])  # noqa: E731
+        return SeedStack(stack.key, stack.kind, stack.seeds, stack.azimuth, stack.elevation, stack.coverage,
+                         {r: flip(v) for r, v in stack.specular.items()},
+                         {r: flip(v) for r, v in stack.diffuse.items()}, flip(stack.unshadowed))
+    return [half(1), half(-1)]
+
+
+def _own_disc(geometry: pd.DataFrame, key, lobe: str) -> float:
+    """The regular lobe's own search disc at ``key``: :data:`CLEARANCE` of its widths (degrees)."""
+    g = geometry[(geometry["truncation"] == key[0]) & (geometry["aspect"] == key[1])
+                 & (geometry["incidence"] == key[2]) & (geometry["lobe"] == lobe)]
+    return float(CLEARANCE * g["width"].iloc[0])
+
+
+def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
+    """What the instrument's method and view grid alone do to each regular lobe's statistics, in the lobe's own
+    disc: the fast method against the exact reference on the study's view grid (``sampling_error``), and the
+    study's azimuth step against 1 degree (``grid_effect``: the exact reference's where it measured 1 degree, else
+    the fast method's).
 
     Parameters
     ----------
-    grids : dict, surface key (truncation, aspect, incidence) -> (azimuth, elevation, specular, coverage, peak
-        direction) of a regular surface's back lobe
-    min_peak : the 8-bit floor (0-255)
+    reference : :func:`reference_stacks` of rule ``claim_grid``'s measurements
+    geometry : :func:`claim_geometry`
 
     Returns
     -------
-    DataFrame: surface keys and, per claim statistic, ``{statistic}_half_a``, ``{statistic}_half_b`` and
-    ``{statistic}_noise`` (their absolute difference).
+    DataFrame: surface keys, ``test``, ``sampling_error``, ``grid_effect``, ``grid_method``.
     """
-    from .lobe_shape import SHAPE_STATISTICS, lobe_statistics, measured_field
-
     rows = []
-    for key, (az, el, values, coverage, peak_direction) in grids.items():
-        row = dict(zip(SURFACE_KEYS, key))
-        halves = [lobe_statistics(measured_field(az, el, mirrored_half(values, side), coverage), peak_direction,
-                                  min_peak) for side in (1, -1)]
-        for name in CLAIMS:
-            a, b = (h[SHAPE_STATISTICS[name]] if h["measurable"] else np.nan for h in halves)
-            row.update({f"{name}_half_a": a, f"{name}_half_b": b, f"{name}_noise": abs(a - b)})
-        rows.append(row)
-    return pd.DataFrame(rows)
+    for g in geometry[geometry["in_claim"]].itertuples(index=False):
+        key = (g.truncation, g.aspect, g.incidence)
+        stacks = reference.get(key, {})
+        if not stacks:
+            continue
+        disc = {g.lobe: CLEARANCE * g.width}
+        read = {ms: surface_readings(s, lobe_centres(key), disc) for ms, s in stacks.items()}
+        coarse = max(step for _, step in read)
+        fine_method = "reference" if ("reference", min(step for _, step in read)) in read else "fast"
+        finest = min(step for method, step in read if method == fine_method)
+        for test, spec in TESTS.items():
+            if spec["lobe"] != g.lobe:
+                continue
+            sampling = (abs(read["fast", coarse][test] - read["reference", coarse][test])
+                        if ("fast", coarse) in read and ("reference", coarse) in read else np.nan)
+            grid = abs(read[fine_method, coarse][test] - read[fine_method, finest][test])
+            rows.append({**dict(zip(SURFACE_KEYS, key)), "test": test, "sampling_error": sampling,
+                         "grid_effect": grid, "grid_method": fine_method})
+    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["test", "sampling_error", "grid_effect", "grid_method"])
 
 
-def margins(noise: pd.DataFrame, floor: pd.DataFrame, min_peak: float) -> pd.DataFrame:
-    """Each claim statistic's margin: the larger of the regular surface's largest rendering noise
-    (:func:`rendering_noise`) and the 8-bit floor's largest effect on lobes at least ``min_peak`` high
-    (:func:`floor_effect`).
+def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Every test's margin, in each reading, from what the instrument alone can make of the regular surface.
+
+    Parameters
+    ----------
+    regular : surface key -> the regular surface's :class:`SeedStack` (the fast method, the study's views)
+    radii : :func:`search_radii` (a test's disc is its kind's)
+    errors : :func:`instrument_errors` (None: not measured; the margins go without them)
 
     Returns
     -------
-    DataFrame, one row a statistic: ``statistic``, ``rendering_noise``, ``floor_effect``, ``margin``, ``from``
-    (which of the two sets it).
+    DataFrame, a row a kind x grid point x test x reading: ``regular`` (the regular surface's value in the
+    kind's disc, the fast method on the study's views, as the random tiles are measured), ``rendering_noise``
+    (its two halves read apart), ``sampling_error``, ``grid_effect`` (from ``errors``), ``rounding`` (the 8-bit
+    reading's only: what rounding does to the regular lobe), ``margin`` (their largest) and ``from``.
     """
+    errors = errors if errors is not None else pd.DataFrame(columns=SURFACE_KEYS + ["test"])
+    measured = errors.set_index(SURFACE_KEYS + ["test"]) if len(errors) else None
     rows = []
-    for name in CLAIMS:
-        rendered = float(np.nanmax(noise[f"{name}_noise"])) if len(noise) and noise[f"{name}_noise"].notna().any() \
-            else 0.0
-        above = floor.loc[floor["peak"] >= min_peak, name]
-        rounded = float(above.max()) if len(above) else 0.0
-        rows.append({"statistic": name, "rendering_noise": rendered, "floor_effect": rounded,
-                     "margin": max(rendered, rounded),
-                     "from": "rendering noise" if rendered > rounded else "8-bit floor"})
+    for r in radii.itertuples(index=False):
+        key = (r.truncation, r.aspect, r.incidence)
+        centres, disc = lobe_centres(key), {r.lobe: r.radius}
+        read = {reading: surface_readings(regular[key], centres, disc, reading) for reading in READINGS}
+        halves = [surface_readings(h, centres, disc) for h in _halves(regular[key])]
+        for test, spec in TESTS.items():
+            if spec["lobe"] != r.lobe:
+                continue
+            found = measured is not None and key + (test,) in measured.index
+            parts = {"rendering_noise": abs(halves[0][test] - halves[1][test]),
+                     "sampling_error": float(measured.loc[key + (test,), "sampling_error"]) if found else np.nan,
+                     "grid_effect": float(measured.loc[key + (test,), "grid_effect"]) if found else np.nan}
+            for reading in READINGS:
+                extra = {"rounding": abs(read["8-bit"][test] - read["unrounded"][test])} if reading == "8-bit" else {}
+                known = {k: v for k, v in {**parts, **extra}.items() if np.isfinite(v)}
+                source = max(known, key=known.get) if known else ""
+                rows.append({"kind": r.kind, **dict(zip(SURFACE_KEYS, key)), "test": test, "reading": reading,
+                             "regular": read[reading][test], **parts, "rounding": extra.get("rounding", np.nan),
+                             "margin": known[source] if known else np.nan, "from": source.replace("_", " ")})
     return pd.DataFrame(rows)
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the family and the seeds
 
 
 def _t_quantile(level: float, n):
@@ -227,113 +357,107 @@ def _t_quantile(level: float, n):
 def fewest_seeds(sd: float, room: float, level: float, max_seeds: int) -> int | None:
     """The fewest seeds n (2 ... ``max_seeds``) whose ``level`` Student-t half-width ``t(n - 1) sd / sqrt(n)`` is
     at most ``room``; None when no such n (or no room)."""
-    if room <= 0:
+    if not room > 0 or not np.isfinite(sd):
         return None
     n = np.arange(2, max_seeds + 1)
     ok = np.flatnonzero(_t_quantile(level, n) * sd / np.sqrt(n) <= room)
     return int(n[ok[0]]) if len(ok) else None
 
 
-def planned_seeds(pilot_values, regular: float, margin: float, level: float, max_seeds: int = 1000,
-                 sd_confidence: float = 0.8) -> tuple[int | None, str]:
-    """Test seeds a claim test needs, from its pilot seeds (never tested).
+def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: float, margin: float, level: float,
+                  role: str, max_seeds: int = 1000, sd_confidence: float = 0.8) -> tuple[int | None, str]:
+    """Test seeds a claim test needs, from the pilot ensemble (never tested).
 
-    The pilot's mean difference from the regular value ``d`` and its SD (taken at its one-sided
-    ``sd_confidence`` upper confidence limit, as pilot-based plans do: a pilot of 3 seeds estimates an SD
-    poorly) give the fewest seeds ``n`` whose ``level`` Student-t interval, centred on ``d``, lies wholly outside
-    the margin (``|d| - h(n) >= margin``, a difference) or wholly inside it (``|d| + h(n) <= margin``, no
-    difference), ``h(n) = t(n - 1) sd / sqrt(n)``.
+    The pilot's per-seed spread is its jackknife standard error times sqrt(pilot seeds), taken at its one-sided
+    ``sd_confidence`` upper confidence limit (a few pilot seeds estimate a spread poorly). A lobe test
+    (``role`` "lobe") needs the seeds whose interval clears the margin where the pilot has a lobe (where it has
+    none, any count finds none); a shape test needs those whose interval, centred on the pilot's difference from
+    the regular value, lies wholly beyond or wholly within the margin.
 
     Returns
     -------
-    (n, why): n is None when the pilot cannot say (fewer than 2 measurable pilot seeds, no regular value) or
-    when no n up to ``max_seeds`` decides (``|d|`` is within ``h`` of the margin); why says which.
+    (n, why): n is None when the pilot cannot say, or when no n up to ``max_seeds`` decides.
     """
     from scipy import stats as sps
 
-    values = np.asarray(pilot_values, float)
-    values = values[np.isfinite(values)]
-    if not np.isfinite(regular):
-        return None, "the regular lobe is not measurable"
-    if len(values) < 2:
-        return None, f"{len(values)} measurable pilot seed(s): a spread needs 2"
-    d = abs(float(values.mean()) - regular)
-    sd = float(values.std(ddof=1))
-    df = len(values) - 1
-    sd_upper = sd * math.sqrt(df / sps.chi2.ppf(1.0 - sd_confidence, df))
-    room = d - margin if d > margin else margin - d
-    if sd_upper == 0:
+    if not (np.isfinite(pilot) and np.isfinite(pilot_se) and pilot_seeds >= 2):
+        return None, "the pilot's lobe cannot be read on every resample: no spread to plan from"
+    df = pilot_seeds - 1
+    sd = pilot_se * math.sqrt(pilot_seeds) * math.sqrt(df / sps.chi2.ppf(1.0 - sd_confidence, df))
+    if role == "lobe":
+        if pilot <= margin:
+            return 2, "no lobe expected from the pilot"
+        room, expect = pilot - margin, "a lobe"
+    else:
+        if not np.isfinite(regular):
+            return None, "the regular lobe cannot be read"
+        d = abs(pilot - regular)
+        room, expect = (d - margin, "a difference") if d > margin else (margin - d, "no difference")
+    if sd == 0:
         return 2, "the pilot seeds agree exactly"
-    n = fewest_seeds(sd_upper, room, level, max_seeds)
+    n = fewest_seeds(sd, room, level, max_seeds)
     if n is None:
-        return None, (f"the pilot's difference {d:.3g} lies within its spread of the margin {margin:.3g}: more than "
-                      f"{max_seeds} seeds")
-    return n, ("a difference" if d > margin else "no difference") + " expected from the pilot"
+        return None, (f"the pilot's {'contrast' if role == 'lobe' else 'difference'} lies within its spread of the "
+                      f"margin {margin:.3g}: more than {max_seeds} seeds")
+    return n, f"{expect} expected from the pilot"
 
 
-def claim_design(statistics: pd.DataFrame, design: dict, margin_table: pd.DataFrame, configured: dict
-                 ) -> pd.DataFrame:
-    """The claim's design, a test a row: what each test needs, from the pilot seeds alone.
+def claim_design(margin_table: pd.DataFrame, pilot_readings: dict, design: dict, configured: dict) -> pd.DataFrame:
+    """The claim's design, a test a row (the unrounded reading's margins plan the seeds).
 
     Parameters
     ----------
-    statistics : per-seed statistics (:func:`roughlight.analysis.ensembles.seed_statistics`): kind, seed, surface
-        keys, ``statistic``, ``value``; pilot seeds are those :func:`is_pilot` names, the regular surface's rows
-        are kind ``pyramids``
-    design : ``alpha`` (family-wise error), ``max_seeds`` (the most test seeds an ensemble may take)
-    margin_table : from :func:`margins`
-    configured : (kind, truncation, aspect) -> the number of test seeds the config gives the ensemble
+    margin_table : :func:`margins`
+    pilot_readings : (kind, truncation, aspect, incidence) -> the pilot ensemble's
+        :func:`roughlight.analysis.claim_readings.pooled_readings` (unrounded) at its search radii
+    design : ``alpha`` (family-wise error), ``max_seeds`` (the most tested seeds an ensemble may take)
+    configured : (kind, truncation, aspect) -> the tested seeds the config gives the ensemble
 
     Returns
     -------
-    DataFrame: kind, surface keys, ``test``, ``family`` (tests in the family), ``level`` (each interval's),
-    ``margin``, ``regular``, ``pilot_seeds``, ``pilot_measurable``, ``pilot_mean``, ``pilot_sd``, ``seeds_needed``
-    (Int64), ``plan`` (why), ``seeds_configured``.
+    DataFrame: kind, surface keys, ``test``, ``lobe``, ``role``, ``family``, ``level``, ``margin``, ``regular``,
+    ``pilot_seeds``, ``pilot_mean``, ``pilot_se``, ``seeds_needed`` (Int64), ``plan`` (why),
+    ``ensemble_seeds`` (the ensemble's plan: its most demanding test, capped at ``max_seeds``),
+    ``seeds_configured``.
     """
-    tests = _planned_tests(statistics)
-    family = len(tests)
+    plan = margin_table[margin_table["reading"] == "unrounded"].reset_index(drop=True)
+    family = len(plan)
     level = 1.0 - float(design["alpha"]) / max(family, 1)
-    margin_of = margin_table.set_index("statistic")["margin"]
-    regular = _regular_values(statistics)
-    pilots = statistics[(statistics["kind"] != "pyramids") & is_pilot(statistics["seed"].to_numpy())]
     rows = []
-    for kind, t, a, i, name in tests:
-        values = pilots.loc[(pilots["kind"] == kind) & (pilots["truncation"] == t) & (pilots["aspect"] == a)
-                            & (pilots["incidence"] == i) & (pilots["statistic"] == name), "value"].to_numpy(float)
-        reg = float(regular.get((t, a, i, name), np.nan))
-        need, why = planned_seeds(values, reg, float(margin_of[name]), level, int(design["max_seeds"]))
-        finite = values[np.isfinite(values)]
-        rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "test": name, "family": family,
-                     "level": level, "margin": float(margin_of[name]), "regular": reg, "pilot_seeds": len(values),
-                     "pilot_measurable": len(finite), "pilot_mean": float(finite.mean()) if len(finite) else np.nan,
-                     "pilot_sd": float(finite.std(ddof=1)) if len(finite) > 1 else np.nan,
-                     "seeds_needed": need, "plan": why,
-                     "seeds_configured": int(configured.get((kind, t, a), 0))})
+    for m in plan.itertuples(index=False):
+        key = (m.kind, m.truncation, m.aspect, m.incidence)
+        pilot = pilot_readings.get(key, {})
+        spec = TESTS[m.test]
+        mean, se = float(pilot.get(m.test, np.nan)), float(pilot.get(f"{m.test}_se", np.nan))
+        if spec["role"] == "shape" and not pilot.get("back_contrast" if spec["lobe"] == "back"
+                                                      else "hot_spot_contrast", np.nan) > m.margin:
+            need, why = 2, "no lobe expected from the pilot: no shape to test"
+        else:
+            need, why = planned_seeds(mean, se, int(pilot.get("seeds", 0)), m.regular, m.margin, level, spec["role"],
+                                      int(design["max_seeds"]))
+        rows.append({"kind": m.kind, "truncation": m.truncation, "aspect": m.aspect, "incidence": m.incidence,
+                     "test": m.test, "lobe": spec["lobe"], "role": spec["role"], "family": family, "level": level,
+                     "margin": m.margin, "regular": m.regular, "pilot_seeds": int(pilot.get("seeds", 0)),
+                     "pilot_mean": mean, "pilot_se": se, "seeds_needed": need, "plan": why,
+                     "seeds_configured": int(configured.get((m.kind, m.truncation, m.aspect), 0))})
     out = pd.DataFrame(rows, columns=["kind"] + SURFACE_KEYS + [
-        "test", "family", "level", "margin", "regular", "pilot_seeds", "pilot_measurable", "pilot_mean", "pilot_sd",
+        "test", "lobe", "role", "family", "level", "margin", "regular", "pilot_seeds", "pilot_mean", "pilot_se",
         "seeds_needed", "plan", "seeds_configured"])
     out["seeds_needed"] = pd.array(out["seeds_needed"], dtype="Int64")
+    cap = int(design["max_seeds"])
+    out["ensemble_seeds"] = out.groupby(["kind"] + SURFACE_KEYS)["seeds_needed"].transform(
+        lambda s: cap if s.isna().any() else int(min(cap, s.max()))).astype(int)
     return out
 
 
-def _planned_tests(statistics: pd.DataFrame) -> list[tuple]:
-    """Every planned test: (kind, truncation, aspect, incidence, statistic) for each random ensemble (the
-    grid points with random tiles) and claim statistic, in order; fixed by the design, not by any outcome."""
-    random = statistics[statistics["kind"] != "pyramids"]
-    ensembles = random[["kind"] + SURFACE_KEYS].drop_duplicates().sort_values(["kind"] + SURFACE_KEYS)
-    return [(str(r.kind), float(r.truncation), float(r.aspect), float(r.incidence), name)
-            for r in ensembles.itertuples(index=False) for name in CLAIMS]
+# ---------------------------------------------------------------------------------------------------------------
+# the verdict
 
 
-def _regular_values(statistics: pd.DataFrame) -> pd.Series:
-    regular = statistics[statistics["kind"] == "pyramids"]
-    return regular.set_index(SURFACE_KEYS + ["statistic"])["value"]
-
-
-def decide(mean: float, low: float, high: float, regular: float, margin: float, expected: str) -> tuple[str, str]:
-    """One test's verdict from its interval [low, high] against the regular value and the margin: "difference"
-    (the interval wholly beyond ``regular +- margin``; ``expected`` "below" or "above" says whether it goes the
-    way the thesis claims), "no difference" (wholly within), or "undecided". Returns (verdict, why)."""
+def decide(low: float, high: float, regular: float, margin: float, expected: str) -> tuple[str, str]:
+    """A shape test's verdict from its interval [low, high] against the regular value and the margin:
+    "difference" (the interval wholly beyond ``regular +- margin``; ``expected`` "below" or "above" says whether it
+    goes the way the thesis claims), "no difference" (wholly within), or "undecided". Returns (verdict, why)."""
     if low > regular + margin or high < regular - margin:
         side = "above" if low > regular + margin else "below"
         agrees = "as the thesis claims" if side == expected else "against the thesis's claim"
@@ -343,131 +467,252 @@ def decide(mean: float, low: float, high: float, regular: float, margin: float, 
     return "undecided", "the interval reaches across the margin's edge"
 
 
-def claim_table(statistics: pd.DataFrame, design_table: pd.DataFrame) -> pd.DataFrame:
-    """The claim's verdict, a test a row, from the tested seeds only (the pilots never enter).
+def claim_table(tested: dict, design_table: pd.DataFrame, margin_table: pd.DataFrame) -> pd.DataFrame:
+    """The claim's verdict, a test and reading a row, from the tested seeds only (the pilots never enter).
 
-    Every tested seed is accounted for: ``seeds`` (rendered and tested), ``measurable`` (with a measurable lobe)
-    and ``left_out`` (how many were not, and why, grouped). The interval is Student-t at the design's level,
-    cut to the statistic's range.
+    Parameters
+    ----------
+    tested : (kind, truncation, aspect, incidence, reading) -> the tested ensemble's
+        :func:`roughlight.analysis.claim_readings.pooled_readings` at its search radii
+    design_table : :func:`claim_design`
+    margin_table : :func:`margins` (each reading's margin)
 
     Returns
     -------
-    DataFrame: kind, surface keys, ``test``, ``claim``, ``regular``, ``margin``, ``level``, ``seeds``,
-    ``measurable``, ``left_out``, ``mean``, ``sd``, ``low``, ``high``, ``verdict`` ("difference", "no difference",
-    "undecided" or "not measurable"), ``why``, ``agrees`` (True where a difference goes the way the thesis
-    claims, False against it, <NA> otherwise), ``seeds_needed`` (the pilot's plan), ``seeds_to_decide`` (from the
-    tested seeds' spread, where undecided: how many would narrow the interval enough; Int64).
+    DataFrame: kind, surface keys, ``test``, ``reading``, ``claim``, ``regular``, ``margin``, ``level``, ``seeds``,
+    ``mean``, ``se``, ``low``, ``high``, ``verdict`` ("lobe", "no lobe", "difference", "no difference",
+    "undecided", "not measurable"), ``why``, ``agrees`` (True where a difference goes the way the thesis claims,
+    False against it), ``seeds_to_decide`` (Int64, where undecided). A shape test whose lobe test found no lobe (in
+    the same reading) is "no lobe".
     """
-    tested = statistics[(statistics["kind"] != "pyramids") & ~is_pilot(statistics["seed"].to_numpy())]
-    rows = []
-    for d in design_table.itertuples(index=False):
-        part = tested[(tested["kind"] == d.kind) & (tested["truncation"] == d.truncation)
-                      & (tested["aspect"] == d.aspect) & (tested["incidence"] == d.incidence)
-                      & (tested["statistic"] == d.test)]
-        rows.append(_claim_row(d, part))
+    margin_of = margin_table.set_index(["kind"] + SURFACE_KEYS + ["test", "reading"])
+    rows, lobes = [], {}
+    order = sorted(design_table.itertuples(index=False), key=lambda d: TESTS[d.test]["role"] != "lobe")
+    for d in order:
+        for reading in READINGS:
+            key = (d.kind, d.truncation, d.aspect, d.incidence)
+            m = margin_of.loc[key + (d.test, reading)]
+            spec = TESTS[d.test]
+            found = lobes.get(key + (spec["lobe"], reading))
+            row = _verdict_row(d, reading, tested.get(key + (reading,), {}), float(m["regular"]), float(m["margin"]),
+                               found)
+            if spec["role"] == "lobe":
+                lobes[key + (spec["lobe"], reading)] = row["verdict"] == "lobe"
+            rows.append(row)
     out = pd.DataFrame(rows)
     if len(out):
-        for column in ("seeds_needed", "seeds_to_decide"):
-            out[column] = pd.array(out[column], dtype="Int64")
+        tests = list(TESTS)
+        out = out.sort_values(["kind"] + SURFACE_KEYS + ["test", "reading"],
+                              key=lambda c: c.map(tests.index) if c.name == "test" else c).reset_index(drop=True)
+        out["seeds_to_decide"] = pd.array(out["seeds_to_decide"], dtype="Int64")
         out["agrees"] = pd.array(out["agrees"], dtype="boolean")
     return out
 
 
-def _left_out(part: pd.DataFrame) -> str:
-    """The tested seeds without a value, grouped by why: ``"2 cut by the horizon (seeds 3, 7)"``."""
-    missing = part[part["value"].isna()]
-    if missing.empty:
-        return ""
-    groups = []
-    for why, g in missing.groupby(missing["note"].fillna("").str.split(":").str[0], sort=True):
-        groups.append(f"{len(g)} {why or 'without a value'} (seed{'s' if len(g) > 1 else ''} "
-                      f"{', '.join(str(int(s)) for s in sorted(g['seed']))})")
-    return "; ".join(groups)
-
-
-def _claim_row(d, part: pd.DataFrame) -> dict:
-    """One test's row of :func:`claim_table` from its design row ``d`` and its tested seeds' rows ``part``."""
-    rule = CLAIMS[d.test]
-    values = part["value"].to_numpy(float)
-    finite = values[np.isfinite(values)]
-    n, k = len(values), len(finite)
+def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, lobe_found: bool | None) -> dict:
+    """One test's row of :func:`claim_table` in one reading (``lobe_found``: its lobe test's outcome, for a shape
+    test)."""
+    spec = TESTS[d.test]
+    mean, se, n = (float(pooled.get(d.test, np.nan)), float(pooled.get(f"{d.test}_se", np.nan)),
+                   int(pooled.get("seeds", 0)))
     row = {"kind": d.kind, "truncation": d.truncation, "aspect": d.aspect, "incidence": d.incidence, "test": d.test,
-           "claim": rule["claim"], "regular": d.regular, "margin": d.margin, "level": d.level, "seeds": n,
-           "measurable": k, "left_out": _left_out(part), "mean": float(finite.mean()) if k else np.nan,
-           "sd": float(finite.std(ddof=1)) if k > 1 else np.nan, "low": np.nan, "high": np.nan,
-           "verdict": "not measurable", "why": "", "agrees": pd.NA, "seeds_needed": d.seeds_needed,
-           "seeds_to_decide": pd.NA}
-    if not np.isfinite(d.regular):
-        row["why"] = "the regular surface's lobe is not measurable here"
+           "reading": reading, "claim": spec["claim"], "regular": regular, "margin": margin, "level": d.level,
+           "seeds": n, "mean": mean, "se": se, "low": np.nan, "high": np.nan, "verdict": "not measurable",
+           "why": "", "agrees": pd.NA, "seeds_to_decide": pd.NA}
+    if spec["role"] == "shape" and lobe_found is False:
+        row.update(verdict="no lobe", why="its contrast is within the noise: no shape to compare")
         return row
-    if k < 2 or 2 * k < n:
-        row["why"] = f"{k} of {n} tested seeds have a measurable lobe: the test needs at least half of them and 2"
+    if not (np.isfinite(mean) and np.isfinite(se)) or n < 2:
+        row["why"] = (pooled.get(f"{spec['lobe']}_why") or "a resample of the seeds could not read it"
+                      if n >= 2 else f"{n} tested seed(s): an interval needs 2")
         return row
-    half = float(_t_quantile(d.level, k) * row["sd"] / math.sqrt(k))
-    lo, hi = rule["range"]
-    row["low"], row["high"] = max(lo, row["mean"] - half), min(hi, row["mean"] + half)
-    row["verdict"], row["why"] = decide(row["mean"], row["low"], row["high"], d.regular, d.margin, rule["expected"])
+    half = float(_t_quantile(d.level, n) * se)
+    lo, hi = spec["range"]
+    row["low"], row["high"] = max(lo, mean - half), min(hi, mean + half)
+    if spec["role"] == "lobe":
+        found = row["low"] > margin
+        row.update(verdict="lobe" if found else "no lobe",
+                   why=(f"its contrast's interval lies above the margin {margin:.3g}" if found else
+                        f"its contrast's interval reaches down to the margin {margin:.3g}: within the noise"))
+        return row
+    row["verdict"], row["why"] = decide(row["low"], row["high"], regular, margin, spec["expected"])
     if row["verdict"] == "difference":
-        row["agrees"] = (row["low"] > d.regular) == (rule["expected"] == "above")
-    if row["verdict"] == "undecided" and row["sd"] > 0:
-        need = fewest_seeds(row["sd"], abs(abs(row["mean"] - d.regular) - d.margin), d.level, 10_000)
+        row["agrees"] = (row["low"] > regular) == (spec["expected"] == "above")
+    if row["verdict"] == "undecided":
+        need = fewest_seeds(se * math.sqrt(n), abs(abs(mean - regular) - margin), d.level, 10_000)
         row["seeds_to_decide"] = pd.NA if need is None else need
-        row["why"] += (f"; about {need} measurable seeds at this spread would decide it" if need is not None
+        row["why"] += (f"; about {need} seeds at this spread would decide it" if need is not None
                        else "; its mean sits on the margin's edge: no number of seeds decides it")
     return row
 
 
-#: The peaks (0-255) at which :func:`floor_effect` rounds its synthetic lobes.
-FLOOR_PEAKS = (4.0, 6.0, 8.0, 10.0, 12.0, 16.0, 24.0, 32.0)
+# ---------------------------------------------------------------------------------------------------------------
+# the exact reference around the regular lobes, at the study's azimuth step and finer
 
 
-def regular_back_lobes(study: pd.DataFrame) -> dict:
-    """The regular surface's back lobes at the random grid points: surface key -> (azimuth, elevation, specular,
-    coverage, peak direction), for :func:`rendering_noise`; a surface without a back lobe to look at is left out."""
-    from .grids import surface_value_grids
-    from .lobe_shape import back_lobe_peak
+def reference_steps(azimuth_step: float) -> list[float]:
+    """The azimuth steps (degrees, coarsest first) the regular lobes are measured at by the exact reference: the
+    study's, half of it, and 1 degree."""
+    return sorted({float(azimuth_step), float(azimuth_step) / 2.0, 1.0}, reverse=True)
 
-    regular = study[study["kind"].astype(str) == "pyramids"] if "kind" in study else study
+
+def reference_views(geometry: pd.DataFrame, steps, elevation_step: float = 1.0) -> pd.DataFrame:
+    """The views rule ``claim_grid`` measures of each regular surface in the claim, at each azimuth step: every
+    view within each of its claimed lobes' own disc (:data:`CLEARANCE` of the regular lobe's widths) and a step's
+    reach beyond (the interpolation between views at the rim; the hot spot's also its width beyond, where its edge
+    is looked for to either side).
+
+    Returns
+    -------
+    DataFrame: surface keys, ``step``, ``azimuth``, ``elevation`` (degrees), a view a row.
+    """
+    from ..render.views import view_grid
+
+    frames = []
+    claimed = geometry[geometry["in_claim"]]
+    for (t, a, i), part in claimed.groupby(SURFACE_KEYS, sort=True):
+        centres = lobe_centres((t, a, i))
+        for step in steps:
+            az, el = view_grid(elevation_step, step)
+            V = view_direction(el, az)
+            near = np.zeros(len(az), bool)
+            for g in part.itertuples(index=False):
+                extra = g.width if g.lobe == "hot_spot" else 0.0
+                reach = CLEARANCE * g.width + extra + 1.5 * max(step, elevation_step)
+                near |= np.degrees(np.arccos(np.clip(V @ centres[g.lobe], -1.0, 1.0))) <= reach
+            frames.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": i, "step": float(step),
+                                        "azimuth": az[near], "elevation": el[near]}))
+    columns = SURFACE_KEYS + ["step", "azimuth", "elevation"]
+    return pd.concat(frames, ignore_index=True)[columns] if frames else pd.DataFrame(columns=columns)
+
+
+def reference_stacks(grid: pd.DataFrame, elevation_step: float = 1.0) -> dict:
+    """Rule ``claim_grid``'s measurements (surface keys, ``method``, ``step``, ``azimuth``, ``elevation``,
+    ``component``, ``rough_unrounded``, ``rough_unshadowed``) as a :class:`SeedStack` for each regular surface,
+    method and azimuth step, on the full view grid of that step: NaN (coverage 0) where nothing was measured.
+    Returns {surface key: {(method, step): SeedStack}}; both readings hold the unrounded values."""
     out = {}
-    if regular.empty:
-        return out
-    for key, az, el, grids in surface_value_grids(regular, "specular", ("rough", "coverage")):
-        peak_direction, _ = back_lobe_peak(key, az, el, grids["rough"], grids["coverage"])
-        if peak_direction is not None:
-            out[key] = (az, el, grids["rough"], grids["coverage"], peak_direction)
+    for (t, a, i, method, step), part in grid.groupby(SURFACE_KEYS + ["method", "step"], sort=True):
+        az = np.arange(0.0, 180.0 - step / 2, step)
+        el = np.arange(0.0, 180.0 + elevation_step / 2, elevation_step)
+        grids = {}
+        for component in ("specular", "diffuse"):
+            rows = part[part["component"].astype(str) == component]
+            ia = np.rint(rows["azimuth"].to_numpy(float) / step).astype(int)
+            ie = np.rint(rows["elevation"].to_numpy(float) / elevation_step).astype(int)
+            for column in ("rough_unrounded", "rough_unshadowed"):
+                values = np.full((1, len(az), len(el)), np.nan)
+                values[0, ia, ie] = rows[column].to_numpy(float)
+                grids[component, column] = values
+        coverage = np.where(np.isfinite(grids["diffuse", "rough_unrounded"][0]), 1.0, 0.0)
+        coverage[:, (el <= 0) | (el >= 180)] = 0.0
+        both = lambda g: {reading: g for reading in READINGS}  # noqa: E731
+        out.setdefault((float(t), float(a), float(i)), {})[str(method), float(step)] = SeedStack(
+            (t, a, i), "pyramids", [0], az, el, coverage, both(grids["specular", "rough_unrounded"]),
+            both(grids["diffuse", "rough_unrounded"]), grids["diffuse", "rough_unshadowed"])
     return out
 
 
-def design_tables(study: pd.DataFrame, statistics: pd.DataFrame, claims: dict) -> dict:
+def grid_table(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
+    """The regular lobes' statistics at each azimuth step rule ``claim_grid`` measured (unrounded), by each
+    method, each lobe in its own disc (:data:`CLEARANCE` of its regular widths): whether the study's azimuth step
+    is fine enough for each statistic.
+
+    Returns
+    -------
+    DataFrame: surface keys, ``lobe``, ``statistic``, ``method``, ``step``, ``value``, ``change`` (against the same
+    method's finest step).
+    """
+    rows = []
+    for g in geometry[geometry["in_claim"]].itertuples(index=False):
+        key = (g.truncation, g.aspect, g.incidence)
+        read = {ms: surface_readings(s, lobe_centres(key), {g.lobe: CLEARANCE * g.width})
+                for ms, s in reference.get(key, {}).items()}
+        for test, spec in TESTS.items():
+            if spec["lobe"] != g.lobe:
+                continue
+            for method in sorted({m for m, _ in read}, reverse=True):
+                steps = sorted((s for m, s in read if m == method), reverse=True)
+                for step in steps:
+                    value = read[method, step][test]
+                    rows.append({**dict(zip(SURFACE_KEYS, key)), "lobe": g.lobe, "statistic": test,
+                                 "method": method, "step": step, "value": value,
+                                 "change": value - read[method, steps[-1]][test]})
+    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "statistic", "method", "step", "value", "change"])
+
+
+# ---------------------------------------------------------------------------------------------------------------
+# the whole design and verdict from the study's tables
+
+
+def _split(study: pd.DataFrame) -> tuple[dict, dict, dict]:
+    """The study's rows at the random grid points as :class:`SeedStack` s: the regular surfaces (by surface key),
+    each random ensemble's pilot seeds and its tested seeds (by kind and surface key)."""
+    from .claim_readings import seed_stacks
+
+    regular, pilots, tested = {}, {}, {}
+    for stack in seed_stacks(study):
+        if stack.kind == "pyramids":
+            regular[stack.key] = stack
+            continue
+        pilot = is_pilot(stack.seeds)
+        if pilot.any():
+            pilots[(stack.kind,) + stack.key] = stack.subset(pilot)
+        if (~pilot).any():
+            tested[(stack.kind,) + stack.key] = stack.subset(~pilot)
+    return regular, pilots, tested
+
+
+def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
+    """Which lobes enter the claim and how far each kind's are looked for, from geometry, the regular surfaces and
+    the pilot seeds (rule ``claim_discs``; no tested seed is read).
+
+    Returns
+    -------
+    dict of DataFrames: ``random_claim_geometry`` (:func:`claim_geometry`), ``random_claim_radii``
+    (:func:`search_radii`).
+    """
+    regular, pilots, _ = _split(study[is_pilot(study["seed"].to_numpy()) | (study["kind"].astype(str) == "pyramids")])
+    geometry = claim_geometry(list(regular.values()), lighting)
+    return {"random_claim_geometry": geometry, "random_claim_radii": search_radii(geometry, pilots)}
+
+
+def _disc_of(radii: pd.DataFrame, kind: str, key) -> dict:
+    part = radii[(radii["kind"] == kind) & (radii["truncation"] == key[0]) & (radii["aspect"] == key[1])
+                 & (radii["incidence"] == key[2])]
+    return dict(zip(part["lobe"], part["radius"].astype(float)))
+
+
+def design_tables(study: pd.DataFrame, radii: pd.DataFrame, geometry: pd.DataFrame, reference: pd.DataFrame | None,
+                  claims: dict, elevation_step: float = 1.0) -> dict:
     """The claim's design and verdict as the tables rule ``analysis_random`` writes.
 
     Parameters
     ----------
-    study : the study's rows at the random grid points (the regular surface's among them)
-    statistics : per-seed statistics (:func:`roughlight.analysis.ensembles.seed_statistics`, pilot seeds included)
-    claims : :func:`roughlight.study.config.claim_settings`
+    study : the study's rows at the random grid points (the regular surface's among them, pilot seeds included)
+    radii, geometry : rule ``claim_discs``' tables
+    reference : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
+        grid's effect)
+    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
 
     Returns
     -------
-    dict of DataFrames: ``random_claim_floor`` (:func:`floor_effect` at each distinct back-lobe elevation of the
-    regular surface, the largest change kept), ``random_claim_noise`` (:func:`rendering_noise`),
-    ``random_claim_margins`` (:func:`margins`), ``random_claim_design`` (:func:`claim_design`) and
-    ``random_claims`` (:func:`claim_table`).
+    dict of DataFrames: ``random_claim_margins`` (:func:`margins`), ``random_claim_design`` (:func:`claim_design`),
+    ``random_claims`` (:func:`claim_table`), ``random_claim_grid`` (:func:`grid_table`), ``random_claim_errors``
+    (:func:`instrument_errors`).
     """
-    min_peak = float(claims["min_peak"])
-    lobes = regular_back_lobes(study)
-    noise = rendering_noise(lobes, min_peak)
-    if lobes:
-        az, el = next(iter(lobes.values()))[:2]
-        elevations = sorted({round(float(np.degrees(np.arcsin(v[4][2])))) for v in lobes.values()})
-        floors = [floor_effect(FLOOR_PEAKS, e, az, el) for e in elevations]
-        floor = pd.concat(floors).groupby("peak", as_index=False).max()
-    else:
-        floor = pd.DataFrame({"peak": list(FLOOR_PEAKS), **{name: np.nan for name in CLAIMS}})
-    margin_table = margins(noise, floor, min_peak)
+    regular, pilots, tested = _split(study)
+    ref = reference_stacks(reference, elevation_step) if reference is not None and len(reference) else {}
+    errors = instrument_errors(ref, geometry)
+    margin_table = margins(regular, radii, errors)
+    pilot_readings = {key: pooled_readings(stack, lobe_centres(key[1:]), _disc_of(radii, key[0], key[1:]))
+                      for key, stack in pilots.items()}
     configured = {(kind, float(t), float(a)): int(n) for kind, t, a, n in claims.get("tested", [])}
-    design = claim_design(statistics, claims, margin_table, configured)
+    design = claim_design(margin_table, pilot_readings, claims, configured)
     if int(claims.get("pilot_seeds", 0)) == 0:
         design["plan"] = "no pilot seeds (claims.pilot_seeds 0): no plan"
-    return {"random_claim_floor": floor, "random_claim_noise": noise, "random_claim_margins": margin_table,
-            "random_claim_design": design, "random_claims": claim_table(statistics, design)}
+    readings = {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), _disc_of(radii, key[0], key[1:]),
+                                                  reading)
+                for key, stack in tested.items() for reading in READINGS}
+    return {"random_claim_margins": margin_table, "random_claim_design": design, "random_claim_errors": errors,
+            "random_claims": claim_table(readings, design, margin_table), "random_claim_grid": grid_table(ref, geometry)}

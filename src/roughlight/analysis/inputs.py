@@ -19,6 +19,9 @@ VIEW_COLUMNS = SURFACE_KEYS + ["azimuth", "elevation", "phase", "component", "ro
 #: they must all be read where it is called).
 LIGHTING_COLUMNS = ["light", "ambient", "shininess", "specular_model", "shadows", "specular_shadows"]
 
+#: The unrounded means the random-roughness claim reads (:mod:`roughlight.analysis.claim_readings`).
+CLAIM_COLUMNS = ["rough_unrounded", "rough_unshadowed"]
+
 #: The study columns each report rule reads (analysis_random: the random points' rows, the others the regular
 #: surface's).
 STUDY_COLUMNS = {
@@ -26,6 +29,10 @@ STUDY_COLUMNS = {
     "analysis_tables": VIEW_COLUMNS + ["light", "shininess", "shadows", "method", "render_seconds"],
     "analysis_models": VIEW_COLUMNS + LIGHTING_COLUMNS,
     "figures": VIEW_COLUMNS + LIGHTING_COLUMNS,
-    # per-seed statistics, seed-averaged views, the models refitted to every tile, the random maps
-    "analysis_random": ["kind", "seed"] + VIEW_COLUMNS + LIGHTING_COLUMNS,
+    # per-seed statistics, seed-averaged views, the models refitted to every tile, the random maps; the claim's
+    # readings (unrounded, and the diffuse with inner shadows off for the shadow-hiding function)
+    "analysis_random": ["kind", "seed"] + VIEW_COLUMNS + LIGHTING_COLUMNS + CLAIM_COLUMNS,
+    # the claim's lobes and search discs: the regular surfaces and the pilot seeds
+    "claim_discs": ["kind", "seed"] + SURFACE_KEYS + ["azimuth", "elevation", "component", "rough", "coverage"]
+    + CLAIM_COLUMNS,
 }

@@ -112,11 +112,18 @@ def analysis_models(study: pd.DataFrame, settings: dict, lighting: dict) -> dict
     return {"model_fits": fits, "model_fits_summary": model_fit_summary(fits)}
 
 
-def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims: dict | None = None) -> dict:
+def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims: dict | None = None,
+                    discs: dict | None = None, elevation_step: float = 1.0) -> dict:
     """The whole study (random tiles and the regular surface) -> per-tile statistics, the ensembles against the
     regular surface, the seeds each comparison needs, the models refitted to every tile, and the random-roughness
-    claim's design and verdict (``claims``: :func:`roughlight.study.config.claim_settings`; its defaults when
-    None)."""
+    claim's design and verdict.
+
+    Parameters
+    ----------
+    claims : :func:`roughlight.study.config.claim_settings` (its defaults when None)
+    discs : rule ``claim_discs``' ``geometry`` and ``radii`` and rule ``claim_grid``'s ``grid`` (None: computed
+        here from the study, with no claim grid)
+    """
     from . import claims as C
     from . import ensembles as E
 
@@ -125,6 +132,9 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     stats = E.seed_statistics(study, lobe_halfwidth=halfwidth, min_peak=min_peak)
     summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, halfwidth, min_peak))
     fits = E.ensemble_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
-    design = C.design_tables(study, stats, claims)
+    if discs is None:
+        found = C.claim_discs(study, lighting)
+        discs = {"geometry": found["random_claim_geometry"], "radii": found["random_claim_radii"], "grid": None}
+    design = C.design_tables(study, discs["radii"], discs["geometry"], discs.get("grid"), claims, elevation_step)
     return {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
             "random_model_fits": fits, **design}

@@ -156,15 +156,14 @@ def share_law_finding(laws: pd.DataFrame | None) -> dict:
 
 
 #: The claim's verdicts, in the order a finding counts them.
-VERDICTS = ("difference", "no difference", "undecided", "not measurable")
+VERDICTS = ("lobe", "no lobe", "difference", "no difference", "undecided", "not measurable")
 
 
 def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
-    """One test of the claim over its rows (rule ``analysis_random``'s verdict,
+    """One test of the claim over its rows in one reading (rule ``analysis_random``'s verdict,
     :func:`roughlight.analysis.claims.claim_table`): how many rows reach each verdict (``verdicts``: (verdict,
-    count) pairs; differences split into ``as claimed`` and ``against``), the random means of the tests that were
-    made (not of a "not measurable" row's few seeds) and the regular values (their ranges), the margin and the
-    statistic's ``unit``."""
+    count) pairs; differences split into ``as claimed`` and ``against``), the random means where the lobe was
+    there (their range), the regular values and the margins (their ranges) and the statistic's ``unit``."""
     verdicts = []
     for verdict in VERDICTS:
         k = int((rows["verdict"] == verdict).sum())
@@ -175,49 +174,59 @@ def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
                          if n]
         elif k:
             verdicts.append((verdict, k))
+    made = rows.loc[~rows["verdict"].isin(["no lobe", "not measurable"]), "mean"]
     return {"name": name, "test": claim_test_label(name), "claim": rows["claim"].iloc[0], "unit": unit,
-            "n": len(rows), "verdicts": verdicts, "mean": _span(rows.loc[rows["verdict"] != "not measurable", "mean"]),
-            "regular": _span(rows["regular"]),
-            "margin": float(rows["margin"].iloc[0]),
-            "measurable": int(rows["measurable"].sum()), "tested": int(rows["seeds"].sum())}
+            "n": len(rows), "verdicts": verdicts, "mean": _span(made), "regular": _span(rows["regular"]),
+            "margin": _span(rows["margin"]), "seeds": _span(rows["seeds"])}
 
 
-def _lobe_shape(test: dict | None) -> str | None:
-    """Whether the regular surface's back lobe is nearer an ellipse (squareness below 0) or a rectangle (above)
-    at every random grid point: "ellipse", "rectangle" or "between" (None: no squareness test or regular value)."""
-    if test is None or test["regular"] is None:
-        return None
-    low, high = test["regular"]
-    return "ellipse" if high < 0 else ("rectangle" if low > 0 else "between")
+def _regular_shapes(claims: pd.DataFrame) -> dict:
+    """The regular surface's lobes in the claim (unrounded): the back lobe's squareness ("ellipse" when below 0 at
+    every point, "rectangle" when above, else "between") and the halo's flatness ("flat" when above 0.5, the edge
+    nearer a straight line than a circle, "round" below), with their ranges."""
+    unrounded = claims[claims["reading"] == "unrounded"]
+    out = {}
+    for test, key, (low_name, high_name), cut in (("back_squareness", "back", ("ellipse", "rectangle"), 0.0),
+                                                  ("hot_spot_flatness", "halo", ("round", "flat"), 0.5)):
+        values = unrounded.loc[unrounded["test"] == test].drop_duplicates(["truncation", "aspect", "incidence"])
+        span = _span(values["regular"])
+        if span is None:
+            continue
+        low, high = span
+        out[key] = {"span": span, "points": len(values),
+                    "shape": low_name if high < cut else (high_name if low > cut else "between")}
+    return out
 
 
 def _claim_headline(claims: pd.DataFrame) -> str:
-    """What the verdicts add up to: "supported" (every test a difference as claimed), "refuted" (every
-    measurable test a difference against the claim or no difference), "unmeasurable" (no test could be made),
+    """What one reading's verdicts add up to, over the shape tests: "supported" (every shape test a difference as
+    claimed), "refuted" (every one decided, none as claimed), "no lobe" (no random surface has a lobe to compare),
     "undecided" (none decided), else "mixed"."""
-    verdicts = claims["verdict"]
-    decided = verdicts.isin(["difference", "no difference"])
-    if (verdicts == "not measurable").all():
-        return "unmeasurable"
+    shape = claims[claims["test"].map(lambda t: not t.endswith("_contrast"))]
+    verdicts = shape["verdict"]
+    if (verdicts == "no lobe").all():
+        return "no lobe"
+    compared = verdicts[verdicts != "no lobe"]
+    decided = compared.isin(["difference", "no difference"])
     if not decided.any():
         return "undecided"
-    agrees = claims["agrees"].astype("boolean")
-    if ((verdicts == "difference") & (agrees == True)).all():  # noqa: E712
+    agrees = shape.loc[compared.index, "agrees"].astype("boolean")
+    claimed = (compared == "difference") & (agrees == True)  # noqa: E712
+    if claimed.all():
         return "supported"
-    measured = verdicts != "not measurable"
-    if (decided[measured] & ~((verdicts == "difference") & (agrees == True))[measured]).all():  # noqa: E712
+    if decided.all() and not claimed.any():
         return "refuted"
     return "mixed"
 
 
 def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dict:
-    """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.claims.CLAIMS` (in its
-    order): the regular surface's values and the verdicts over the random grid points and kinds (rule
-    ``analysis_random``'s ``random_claims.csv``).
+    """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.claims.TESTS` (in its
+    order), in both readings: the regular surface's lobes and the verdicts over the random grid points and kinds
+    (rule ``analysis_random``'s ``random_claims.csv``).
 
     ``shown``: the "Random roughness" section is on the page (a random kind was measured).
     """
-    from ...analysis.claims import CLAIMS
+    from ...analysis.claims import TESTS
 
     if not shown:
         return {"why": "no_kind"}
@@ -226,14 +235,16 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
     claims = frame_or_none(random_claims)
     if claims is None:
         return {"why": "no_claim"}
-    tests = [_claim_test(name, claims[claims["test"] == name], CLAIMS[name]["unit"])
-             for name in CLAIMS if (claims["test"] == name).any()]
-    squareness = next((t for t in tests if t["name"] == "back_squareness"), None)
-    return {"tests": tests, "kinds": claims["kind"].nunique(), "shape": _lobe_shape(squareness),
+    readings = {}
+    for reading, part in claims.groupby("reading", sort=False):
+        readings[reading] = {
+            "tests": [_claim_test(name, part[part["test"] == name], TESTS[name]["unit"])
+                      for name in TESTS if (part["test"] == name).any()],
+            "headline": _claim_headline(part), "n_tests": len(part)}
+    first = claims.iloc[0]
+    return {"readings": readings, "regular": _regular_shapes(claims), "kinds": claims["kind"].nunique(),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
-            "n_tests": len(claims), "level": float(claims["level"].iloc[0]),
-            "headline": _claim_headline(claims),
-            "target": "random-claim"}
+            "level": float(first["level"]), "target": "random-claim"}
 
 
 # ---------------------------------------------------------------------------

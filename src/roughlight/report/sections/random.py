@@ -32,54 +32,93 @@ def _interval(mean: float, low: float, high: float) -> str:
     return f"{mean:.3g}" if np.isfinite(mean) else "–"
 
 
+def claim_test_label(test: str) -> str:
+    """A claim test's name as the page shows it: ``back_phase_shift`` -> ``back lobe: phase shift``."""
+    lobe, _, statistic = test.partition("_") if test.startswith("back_") else ("hot spot", "", test[9:])
+    return f"{'back lobe' if lobe == 'back' else lobe}: {statistic.replace('_', ' ')}"
+
+
 def random_claim_rows(claims: pd.DataFrame) -> pd.DataFrame:
     """The thesis's random-roughness claim as the page shows it: one row per random kind, grid point and test of
-    rule ``analysis_random``'s verdict (:func:`roughlight.analysis.claims.claim_table`): the regular value and the
-    margin, the tested seeds' mean with its interval at the family's level, how many seeds were tested and had a
-    measurable lobe, what became of the rest, the verdict and why, and the seeds the pilot planned."""
+    rule ``analysis_random``'s verdict (:func:`roughlight.analysis.claims.claim_table`), its two readings side by
+    side: the regular value and the margin, the tested seeds' mean with its interval at the family's level and
+    the verdict, unrounded and at 8 bits, the seeds and why (unrounded)."""
+    keys = ["kind", "truncation", "aspect", "incidence", "test"]
     rows = []
-    for _, r in claims.iterrows():
-        rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
-                     "incidence": r["incidence"], "test": claim_test_label(r["test"]), "regular": r["regular"],
-                     "margin": r["margin"], "random mean [interval]": _interval(r["mean"], r["low"], r["high"]),
-                     "tested": int(r["seeds"]), "measurable": int(r["measurable"]),
-                     "left out": r["left_out"] if isinstance(r["left_out"], str) else "",
-                     "verdict": r["verdict"], "why": r["why"], "pilot plan": r["seeds_needed"]})
+    for _, group in claims.groupby(keys, sort=False):
+        by = {r["reading"]: r for _, r in group.iterrows()}
+        first = by.get("unrounded", group.iloc[0])
+        row = {"kind": first["kind"].replace("_", " "), "truncation": first["truncation"],
+               "aspect": first["aspect"], "test": claim_test_label(first["test"]), "seeds": int(first["seeds"])}
+        for reading, r in by.items():
+            row[f"{reading}: regular"] = r["regular"]
+            row[f"{reading}: margin"] = r["margin"]
+            row[f"{reading}: random [interval]"] = _interval(r["mean"], r["low"], r["high"])
+            row[f"{reading}: verdict"] = r["verdict"]
+        row["why (unrounded)"] = first["why"]
+        rows.append(row)
     return pd.DataFrame(rows)
 
 
-def claim_test_label(statistic: str) -> str:
-    """A claim test's name as the page shows it: ``back_phase_shift`` -> ``phase shift``."""
-    return statistic.replace("back_", "").replace("_", " ")
-
-
 def _claim_tests(margins: pd.DataFrame | None) -> list[dict]:
-    """Each test of the claim: its name, the claim it puts, what its statistic shows, its margin and where the
-    margin comes from (rule ``analysis_random``'s margins table; None: not given)."""
-    from ...analysis.claims import CLAIMS
+    """Each test of the claim: its lobe, what it asks and what its statistic shows, and its margins over the
+    grid points (unrounded reading) with what set them most often (rule ``analysis_random``'s margins)."""
+    from ...analysis.claims import TESTS
 
-    margin = margins.set_index("statistic") if margins is not None else None
     out = []
-    for name, rule in CLAIMS.items():
-        row = margin.loc[name] if margin is not None and name in margin.index else None
-        out.append({"test": claim_test_label(name), "claim": rule["claim"], "shows": rule["shows"],
-                    "unit": rule["unit"], "margin": None if row is None else float(row["margin"]),
-                    "from": None if row is None else str(row["from"]),
-                    "noise": None if row is None else float(row["rendering_noise"]),
-                    "floor": None if row is None else float(row["floor_effect"])})
+    for name, rule in TESTS.items():
+        part = None if margins is None else margins[(margins["test"] == name) & (margins["reading"] == "unrounded")]
+        found = part is not None and len(part) and part["margin"].notna().any()
+        out.append({"test": claim_test_label(name), "role": rule["role"], "claim": rule["claim"],
+                    "shows": rule["shows"], "unit": rule["unit"],
+                    "low": float(part["margin"].min()) if found else None,
+                    "high": float(part["margin"].max()) if found else None,
+                    "from": str(part["from"].mode().iloc[0]) if found else None})
     return out
 
 
 def claim_design_rows(design: pd.DataFrame) -> pd.DataFrame:
-    """The claim's design as the page shows it: a test a row, the pilot seeds' numbers and the seeds they plan,
-    beside the seeds the config tests (rule ``analysis_random``, :func:`roughlight.analysis.claims.claim_design`)."""
+    """The claim's design as the page shows it: a test a row, the pilot ensemble's mean and jackknife error, the
+    seeds they plan and why, the ensemble's plan and the seeds the config tests (rule ``analysis_random``,
+    :func:`roughlight.analysis.claims.claim_design`)."""
     rows = []
     for _, r in design.iterrows():
         rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
-                     "test": claim_test_label(r["test"]), "pilot seeds": int(r["pilot_seeds"]),
-                     "measurable": int(r["pilot_measurable"]), "pilot mean": r["pilot_mean"], "pilot SD": r["pilot_sd"],
-                     "seeds planned": r["seeds_needed"], "plan": r["plan"], "seeds tested": int(r["seeds_configured"])})
+                     "test": claim_test_label(r["test"]), "margin": r["margin"], "regular": r["regular"],
+                     "pilot seeds": int(r["pilot_seeds"]), "pilot mean": r["pilot_mean"], "pilot SE": r["pilot_se"],
+                     "seeds planned": r["seeds_needed"], "plan": r["plan"], "ensemble plan": int(r["ensemble_seeds"]),
+                     "seeds tested": int(r["seeds_configured"])})
     return pd.DataFrame(rows)
+
+
+def claim_geometry_rows(geometry: pd.DataFrame, radii: pd.DataFrame | None) -> pd.DataFrame:
+    """Which lobes enter the claim (rule ``claim_discs``): each grid point's lobe, where its regular lobe lies,
+    its width, the room the horizon leaves, whether it is in the claim (or why not) and each kind's search disc."""
+    rows = []
+    for _, g in geometry.iterrows():
+        row = {"truncation": g["truncation"], "aspect": g["aspect"], "incidence": g["incidence"],
+               "lobe": "back lobe" if g["lobe"] == "back" else "hot spot",
+               "centre elevation": g["centre_elevation"], "regular width": g["width"], "room": g["cap"],
+               "in the claim": "yes" if g["in_claim"] else f"no: {g['why']}"}
+        if radii is not None:
+            for _, r in radii[(radii["truncation"] == g["truncation"]) & (radii["aspect"] == g["aspect"])
+                              & (radii["incidence"] == g["incidence"]) & (radii["lobe"] == g["lobe"])].iterrows():
+                row[f"disc: {r['kind'].replace('_', ' ')}"] = r["radius"]
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def claim_grid_rows(grid: pd.DataFrame) -> pd.DataFrame:
+    """The regular lobes' statistics at each azimuth step (rule ``analysis_random``'s grid table), a statistic and
+    method a row, the steps side by side."""
+    if grid.empty:
+        return grid
+    wide = grid.pivot_table(index=["truncation", "aspect", "incidence", "statistic", "method"], columns="step",
+                            values="value", aggfunc="first", sort=False)
+    wide.columns = [f"{step:g}°" for step in wide.columns]
+    wide = wide.reset_index()
+    wide["statistic"] = wide["statistic"].map(claim_test_label)
+    return wide
 
 
 def _claim_family(design: pd.DataFrame | None) -> dict | None:
@@ -88,6 +127,13 @@ def _claim_family(design: pd.DataFrame | None) -> dict | None:
         return None
     return {"tests": int(design["family"].iloc[0]), "level": float(design["level"].iloc[0]),
             "alpha": round(float((1 - design["level"].iloc[0]) * design["family"].iloc[0]), 6)}
+
+
+def _claim_counts(claims: pd.DataFrame | None) -> dict:
+    """How many tests reach each verdict, by reading."""
+    if claims is None or claims.empty:
+        return {}
+    return {reading: part["verdict"].value_counts().to_dict() for reading, part in claims.groupby("reading")}
 
 
 def _best_models(fits: pd.DataFrame) -> list[dict]:
@@ -120,11 +166,12 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
                 surface_settings: dict | None = None, random_accuracy: pd.DataFrame | None = None,
                 tile_convergence: pd.DataFrame | None = None, random_tiles_png=None, plan: str = "full",
                 random_claims: pd.DataFrame | None = None, random_claim_design: pd.DataFrame | None = None,
-                random_claim_margins: pd.DataFrame | None = None, random_claim_floor: pd.DataFrame | None = None
+                random_claim_margins: pd.DataFrame | None = None, random_claim_geometry: pd.DataFrame | None = None,
+                random_claim_radii: pd.DataFrame | None = None, random_claim_grid: pd.DataFrame | None = None
                 ) -> dict | None:
     """"Random roughness" (ensembles against the regular surface, the claim's design and verdict, the analytic
-    models refitted, seeds needed, the random tiles' benchmark), from rule ``analysis_random``'s outputs and rule
-    ``random_tiles``'; None: no random kind measured."""
+    models refitted, seeds needed, the random tiles' benchmark), from rules ``claim_discs``, ``analysis_random``
+    and ``random_tiles``; None: no random kind measured."""
     ensembles, seeds_needed, model_fits = random_ensembles, random_seeds_needed, random_model_fits
     if ensembles is None:
         return None
@@ -141,13 +188,16 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
     modelled = {c for models in RANDOM_MODELS.values() for c, _ in models}
     opposition = [c for c in rmse if c not in modelled]
     needed = [c for c in seeds_needed.columns if c.startswith("seeds_for_")]
+    claims, design = frame_or_none(random_claims), frame_or_none(random_claim_design)
+    geometry, grid = frame_or_none(random_claim_geometry), frame_or_none(random_claim_grid)
     return {
         "settings": surface_settings or {}, "tests": _claim_tests(frame_or_none(random_claim_margins)),
-        "claim": random_claim_rows(random_claims) if frame_or_none(random_claims) is not None else None,
-        "design": (claim_design_rows(random_claim_design) if frame_or_none(random_claim_design) is not None
-                   else None),
-        "family": _claim_family(frame_or_none(random_claim_design)),
-        "floor": frame_or_none(random_claim_floor), "charts": charts, "shown": shown, "best": _best_models(fits),
+        "claim": random_claim_rows(claims) if claims is not None else None, "counts": _claim_counts(claims),
+        "design": claim_design_rows(design) if design is not None else None,
+        "geometry": (claim_geometry_rows(geometry, frame_or_none(random_claim_radii)) if geometry is not None
+                     else None),
+        "grid": claim_grid_rows(grid) if grid is not None else None,
+        "family": _claim_family(design), "charts": charts, "shown": shown, "best": _best_models(fits),
         "fits": fits[keys + [c for c in rmse if c in modelled]],
         "opposition": fits[keys + opposition] if opposition else None,
         "seeds": seeds_needed[keys + ["statistic", "mean", "sd"] + needed],
@@ -159,7 +209,9 @@ SECTION = Section("random", random_data, "random.html", title="Random roughness"
                           "random_claims": "results/analysis/random_claims.csv",
                           "random_claim_design": "results/analysis/random_claim_design.csv",
                           "random_claim_margins": "results/analysis/random_claim_margins.csv",
-                          "random_claim_floor": "results/analysis/random_claim_floor.csv",
+                          "random_claim_geometry": "results/analysis/random_claim_geometry.csv",
+                          "random_claim_radii": "results/analysis/random_claim_radii.csv",
+                          "random_claim_grid": "results/analysis/random_claim_grid.csv",
                           "random_seeds_needed": "results/analysis/random_seeds_needed.csv",
                           "random_model_fits": "results/analysis/random_model_fits.parquet",
                           "random_ensembles_png": "results/figures/random_ensembles.png",
