@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from roughlight.measurements import implicit_surface as implicit_bench
-from roughlight.render import methods, shading
+from roughlight.render import methods, shading, sweep
 from roughlight.render import views as sweeps
 from roughlight.render.exact import reference
 from roughlight.render.implicit import model as implicit
@@ -49,6 +49,17 @@ def test_shader_and_numpy_agree_for_both_models():
         assert np.abs(gl_exact[c] - np_exact[c]).max() < 0.1, c
         # the correction's pixels dither its shares: within 1/M of each facet value's weight
         assert np.abs(gl_corr[c] - np_corr[c]).max() < 0.1, c
+    # the shader reads an 8-bit framebuffer: NaN before rounding and without shadows at every measured view; the
+    # numpy models weight facet values by shares: both, within half a level of the 8-bit means
+    seen = gl_exact["coverage"] > 0
+    for key in sweep.EXTRA_KEYS:
+        for out in (gl_exact, gl_corr):
+            assert np.isnan(out[key][seen]).all() and (out[key][~seen] == 0).all(), key
+        for out in (np_exact, np_corr):
+            assert np.isfinite(out[key]).all(), key
+            c = key.split("_")[0]
+            assert np.all(np.abs(out[f"{c}_unrounded"] - out[c])[seen] <= 0.5 + 1e-6), key
+            assert np.all(out[f"{c}_unshadowed"] >= out[f"{c}_unrounded"] - 1e-9), key
 
 
 @pytest.mark.parametrize("elevation, azimuth", [(90.0, 0.0), (60.0, 20.0), (45.0, 135.0)])

@@ -67,6 +67,12 @@ def test_a_regular_surface_is_within_a_level_of_the_exact_reference():
     for component in shading.COMPONENTS:
         error = np.abs(out[component] - exact[component])
         assert error.max() <= 1.0 and error.mean() < 0.3, (component, error)
+        # its film is float: the mean before rounding, within half a level (and its tie slack) of the 8-bit one and
+        # within a level of the reference's; none without shadows (its light always casts them)
+        unrounded = out[f"{component}_unrounded"]
+        assert np.all(np.abs(unrounded - out[component])[:-1] <= 0.5 + 2e-3), component  # its ties: 2e-3
+        assert np.abs(unrounded - exact[f"{component}_unrounded"]).max() <= 1.0, component
+        assert np.isnan(out[f"{component}_unshadowed"][:-1]).all() and out[f"{component}_unshadowed"][-1] == 0
     assert out["diffuse"][-1] == 0 and out["coverage"][-1] == 0  # grazing: not measured
     np.testing.assert_allclose(out["coverage"][:-1], 1.0, atol=1e-3)
     assert methods.recorded("mitsuba", MitsubaSettings(**SMALL), surface) == {

@@ -53,6 +53,28 @@ def finished_tiny(workflow_dir, tiny_run):
     copy_finished(tiny_run, workflow_dir)
 
 
+def _check_before_rounding(study):
+    """The study's means before rounding and without inner shadows (fast, adaptive: every one given): within half a
+    level of the 8-bit means at every measured view, 0 where nothing was measured; the plate's diffuse the
+    equation's 127 sin 30 = 63.5 itself; the unshadowed diffuse never darker, and brighter where shadows are seen,
+    but not at the hot spot V = L (phase 0), where no seen point is shadowed (the regular surface's shadow map may
+    mark a sliver of the silhouettes there: within half a level)."""
+    seen = study["coverage"] > 0
+    for name, rounded in (("rough_unrounded", "rough"), ("control_unrounded", "control"), ("rough_unshadowed", None)):
+        assert study[name].dtype == np.float64 and study[name].notna().all() and (study.loc[~seen, name] == 0).all()
+        if rounded:
+            assert (np.abs(study.loc[seen, name] - study.loc[seen, rounded]) <= 0.5 + 1e-6).all(), name
+    diffuse = study[seen & (study.component == "diffuse")]
+    np.testing.assert_allclose(diffuse["control_unrounded"], 127 * np.sin(np.radians(30.0)), rtol=0, atol=1e-9)
+    assert (diffuse["rough_unshadowed"] >= diffuse["rough_unrounded"] - 1e-9).all()
+    assert (diffuse["rough_unshadowed"] > diffuse["rough_unrounded"] + 1.0).any()  # the full pyramid's shadows
+    hot = diffuse[diffuse["phase"] < 1e-9]
+    assert len(hot) == 2  # the plate and the full pyramid
+    assert (hot["rough_unshadowed"] - hot["rough_unrounded"] <= 0.5).all()
+    plate = hot[hot.truncation == 0]
+    assert (plate["rough_unrounded"] == plate["rough_unshadowed"]).all()
+
+
 def planned_jobs(workdir):
     """Jobs a dry run for the study table would execute, by rule."""
     out = snakemake(workdir, STUDY, "--dry-run", "--quiet", "rules").stdout
@@ -87,6 +109,7 @@ def test_tiny_study_end_to_end(workflow_dir, tiny_run):
     row = study[(study.azimuth == 0) & (study.elevation == 30)].iloc[0]
     assert row["phase"] == pytest.approx(0.0, abs=1e-9)
     assert (study["render_seconds"] > 0).all()
+    _check_before_rounding(study)
     assert (workflow_dir / "results" / "meshes" / "t1_a1.ply").exists()
     # the study table records what its sweeps ran on (the report's provenance lists it)
     ran_on = renderers([workflow_dir / "results" / "study.parquet"])
