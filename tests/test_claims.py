@@ -8,11 +8,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from roughlight.analysis import claim_instrument as I
 from roughlight.analysis import claim_readings as R
 from roughlight.analysis import claims as C
 from roughlight.analysis import ensembles as E
 from roughlight.analysis import hot_spot as H
 from roughlight.analysis import lobe_shape as S
+from roughlight.analysis import steps
 from roughlight.render import views as sweeps
 from roughlight.render.shading import light_direction, view_direction
 from roughlight.surfaces.roughness import make_surface
@@ -107,17 +109,22 @@ def _halo(incidence, radius, flat: bool, contrast=0.2, azimuth=AZ):
     return np.where(cos_d > 0, 1.0 - contrast / (1.0 + np.exp(-(reach - radius) / 1.0)), 1.0 - contrast)
 
 
+def _grid_field(values, azimuth):
+    """A field of (A, E) values on ``azimuth`` x :data:`EL` (the grazing elevations not rendered)."""
+    coverage = np.ones((len(azimuth), len(EL)))
+    coverage[:, [0, -1]] = 0.0
+    return S.measured_field(azimuth, EL, values, coverage)
+
+
 def test_the_hot_spot_tells_a_round_halo_from_a_flat_one():
     """On views 1 deg apart in azimuth a round halo's edge meets the light's level one width to either side
     (flatness near 0) and a flat one keeps its height (1); on the study's 5 deg the bilinear reading between
     arcs lifts the round one's a little (what rule claim_grid measures on the regular surface)."""
     light, fine = light_direction(40.0), np.arange(0, 180, 1.0)
     for azimuth, round_most in ((fine, 0.1), (AZ, 0.3)):
-        field = lambda v: S.measured_field(azimuth, EL, v, np.where((EL > 0) & (EL < 180), 1.0, 0.0)[None, :]  # noqa
-                                           * np.ones((len(azimuth), 1)))
-        diffuse = field(np.full((len(azimuth), len(EL)), 80.0))
-        round_, flat = (H.hot_spot_reading(field(_halo(40.0, 8.0, f, azimuth=azimuth)), diffuse, light, 25.0)
-                        for f in (False, True))
+        diffuse = _grid_field(np.full((len(azimuth), len(EL)), 80.0), azimuth)
+        round_, flat = (H.hot_spot_reading(_grid_field(_halo(40.0, 8.0, f, azimuth=azimuth), azimuth), diffuse,
+                                           light, 25.0) for f in (False, True))
         for spot in (round_, flat):
             assert spot["measurable"] and spot["width"] == pytest.approx(8.0, abs=0.6)
             assert spot["contrast"] == pytest.approx(0.2, abs=0.05)
@@ -229,20 +236,20 @@ def test_the_design_reads_no_tested_seed(tile_study):
     the tested seeds may hold any number without moving them; the verdict moves."""
     lighting = {"shininess": 64.0, "specular_model": "phong"}
     claims = {"alpha": 0.05, "max_seeds": 12, "pilot_seeds": 2, "tested": []}
-    discs = C.claim_discs(tile_study, lighting)
+    discs = steps.claim_discs(tile_study, lighting)
     geometry, radii = discs["random_claim_geometry"], discs["random_claim_radii"]
     assert set(geometry["lobe"]) == {"back", "hot_spot"} and geometry["in_claim"].all()
     assert (radii["radius"] >= C.CLEARANCE * geometry.set_index("lobe").loc[radii["lobe"], "width"].to_numpy()
             - 1e-9).all()
-    tables = C.design_tables(tile_study, radii, geometry, None, claims)
+    tables = steps.claim_tables(tile_study, radii, geometry, None, claims)
     scrambled = tile_study.copy()
     tested = (scrambled["kind"] != "pyramids") & (scrambled["seed"] < 1000)
     rng = np.random.default_rng(7)
     for column in ("rough", "rough_unrounded", "rough_unshadowed"):
         scrambled.loc[tested, column] *= rng.uniform(0.5, 1.5, tested.sum())
-    again = C.claim_discs(scrambled, lighting)
+    again = steps.claim_discs(scrambled, lighting)
     pd.testing.assert_frame_equal(again["random_claim_radii"], radii)
-    moved = C.design_tables(scrambled, radii, geometry, None, claims)
+    moved = steps.claim_tables(scrambled, radii, geometry, None, claims)
     for name in ("random_claim_margins", "random_claim_design"):
         pd.testing.assert_frame_equal(moved[name], tables[name])
     assert not moved["random_claims"]["mean"].equals(tables["random_claims"]["mean"])
@@ -292,7 +299,7 @@ def test_the_verdict_decides_lobes_and_shapes_at_the_familys_level():
     assert found.loc["back_contrast", "verdict"] == "lobe"
     square = found.loc["back_squareness"]
     assert square["verdict"] == "difference" and not square["agrees"]  # above the regular: against the claim
-    assert square["high"] - square["low"] == pytest.approx(2 * 0.005 * C._t_quantile(1 - 0.05 / 2, 12), rel=1e-9)
+    assert square["high"] - square["low"] == pytest.approx(2 * 0.005 * C.t_quantile(1 - 0.05 / 2, 12), rel=1e-9)
     same = _verdict(_readings(-0.181, 0.001, 12))
     assert same.loc["back_squareness", "verdict"] == "no difference"
     wide = _verdict(_readings(-0.15, 0.02, 6))
@@ -321,10 +328,10 @@ def test_the_pilot_plans_more_seeds_for_a_wider_spread():
 def test_the_rendering_noise_of_a_symmetric_lobe_is_zero_and_its_halves_are_its_own():
     values = S.synthetic_lobe(AZ, EL, S.direction(0.0, 60.0), (10, 6), peak=60.0)
     for side in (1, -1):
-        np.testing.assert_allclose(C.mirrored_half(values, side), values, atol=1e-9)
+        np.testing.assert_allclose(R.mirrored_half(values, side), values, atol=1e-9)
     uneven = values.copy()
     uneven[3:8, 40:60] *= 1.3  # one side of the plane only
-    assert not np.allclose(C.mirrored_half(uneven, 1), C.mirrored_half(uneven, -1))
+    assert not np.allclose(R.mirrored_half(uneven, 1), R.mirrored_half(uneven, -1))
 
 
 def test_the_reference_views_cover_each_claimed_lobe_and_come_back_as_its_field():
@@ -334,7 +341,7 @@ def test_the_reference_views_cover_each_claimed_lobe_and_come_back_as_its_field(
                               "in_claim": True},
                              {"truncation": 1.0, "aspect": 1.0, "incidence": 30.0, "lobe": "back", "width": 8.4,
                               "in_claim": False}])
-    views = C.reference_views(geometry, C.reference_steps(5.0))
+    views = I.reference_views(geometry, I.reference_steps(5.0))
     assert sorted(views["step"].unique()) == [1.0, 2.5, 5.0] and set(views["aspect"]) == {0.5}
     coarse = views[views["step"] == 5.0]
     assert len(views[views["step"] == 1.0]) > 2.5 * len(coarse)
@@ -345,7 +352,7 @@ def test_the_reference_views_cover_each_claimed_lobe_and_come_back_as_its_field(
     for component in ("diffuse", "specular"):
         rows.append(coarse.assign(method="reference", component=component, rough_unrounded=coarse["elevation"],
                                   rough_unshadowed=2 * coarse["elevation"]))
-    stacks = C.reference_stacks(pd.concat(rows))[(1.0, 0.5, 30.0)]["reference", 5.0]
+    stacks = I.reference_stacks(pd.concat(rows))[(1.0, 0.5, 30.0)]["reference", 5.0]
     assert stacks.specular["unrounded"].shape == (1, 36, 181)
     seen = np.isfinite(stacks.specular["unrounded"][0])
     assert seen.sum() == len(coarse) and (stacks.coverage[seen] == 1).all() and (stacks.coverage[~seen] == 0).all()

@@ -107,26 +107,30 @@ def ensembles_frame() -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def claim_row(kind, t, test, verdict, mean, regular, agrees=pd.NA, seeds=4, measurable=4) -> dict:
+def claim_row(kind, t, test, verdict, mean, regular, agrees=pd.NA, seeds=12, reading="unrounded") -> dict:
     """One row of random_claims.csv (roughlight.analysis.claims.claim_table)."""
-    return {"kind": kind, "truncation": t, "aspect": 0.5, "incidence": 30.0, "test": test, "claim": f"claim of {test}",
-            "regular": regular, "margin": 2.38 if test == "back_phase_shift" else 0.051, "level": 1 - 0.05 / 8,
-            "seeds": seeds, "measurable": measurable, "left_out": "", "mean": mean, "sd": 0.1, "low": mean - 0.1,
-            "high": mean + 0.1, "verdict": verdict, "why": "why", "agrees": agrees, "seeds_needed": pd.NA,
-            "seeds_to_decide": pd.NA}
+    return {"kind": kind, "truncation": t, "aspect": 0.5, "incidence": 30.0, "test": test, "reading": reading,
+            "claim": f"claim of {test}", "regular": regular, "margin": 0.05 if "squareness" in test else 0.3,
+            "level": 1 - 0.05 / 8, "seeds": seeds, "mean": mean, "se": 0.02, "low": mean - 0.1,
+            "high": mean + 0.1, "verdict": verdict, "why": "why", "agrees": agrees, "seeds_to_decide": pd.NA}
 
 
 def claims_frame() -> pd.DataFrame:
-    """Squareness: 1 difference against the claim, 1 no difference, 2 not measurable. Phase shift: 1 difference as
-    claimed, 1 undecided, 2 not measurable."""
-    rows = [claim_row("random_pyramids", 0.5, "back_squareness", "difference", -0.02, -0.178, agrees=False),
-            claim_row("random_pyramids", 1.0, "back_squareness", "no difference", -0.17, -0.178),
-            claim_row("random_heightfield", 0.5, "back_squareness", "not measurable", -0.5, -0.178, measurable=1),
-            claim_row("random_heightfield", 1.0, "back_squareness", "not measurable", np.nan, -0.155, measurable=0),
-            claim_row("random_pyramids", 0.5, "back_phase_shift", "difference", 0.05, 4.3, agrees=True),
-            claim_row("random_pyramids", 1.0, "back_phase_shift", "undecided", 1.2, 0.27),
-            claim_row("random_heightfield", 0.5, "back_phase_shift", "not measurable", np.nan, 0.27, measurable=1),
-            claim_row("random_heightfield", 1.0, "back_phase_shift", "not measurable", np.nan, 0.40, measurable=0)]
+    """Unrounded: random pyramids have a back lobe at both points, heightfields none; squareness 1 difference
+    against the claim, 1 no difference, 2 no lobe. The 8-bit reading: the same but one undecided."""
+    rows = []
+    for reading in ("unrounded", "8-bit"):
+        rows += [claim_row("random_pyramids", 0.5, "back_contrast", "lobe", 3.1, 26.0, reading=reading),
+                 claim_row("random_pyramids", 1.0, "back_contrast", "lobe", 4.9, 34.6, reading=reading),
+                 claim_row("random_heightfield", 0.5, "back_contrast", "no lobe", 0.1, 26.0, reading=reading),
+                 claim_row("random_heightfield", 1.0, "back_contrast", "no lobe", 0.2, 34.6, reading=reading),
+                 claim_row("random_pyramids", 0.5, "back_squareness", "difference", -0.02, -0.178, agrees=False,
+                           reading=reading),
+                 claim_row("random_pyramids", 1.0, "back_squareness",
+                           "no difference" if reading == "unrounded" else "undecided", -0.17, -0.178,
+                           reading=reading),
+                 claim_row("random_heightfield", 0.5, "back_squareness", "no lobe", np.nan, -0.178, reading=reading),
+                 claim_row("random_heightfield", 1.0, "back_squareness", "no lobe", np.nan, -0.155, reading=reading)]
     return pd.DataFrame(rows)
 
 
@@ -368,23 +372,24 @@ def test_the_share_laws_are_the_best_held_out(tables, full_page):
 
 def test_the_random_claims_are_the_claim_tables(full_page):
     found = PF.random_claim_finding(claims_frame(), shown=True)
-    square, phase = found["tests"]
+    unrounded, eight = found["readings"]["unrounded"], found["readings"]["8-bit"]
+    contrast, square = unrounded["tests"]
     assert (square["name"], square["n"]) == ("back_squareness", 4)
-    assert square["verdicts"] == [("difference against the claim", 1), ("no difference", 1), ("not measurable", 2)]
-    assert phase["verdicts"] == [("difference as claimed", 1), ("undecided", 1), ("not measurable", 2)]
+    assert contrast["verdicts"] == [("lobe", 2), ("no lobe", 2)]
+    assert square["verdicts"] == [("no lobe", 2), ("difference against the claim", 1), ("no difference", 1)]
+    assert eight["tests"][1]["verdicts"] == [("no lobe", 2), ("difference against the claim", 1), ("undecided", 1)]
+    # the random means are of the tests made: none where there is no lobe
     assert square["mean"] == (-0.17, -0.02) and square["regular"] == (-0.178, -0.155)
-    assert (square["measurable"], square["tested"]) == (9, 16) and phase["unit"] == "deg"
-    assert (found["points"], found["kinds"], found["n_tests"]) == (2, 2, 8)
-    assert found["shape"] == "ellipse" and found["headline"] == "mixed"
-    assert found["level"] == pytest.approx(1 - 0.05 / 8)
+    assert (found["points"], found["kinds"], unrounded["n_tests"]) == (2, 2, 8)
+    assert found["regular"]["back"]["shape"] == "ellipse" and unrounded["headline"] == "refuted"
+    assert eight["headline"] == "mixed" and found["level"] == pytest.approx(1 - 0.05 / 8)
     text = statement(full_page, "random")
-    assert text.startswith("The thesis's random-roughness claim is decided only in part.")
-    assert "squareness: difference against the claim in 1, no difference in 1, not measurable in 2 of 4" in text
-    assert "9 of 16 tested tiles measurable" in text
-    # the means are of the tests made: the one measurable seed of a "not measurable" row (-0.5) is no test's mean
-    assert "random means of the tests made -0.170 to -0.020)" in text
-    all_out = claims_frame().assign(verdict="not measurable")
-    assert PF.random_claim_finding(all_out, shown=True)["headline"] == "unmeasurable"
+    assert text.startswith("No test of the thesis's random-roughness claim finds the difference it claims.")
+    assert "back lobe: squareness: no lobe in 2, difference against the claim in 1, no difference in 1 of 4" in text
+    assert "(random -0.170 to -0.020 against the regular -0.178 to -0.155)" in text
+    assert "Read at 8 bits, as the thesis's framebuffer: " in text and "undecided in 1" in text
+    no_lobes = claims_frame().assign(verdict="no lobe")
+    assert PF.random_claim_finding(no_lobes, shown=True)["readings"]["unrounded"]["headline"] == "no lobe"
 
 
 def test_the_renderer_statements_are_the_benchmarks(full_page):
@@ -473,29 +478,33 @@ def test_no_claim_row_and_no_lobe_say_why():
 
 def test_the_claim_its_design_and_its_finding_show_in_chromium(tables, tmp_path):
     """The page as a reader sees it in Chromium: the random-roughness finding, the claim's design with its margins
-    and family, the pilot's plan, and the verdict table, a test a row with every tested seed counted."""
-    from roughlight.analysis.claims import CLAIMS
-
+    and family, which lobes enter it, the pilot's plan, and the verdict table, a test a row with its two readings
+    side by side."""
     from .browser import Browser
 
     claims = claims_frame()
-    design = claims[["kind", "truncation", "aspect", "incidence", "test"]].assign(
-        family=8, level=1 - 0.05 / 8, margin=claims["margin"], regular=claims["regular"], pilot_seeds=3,
-        pilot_measurable=1, pilot_mean=np.nan, pilot_sd=np.nan, seeds_needed=pd.array([pd.NA] * 8, dtype="Int64"),
-        plan="1 measurable pilot seed(s): a spread needs 2", seeds_configured=4)
-    margins = pd.DataFrame([{"statistic": name, "rendering_noise": 0.25 if "phase" in name else 0.0012,
-                             "floor_effect": 2.38 if "phase" in name else 0.051,
-                             "margin": 2.38 if "phase" in name else 0.051, "from": "8-bit floor"} for name in CLAIMS])
-    floor = pd.DataFrame({"peak": [4.0, 10.0], "back_squareness": [0.13, 0.05], "back_phase_shift": [2.0, 2.4]})
+    unrounded = claims[claims["reading"] == "unrounded"]
+    design = unrounded[["kind", "truncation", "aspect", "incidence", "test"]].assign(
+        lobe="back", role=["lobe"] * 4 + ["shape"] * 4, family=8, level=1 - 0.05 / 8, margin=unrounded["margin"],
+        regular=unrounded["regular"], pilot_seeds=4, pilot_mean=1.0, pilot_se=0.1,
+        seeds_needed=pd.array([12] * 8, dtype="Int64"), plan="a lobe expected from the pilot", seeds_configured=12,
+        ensemble_seeds=12)
+    margins = claims[["kind", "truncation", "aspect", "incidence", "test", "reading", "regular", "margin"]].assign(
+        rendering_noise=0.001, sampling_error=0.0, grid_effect=0.004, rounding=np.nan, matters=0.05,
+        **{"from": "difference that matters"})
+    geometry = pd.DataFrame([{"truncation": t, "aspect": 0.5, "incidence": 30.0, "lobe": "back", "centre_azimuth": 0.0,
+                              "centre_elevation": 60.0, "width": 8.4, "clearance": 59.0, "cap": 45.0,
+                              "in_claim": True, "why": ""} for t in (0.5, 1.0)])
     html = R.build_report({**tables, **benchmarks(), **measured(), "random_claim_design": design,
-                           "random_claim_margins": margins, "random_claim_floor": floor}, {}, table_aspects=ASPECTS)
+                           "random_claim_margins": margins, "random_claim_geometry": geometry},
+                          {}, table_aspects=ASPECTS)
     path = tmp_path / "report.html"
     path.write_text(html, encoding="utf-8")
     with Browser(1280, 900, workdir=tmp_path) as browser:
         browser.open(path)
         text = browser.evaluate("""(() => { const out = {};
             for (const id of ['random-claim-design', 'random-claim-verdict', 'random-claim', 'random-claim-plan',
-                              'random-claim-floor']) {
+                              'random-claim-geometry']) {
               const e = document.getElementById(id);
               out[id] = e ? {shown: e.getBoundingClientRect().height > 0 || !!e.closest('details'),
                              text: e.innerText} : null; }
@@ -507,16 +516,18 @@ def test_the_claim_its_design_and_its_finding_show_in_chromium(tables, tmp_path)
             return out; })()""")
         assert browser.errors() == []
     for name in ("random-claim-design", "random-claim-verdict", "random-claim", "random-claim-plan",
-                 "random-claim-floor"):
+                 "random-claim-geometry"):
         assert text[name] is not None and text[name]["shown"], name
     head = [h.replace("\u200b", "") for h in text["head"]]
-    assert head[:3] == ["kind", "truncation", "aspect"] and "verdict" in head and "left out" in head
-    verdicts = [row[head.index("verdict")] for row in text["rows"]]
-    assert verdicts == list(claims["verdict"])
-    assert [int(row[head.index("tested")]) for row in text["rows"]] == list(claims["seeds"])
-    assert "Margin ±0.051, set by the 8-bit floor" in text["design"]
+    assert head[:3] == ["kind", "truncation", "aspect"]
+    assert "unrounded: verdict" in head and "8-bit: verdict" in head
+    # a test a row, both readings' verdicts side by side
+    assert [row[head.index("unrounded: verdict")] for row in text["rows"]] == list(unrounded["verdict"])
+    eight = claims[claims["reading"] == "8-bit"]
+    assert [row[head.index("8-bit: verdict")] for row in text["rows"]] == list(eight["verdict"])
+    assert "Margin 0.05–0.05 over the grid points, set most often by the difference that matters" in text["design"]
     assert "the 8 planned tests are corrected together (Bonferroni)" in text["design"]
-    assert text["finding"].startswith("The thesis's random-roughness claim is decided only in part.")
+    assert text["finding"].startswith("No test of the thesis's random-roughness claim finds the difference it claims.")
 
 
 def test_the_light_transport_section_and_its_finding_show_in_chromium(tmp_path):

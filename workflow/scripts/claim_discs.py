@@ -7,8 +7,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import _log  # noqa: E402
 
-from roughlight.analysis.claims import claim_discs  # noqa: E402
 from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
+from roughlight.analysis.steps import claim_discs  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.study.tables import read_study  # noqa: E402
 

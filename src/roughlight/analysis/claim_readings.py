@@ -33,7 +33,7 @@ from .hot_spot import hot_spot_reading, shadow_hiding
 from .lobe_shape import lobe_reading, measured_field
 
 __all__ = ["LOBES", "READINGS", "STATISTICS", "SeedStack", "seed_stacks", "surface_readings", "pooled_readings",
-           "jackknife", "lobe_centres"]
+           "jackknife", "lobe_centres", "mirrored_half", "mirrored_halves"]
 
 #: The claim's lobes: the component (or field) each is read from.
 LOBES = {"back": "specular", "hot_spot": "shadow hiding (diffuse)"}
@@ -175,6 +175,32 @@ def pooled_readings(stack: SeedStack, centres: dict, radii: dict, reading: str =
     for name in STATISTICS:
         out[f"{name}_se"] = jackknife([r[name] for r in left_out])
     return out
+
+
+def mirrored_half(values, side: int) -> np.ndarray:
+    """An (A, E) grid (azimuths 0, step, ... < 180; elevations symmetric about 90) whose views on one side of the
+    light's plane are replaced by their mirror images' ((180 - phi, 180 - e)) from the other: ``side`` +1 keeps
+    the views at y >= 0 (e <= 90), -1 those at y <= 0. Only for a surface that is itself mirror-symmetric in the
+    light's plane (the regular pyramids): its two halves are then two separate measurements of one lobe."""
+    vals = np.asarray(values, float)
+    out = vals.copy()
+    n_az, n_el = vals.shape
+    half = (n_el - 1) // 2
+    replace = np.arange(n_el) > half if side > 0 else np.arange(n_el) < half
+    for k in range(1, n_az):
+        out[k, replace] = vals[n_az - k, ::-1][replace]
+    return out
+
+
+def mirrored_halves(stack: SeedStack) -> list[SeedStack]:
+    """A mirror-symmetric surface's two halves (:func:`mirrored_half`), each a surface of its own: the regular
+    surface's rendering noise is the difference between what they read."""
+    def half(side):
+        flip = lambda v: np.stack([mirrored_half(x, side) for x in v])  # noqa: E731
+        return SeedStack(stack.key, stack.kind, stack.seeds, stack.azimuth, stack.elevation, stack.coverage,
+                         {r: flip(v) for r, v in stack.specular.items()},
+                         {r: flip(v) for r, v in stack.diffuse.items()}, flip(stack.unshadowed))
+    return [half(1), half(-1)]
 
 
 def lobe_centres(key) -> dict:

@@ -11,20 +11,23 @@ grid point and light, on two lobes:
 * the **hot spot** (V = L, Fig. 18): does its halo exist, and is a random one's edge rounder (less flat) than the
   regular one's.
 
-The design (:func:`design_tables`), fixed from geometry, the regular surfaces, the exact reference and the pilot
-seeds, before any tested seed is read:
+The design (:func:`roughlight.analysis.steps.claim_tables`), fixed from geometry, the regular surfaces, the
+exact reference and the pilot seeds, before any tested seed is read:
 
 * **Which lobes, where** (:func:`claim_geometry`): each random grid point's lobe enters the claim when its regular
   lobe clears the horizon by :data:`CLEARANCE` of its own widths (the back mirror direction lies at elevation
   180 - (i + 2 alpha) for a facet tilted alpha toward a light at incidence i; the hot spot at i), and, for the hot
   spot, when the regular surface has shadows there to hide.
-* **Search discs** (:func:`search_radii`): :data:`CLEARANCE` times the lobe's expected width: the pilot
-  ensemble's own where it has a lobe, never less than the regular lobe's, and never past the horizon.
+* **Search discs** (:func:`search_radii`): from the lobe's expected width: :data:`CLEARANCE` of the regular
+  lobe's widths, or :data:`PILOT_WIDTHS` of the pilot ensemble's own where that is wider; never past the horizon.
 * **Margins** (:func:`margins`): what counts as a difference, for each test: the largest of the regular surface's
   rendering noise (each half of the hemisphere of a mirror-symmetric surface, read on its own), the fast method's
-  sampling error against the exact reference on the study's view grid, and the view grid's own effect (the exact
-  reference at the study's azimuth step against 1 deg); the 8-bit reading adds what rounding does to the regular
-  lobe. No 8-bit floor: the unrounded values read lobes a few levels high.
+  sampling error against the exact reference on the study's view grid, and the view grid's own effect (the
+  study's azimuth step against 1 deg); the 8-bit reading adds what rounding does to the regular lobe. No 8-bit
+  floor: the unrounded values read lobes a few levels high. A shape statistic with a scale of its own (squareness:
+  ellipse to rectangle; flatness: circle to flat edge) also has the smallest difference that matters to the
+  thesis's question, a sixth of that scale: "no difference" needs an interval inside it, which the instrument's
+  noise alone would put out of reach of any number of seeds.
 * **Family** (:func:`claim_design`): every planned test (ensemble x lobe x statistic) is one of a family whose
   error is controlled together: each interval is a Student-t interval at the Bonferroni level ``1 - alpha / m``
   on the jackknife standard error over seeds.
@@ -50,63 +53,70 @@ import pandas as pd
 from ..render.shading import view_direction
 from ..study.config import PILOT_SEED_BASE
 from ..study.selection import SURFACE_KEYS
-from .claim_readings import READINGS, SeedStack, lobe_centres, pooled_readings, surface_readings
+from .claim_readings import READINGS, SeedStack, lobe_centres, mirrored_halves, surface_readings
 
 __all__ = [
     "PILOT_SEED_BASE",
     "CLEARANCE",
+    "PILOT_WIDTHS",
     "TESTS",
     "is_pilot",
     "lobe_width",
     "claim_geometry",
     "search_radii",
-    "mirrored_half",
     "margins",
+    "t_quantile",
     "fewest_seeds",
     "planned_seeds",
     "claim_design",
     "decide",
     "claim_table",
-    "reference_steps",
-    "reference_views",
-    "reference_stacks",
-    "grid_table",
-    "instrument_errors",
-    "claim_discs",
-    "design_tables",
+    "split_stacks",
+    "disc_of",
 ]
 
-#: How many of a lobe's own half-widths its search disc reaches, and its regular lobe must clear the horizon by.
+#: How many of its own half-widths a regular lobe must clear the horizon by, and its search disc reaches.
 CLEARANCE = 3.0
+#: How many of a random kind's own lobe widths (the pilot ensemble's) its search disc reaches, where that is wider
+#: than the regular lobe's disc.
+PILOT_WIDTHS = 2.0
 
 #: The claim's tests: what the thesis says of a random surface against the regular one, which way, and the range
-#: the statistic takes. ``role`` "lobe": does the lobe exist; "shape": its shape, where it does.
+#: the statistic takes. ``role`` "lobe": does the lobe exist; "shape": its shape, where it does. ``matters``: the
+#: smallest difference that matters to the thesis's question (rectangular or circular), fixed from the
+#: statistic's own scale before any seed is read: without it "no difference" would need an interval within the
+#: instrument's noise, which no number of seeds reaches; 0 where the noise alone sets the margin.
 TESTS = {
     "back_contrast": {
         "lobe": "back", "role": "lobe", "unit": "levels", "range": (-math.inf, math.inf),
+        "matters": 0.0, "why_matters": "",
         "claim": "the back lobe stands above its background (a lobe to compare)",
         "shows": "the specular's mean over a 3-degree cap at the mirror direction less its mean on the search "
                  "disc's rim",
     },
     "back_squareness": {
-        "lobe": "back", "role": "shape", "expected": "below", "unit": "", "range": (-1.0, 1.0),
+        "lobe": "back", "role": "shape", "expected": "below", "unit": "", "range": (-1.0, 1.0), "matters": 0.05,
+        "why_matters": "a sixth of the distance between an ellipse's squareness (-0.18) and a rectangle's (+0.12)",
         "claim": "random lobes are rounder (less rectangular) than the regular surface's",
         "shows": "the half-contrast region's misfit to its ellipse less its misfit to its rectangle (> 0 nearer "
                  "a rectangle, < 0 nearer an ellipse)",
     },
     "back_phase_shift": {
         "lobe": "back", "role": "shape", "expected": "below", "unit": "deg", "range": (0.0, math.inf),
+        "matters": 0.0, "why_matters": "",
         "claim": "random lobes peak where a circular lobe would: less phase shift off the light's plane",
         "shows": "mean distance of the measured arcs' peaks from a circular lobe's, both sides of the light's plane",
     },
     "hot_spot_contrast": {
         "lobe": "hot_spot", "role": "lobe", "unit": "levels", "range": (-math.inf, math.inf),
+        "matters": 0.0, "why_matters": "",
         "claim": "the hot spot stands above its background (a halo to compare)",
         "shows": "the shadow-hiding function at V = L less its mean above the light on the search circle, times "
                  "the diffuse at V = L",
     },
     "hot_spot_flatness": {
         "lobe": "hot_spot", "role": "shape", "expected": "below", "unit": "", "range": (-math.inf, math.inf),
+        "matters": 1.0 / 6.0, "why_matters": "a sixth of the distance between a circle's flatness (0) and a flat edge's (1)",
         "claim": "a random surface's halo is round (its edge falls away beside the light) where the regular one's "
                  "is flat",
         "shows": "the halo's edge one width to either side of the light over its width above it (0 a circle "
@@ -196,16 +206,21 @@ def _forward(incidence: float) -> np.ndarray:
     return np.asarray(view_direction(180.0 - float(incidence), 0.0), float)
 
 
-def search_radii(geometry: pd.DataFrame, pilots: dict) -> pd.DataFrame:
-    """Each random kind's search disc for each lobe in the claim: :data:`CLEARANCE` times its expected width.
+def search_radii(geometry: pd.DataFrame, pilots: dict, ensembles=None) -> pd.DataFrame:
+    """Each random kind's search disc for each lobe in the claim, from the lobe's expected width.
 
-    The expected width is the pilot ensemble's own (its mean's lobe read in the widest disc the horizon allows)
-    where it has a lobe, and never less than the regular lobe's; the disc never reaches past the horizon.
+    The regular lobe's disc is :data:`CLEARANCE` of its own widths. A random kind's is :data:`PILOT_WIDTHS` of the
+    pilot ensemble's own width (its mean's lobe read in the regular lobe's disc), where that is wider: a random
+    lobe's flanks are its facets' spread, and two of its widths keep its neighbours (at t 0.5 the specular of the
+    facets facing the light, 35 degrees below the back lobe) off the rim that sets its background. The disc never
+    reaches past the horizon.
 
     Parameters
     ----------
     geometry : :func:`claim_geometry`
     pilots : (kind, truncation, aspect, incidence) -> the pilot seeds' :class:`SeedStack`
+    ensembles : every random ensemble's (kind, truncation, aspect, incidence), pilots or not (one without pilot
+        seeds takes the regular lobe's disc)
 
     Returns
     -------
@@ -213,18 +228,19 @@ def search_radii(geometry: pd.DataFrame, pilots: dict) -> pd.DataFrame:
     lobe), ``from`` (what set it).
     """
     rows = []
-    for (kind, t, a, i), stack in sorted(pilots.items()):
+    for kind, t, a, i in sorted(set(ensembles or ()) | set(pilots)):
+        stack = pilots.get((kind, t, a, i))
         for g in geometry[(geometry["truncation"] == t) & (geometry["aspect"] == a) & (geometry["incidence"] == i)
                           & geometry["in_claim"]].itertuples(index=False):
-            wide = surface_readings(stack, lobe_centres((t, a, i)), {g.lobe: g.cap})
-            pilot = float(wide[f"{g.lobe}_width"])
-            least = CLEARANCE * g.width
-            if np.isfinite(pilot) and CLEARANCE * pilot > least:
-                radius, source = min(CLEARANCE * pilot, g.cap), "the pilot lobe's width"
-                if radius < CLEARANCE * pilot:
+            own = CLEARANCE * g.width
+            pilot = (float(surface_readings(stack, lobe_centres((t, a, i)), {g.lobe: own})[f"{g.lobe}_width"])
+                     if stack is not None else np.nan)
+            if np.isfinite(pilot) and PILOT_WIDTHS * pilot > own:
+                radius, source = min(PILOT_WIDTHS * pilot, g.cap), "the pilot lobe's width"
+                if radius < PILOT_WIDTHS * pilot:
                     source += " (cut to the horizon's room)"
             else:
-                radius, source = least, "the regular lobe's width"
+                radius, source = own, "the regular lobe's width"
             rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "lobe": g.lobe,
                          "radius": float(radius), "pilot_width": pilot, "from": source})
     return pd.DataFrame(rows, columns=["kind"] + SURFACE_KEYS + ["lobe", "radius", "pilot_width", "from"])
@@ -234,73 +250,12 @@ def search_radii(geometry: pd.DataFrame, pilots: dict) -> pd.DataFrame:
 # margins
 
 
-def mirrored_half(values, side: int) -> np.ndarray:
-    """An (A, E) grid (azimuths 0, step, ... < 180; elevations symmetric about 90) whose views on one side of the
-    light's plane are replaced by their mirror images' ((180 - phi, 180 - e)) from the other: ``side`` +1 keeps
-    the views at y >= 0 (e <= 90), -1 those at y <= 0. Only for a surface that is itself mirror-symmetric in the
-    light's plane (the regular pyramids): its two halves are then two separate measurements of one lobe."""
-    vals = np.asarray(values, float)
-    out = vals.copy()
-    n_az, n_el = vals.shape
-    half = (n_el - 1) // 2
-    replace = np.arange(n_el) > half if side > 0 else np.arange(n_el) < half
-    for k in range(1, n_az):
-        out[k, replace] = vals[n_az - k, ::-1][replace]
-    return out
-
-
-def _halves(stack: SeedStack) -> list[SeedStack]:
-    """The regular surface's two halves (:func:`mirrored_half`), each a surface of its own."""
-    def half(side):
-        flip = lambda v: np.stack([mirrored_half(x, side) for x in v])  # noqa: E731
-        return SeedStack(stack.key, stack.kind, stack.seeds, stack.azimuth, stack.elevation, stack.coverage,
-                         {r: flip(v) for r, v in stack.specular.items()},
-                         {r: flip(v) for r, v in stack.diffuse.items()}, flip(stack.unshadowed))
-    return [half(1), half(-1)]
-
-
-def _own_disc(geometry: pd.DataFrame, key, lobe: str) -> float:
-    """The regular lobe's own search disc at ``key``: :data:`CLEARANCE` of its widths (degrees)."""
-    g = geometry[(geometry["truncation"] == key[0]) & (geometry["aspect"] == key[1])
-                 & (geometry["incidence"] == key[2]) & (geometry["lobe"] == lobe)]
-    return float(CLEARANCE * g["width"].iloc[0])
-
-
-def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
-    """What the instrument's method and view grid alone do to each regular lobe's statistics, in the lobe's own
-    disc: the fast method against the exact reference on the study's view grid (``sampling_error``), and the
-    study's azimuth step against 1 degree (``grid_effect``: the exact reference's where it measured 1 degree, else
-    the fast method's).
-
-    Parameters
-    ----------
-    reference : :func:`reference_stacks` of rule ``claim_grid``'s measurements
-    geometry : :func:`claim_geometry`
-
-    Returns
-    -------
-    DataFrame: surface keys, ``test``, ``sampling_error``, ``grid_effect``, ``grid_method``.
-    """
-    rows = []
-    for g in geometry[geometry["in_claim"]].itertuples(index=False):
-        key = (g.truncation, g.aspect, g.incidence)
-        stacks = reference.get(key, {})
-        if not stacks:
-            continue
-        disc = {g.lobe: CLEARANCE * g.width}
-        read = {ms: surface_readings(s, lobe_centres(key), disc) for ms, s in stacks.items()}
-        coarse = max(step for _, step in read)
-        fine_method = "reference" if ("reference", min(step for _, step in read)) in read else "fast"
-        finest = min(step for method, step in read if method == fine_method)
-        for test, spec in TESTS.items():
-            if spec["lobe"] != g.lobe:
-                continue
-            sampling = (abs(read["fast", coarse][test] - read["reference", coarse][test])
-                        if ("fast", coarse) in read and ("reference", coarse) in read else np.nan)
-            grid = abs(read[fine_method, coarse][test] - read[fine_method, finest][test])
-            rows.append({**dict(zip(SURFACE_KEYS, key)), "test": test, "sampling_error": sampling,
-                         "grid_effect": grid, "grid_method": fine_method})
-    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["test", "sampling_error", "grid_effect", "grid_method"])
+#: The margin table's columns.
+MARGIN_COLUMNS = ["kind"] + SURFACE_KEYS + ["test", "reading", "regular", "rendering_noise", "sampling_error",
+                                            "grid_effect", "rounding", "matters", "margin", "from"]
+#: What set a margin, as its table says it.
+MARGIN_SOURCES = {"rendering_noise": "rendering noise", "sampling_error": "sampling error", "grid_effect": "view grid",
+                  "rounding": "8-bit rounding", "matters": "difference that matters"}
 
 
 def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = None) -> pd.DataFrame:
@@ -310,14 +265,16 @@ def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = No
     ----------
     regular : surface key -> the regular surface's :class:`SeedStack` (the fast method, the study's views)
     radii : :func:`search_radii` (a test's disc is its kind's)
-    errors : :func:`instrument_errors` (None: not measured; the margins go without them)
+    errors : :func:`roughlight.analysis.claim_instrument.instrument_errors` (None: not measured; the margins go
+        without them)
 
     Returns
     -------
     DataFrame, a row a kind x grid point x test x reading: ``regular`` (the regular surface's value in the
     kind's disc, the fast method on the study's views, as the random tiles are measured), ``rendering_noise``
     (its two halves read apart), ``sampling_error``, ``grid_effect`` (from ``errors``), ``rounding`` (the 8-bit
-    reading's only: what rounding does to the regular lobe), ``margin`` (their largest) and ``from``.
+    reading's only: what rounding does to the regular lobe), ``matters`` (:data:`TESTS`' smallest difference that
+    matters), ``margin`` (their largest) and ``from``.
     """
     errors = errors if errors is not None else pd.DataFrame(columns=SURFACE_KEYS + ["test"])
     measured = errors.set_index(SURFACE_KEYS + ["test"]) if len(errors) else None
@@ -326,7 +283,7 @@ def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = No
         key = (r.truncation, r.aspect, r.incidence)
         centres, disc = lobe_centres(key), {r.lobe: r.radius}
         read = {reading: surface_readings(regular[key], centres, disc, reading) for reading in READINGS}
-        halves = [surface_readings(h, centres, disc) for h in _halves(regular[key])]
+        halves = [surface_readings(h, centres, disc) for h in mirrored_halves(regular[key])]
         for test, spec in TESTS.items():
             if spec["lobe"] != r.lobe:
                 continue
@@ -336,19 +293,21 @@ def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = No
                      "grid_effect": float(measured.loc[key + (test,), "grid_effect"]) if found else np.nan}
             for reading in READINGS:
                 extra = {"rounding": abs(read["8-bit"][test] - read["unrounded"][test])} if reading == "8-bit" else {}
-                known = {k: v for k, v in {**parts, **extra}.items() if np.isfinite(v)}
+                known = {k: v for k, v in {**parts, **extra, "matters": spec["matters"]}.items() if np.isfinite(v)}
                 source = max(known, key=known.get) if known else ""
                 rows.append({"kind": r.kind, **dict(zip(SURFACE_KEYS, key)), "test": test, "reading": reading,
                              "regular": read[reading][test], **parts, "rounding": extra.get("rounding", np.nan),
-                             "margin": known[source] if known else np.nan, "from": source.replace("_", " ")})
-    return pd.DataFrame(rows)
+                             "matters": spec["matters"], "margin": known[source] if known else np.nan,
+                             "from": MARGIN_SOURCES[source] if source else ""})
+    return pd.DataFrame(rows, columns=MARGIN_COLUMNS)
 
 
 # ---------------------------------------------------------------------------------------------------------------
 # the family and the seeds
 
 
-def _t_quantile(level: float, n):
+def t_quantile(level: float, n):
+    """The two-sided ``level`` quantile of Student's t with ``n - 1`` degrees of freedom (``n`` seeds)."""
     from scipy import stats as sps
 
     return sps.t.ppf(0.5 + level / 2.0, np.asarray(n) - 1)
@@ -360,7 +319,7 @@ def fewest_seeds(sd: float, room: float, level: float, max_seeds: int) -> int | 
     if not room > 0 or not np.isfinite(sd):
         return None
     n = np.arange(2, max_seeds + 1)
-    ok = np.flatnonzero(_t_quantile(level, n) * sd / np.sqrt(n) <= room)
+    ok = np.flatnonzero(t_quantile(level, n) * sd / np.sqrt(n) <= room)
     return int(n[ok[0]]) if len(ok) else None
 
 
@@ -445,8 +404,8 @@ def claim_design(margin_table: pd.DataFrame, pilot_readings: dict, design: dict,
         "seeds_needed", "plan", "seeds_configured"])
     out["seeds_needed"] = pd.array(out["seeds_needed"], dtype="Int64")
     cap = int(design["max_seeds"])
-    out["ensemble_seeds"] = out.groupby(["kind"] + SURFACE_KEYS)["seeds_needed"].transform(
-        lambda s: cap if s.isna().any() else int(min(cap, s.max()))).astype(int)
+    out["ensemble_seeds"] = (out.groupby(["kind"] + SURFACE_KEYS)["seeds_needed"].transform(
+        lambda s: cap if s.isna().any() else int(min(cap, s.max()))).astype(int) if len(out) else pd.Series(dtype=int))
     return out
 
 
@@ -465,6 +424,11 @@ def decide(low: float, high: float, regular: float, margin: float, expected: str
     if regular - margin <= low and high <= regular + margin:
         return "no difference", f"the interval lies within ±{margin:.3g} of the regular value"
     return "undecided", "the interval reaches across the margin's edge"
+
+
+#: The verdict table's columns.
+VERDICT_COLUMNS = ["kind"] + SURFACE_KEYS + ["test", "reading", "claim", "regular", "margin", "level", "seeds", "mean",
+                                            "se", "low", "high", "verdict", "why", "agrees", "seeds_to_decide"]
 
 
 def claim_table(tested: dict, design_table: pd.DataFrame, margin_table: pd.DataFrame) -> pd.DataFrame:
@@ -499,7 +463,7 @@ def claim_table(tested: dict, design_table: pd.DataFrame, margin_table: pd.DataF
             if spec["role"] == "lobe":
                 lobes[key + (spec["lobe"], reading)] = row["verdict"] == "lobe"
             rows.append(row)
-    out = pd.DataFrame(rows)
+    out = pd.DataFrame(rows, columns=VERDICT_COLUMNS)
     if len(out):
         tests = list(TESTS)
         out = out.sort_values(["kind"] + SURFACE_KEYS + ["test", "reading"],
@@ -526,7 +490,7 @@ def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, l
         row["why"] = (pooled.get(f"{spec['lobe']}_why") or "a resample of the seeds could not read it"
                       if n >= 2 else f"{n} tested seed(s): an interval needs 2")
         return row
-    half = float(_t_quantile(d.level, n) * se)
+    half = float(t_quantile(d.level, n) * se)
     lo, hi = spec["range"]
     row["low"], row["high"] = max(lo, mean - half), min(hi, mean + half)
     if spec["role"] == "lobe":
@@ -547,105 +511,10 @@ def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, l
 
 
 # ---------------------------------------------------------------------------------------------------------------
-# the exact reference around the regular lobes, at the study's azimuth step and finer
-
-
-def reference_steps(azimuth_step: float) -> list[float]:
-    """The azimuth steps (degrees, coarsest first) the regular lobes are measured at by the exact reference: the
-    study's, half of it, and 1 degree."""
-    return sorted({float(azimuth_step), float(azimuth_step) / 2.0, 1.0}, reverse=True)
-
-
-def reference_views(geometry: pd.DataFrame, steps, elevation_step: float = 1.0) -> pd.DataFrame:
-    """The views rule ``claim_grid`` measures of each regular surface in the claim, at each azimuth step: every
-    view within each of its claimed lobes' own disc (:data:`CLEARANCE` of the regular lobe's widths) and a step's
-    reach beyond (the interpolation between views at the rim; the hot spot's also its width beyond, where its edge
-    is looked for to either side).
-
-    Returns
-    -------
-    DataFrame: surface keys, ``step``, ``azimuth``, ``elevation`` (degrees), a view a row.
-    """
-    from ..render.views import view_grid
-
-    frames = []
-    claimed = geometry[geometry["in_claim"]]
-    for (t, a, i), part in claimed.groupby(SURFACE_KEYS, sort=True):
-        centres = lobe_centres((t, a, i))
-        for step in steps:
-            az, el = view_grid(elevation_step, step)
-            V = view_direction(el, az)
-            near = np.zeros(len(az), bool)
-            for g in part.itertuples(index=False):
-                extra = g.width if g.lobe == "hot_spot" else 0.0
-                reach = CLEARANCE * g.width + extra + 1.5 * max(step, elevation_step)
-                near |= np.degrees(np.arccos(np.clip(V @ centres[g.lobe], -1.0, 1.0))) <= reach
-            frames.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": i, "step": float(step),
-                                        "azimuth": az[near], "elevation": el[near]}))
-    columns = SURFACE_KEYS + ["step", "azimuth", "elevation"]
-    return pd.concat(frames, ignore_index=True)[columns] if frames else pd.DataFrame(columns=columns)
-
-
-def reference_stacks(grid: pd.DataFrame, elevation_step: float = 1.0) -> dict:
-    """Rule ``claim_grid``'s measurements (surface keys, ``method``, ``step``, ``azimuth``, ``elevation``,
-    ``component``, ``rough_unrounded``, ``rough_unshadowed``) as a :class:`SeedStack` for each regular surface,
-    method and azimuth step, on the full view grid of that step: NaN (coverage 0) where nothing was measured.
-    Returns {surface key: {(method, step): SeedStack}}; both readings hold the unrounded values."""
-    out = {}
-    for (t, a, i, method, step), part in grid.groupby(SURFACE_KEYS + ["method", "step"], sort=True):
-        az = np.arange(0.0, 180.0 - step / 2, step)
-        el = np.arange(0.0, 180.0 + elevation_step / 2, elevation_step)
-        grids = {}
-        for component in ("specular", "diffuse"):
-            rows = part[part["component"].astype(str) == component]
-            ia = np.rint(rows["azimuth"].to_numpy(float) / step).astype(int)
-            ie = np.rint(rows["elevation"].to_numpy(float) / elevation_step).astype(int)
-            for column in ("rough_unrounded", "rough_unshadowed"):
-                values = np.full((1, len(az), len(el)), np.nan)
-                values[0, ia, ie] = rows[column].to_numpy(float)
-                grids[component, column] = values
-        coverage = np.where(np.isfinite(grids["diffuse", "rough_unrounded"][0]), 1.0, 0.0)
-        coverage[:, (el <= 0) | (el >= 180)] = 0.0
-        both = lambda g: {reading: g for reading in READINGS}  # noqa: E731
-        out.setdefault((float(t), float(a), float(i)), {})[str(method), float(step)] = SeedStack(
-            (t, a, i), "pyramids", [0], az, el, coverage, both(grids["specular", "rough_unrounded"]),
-            both(grids["diffuse", "rough_unrounded"]), grids["diffuse", "rough_unshadowed"])
-    return out
-
-
-def grid_table(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
-    """The regular lobes' statistics at each azimuth step rule ``claim_grid`` measured (unrounded), by each
-    method, each lobe in its own disc (:data:`CLEARANCE` of its regular widths): whether the study's azimuth step
-    is fine enough for each statistic.
-
-    Returns
-    -------
-    DataFrame: surface keys, ``lobe``, ``statistic``, ``method``, ``step``, ``value``, ``change`` (against the same
-    method's finest step).
-    """
-    rows = []
-    for g in geometry[geometry["in_claim"]].itertuples(index=False):
-        key = (g.truncation, g.aspect, g.incidence)
-        read = {ms: surface_readings(s, lobe_centres(key), {g.lobe: CLEARANCE * g.width})
-                for ms, s in reference.get(key, {}).items()}
-        for test, spec in TESTS.items():
-            if spec["lobe"] != g.lobe:
-                continue
-            for method in sorted({m for m, _ in read}, reverse=True):
-                steps = sorted((s for m, s in read if m == method), reverse=True)
-                for step in steps:
-                    value = read[method, step][test]
-                    rows.append({**dict(zip(SURFACE_KEYS, key)), "lobe": g.lobe, "statistic": test,
-                                 "method": method, "step": step, "value": value,
-                                 "change": value - read[method, steps[-1]][test]})
-    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "statistic", "method", "step", "value", "change"])
-
-
-# ---------------------------------------------------------------------------------------------------------------
 # the whole design and verdict from the study's tables
 
 
-def _split(study: pd.DataFrame) -> tuple[dict, dict, dict]:
+def split_stacks(study: pd.DataFrame) -> tuple[dict, dict, dict]:
     """The study's rows at the random grid points as :class:`SeedStack` s: the regular surfaces (by surface key),
     each random ensemble's pilot seeds and its tested seeds (by kind and surface key)."""
     from .claim_readings import seed_stacks
@@ -663,56 +532,8 @@ def _split(study: pd.DataFrame) -> tuple[dict, dict, dict]:
     return regular, pilots, tested
 
 
-def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
-    """Which lobes enter the claim and how far each kind's are looked for, from geometry, the regular surfaces and
-    the pilot seeds (rule ``claim_discs``; no tested seed is read).
-
-    Returns
-    -------
-    dict of DataFrames: ``random_claim_geometry`` (:func:`claim_geometry`), ``random_claim_radii``
-    (:func:`search_radii`).
-    """
-    regular, pilots, _ = _split(study[is_pilot(study["seed"].to_numpy()) | (study["kind"].astype(str) == "pyramids")])
-    geometry = claim_geometry(list(regular.values()), lighting)
-    return {"random_claim_geometry": geometry, "random_claim_radii": search_radii(geometry, pilots)}
-
-
-def _disc_of(radii: pd.DataFrame, kind: str, key) -> dict:
+def disc_of(radii: pd.DataFrame, kind: str, key) -> dict:
+    """A kind's search discs at a grid point (:func:`search_radii`): lobe -> radius, degrees."""
     part = radii[(radii["kind"] == kind) & (radii["truncation"] == key[0]) & (radii["aspect"] == key[1])
                  & (radii["incidence"] == key[2])]
     return dict(zip(part["lobe"], part["radius"].astype(float)))
-
-
-def design_tables(study: pd.DataFrame, radii: pd.DataFrame, geometry: pd.DataFrame, reference: pd.DataFrame | None,
-                  claims: dict, elevation_step: float = 1.0) -> dict:
-    """The claim's design and verdict as the tables rule ``analysis_random`` writes.
-
-    Parameters
-    ----------
-    study : the study's rows at the random grid points (the regular surface's among them, pilot seeds included)
-    radii, geometry : rule ``claim_discs``' tables
-    reference : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
-        grid's effect)
-    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
-
-    Returns
-    -------
-    dict of DataFrames: ``random_claim_margins`` (:func:`margins`), ``random_claim_design`` (:func:`claim_design`),
-    ``random_claims`` (:func:`claim_table`), ``random_claim_grid`` (:func:`grid_table`), ``random_claim_errors``
-    (:func:`instrument_errors`).
-    """
-    regular, pilots, tested = _split(study)
-    ref = reference_stacks(reference, elevation_step) if reference is not None and len(reference) else {}
-    errors = instrument_errors(ref, geometry)
-    margin_table = margins(regular, radii, errors)
-    pilot_readings = {key: pooled_readings(stack, lobe_centres(key[1:]), _disc_of(radii, key[0], key[1:]))
-                      for key, stack in pilots.items()}
-    configured = {(kind, float(t), float(a)): int(n) for kind, t, a, n in claims.get("tested", [])}
-    design = claim_design(margin_table, pilot_readings, claims, configured)
-    if int(claims.get("pilot_seeds", 0)) == 0:
-        design["plan"] = "no pilot seeds (claims.pilot_seeds 0): no plan"
-    readings = {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), _disc_of(radii, key[0], key[1:]),
-                                                  reading)
-                for key, stack in tested.items() for reading in READINGS}
-    return {"random_claim_margins": margin_table, "random_claim_design": design, "random_claim_errors": errors,
-            "random_claims": claim_table(readings, design, margin_table), "random_claim_grid": grid_table(ref, geometry)}

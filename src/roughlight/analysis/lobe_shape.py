@@ -409,7 +409,7 @@ def lobe_reading(field, centre, radius: float, cap: float = CAP_RADIUS, resoluti
     -------
     dict: ``contrast``, ``background``, ``peak`` (the field's units), the :func:`shape_misfits` keys, ``phase_shift``,
     ``signed_shift``, ``arcs``, ``measurable`` (whether the shape could be read) and ``why`` ('' or why not:
-    "cut by the horizon: ...", "wider than the search disc: ...", "no lobe: ..."). The contrast is given wherever the
+    "cut by the horizon: ...", "no lobe: ...", "half-contrast region too small ..."). The contrast is given wherever the
     whole disc was measured, the shape only where the region closes inside it.
     """
     out = {key: np.nan for key in ("contrast", "background", "peak", *SHAPE_KEYS[5:], "centre_x", "centre_y",
@@ -427,16 +427,10 @@ def lobe_reading(field, centre, radius: float, cap: float = CAP_RADIUS, resoluti
     ip = np.unravel_index(int(np.argmax(top)), top.shape)
     peak = float(top[ip])
     out.update(contrast=float(values[r <= cap].mean()) - background, background=background, peak=peak)
-    if not peak > background:
-        out["why"] = "no lobe: nothing in the disc stands above its rim"
+    if not peak > float(values[rim].max()):
+        out["why"] = "no lobe: the disc's highest view lies on its rim"
         return out
-    from scipy import ndimage
-
-    labels, _ = ndimage.label(disc & (values >= background + (peak - background) / 2.0))
-    region = labels == labels[ip]
-    if (region & rim).any():
-        out["why"] = f"wider than the search disc: its half-contrast region reaches the {radius:g} deg rim"
-        return out
+    region = _island(values, disc, rim, ip, background, peak)
     out.update(shape_misfits(X, Y, region, resolution))
     region_centre = _tangent_direction(centre, out["centre_x"], out["centre_y"])
     if region_centre is None or not np.isfinite(out["squareness"]):
@@ -448,6 +442,16 @@ def lobe_reading(field, centre, radius: float, cap: float = CAP_RADIUS, resoluti
     out.update(phase_shift((az, el, vals - background), region_centre, peak - background, reach))
     out["measurable"] = True
     return out
+
+
+def _island(values, disc, rim, ip, background: float, peak: float) -> np.ndarray:
+    """The lobe's region in its disc: the connected part at or above half its contrast that holds the highest point
+    ``ip``, the level raised above the rim's highest value where a tail of the lobe reaches the rim."""
+    from scipy import ndimage
+
+    level = max(background + (peak - background) / 2.0, np.nextafter(float(values[rim].max()), np.inf))
+    labels, _ = ndimage.label(disc & (values >= level))
+    return labels == labels[ip]
 
 
 def synthetic_lobe(azimuth, elevation, centre, half_widths, soft=None, rotation=0.0, peak=100.0) -> np.ndarray:

@@ -13,7 +13,10 @@ from ..render.shading import Lighting
 from ..study import config as rl_config
 from ..study.selection import SURFACE_KEYS, find_aspect
 from ..study.tables import study_summary
+from . import claims as C
 from .areas import reflecting_areas
+from .claim_instrument import grid_table, instrument_errors, reference_stacks
+from .claim_readings import READINGS, lobe_centres, pooled_readings
 from .diffuse import diffuse_levels, diffuse_three_part
 from .glm import grid_glms
 from .lobes import arc_lobes, hemisphere_lobes
@@ -29,7 +32,7 @@ from .thesis import (
 )
 from .timings import render_timings
 
-__all__ = ["analysis_tables", "analysis_glm", "analysis_models", "analysis_random"]
+__all__ = ["analysis_tables", "analysis_glm", "analysis_models", "analysis_random", "claim_discs", "claim_tables"]
 
 
 def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=print) -> tuple[dict, dict]:
@@ -124,7 +127,6 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     discs : rule ``claim_discs``' ``geometry`` and ``radii`` and rule ``claim_grid``'s ``grid`` (None: computed
         here from the study, with no claim grid)
     """
-    from . import claims as C
     from . import ensembles as E
 
     claims = {"tested": [], **rl_config.claims({"claims": claims or {}})}
@@ -133,8 +135,61 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, halfwidth, min_peak))
     fits = E.ensemble_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
     if discs is None:
-        found = C.claim_discs(study, lighting)
+        found = claim_discs(study, lighting)
         discs = {"geometry": found["random_claim_geometry"], "radii": found["random_claim_radii"], "grid": None}
-    design = C.design_tables(study, discs["radii"], discs["geometry"], discs.get("grid"), claims, elevation_step)
+    design = claim_tables(study, discs["radii"], discs["geometry"], discs.get("grid"), claims, elevation_step)
     return {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
             "random_model_fits": fits, **design}
+
+
+def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
+    """Which lobes enter the claim and how far each kind's are looked for, from geometry, the regular surfaces and
+    the pilot seeds (rule ``claim_discs``; no tested seed is read).
+
+    Returns
+    -------
+    dict of DataFrames: ``random_claim_geometry`` (:func:`roughlight.analysis.claims.claim_geometry`),
+    ``random_claim_radii`` (:func:`roughlight.analysis.claims.search_radii`).
+    """
+    kinds = study["kind"].astype(str)
+    ensembles = {(str(k), float(t), float(a), float(i))
+                 for k, t, a, i in study.loc[kinds != "pyramids", ["kind"] + SURFACE_KEYS].drop_duplicates()
+                 .itertuples(index=False)}
+    regular, pilots, _ = C.split_stacks(study[C.is_pilot(study["seed"].to_numpy()) | (kinds == "pyramids")])
+    geometry = C.claim_geometry(list(regular.values()), lighting)
+    return {"random_claim_geometry": geometry, "random_claim_radii": C.search_radii(geometry, pilots, ensembles)}
+
+
+def claim_tables(study: pd.DataFrame, radii: pd.DataFrame, geometry: pd.DataFrame, reference: pd.DataFrame | None,
+                 claims: dict, elevation_step: float = 1.0) -> dict:
+    """The claim's design and verdict as the tables rule ``analysis_random`` writes.
+
+    Parameters
+    ----------
+    study : the study's rows at the random grid points (the regular surface's among them, pilot seeds included)
+    radii, geometry : rule ``claim_discs``' tables
+    reference : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
+        grid's effect)
+    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
+
+    Returns
+    -------
+    dict of DataFrames: ``random_claim_margins``, ``random_claim_design`` and ``random_claims``
+    (:mod:`roughlight.analysis.claims`' margins, design and verdict), ``random_claim_grid`` and ``random_claim_errors``
+    (:mod:`roughlight.analysis.claim_instrument`).
+    """
+    regular, pilots, tested = C.split_stacks(study)
+    ref = reference_stacks(reference, elevation_step) if reference is not None and len(reference) else {}
+    errors = instrument_errors(ref, geometry)
+    margin_table = C.margins(regular, radii, errors)
+    pilot_readings = {key: pooled_readings(stack, lobe_centres(key[1:]), C.disc_of(radii, key[0], key[1:]))
+                      for key, stack in pilots.items()}
+    configured = {(kind, float(t), float(a)): int(n) for kind, t, a, n in claims.get("tested", [])}
+    design = C.claim_design(margin_table, pilot_readings, claims, configured)
+    if int(claims.get("pilot_seeds", 0)) == 0:
+        design["plan"] = "no pilot seeds (claims.pilot_seeds 0): no plan"
+    readings = {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), C.disc_of(radii, key[0], key[1:]),
+                                                  reading)
+                for key, stack in tested.items() for reading in READINGS}
+    return {"random_claim_margins": margin_table, "random_claim_design": design, "random_claim_errors": errors,
+            "random_claims": C.claim_table(readings, design, margin_table), "random_claim_grid": grid_table(ref, geometry)}

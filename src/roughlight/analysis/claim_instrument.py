@@ -1,0 +1,149 @@
+"""The instrument's own error on the claim's regular lobes: the fast method against the exact reference, and the
+study's azimuth step against finer ones (rule ``claim_grid``'s measurements, read as rule ``analysis_random`` reads
+them).
+
+Two of the claim's margins (:func:`roughlight.analysis.claims.margins`) come from here: the fast method's sampling
+error against the exact reference on the study's view grid, and the view grid's own effect (the study's azimuth
+step against 1 degree), each on the regular lobe in its own disc (:data:`roughlight.analysis.claims.CLEARANCE` of
+its widths). :func:`grid_table` is the page's table of each regular lobe's statistics by azimuth step.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ..render.shading import view_direction
+from ..study.selection import SURFACE_KEYS
+from .claim_readings import READINGS, SeedStack, lobe_centres, surface_readings
+from .claims import CLEARANCE, TESTS
+
+__all__ = ["reference_steps", "reference_views", "reference_stacks", "instrument_errors", "grid_table"]
+
+
+def reference_steps(azimuth_step: float) -> list[float]:
+    """The azimuth steps (degrees, coarsest first) the regular lobes are measured at by the exact reference: the
+    study's, half of it, and 1 degree."""
+    return sorted({float(azimuth_step), float(azimuth_step) / 2.0, 1.0}, reverse=True)
+
+
+def reference_views(geometry: pd.DataFrame, steps, elevation_step: float = 1.0) -> pd.DataFrame:
+    """The views rule ``claim_grid`` measures of each regular surface in the claim, at each azimuth step: every
+    view within each of its claimed lobes' own disc (:data:`CLEARANCE` of the regular lobe's widths) and a step's
+    reach beyond (the interpolation between views at the rim; the hot spot's also its width beyond, where its edge
+    is looked for to either side).
+
+    Returns
+    -------
+    DataFrame: surface keys, ``step``, ``azimuth``, ``elevation`` (degrees), a view a row.
+    """
+    from ..render.views import view_grid
+
+    frames = []
+    claimed = geometry[geometry["in_claim"]]
+    for (t, a, i), part in claimed.groupby(SURFACE_KEYS, sort=True):
+        centres = lobe_centres((t, a, i))
+        for step in steps:
+            az, el = view_grid(elevation_step, step)
+            V = view_direction(el, az)
+            near = np.zeros(len(az), bool)
+            for g in part.itertuples(index=False):
+                extra = g.width if g.lobe == "hot_spot" else 0.0
+                reach = CLEARANCE * g.width + extra + 1.5 * max(step, elevation_step)
+                near |= np.degrees(np.arccos(np.clip(V @ centres[g.lobe], -1.0, 1.0))) <= reach
+            frames.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": i, "step": float(step),
+                                        "azimuth": az[near], "elevation": el[near]}))
+    columns = SURFACE_KEYS + ["step", "azimuth", "elevation"]
+    return pd.concat(frames, ignore_index=True)[columns] if frames else pd.DataFrame(columns=columns)
+
+
+def reference_stacks(grid: pd.DataFrame, elevation_step: float = 1.0) -> dict:
+    """Rule ``claim_grid``'s measurements (surface keys, ``method``, ``step``, ``azimuth``, ``elevation``,
+    ``component``, ``rough_unrounded``, ``rough_unshadowed``) as a :class:`SeedStack` for each regular surface,
+    method and azimuth step, on the full view grid of that step: NaN (coverage 0) where nothing was measured.
+    Returns {surface key: {(method, step): SeedStack}}; both readings hold the unrounded values."""
+    out = {}
+    for (t, a, i, method, step), part in grid.groupby(SURFACE_KEYS + ["method", "step"], sort=True):
+        az = np.arange(0.0, 180.0 - step / 2, step)
+        el = np.arange(0.0, 180.0 + elevation_step / 2, elevation_step)
+        grids = {}
+        for component in ("specular", "diffuse"):
+            rows = part[part["component"].astype(str) == component]
+            ia = np.rint(rows["azimuth"].to_numpy(float) / step).astype(int)
+            ie = np.rint(rows["elevation"].to_numpy(float) / elevation_step).astype(int)
+            for column in ("rough_unrounded", "rough_unshadowed"):
+                values = np.full((1, len(az), len(el)), np.nan)
+                values[0, ia, ie] = rows[column].to_numpy(float)
+                grids[component, column] = values
+        coverage = np.where(np.isfinite(grids["diffuse", "rough_unrounded"][0]), 1.0, 0.0)
+        coverage[:, (el <= 0) | (el >= 180)] = 0.0
+        both = lambda g: {reading: g for reading in READINGS}  # noqa: E731
+        out.setdefault((float(t), float(a), float(i)), {})[str(method), float(step)] = SeedStack(
+            (t, a, i), "pyramids", [0], az, el, coverage, both(grids["specular", "rough_unrounded"]),
+            both(grids["diffuse", "rough_unrounded"]), grids["diffuse", "rough_unshadowed"])
+    return out
+
+
+def grid_table(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
+    """The regular lobes' statistics at each azimuth step rule ``claim_grid`` measured (unrounded), by each
+    method, each lobe in its own disc (:data:`CLEARANCE` of its regular widths): whether the study's azimuth step
+    is fine enough for each statistic.
+
+    Returns
+    -------
+    DataFrame: surface keys, ``lobe``, ``statistic``, ``method``, ``step``, ``value``, ``change`` (against the same
+    method's finest step).
+    """
+    rows = []
+    for g in geometry[geometry["in_claim"]].itertuples(index=False):
+        key = (g.truncation, g.aspect, g.incidence)
+        read = {ms: surface_readings(s, lobe_centres(key), {g.lobe: CLEARANCE * g.width})
+                for ms, s in reference.get(key, {}).items()}
+        for test, spec in TESTS.items():
+            if spec["lobe"] != g.lobe:
+                continue
+            for method in sorted({m for m, _ in read}, reverse=True):
+                steps = sorted((s for m, s in read if m == method), reverse=True)
+                for step in steps:
+                    value = read[method, step][test]
+                    rows.append({**dict(zip(SURFACE_KEYS, key)), "lobe": g.lobe, "statistic": test,
+                                 "method": method, "step": step, "value": value,
+                                 "change": value - read[method, steps[-1]][test]})
+    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "statistic", "method", "step", "value", "change"])
+
+
+def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
+    """What the instrument's method and view grid alone do to each regular lobe's statistics, in the lobe's own
+    disc: the fast method against the exact reference on the study's view grid (``sampling_error``), and the
+    study's azimuth step against 1 degree (``grid_effect``: the exact reference's where it measured 1 degree, else
+    the fast method's).
+
+    Parameters
+    ----------
+    reference : :func:`reference_stacks` of rule ``claim_grid``'s measurements
+    geometry : :func:`claim_geometry`
+
+    Returns
+    -------
+    DataFrame: surface keys, ``test``, ``sampling_error``, ``grid_effect``, ``grid_method``.
+    """
+    rows = []
+    for g in geometry[geometry["in_claim"]].itertuples(index=False):
+        key = (g.truncation, g.aspect, g.incidence)
+        stacks = reference.get(key, {})
+        if not stacks:
+            continue
+        disc = {g.lobe: CLEARANCE * g.width}
+        read = {ms: surface_readings(s, lobe_centres(key), disc) for ms, s in stacks.items()}
+        coarse = max(step for _, step in read)
+        fine_method = "reference" if ("reference", min(step for _, step in read)) in read else "fast"
+        finest = min(step for method, step in read if method == fine_method)
+        for test, spec in TESTS.items():
+            if spec["lobe"] != g.lobe:
+                continue
+            sampling = (abs(read["fast", coarse][test] - read["reference", coarse][test])
+                        if ("fast", coarse) in read and ("reference", coarse) in read else np.nan)
+            grid = abs(read[fine_method, coarse][test] - read[fine_method, finest][test])
+            rows.append({**dict(zip(SURFACE_KEYS, key)), "test": test, "sampling_error": sampling,
+                         "grid_effect": grid, "grid_method": fine_method})
+    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["test", "sampling_error", "grid_effect", "grid_method"])
