@@ -305,10 +305,13 @@ def test_the_verdict_decides_lobes_and_shapes_at_the_familys_level():
     wide = _verdict(_readings(-0.15, 0.02, 6))
     assert wide.loc["back_squareness", "verdict"] == "undecided"
     assert "would decide it" in wide.loc["back_squareness", "why"] and wide.loc["back_squareness", "seeds_to_decide"] > 6
-    faint = _verdict(_readings(-0.10, 0.005, 12, contrast=0.3, contrast_se=0.2))
+    faint = _verdict(_readings(-0.10, 0.005, 12, contrast=0.3, contrast_se=0.02), contrast_margin=1.0)
     assert faint.loc["back_contrast", "verdict"] == "no lobe"
-    assert faint.loc["back_squareness", "verdict"] == "no lobe" and "within the noise" in faint.loc[
-        "back_squareness", "why"]
+    assert faint.loc["back_squareness", "verdict"] == "no lobe" and "found none" in faint.loc["back_squareness", "why"]
+    # a contrast whose interval reaches across the margin decides nothing, and no shape is compared
+    unsure = _verdict(_readings(-0.10, 0.005, 12, contrast=1.2, contrast_se=0.3), contrast_margin=1.0)
+    assert unsure.loc["back_contrast", "verdict"] == "undecided" and unsure.loc["back_contrast", "seeds_to_decide"] > 12
+    assert unsure.loc["back_squareness", "verdict"] == "undecided"
     # a wider family widens every interval
     wider = _verdict(_readings(-0.10, 0.005, 12), family=40)
     assert (wider.loc["back_squareness", "high"] - wider.loc["back_squareness", "low"]
@@ -320,9 +323,10 @@ def test_the_pilot_plans_more_seeds_for_a_wider_spread():
     wide, _ = C.planned_seeds(-0.10, 0.03, 4, regular=-0.18, margin=0.02, level=0.998, role="shape")
     assert 2 <= narrow < wide
     assert C.planned_seeds(-0.10, np.nan, 4, -0.18, 0.02, 0.998, "shape")[0] is None
-    assert C.planned_seeds(0.05, 0.1, 4, np.nan, 0.1, 0.998, "lobe") == (2, "no lobe expected from the pilot")
-    lobe, why = C.planned_seeds(3.0, 0.5, 4, np.nan, 0.1, 0.998, "lobe")
-    assert lobe >= 2 and why == "a lobe expected from the pilot"
+    none, why = C.planned_seeds(0.05, 0.1, 4, np.nan, 1.0, 0.998, "lobe")
+    lobe, why_lobe = C.planned_seeds(3.0, 0.5, 4, np.nan, 1.0, 0.998, "lobe")
+    assert why == "no lobe expected from the pilot" and why_lobe == "a lobe expected from the pilot"
+    assert 2 <= none and 2 <= lobe
 
 
 def test_the_rendering_noise_of_a_symmetric_lobe_is_zero_and_its_halves_are_its_own():

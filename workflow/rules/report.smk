@@ -189,7 +189,7 @@ rule render_figures:
 
 
 # the random-roughness claim's lobes and search discs, from geometry, the regular surfaces and the pilot seeds
-# alone (roughlight.analysis.claims.claim_discs): no tested seed is read
+# alone (roughlight.analysis.steps.claim_discs): no tested seed is read
 rule claim_discs:
     input:
         study="results/study.parquet",

@@ -36,8 +36,9 @@ exact reference and the pilot seeds, before any tested seed is read:
 
 The verdict (:func:`claim_table`), from the tested seeds only, in both readings (unrounded and 8-bit):
 
-* a lobe's **contrast**: *lobe* when its interval lies wholly above the margin; otherwise *no lobe* (its contrast
-  is within the noise: random roughness removes it);
+* a lobe's **contrast**: *lobe* when its interval lies wholly above the margin, *no lobe* when wholly below it
+  (its contrast is within what the instrument cannot tell from none: random roughness removes it), *undecided*
+  otherwise;
 * a lobe's **shape**, where it has one: *difference* (the interval wholly beyond the margin around the regular
   value; the table says whether the way the thesis claims), *no difference* (wholly within it), *undecided*
   otherwise (with the seeds that would decide it); *no lobe* where the contrast test found none.
@@ -89,7 +90,9 @@ PILOT_WIDTHS = 2.0
 TESTS = {
     "back_contrast": {
         "lobe": "back", "role": "lobe", "unit": "levels", "range": (-math.inf, math.inf),
-        "matters": 0.0, "why_matters": "",
+        "matters": 1.0,
+        "why_matters": "one 8-bit level: no framebuffer, the thesis's instrument, shows a lobe lower than that above its "
+                       "background",
         "claim": "the back lobe stands above its background (a lobe to compare)",
         "shows": "the specular's mean over a 3-degree cap at the mirror direction less its mean on the search "
                  "disc's rim",
@@ -109,7 +112,9 @@ TESTS = {
     },
     "hot_spot_contrast": {
         "lobe": "hot_spot", "role": "lobe", "unit": "levels", "range": (-math.inf, math.inf),
-        "matters": 0.0, "why_matters": "",
+        "matters": 1.0,
+        "why_matters": "one 8-bit level: no framebuffer, the thesis's instrument, shows a lobe lower than that above its "
+                       "background",
         "claim": "the hot spot stands above its background (a halo to compare)",
         "shows": "the shadow-hiding function at V = L less its mean above the light on the search circle, times "
                  "the diffuse at V = L",
@@ -329,9 +334,9 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
 
     The pilot's per-seed spread is its jackknife standard error times sqrt(pilot seeds), taken at its one-sided
     ``sd_confidence`` upper confidence limit (a few pilot seeds estimate a spread poorly). A lobe test
-    (``role`` "lobe") needs the seeds whose interval clears the margin where the pilot has a lobe (where it has
-    none, any count finds none); a shape test needs those whose interval, centred on the pilot's difference from
-    the regular value, lies wholly beyond or wholly within the margin.
+    (``role`` "lobe") needs the seeds whose interval, centred on the pilot's contrast, lies wholly above the
+    margin (a lobe) or wholly below it (no lobe); a shape test needs those whose interval, centred on the pilot's
+    difference from the regular value, lies wholly beyond or wholly within the margin.
 
     Returns
     -------
@@ -344,9 +349,7 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
     df = pilot_seeds - 1
     sd = pilot_se * math.sqrt(pilot_seeds) * math.sqrt(df / sps.chi2.ppf(1.0 - sd_confidence, df))
     if role == "lobe":
-        if pilot <= margin:
-            return 2, "no lobe expected from the pilot"
-        room, expect = pilot - margin, "a lobe"
+        room, expect = (pilot - margin, "a lobe") if pilot > margin else (margin - pilot, "no lobe")
     else:
         if not np.isfinite(regular):
             return None, "the regular lobe cannot be read"
@@ -375,21 +378,23 @@ def claim_design(margin_table: pd.DataFrame, pilot_readings: dict, design: dict,
     Returns
     -------
     DataFrame: kind, surface keys, ``test``, ``lobe``, ``role``, ``family``, ``level``, ``margin``, ``regular``,
-    ``pilot_seeds``, ``pilot_mean``, ``pilot_se``, ``seeds_needed`` (Int64), ``plan`` (why),
-    ``ensemble_seeds`` (the ensemble's plan: its most demanding test, capped at ``max_seeds``),
-    ``seeds_configured``.
+    ``pilot_seeds``, ``pilot_mean``, ``pilot_se``, ``seeds_needed`` (Int64; NA where no count up to ``max_seeds``
+    decides the test, or the pilot cannot say), ``plan`` (why), ``ensemble_seeds`` (the ensemble's plan: its most
+    demanding test that ``max_seeds`` seeds can decide; seeds beyond would not decide the others), ``seeds_configured``.
     """
     plan = margin_table[margin_table["reading"] == "unrounded"].reset_index(drop=True)
     family = len(plan)
     level = 1.0 - float(design["alpha"]) / max(family, 1)
+    lobe_margin = {(m.kind, m.truncation, m.aspect, m.incidence, TESTS[m.test]["lobe"]): m.margin
+                   for m in plan.itertuples(index=False) if TESTS[m.test]["role"] == "lobe"}
     rows = []
     for m in plan.itertuples(index=False):
         key = (m.kind, m.truncation, m.aspect, m.incidence)
         pilot = pilot_readings.get(key, {})
         spec = TESTS[m.test]
         mean, se = float(pilot.get(m.test, np.nan)), float(pilot.get(f"{m.test}_se", np.nan))
-        if spec["role"] == "shape" and not pilot.get("back_contrast" if spec["lobe"] == "back"
-                                                      else "hot_spot_contrast", np.nan) > m.margin:
+        if spec["role"] == "shape" and not (pilot.get(f"{spec['lobe']}_contrast", np.nan)
+                                            > lobe_margin.get(key + (spec["lobe"],), 0.0)):
             need, why = 2, "no lobe expected from the pilot: no shape to test"
         else:
             need, why = planned_seeds(mean, se, int(pilot.get("seeds", 0)), m.regular, m.margin, level, spec["role"],
@@ -403,9 +408,8 @@ def claim_design(margin_table: pd.DataFrame, pilot_readings: dict, design: dict,
         "test", "lobe", "role", "family", "level", "margin", "regular", "pilot_seeds", "pilot_mean", "pilot_se",
         "seeds_needed", "plan", "seeds_configured"])
     out["seeds_needed"] = pd.array(out["seeds_needed"], dtype="Int64")
-    cap = int(design["max_seeds"])
     out["ensemble_seeds"] = (out.groupby(["kind"] + SURFACE_KEYS)["seeds_needed"].transform(
-        lambda s: cap if s.isna().any() else int(min(cap, s.max()))).astype(int) if len(out) else pd.Series(dtype=int))
+        lambda s: int(s.dropna().max()) if s.notna().any() else 2).astype(int) if len(out) else pd.Series(dtype=int))
     return out
 
 
@@ -457,11 +461,10 @@ def claim_table(tested: dict, design_table: pd.DataFrame, margin_table: pd.DataF
             key = (d.kind, d.truncation, d.aspect, d.incidence)
             m = margin_of.loc[key + (d.test, reading)]
             spec = TESTS[d.test]
-            found = lobes.get(key + (spec["lobe"], reading))
             row = _verdict_row(d, reading, tested.get(key + (reading,), {}), float(m["regular"]), float(m["margin"]),
-                               found)
+                               lobes.get(key + (spec["lobe"], reading)))
             if spec["role"] == "lobe":
-                lobes[key + (spec["lobe"], reading)] = row["verdict"] == "lobe"
+                lobes[key + (spec["lobe"], reading)] = row["verdict"]
             rows.append(row)
     out = pd.DataFrame(rows, columns=VERDICT_COLUMNS)
     if len(out):
@@ -473,8 +476,8 @@ def claim_table(tested: dict, design_table: pd.DataFrame, margin_table: pd.DataF
     return out
 
 
-def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, lobe_found: bool | None) -> dict:
-    """One test's row of :func:`claim_table` in one reading (``lobe_found``: its lobe test's outcome, for a shape
+def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, lobe: str | None) -> dict:
+    """One test's row of :func:`claim_table` in one reading (``lobe``: its lobe test's verdict, for a shape
     test)."""
     spec = TESTS[d.test]
     mean, se, n = (float(pooled.get(d.test, np.nan)), float(pooled.get(f"{d.test}_se", np.nan)),
@@ -483,8 +486,10 @@ def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, l
            "reading": reading, "claim": spec["claim"], "regular": regular, "margin": margin, "level": d.level,
            "seeds": n, "mean": mean, "se": se, "low": np.nan, "high": np.nan, "verdict": "not measurable",
            "why": "", "agrees": pd.NA, "seeds_to_decide": pd.NA}
-    if spec["role"] == "shape" and lobe_found is False:
-        row.update(verdict="no lobe", why="its contrast is within the noise: no shape to compare")
+    if spec["role"] == "shape" and lobe != "lobe":
+        row.update(verdict="no lobe" if lobe == "no lobe" else "undecided",
+                   why="its lobe test found none: no shape to compare" if lobe == "no lobe"
+                   else "its lobe test is not decided: no shape to compare yet")
         return row
     if not (np.isfinite(mean) and np.isfinite(se)) or n < 2:
         row["why"] = (pooled.get(f"{spec['lobe']}_why") or "a resample of the seeds could not read it"
@@ -494,10 +499,16 @@ def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, l
     lo, hi = spec["range"]
     row["low"], row["high"] = max(lo, mean - half), min(hi, mean + half)
     if spec["role"] == "lobe":
-        found = row["low"] > margin
-        row.update(verdict="lobe" if found else "no lobe",
-                   why=(f"its contrast's interval lies above the margin {margin:.3g}" if found else
-                        f"its contrast's interval reaches down to the margin {margin:.3g}: within the noise"))
+        if row["low"] > margin or row["high"] < margin:
+            found = row["low"] > margin
+            row.update(verdict="lobe" if found else "no lobe",
+                       why=f"its contrast's interval lies wholly {'above' if found else 'below'} the margin {margin:.3g}"
+                           + ("" if found else ": within what the instrument cannot tell from no lobe"))
+            return row
+        row.update(verdict="undecided", why=f"its contrast's interval reaches across the margin {margin:.3g}")
+        need = fewest_seeds(se * math.sqrt(n), abs(mean - margin), d.level, 10_000)
+        row["seeds_to_decide"] = pd.NA if need is None else need
+        row["why"] += f"; about {need} seeds at this spread would decide it" if need is not None else ""
         return row
     row["verdict"], row["why"] = decide(row["low"], row["high"], regular, margin, spec["expected"])
     if row["verdict"] == "difference":

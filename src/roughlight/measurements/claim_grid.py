@@ -2,13 +2,13 @@
 
 Rule ``claim_grid`` measures the regular surface at each grid point whose lobes enter the claim
 (:func:`roughlight.analysis.claims.claim_geometry`), on the views around each lobe
-(:func:`roughlight.analysis.claims.reference_views`), unrounded and with inner shadows off as well:
+(:func:`roughlight.analysis.claim_instrument.reference_views`), unrounded and with inner shadows off as well:
 
-* the fast method (the study's) at every azimuth step of :func:`roughlight.analysis.claims.reference_steps` (the
+* the fast method (the study's) at every azimuth step of :func:`roughlight.analysis.claim_instrument.reference_steps` (the
   study's, half of it, 1 degree);
 * the exact reference at the study's step, and, in the ``full`` plan, at every step.
 
-Two of the claim's margins come from them (:func:`roughlight.analysis.claims.instrument_errors`): the fast method's
+Two of the claim's margins come from them (:func:`roughlight.analysis.claim_instrument.instrument_errors`): the fast method's
 sampling error against the exact reference on the study's view grid, and the view grid's own effect (the study's
 step against 1 degree); the report shows each regular lobe's statistics at each step.
 """
@@ -51,7 +51,7 @@ def claim_grid(geometry: pd.DataFrame, plan: str, sweep: dict, lighting, render:
     DataFrame (:data:`COLUMNS`), a view x component a row: the view's ``rough_unrounded`` and ``rough_unshadowed``
     (0-255), by ``method`` ("fast", "reference") and azimuth ``step``; ``seconds`` the sweep's wall time.
     """
-    from ..analysis.claims import reference_steps, reference_views
+    from ..analysis.claim_instrument import reference_steps, reference_views
 
     if plan not in PLANS:
         raise ValueError(f"measurements.plan must be one of {sorted(PLANS)}, got {plan!r}")
