@@ -25,7 +25,7 @@ from roughlight.report import page as R
 from roughlight.report.explorer import explorer_data, study_columns
 from roughlight.study import config as rl_config
 from roughlight.study import plan
-from roughlight.study.tables import aggregate, regular, renderers, run_sweep
+from roughlight.study.tables import aggregate, claim_rows, regular, renderers, run_sweep
 from roughlight.surfaces.roughness import make_surface
 
 from .conftest import REPO
@@ -87,6 +87,32 @@ def measure_study(cfg: dict, workdir: Path) -> pd.DataFrame:
     return aggregate(files["rough"] + files["random"], files["control"])
 
 
+def claim_chain(cfg: dict, study: pd.DataFrame, workdir: Path) -> dict:
+    """The claim's rules in one process: its lobes and discs (claim_discs), its tiles at its views (claim_sweeps:
+    tested and pilot seeds), its design from the pilots (claim_design, without rule claim_grid's measurements);
+    returns the design's tables and analysis_random's ``claim`` (the tested rows, geometry, margins, design)."""
+    from roughlight.analysis.claim_instrument import claim_views
+
+    lighting, sweep = plan.lighting(cfg), plan.sweep_settings(cfg)
+    steps_ = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
+    geometry = steps.claim_discs(study, lighting)["random_claim_geometry"]
+    folders = []
+    for i in plan.grid(cfg, "incidence"):
+        for kind, t, a, seeds in plan.ensembles(cfg, claim=True):
+            folder = workdir / plan.ensemble_folder(kind, t, a, i, plan.CLAIM_FOLDER)
+            folder.mkdir(parents=True, exist_ok=True)
+            views = claim_views(geometry, (t, a, float(i)), *steps_)
+            for seed in seeds:
+                run_sweep(str(folder / f"s{seed}.parquet"), make_surface(**plan.surface_settings(cfg, kind, t, a, seed)),
+                          i, sweep, lighting, cfg["render"]["method"], plan.render_settings(cfg, "random"), views=views)
+            folders.append(folder)
+    claims = rl_config.claim_settings(cfg)
+    design = steps.claim_design(study, claim_rows(folders, pilots=True), geometry, None, claims, steps_)
+    return {"random_claim_geometry": geometry, **design, "rows": claim_rows(folders, pilots=False),
+            "geometry": geometry, "margins": design["random_claim_margins"],
+            "design": design["random_claim_design"], "steps": steps_}
+
+
 def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Path) -> str:
     """The analysis steps, the drawn figures and the page, as the report rules chain them: every output is named as
     the rules name it (its file's stem; a chart's stem and _png) and handed to the next step by that name."""
@@ -104,7 +130,9 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
     smoothness = arc_smoothness(study, settings["table_aspects"], settings["table_incidence"], Lighting(**lighting))
     assert set(smoothness["aspect"]) <= set(settings["table_aspects"])
     if rl_config.random_surfaces(cfg):
-        outputs.update(steps.analysis_random(study, settings, lighting))
+        claim = claim_chain(cfg, study, workdir)
+        outputs.update({name: claim.pop(name) for name in list(claim) if name.startswith("random_claim")})
+        outputs.update(steps.analysis_random(study, settings, lighting, rl_config.claim_settings(cfg), claim))
         # the charts rule analysis_random draws (the page is built without them: the chain checks the tables)
         draft(F.draw("random_ensembles", summary=outputs["random_ensembles"]), workdir / "figures" / "random_ensembles.png")
         draft(F.draw("random_maps", study=study), workdir / "figures" / "random_maps.png")

@@ -235,27 +235,34 @@ def test_the_design_reads_no_tested_seed(tile_study):
     """The lobes, search discs, margins and seed plan come from geometry, the regular surface and the pilot seeds:
     the tested seeds may hold any number without moving them; the verdict moves."""
     lighting = {"shininess": 64.0, "specular_model": "phong"}
-    claims = {"alpha": 0.05, "max_seeds": 12, "pilot_seeds": 2, "tested": []}
-    discs = steps.claim_discs(tile_study, lighting)
-    geometry, radii = discs["random_claim_geometry"], discs["random_claim_radii"]
+    claims = {"alpha": 0.05, "max_seeds": 12, "pilot_seeds": 2, "tested": [["random_pyramids", 1.0, 0.5, 2]]}
+    steps_ = (10.0, 2.0)
+    regular = tile_study[tile_study["kind"] == "pyramids"]
+    tiles = tile_study[tile_study["kind"] != "pyramids"]
+    tables = steps.claim_tables(regular, tiles, None, claims, lighting, steps_)
+    geometry = tables["random_claim_geometry"]
     assert set(geometry["lobe"]) == {"back", "hot_spot"} and geometry["in_claim"].all()
-    assert (radii["radius"] >= C.CLEARANCE * geometry.set_index("lobe").loc[radii["lobe"], "width"].to_numpy()
-            - 1e-9).all()
-    tables = steps.claim_tables(tile_study, radii, geometry, None, claims)
-    scrambled = tile_study.copy()
-    tested = (scrambled["kind"] != "pyramids") & (scrambled["seed"] < 1000)
+    np.testing.assert_allclose(geometry["radius"], C.CLEARANCE * geometry["width"])
+    scrambled = tiles.copy()
+    tested = scrambled["seed"] < 1000
     rng = np.random.default_rng(7)
     for column in ("rough", "rough_unrounded", "rough_unshadowed"):
         scrambled.loc[tested, column] *= rng.uniform(0.5, 1.5, tested.sum())
-    again = steps.claim_discs(scrambled, lighting)
-    pd.testing.assert_frame_equal(again["random_claim_radii"], radii)
-    moved = steps.claim_tables(scrambled, radii, geometry, None, claims)
-    for name in ("random_claim_margins", "random_claim_design"):
+    moved = steps.claim_tables(regular, scrambled, None, claims, lighting, steps_)
+    for name in ("random_claim_geometry", "random_claim_margins", "random_claim_design"):
         pd.testing.assert_frame_equal(moved[name], tables[name])
     assert not moved["random_claims"]["mean"].equals(tables["random_claims"]["mean"])
     verdicts = tables["random_claims"]
     assert set(verdicts["reading"]) == set(R.READINGS) and set(verdicts["test"]) == set(C.TESTS)
+    assert set(verdicts["seeds"]) == {2} and set(tables["random_claim_design"]["pilot_seeds"]) == {2}
     assert verdicts["level"].iloc[0] == pytest.approx(1 - 0.05 / len(tables["random_claim_design"]))
+    # the claim's tiles at its own views read as at every view: the views outside the discs are not read
+    views = I.claim_views(geometry, (1.0, 0.5, 30.0), *steps_)
+    seen = set(zip(views[0], views[1]))
+    inside = tiles[[(a, e) in seen for a, e in zip(tiles["azimuth"], tiles["elevation"])]]
+    assert 0 < len(inside) < len(tiles)
+    cut = steps.claim_tables(regular, inside, None, claims, lighting, steps_)
+    pd.testing.assert_frame_equal(cut["random_claims"], tables["random_claims"])
 
 
 def test_a_regular_lobe_near_the_horizon_stays_out_of_the_claim():
@@ -340,11 +347,11 @@ def test_the_rendering_noise_of_a_symmetric_lobe_is_zero_and_its_halves_are_its_
 
 def test_the_reference_views_cover_each_claimed_lobe_and_come_back_as_its_field():
     geometry = pd.DataFrame([{"truncation": 1.0, "aspect": 0.5, "incidence": 30.0, "lobe": "back", "width": 8.4,
-                              "in_claim": True},
+                              "radius": 25.2, "in_claim": True},
                              {"truncation": 1.0, "aspect": 0.5, "incidence": 30.0, "lobe": "hot_spot", "width": 5.3,
-                              "in_claim": True},
+                              "radius": 15.9, "in_claim": True},
                              {"truncation": 1.0, "aspect": 1.0, "incidence": 30.0, "lobe": "back", "width": 8.4,
-                              "in_claim": False}])
+                              "radius": 25.2, "in_claim": False}])
     views = I.reference_views(geometry, I.reference_steps(5.0))
     assert sorted(views["step"].unique()) == [1.0, 2.5, 5.0] and set(views["aspect"]) == {0.5}
     coarse = views[views["step"] == 5.0]

@@ -486,14 +486,14 @@ def test_the_claim_its_design_and_its_finding_show_in_chromium(tables, tmp_path)
     unrounded = claims[claims["reading"] == "unrounded"]
     design = unrounded[["kind", "truncation", "aspect", "incidence", "test"]].assign(
         lobe="back", role=["lobe"] * 4 + ["shape"] * 4, family=8, level=1 - 0.05 / 8, margin=unrounded["margin"],
-        regular=unrounded["regular"], pilot_seeds=4, pilot_mean=1.0, pilot_se=0.1,
+        regular=unrounded["regular"], pilot_seeds=4, pilot_width=9.0, pilot_mean=1.0, pilot_se=0.1,
         seeds_needed=pd.array([12] * 8, dtype="Int64"), plan="a lobe expected from the pilot", seeds_configured=12,
         ensemble_seeds=12)
     margins = claims[["kind", "truncation", "aspect", "incidence", "test", "reading", "regular", "margin"]].assign(
         rendering_noise=0.001, sampling_error=0.0, grid_effect=0.004, rounding=np.nan, matters=0.05,
         **{"from": "difference that matters"})
     geometry = pd.DataFrame([{"truncation": t, "aspect": 0.5, "incidence": 30.0, "lobe": "back", "centre_azimuth": 0.0,
-                              "centre_elevation": 60.0, "width": 8.4, "clearance": 59.0, "cap": 45.0,
+                              "centre_elevation": 60.0, "width": 8.4, "radius": 25.2, "clearance": 59.0, "cap": 45.0,
                               "in_claim": True, "why": ""} for t in (0.5, 1.0)])
     html = R.build_report({**tables, **benchmarks(), **measured(), "random_claim_design": design,
                            "random_claim_margins": margins, "random_claim_geometry": geometry},

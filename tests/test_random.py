@@ -205,20 +205,21 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     from roughlight.analysis import steps
     from roughlight.report.page import render_section
 
-    discs = steps.claim_discs(study, {"shininess": 64.0, "specular_model": "phong"})
-    design = steps.claim_tables(study, discs["random_claim_radii"], discs["random_claim_geometry"], None,
-                             {"pilot_seeds": 0, "alpha": 0.05, "max_seeds": 12, "tested": []})
-    tables = {**discs, **design}
+    tiles = study[study["kind"] != "pyramids"]
+    design = steps.claim_tables(study, tiles, None, {"pilot_seeds": 0, "alpha": 0.05, "max_seeds": 12,
+                                                     "tested": [["random_pyramids", 1.0, 1.0, 3]]},
+                                {"shininess": 64.0, "specular_model": "phong"}, (15.0, 2.0))
+    tables = design
     html = render_section("random", random_ensembles=summary, random_seeds_needed=needed, random_model_fits=fits,
                           surface_settings={"cells": 2, "spread": {"truncation": 0.2}},
                           **{name: tables[name] for name in ("random_claims", "random_claim_design",
                                                              "random_claim_margins", "random_claim_geometry",
-                                                             "random_claim_radii", "random_claim_grid")})
+                                                             "random_claim_grid")})
     assert '<h2 id="random">Random roughness</h2>' in html
     assert 'id="random-claim"' in html and 'id="random-seeds"' in html and "best <b>" in html
     assert 'id="random-claim-plan"' in html and 'id="random-claim-geometry"' in html
     # at aspect 1 under a light at incidence 30 the back lobe stays out of the claim, and the page says why
-    geometry = discs["random_claim_geometry"].set_index("lobe")
+    geometry = design["random_claim_geometry"].set_index("lobe")
     assert not geometry.loc["back", "in_claim"] and "horizon" in geometry.loc["back", "why"]
     assert "does not clear the horizon" in html
     # the claim table: a test and reading a row, its verdict and why, both readings side by side on the page

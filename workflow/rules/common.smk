@@ -184,17 +184,18 @@ def random_surface_params(wildcards):
     )
 
 
-def _ensemble(wildcards):
-    """The kind, truncation, aspect and seeds of a random_sweeps job's ensemble."""
+def _ensemble(wildcards, claim=False):
+    """The kind, truncation, aspect and seeds of a random_sweeps job's ensemble (claim: a claim_sweeps job's, its
+    tested and pilot seeds)."""
     t, a = _value("truncation", wildcards.truncation), _value(
         "aspect", wildcards.aspect
     )
-    return (
-        wildcards.kind,
-        t,
-        a,
-        rl_config.ensemble_seeds(config, wildcards.kind, (t, a)),
+    seeds = (
+        rl_config.claim_seeds(config, wildcards.kind, (t, a))
+        if claim
+        else rl_config.seeds(config, wildcards.kind, (t, a))
     )
+    return (wildcards.kind, t, a, seeds)
 
 
 def random_ensemble_surfaces(wildcards):
@@ -208,6 +209,26 @@ def random_ensemble_files(wildcards):
     kind, t, a, seeds = _ensemble(wildcards)
     folder = rl_plan.ensemble_folder(kind, t, a, wildcards.incidence)
     return [rl_plan.ensemble_member(folder, seed) for seed in seeds]
+
+
+def claim_ensemble_surfaces(wildcards):
+    """A claim_sweeps job's surfaces: its ensemble's tested and pilot tiles, a seed each."""
+    kind, t, a, seeds = _ensemble(wildcards, claim=True)
+    return [rl_plan.surface_settings(config, kind, t, a, seed) for seed in seeds]
+
+
+def claim_ensemble_files(wildcards):
+    """A claim_sweeps job's sweep files, in its folder under results/claims, in the order of its surfaces."""
+    kind, t, a, seeds = _ensemble(wildcards, claim=True)
+    folder = rl_plan.ensemble_folder(
+        kind, t, a, wildcards.incidence, rl_plan.CLAIM_FOLDER
+    )
+    return [rl_plan.ensemble_member(folder, seed) for seed in seeds]
+
+
+def claim_ensemble_folders():
+    """The folders of the claim_sweeps jobs: a random kind's claim ensemble at a random grid point and incidence."""
+    return rl_plan.ensemble_folders(config, rl_plan.CLAIM_FOLDER, claim=True)
 
 
 def random_surface_settings(wildcards):

@@ -94,6 +94,40 @@ rule random_sweeps:
         "../scripts/sweep.py"
 
 
+# the random-roughness claim's tiles: a random kind's tested and pilot seeds at a grid point, measured at the
+# claim's views alone (the views around its lobes, from rule claim_discs' geometry): a fifth of a full sweep's time
+rule claim_sweeps:
+    input:
+        geometry="results/analysis/random_claim_geometry.csv",
+    output:
+        directory("results/claims/i{incidence}/{kind}/t{truncation}_a{aspect}"),
+    log:
+        "results/logs/claims/i{incidence}/{kind}/t{truncation}_a{aspect}.log",
+    benchmark:
+        "results/logs/claims/i{incidence}/{kind}/t{truncation}_a{aspect}.benchmark.tsv"
+    priority: PRIORITY_TILE_SWEEPS
+    group:
+        "sweeps"
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        gl=gl_params,
+        surfaces=claim_ensemble_surfaces,
+        files=claim_ensemble_files,
+        incidence=incidence_param,
+        sweep=sweep_params,
+        lighting=lighting_params,
+        method=method_param,
+        render=random_render_params,
+        store=rl_sweep_store.STORE,
+        format=rl_tables.SWEEP_FORMAT,
+    script:
+        "../scripts/claim_sweeps.py"
+
+
 rule surface_meshes:
     output:
         mesh_files(),

@@ -188,14 +188,13 @@ rule render_figures:
         "../scripts/render_figures.py"
 
 
-# the random-roughness claim's lobes and search discs, from geometry, the regular surfaces and the pilot seeds
-# alone (roughlight.analysis.steps.claim_discs): no tested seed is read
+# the random-roughness claim's lobes and their search discs, from geometry and the regular surfaces alone
+# (roughlight.analysis.steps.claim_discs)
 rule claim_discs:
     input:
         study="results/study.parquet",
     output:
         random_claim_geometry="results/analysis/random_claim_geometry.csv",
-        random_claim_radii="results/analysis/random_claim_radii.csv",
     log:
         "results/logs/report/claim_discs.log",
     benchmark:
@@ -211,12 +210,42 @@ rule claim_discs:
         "../scripts/claim_discs.py"
 
 
+# the claim's design: margins, the family and the seeds each test needs, from the regular surfaces, the exact
+# reference and the pilot seeds alone (roughlight.analysis.steps.claim_design): it opens no tested seed's file
+rule claim_design:
+    input:
+        study="results/study.parquet",
+        geometry="results/analysis/random_claim_geometry.csv",
+        claims=claim_ensemble_folders(),
+        claim_grid=claim_grid_file,
+    output:
+        random_claim_design="results/analysis/random_claim_design.csv",
+        random_claim_margins="results/analysis/random_claim_margins.csv",
+        random_claim_errors="results/analysis/random_claim_errors.csv",
+        random_claim_grid="results/analysis/random_claim_grid.csv",
+    log:
+        "results/logs/report/claim_design.log",
+    benchmark:
+        "results/logs/report/claim_design.benchmark.tsv"
+    conda:
+        "../../envs/study.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        claims=claim_settings,
+        sweep=sweep_params,
+    script:
+        "../scripts/claim_design.py"
+
+
 rule analysis_random:
     input:
         study="results/study.parquet",
-        radii="results/analysis/random_claim_radii.csv",
+        claims=claim_ensemble_folders(),
         geometry="results/analysis/random_claim_geometry.csv",
-        claim_grid=claim_grid_file,
+        design="results/analysis/random_claim_design.csv",
+        margins="results/analysis/random_claim_margins.csv",
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(
@@ -233,10 +262,6 @@ rule analysis_random:
             category="Tables",
             subcategory="Random roughness",
         ),
-        random_claim_design="results/analysis/random_claim_design.csv",
-        random_claim_margins="results/analysis/random_claim_margins.csv",
-        random_claim_errors="results/analysis/random_claim_errors.csv",
-        random_claim_grid="results/analysis/random_claim_grid.csv",
         random_ensembles_png=report(
             "results/figures/random_ensembles.png",
             caption="../report/random_ensembles.rst",
@@ -262,7 +287,7 @@ rule analysis_random:
         settings=report_settings,
         lighting=lighting_params,
         claims=claim_settings,
-        elevation_step=float(config["sweep"]["elevation_step"]),
+        sweep=sweep_params,
     script:
         "../scripts/analysis_random.py"
 

@@ -1,5 +1,5 @@
 """Snakemake adapter: the study's random tiles -> per-seed statistics, ensemble means, seeds needed, model refits,
-and the random-roughness charts."""
+the random-roughness charts; and the claim's verdict from its tested tiles."""
 import os
 import sys
 
@@ -12,15 +12,15 @@ from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
-from roughlight.study.tables import read_study  # noqa: E402
+from roughlight.study.tables import claim_rows, read_study  # noqa: E402
 
 log = _log.setup(snakemake)
-out = snakemake.output
-study = read_study(snakemake.input.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
-discs = {"radii": pd.read_csv(snakemake.input.radii), "geometry": pd.read_csv(snakemake.input.geometry),
-         "grid": pd.read_parquet(snakemake.input.claim_grid)}
-tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims, discs,
-                         elevation_step=snakemake.params.elevation_step)
+out, inp = snakemake.output, snakemake.input
+study = read_study(inp.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
+claim = {"rows": claim_rows(inp.claims, pilots=False), "geometry": pd.read_csv(inp.geometry),
+         "margins": pd.read_csv(inp.margins), "design": pd.read_csv(inp.design),
+         "steps": (float(snakemake.params.sweep["azimuth_step"]), float(snakemake.params.sweep["elevation_step"]))}
+tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims, claim)
 for name, frame in tables.items():
     write_frame(frame, out[name])
 stats, summary = tables["random_statistics"], tables["random_ensembles"]

@@ -1,5 +1,5 @@
-"""Snakemake adapter: the random-roughness claim's lobes and search discs, from geometry, the regular surfaces and
-the pilot seeds (no tested seed is read)."""
+"""Snakemake adapter: the random-roughness claim's lobes and their search discs, from geometry and the regular
+surfaces alone."""
 import os
 import sys
 
@@ -14,10 +14,7 @@ from roughlight.study.tables import read_study  # noqa: E402
 
 log = _log.setup(snakemake)
 study = read_study(snakemake.input.study, rows="random_points", columns=STUDY_COLUMNS["claim_discs"])
-tables = claim_discs(study, snakemake.params.lighting)
-for name, frame in tables.items():
-    write_frame(frame, snakemake.output[name])
-geometry, radii = tables["random_claim_geometry"], tables["random_claim_radii"]
-log(f"claim: {int(geometry['in_claim'].sum())} of {len(geometry)} lobes in the claim; search discs:\n"
-    + radii.round(3).to_string())
+geometry = claim_discs(study, snakemake.params.lighting)["random_claim_geometry"]
+write_frame(geometry, snakemake.output.random_claim_geometry)
+log(f"claim: {int(geometry['in_claim'].sum())} of {len(geometry)} lobes in the claim:\n" + geometry.round(3).to_string())
 _log.end_job()

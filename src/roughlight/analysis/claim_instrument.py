@@ -16,9 +16,9 @@ import pandas as pd
 from ..render.shading import view_direction
 from ..study.selection import SURFACE_KEYS
 from .claim_readings import READINGS, SeedStack, lobe_centres, surface_readings
-from .claims import CLEARANCE, TESTS
+from .claims import TESTS
 
-__all__ = ["reference_steps", "reference_views", "reference_stacks", "instrument_errors", "grid_table"]
+__all__ = ["reference_steps", "claim_views", "reference_views", "reference_stacks", "instrument_errors", "grid_table"]
 
 
 def reference_steps(azimuth_step: float) -> list[float]:
@@ -27,32 +27,40 @@ def reference_steps(azimuth_step: float) -> list[float]:
     return sorted({float(azimuth_step), float(azimuth_step) / 2.0, 1.0}, reverse=True)
 
 
+def claim_views(geometry: pd.DataFrame, key, step: float, elevation_step: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    """The views the claim reads at the grid point ``key`` (truncation, aspect, incidence), on the view grid of
+    azimuth ``step`` and ``elevation_step``: every view within each claimed lobe's disc (its ``radius``), and a
+    step's reach beyond (the interpolation between views at the rim; the hot spot's also its width beyond, where
+    its edge is looked for to either side). Returns (azimuth, elevation) arrays, degrees, in the grid's order."""
+    from ..render.views import view_grid
+
+    part = geometry[(geometry["truncation"] == key[0]) & (geometry["aspect"] == key[1])
+                    & (geometry["incidence"] == key[2]) & geometry["in_claim"]]
+    centres = lobe_centres(tuple(float(k) for k in key))
+    az, el = view_grid(elevation_step, step)
+    V = view_direction(el, az)
+    near = np.zeros(len(az), bool)
+    for g in part.itertuples(index=False):
+        reach = g.radius + (g.width if g.lobe == "hot_spot" else 0.0) + 1.5 * max(step, elevation_step)
+        near |= np.degrees(np.arccos(np.clip(V @ centres[g.lobe], -1.0, 1.0))) <= reach
+    return az[near], el[near]
+
+
 def reference_views(geometry: pd.DataFrame, steps, elevation_step: float = 1.0) -> pd.DataFrame:
-    """The views rule ``claim_grid`` measures of each regular surface in the claim, at each azimuth step: every
-    view within each of its claimed lobes' own disc (:data:`CLEARANCE` of the regular lobe's widths) and a step's
-    reach beyond (the interpolation between views at the rim; the hot spot's also its width beyond, where its edge
-    is looked for to either side).
+    """The views rule ``claim_grid`` measures of each regular surface in the claim, at each azimuth step:
+    :func:`claim_views`.
 
     Returns
     -------
     DataFrame: surface keys, ``step``, ``azimuth``, ``elevation`` (degrees), a view a row.
     """
-    from ..render.views import view_grid
-
     frames = []
     claimed = geometry[geometry["in_claim"]]
-    for (t, a, i), part in claimed.groupby(SURFACE_KEYS, sort=True):
-        centres = lobe_centres((t, a, i))
+    for key in claimed[SURFACE_KEYS].drop_duplicates().itertuples(index=False):
         for step in steps:
-            az, el = view_grid(elevation_step, step)
-            V = view_direction(el, az)
-            near = np.zeros(len(az), bool)
-            for g in part.itertuples(index=False):
-                extra = g.width if g.lobe == "hot_spot" else 0.0
-                reach = CLEARANCE * g.width + extra + 1.5 * max(step, elevation_step)
-                near |= np.degrees(np.arccos(np.clip(V @ centres[g.lobe], -1.0, 1.0))) <= reach
-            frames.append(pd.DataFrame({"truncation": t, "aspect": a, "incidence": i, "step": float(step),
-                                        "azimuth": az[near], "elevation": el[near]}))
+            az, el = claim_views(geometry, tuple(key), step, elevation_step)
+            frames.append(pd.DataFrame({**dict(zip(SURFACE_KEYS, key)), "step": float(step), "azimuth": az,
+                                        "elevation": el}))
     columns = SURFACE_KEYS + ["step", "azimuth", "elevation"]
     return pd.concat(frames, ignore_index=True)[columns] if frames else pd.DataFrame(columns=columns)
 
@@ -86,8 +94,8 @@ def reference_stacks(grid: pd.DataFrame, elevation_step: float = 1.0) -> dict:
 
 def grid_table(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
     """The regular lobes' statistics at each azimuth step rule ``claim_grid`` measured (unrounded), by each
-    method, each lobe in its own disc (:data:`CLEARANCE` of its regular widths): whether the study's azimuth step
-    is fine enough for each statistic.
+    method, each lobe in its disc (:func:`roughlight.analysis.claims.discs`): whether the study's azimuth step is
+    fine enough for each statistic.
 
     Returns
     -------
@@ -97,7 +105,7 @@ def grid_table(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
     rows = []
     for g in geometry[geometry["in_claim"]].itertuples(index=False):
         key = (g.truncation, g.aspect, g.incidence)
-        read = {ms: surface_readings(s, lobe_centres(key), {g.lobe: CLEARANCE * g.width})
+        read = {ms: surface_readings(s, lobe_centres(key), {g.lobe: g.radius})
                 for ms, s in reference.get(key, {}).items()}
         for test, spec in TESTS.items():
             if spec["lobe"] != g.lobe:
@@ -133,7 +141,7 @@ def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
         stacks = reference.get(key, {})
         if not stacks:
             continue
-        disc = {g.lobe: CLEARANCE * g.width}
+        disc = {g.lobe: g.radius}
         read = {ms: surface_readings(s, lobe_centres(key), disc) for ms, s in stacks.items()}
         coarse = max(step for _, step in read)
         fine_method = "reference" if ("reference", min(step for _, step in read)) in read else "fast"

@@ -83,35 +83,53 @@ class SeedStack:
                          {r: v[rows] for r, v in self.diffuse.items()}, self.unshadowed[rows])
 
 
-def seed_stacks(study: pd.DataFrame) -> list[SeedStack]:
+def seed_stacks(study: pd.DataFrame, steps: tuple[float, float] | None = None) -> list[SeedStack]:
     """Every surface of ``study`` (kind x grid point) as a :class:`SeedStack` of its seeds, in order.
 
     Parameters
     ----------
-    study : the study table's rows (kind, seed, surface keys, azimuth, elevation, component, coverage, ``rough``,
-        ``rough_unrounded``, ``rough_unshadowed``); every seed of a surface on the same views
+    study : the study table's rows, or the claim's sweeps' rows in its columns (kind, seed, surface keys,
+        azimuth, elevation, component, coverage, ``rough``, ``rough_unrounded``, ``rough_unshadowed``)
+    steps : (azimuth step, elevation step), degrees: the rows are laid out on that whole view grid, a view no row
+        gives is NaN with coverage 0 (the claim's tiles are measured around their lobes only); default the views
+        the rows give, every seed at every one of them
     """
     out = []
     kinds = study["kind"].astype(str)
     for (kind, t, a, i), group in study.groupby([kinds] + SURFACE_KEYS, sort=True, observed=True):
-        comp = group["component"].astype(str)
         seeds = np.unique(group["seed"].to_numpy(int))
+        if steps is None:
+            az, el = np.unique(group["azimuth"].to_numpy(float)), np.unique(group["elevation"].to_numpy(float))
+        else:
+            az = np.arange(0.0, 180.0 - steps[0] / 2, steps[0])
+            el = np.arange(0.0, 180.0 + steps[1] / 2, steps[1])
         arrays = {}
         for component, columns in (("specular", ("rough", "rough_unrounded")),
                                    ("diffuse", ("rough", "rough_unrounded", "rough_unshadowed", "coverage"))):
-            part = group[comp == component].sort_values(["seed", "azimuth", "elevation"])
-            az, el = np.unique(part["azimuth"].to_numpy(float)), np.unique(part["elevation"].to_numpy(float))
-            shape = (len(seeds), len(az), len(el))
-            if len(part) != math.prod(shape):
-                raise ValueError(f"{kind} {t, a, i}: the {component} rows are not every seed at every view")
+            part = group[group["component"].astype(str) == component]
+            place = (np.searchsorted(seeds, part["seed"].to_numpy(int)), _index(az, part["azimuth"]),
+                     _index(el, part["elevation"]))
             for column in columns:
-                arrays[component, column] = part[column].to_numpy(float).reshape(shape)
-        out.append(SeedStack((float(t), float(a), float(i)), kind, seeds, az, el,
-                             arrays["diffuse", "coverage"][0],
+                grid = np.full((len(seeds), len(az), len(el)), np.nan)
+                grid[place] = part[column].to_numpy(float)
+                arrays[component, column] = grid
+        coverage = np.nan_to_num(arrays["diffuse", "coverage"], nan=0.0)
+        if not (coverage == coverage[0]).all():
+            raise ValueError(f"{kind} {t, a, i}: its seeds were not measured at the same views")
+        out.append(SeedStack((float(t), float(a), float(i)), kind, seeds, az, el, coverage[0],
                              {r: arrays["specular", c] for r, c in READINGS.items()},
                              {r: arrays["diffuse", c] for r, c in READINGS.items()},
                              arrays["diffuse", "rough_unshadowed"]))
     return out
+
+
+def _index(axis, values) -> np.ndarray:
+    """Each of ``values`` (degrees) as its index on ``axis``; a value off the axis is an error."""
+    values = np.asarray(values, float)
+    index = np.clip(np.searchsorted(axis, values), 0, len(axis) - 1)
+    if not np.allclose(axis[index], values, atol=1e-9):
+        raise ValueError("a view lies off the view grid it is laid out on")
+    return index
 
 
 def surface_readings(stack: SeedStack, centres: dict, radii: dict, reading: str = "unrounded") -> dict:

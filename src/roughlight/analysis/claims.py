@@ -18,8 +18,9 @@ exact reference and the pilot seeds, before any tested seed is read:
   lobe clears the horizon by :data:`CLEARANCE` of its own widths (the back mirror direction lies at elevation
   180 - (i + 2 alpha) for a facet tilted alpha toward a light at incidence i; the hot spot at i), and, for the hot
   spot, when the regular surface has shadows there to hide.
-* **Search discs** (:func:`search_radii`): from the lobe's expected width: :data:`CLEARANCE` of the regular
-  lobe's widths, or :data:`PILOT_WIDTHS` of the pilot ensemble's own where that is wider; never past the horizon.
+* **Search discs** (:func:`discs`): :data:`CLEARANCE` of the regular lobe's widths, for every kind: the back
+  lobe's follows the material's shininess, the halo's its own width; the random lobes, 1.5-2 times the regular
+  ones' width on the pilot seeds, fill two of theirs (the design table reports the pilot's width).
 * **Margins** (:func:`margins`): what counts as a difference, for each test: the largest of the regular surface's
   rendering noise (each half of the hemisphere of a mirror-symmetric surface, read on its own), the fast method's
   sampling error against the exact reference on the study's view grid, and the view grid's own effect (the
@@ -59,12 +60,11 @@ from .claim_readings import READINGS, SeedStack, lobe_centres, mirrored_halves, 
 __all__ = [
     "PILOT_SEED_BASE",
     "CLEARANCE",
-    "PILOT_WIDTHS",
     "TESTS",
     "is_pilot",
     "lobe_width",
     "claim_geometry",
-    "search_radii",
+    "discs",
     "margins",
     "t_quantile",
     "fewest_seeds",
@@ -73,14 +73,11 @@ __all__ = [
     "decide",
     "claim_table",
     "split_stacks",
-    "disc_of",
+    "seed_stacks_of",
 ]
 
 #: How many of its own half-widths a regular lobe must clear the horizon by, and its search disc reaches.
 CLEARANCE = 3.0
-#: How many of a random kind's own lobe widths (the pilot ensemble's) its search disc reaches, where that is wider
-#: than the regular lobe's disc.
-PILOT_WIDTHS = 2.0
 
 #: The claim's tests: what the thesis says of a random surface against the regular one, which way, and the range
 #: the statistic takes. ``role`` "lobe": does the lobe exist; "shape": its shape, where it does. ``matters``: the
@@ -169,9 +166,9 @@ def claim_geometry(regular: list[SeedStack], lighting: dict) -> pd.DataFrame:
     -------
     DataFrame, a row a grid point and lobe: surface keys, ``lobe``, ``centre_azimuth``, ``centre_elevation``
     (degrees), ``width`` (the regular lobe's half-width, degrees: the Phong lobe's for the back lobe, the halo's
-    width above the light for the hot spot), ``clearance`` (degrees between the lobe's centre and the nearer of the
-    horizon and the other side's horizon), ``cap`` (the widest search disc the horizon allows, degrees),
-    ``in_claim`` and ``why`` (why not).
+    width above the light for the hot spot), ``radius`` (its search disc, :data:`CLEARANCE` of its widths, for
+    every kind), ``clearance`` (degrees between the lobe's centre and the nearer of the horizon and the other
+    side's horizon), ``cap`` (the widest search disc the horizon allows, degrees), ``in_claim`` and ``why``.
     """
     phong = lobe_width(float(lighting.get("shininess", 64.0)), str(lighting.get("specular_model", "phong")))
     rows = []
@@ -179,7 +176,7 @@ def claim_geometry(regular: list[SeedStack], lighting: dict) -> pd.DataFrame:
         centres = lobe_centres(stack.key)
         for lobe in ("back", "hot_spot"):
             row = dict(zip(SURFACE_KEYS, stack.key), lobe=lobe, centre_azimuth=0.0, centre_elevation=np.nan,
-                       width=np.nan, clearance=np.nan, cap=np.nan, in_claim=False, why="")
+                       width=np.nan, radius=np.nan, clearance=np.nan, cap=np.nan, in_claim=False, why="")
             if lobe not in centres:
                 rows.append({**row, "why": "its mirror direction lies below the horizon"})
                 continue
@@ -195,7 +192,7 @@ def claim_geometry(regular: list[SeedStack], lighting: dict) -> pd.DataFrame:
                     rows.append({**row, "why": "the regular surface hides no shadow here: "
                                                + (spot["hot_spot_why"] or "no contrast")})
                     continue
-            need = CLEARANCE * row["width"]
+            need = row["radius"] = CLEARANCE * row["width"]
             if need > row["cap"]:
                 row["why"] = (f"its regular lobe does not clear the horizon by {CLEARANCE:g} widths "
                               f"({need:.1f} deg needed, {row['cap']:.1f} deg free)")
@@ -203,7 +200,7 @@ def claim_geometry(regular: list[SeedStack], lighting: dict) -> pd.DataFrame:
                 row["in_claim"] = True
             rows.append(row)
     return pd.DataFrame(rows, columns=SURFACE_KEYS + ["lobe", "centre_azimuth", "centre_elevation", "width",
-                                                      "clearance", "cap", "in_claim", "why"])
+                                                      "radius", "clearance", "cap", "in_claim", "why"])
 
 
 def _forward(incidence: float) -> np.ndarray:
@@ -211,44 +208,12 @@ def _forward(incidence: float) -> np.ndarray:
     return np.asarray(view_direction(180.0 - float(incidence), 0.0), float)
 
 
-def search_radii(geometry: pd.DataFrame, pilots: dict, ensembles=None) -> pd.DataFrame:
-    """Each random kind's search disc for each lobe in the claim, from the lobe's expected width.
-
-    The regular lobe's disc is :data:`CLEARANCE` of its own widths. A random kind's is :data:`PILOT_WIDTHS` of the
-    pilot ensemble's own width (its mean's lobe read in the regular lobe's disc), where that is wider: a random
-    lobe's flanks are its facets' spread, and two of its widths keep its neighbours (at t 0.5 the specular of the
-    facets facing the light, 35 degrees below the back lobe) off the rim that sets its background. The disc never
-    reaches past the horizon.
-
-    Parameters
-    ----------
-    geometry : :func:`claim_geometry`
-    pilots : (kind, truncation, aspect, incidence) -> the pilot seeds' :class:`SeedStack`
-    ensembles : every random ensemble's (kind, truncation, aspect, incidence), pilots or not (one without pilot
-        seeds takes the regular lobe's disc)
-
-    Returns
-    -------
-    DataFrame: kind, surface keys, ``lobe``, ``radius`` (degrees), ``pilot_width`` (degrees, NaN without a pilot
-    lobe), ``from`` (what set it).
-    """
-    rows = []
-    for kind, t, a, i in sorted(set(ensembles or ()) | set(pilots)):
-        stack = pilots.get((kind, t, a, i))
-        for g in geometry[(geometry["truncation"] == t) & (geometry["aspect"] == a) & (geometry["incidence"] == i)
-                          & geometry["in_claim"]].itertuples(index=False):
-            own = CLEARANCE * g.width
-            pilot = (float(surface_readings(stack, lobe_centres((t, a, i)), {g.lobe: own})[f"{g.lobe}_width"])
-                     if stack is not None else np.nan)
-            if np.isfinite(pilot) and PILOT_WIDTHS * pilot > own:
-                radius, source = min(PILOT_WIDTHS * pilot, g.cap), "the pilot lobe's width"
-                if radius < PILOT_WIDTHS * pilot:
-                    source += " (cut to the horizon's room)"
-            else:
-                radius, source = own, "the regular lobe's width"
-            rows.append({"kind": kind, "truncation": t, "aspect": a, "incidence": i, "lobe": g.lobe,
-                         "radius": float(radius), "pilot_width": pilot, "from": source})
-    return pd.DataFrame(rows, columns=["kind"] + SURFACE_KEYS + ["lobe", "radius", "pilot_width", "from"])
+def discs(geometry: pd.DataFrame, key) -> dict:
+    """The search discs of the lobes in the claim at the grid point ``key`` (truncation, aspect, incidence):
+    lobe -> radius, degrees (:func:`claim_geometry`'s ``radius``, the same for every kind)."""
+    part = geometry[(geometry["truncation"] == key[0]) & (geometry["aspect"] == key[1])
+                    & (geometry["incidence"] == key[2]) & geometry["in_claim"]]
+    return dict(zip(part["lobe"], part["radius"].astype(float)))
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -263,20 +228,21 @@ MARGIN_SOURCES = {"rendering_noise": "rendering noise", "sampling_error": "sampl
                   "rounding": "8-bit rounding", "matters": "difference that matters"}
 
 
-def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = None) -> pd.DataFrame:
+def margins(regular: dict, geometry: pd.DataFrame, kinds, errors: pd.DataFrame | None = None) -> pd.DataFrame:
     """Every test's margin, in each reading, from what the instrument alone can make of the regular surface.
 
     Parameters
     ----------
     regular : surface key -> the regular surface's :class:`SeedStack` (the fast method, the study's views)
-    radii : :func:`search_radii` (a test's disc is its kind's)
+    geometry : :func:`claim_geometry` (each lobe in the claim, with its disc)
+    kinds : the random kinds tested (each takes every lobe in the claim)
     errors : :func:`roughlight.analysis.claim_instrument.instrument_errors` (None: not measured; the margins go
         without them)
 
     Returns
     -------
     DataFrame, a row a kind x grid point x test x reading: ``regular`` (the regular surface's value in the
-    kind's disc, the fast method on the study's views, as the random tiles are measured), ``rendering_noise``
+    lobe's disc, the fast method on the study's views, as the random tiles are measured), ``rendering_noise``
     (its two halves read apart), ``sampling_error``, ``grid_effect`` (from ``errors``), ``rounding`` (the 8-bit
     reading's only: what rounding does to the regular lobe), ``matters`` (:data:`TESTS`' smallest difference that
     matters), ``margin`` (their largest) and ``from``.
@@ -284,13 +250,15 @@ def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = No
     errors = errors if errors is not None else pd.DataFrame(columns=SURFACE_KEYS + ["test"])
     measured = errors.set_index(SURFACE_KEYS + ["test"]) if len(errors) else None
     rows = []
-    for r in radii.itertuples(index=False):
-        key = (r.truncation, r.aspect, r.incidence)
-        centres, disc = lobe_centres(key), {r.lobe: r.radius}
+    for g in geometry[geometry["in_claim"]].itertuples(index=False):
+        key = (g.truncation, g.aspect, g.incidence)
+        if key not in regular:
+            continue
+        centres, disc = lobe_centres(key), {g.lobe: g.radius}
         read = {reading: surface_readings(regular[key], centres, disc, reading) for reading in READINGS}
         halves = [surface_readings(h, centres, disc) for h in mirrored_halves(regular[key])]
         for test, spec in TESTS.items():
-            if spec["lobe"] != r.lobe:
+            if spec["lobe"] != g.lobe:
                 continue
             found = measured is not None and key + (test,) in measured.index
             parts = {"rendering_noise": abs(halves[0][test] - halves[1][test]),
@@ -300,11 +268,13 @@ def margins(regular: dict, radii: pd.DataFrame, errors: pd.DataFrame | None = No
                 extra = {"rounding": abs(read["8-bit"][test] - read["unrounded"][test])} if reading == "8-bit" else {}
                 known = {k: v for k, v in {**parts, **extra, "matters": spec["matters"]}.items() if np.isfinite(v)}
                 source = max(known, key=known.get) if known else ""
-                rows.append({"kind": r.kind, **dict(zip(SURFACE_KEYS, key)), "test": test, "reading": reading,
-                             "regular": read[reading][test], **parts, "rounding": extra.get("rounding", np.nan),
-                             "matters": spec["matters"], "margin": known[source] if known else np.nan,
-                             "from": MARGIN_SOURCES[source] if source else ""})
-    return pd.DataFrame(rows, columns=MARGIN_COLUMNS)
+                for kind in sorted(kinds):
+                    rows.append({"kind": kind, **dict(zip(SURFACE_KEYS, key)), "test": test, "reading": reading,
+                                 "regular": read[reading][test], **parts, "rounding": extra.get("rounding", np.nan),
+                                 "matters": spec["matters"], "margin": known[source] if known else np.nan,
+                                 "from": MARGIN_SOURCES[source] if source else ""})
+    out = pd.DataFrame(rows, columns=MARGIN_COLUMNS)
+    return out.sort_values(["kind"] + SURFACE_KEYS, kind="stable").reset_index(drop=True)
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -378,7 +348,8 @@ def claim_design(margin_table: pd.DataFrame, pilot_readings: dict, design: dict,
     Returns
     -------
     DataFrame: kind, surface keys, ``test``, ``lobe``, ``role``, ``family``, ``level``, ``margin``, ``regular``,
-    ``pilot_seeds``, ``pilot_mean``, ``pilot_se``, ``seeds_needed`` (Int64; NA where no count up to ``max_seeds``
+    ``pilot_seeds``, ``pilot_width`` (the pilot mean's lobe width, degrees: two of them should fit its disc),
+    ``pilot_mean``, ``pilot_se``, ``seeds_needed`` (Int64; NA where no count up to ``max_seeds``
     decides the test, or the pilot cannot say), ``plan`` (why), ``ensemble_seeds`` (the ensemble's plan: its most
     demanding test that ``max_seeds`` seeds can decide; seeds beyond would not decide the others), ``seeds_configured``.
     """
@@ -402,11 +373,12 @@ def claim_design(margin_table: pd.DataFrame, pilot_readings: dict, design: dict,
         rows.append({"kind": m.kind, "truncation": m.truncation, "aspect": m.aspect, "incidence": m.incidence,
                      "test": m.test, "lobe": spec["lobe"], "role": spec["role"], "family": family, "level": level,
                      "margin": m.margin, "regular": m.regular, "pilot_seeds": int(pilot.get("seeds", 0)),
+                     "pilot_width": float(pilot.get(f"{spec['lobe']}_width", np.nan)),
                      "pilot_mean": mean, "pilot_se": se, "seeds_needed": need, "plan": why,
                      "seeds_configured": int(configured.get((m.kind, m.truncation, m.aspect), 0))})
     out = pd.DataFrame(rows, columns=["kind"] + SURFACE_KEYS + [
-        "test", "lobe", "role", "family", "level", "margin", "regular", "pilot_seeds", "pilot_mean", "pilot_se",
-        "seeds_needed", "plan", "seeds_configured"])
+        "test", "lobe", "role", "family", "level", "margin", "regular", "pilot_seeds", "pilot_width", "pilot_mean",
+        "pilot_se", "seeds_needed", "plan", "seeds_configured"])
     out["seeds_needed"] = pd.array(out["seeds_needed"], dtype="Int64")
     out["ensemble_seeds"] = (out.groupby(["kind"] + SURFACE_KEYS)["seeds_needed"].transform(
         lambda s: int(s.dropna().max()) if s.notna().any() else 2).astype(int) if len(out) else pd.Series(dtype=int))
@@ -543,8 +515,11 @@ def split_stacks(study: pd.DataFrame) -> tuple[dict, dict, dict]:
     return regular, pilots, tested
 
 
-def disc_of(radii: pd.DataFrame, kind: str, key) -> dict:
-    """A kind's search discs at a grid point (:func:`search_radii`): lobe -> radius, degrees."""
-    part = radii[(radii["kind"] == kind) & (radii["truncation"] == key[0]) & (radii["aspect"] == key[1])
-                 & (radii["incidence"] == key[2])]
-    return dict(zip(part["lobe"], part["radius"].astype(float)))
+def seed_stacks_of(rows: pd.DataFrame, steps: tuple[float, float]) -> dict:
+    """The claim's tiles (rule ``claim_sweeps``' rows, at the claim's views) as :class:`SeedStack` s on the study's
+    whole view grid (azimuth and elevation ``steps``, degrees), by (kind, truncation, aspect, incidence)."""
+    from .claim_readings import seed_stacks
+
+    if rows is None or not len(rows):
+        return {}
+    return {(stack.kind,) + stack.key: stack for stack in seed_stacks(rows, steps)}

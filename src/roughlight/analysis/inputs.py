@@ -29,10 +29,9 @@ STUDY_COLUMNS = {
     "analysis_tables": VIEW_COLUMNS + ["light", "shininess", "shadows", "method", "render_seconds"],
     "analysis_models": VIEW_COLUMNS + LIGHTING_COLUMNS,
     "figures": VIEW_COLUMNS + LIGHTING_COLUMNS,
-    # per-seed statistics, seed-averaged views, the models refitted to every tile, the random maps; the claim's
-    # readings (unrounded, and the diffuse with inner shadows off for the shadow-hiding function)
-    "analysis_random": ["kind", "seed"] + VIEW_COLUMNS + LIGHTING_COLUMNS + CLAIM_COLUMNS,
-    # the claim's lobes and search discs: the regular surfaces and the pilot seeds
+    # per-seed statistics, seed-averaged views, the models refitted to every tile, the random maps
+    "analysis_random": ["kind", "seed"] + VIEW_COLUMNS + LIGHTING_COLUMNS,
+    # the claim's lobes, discs and design: the regular surfaces at the random grid points
     "claim_discs": ["kind", "seed"] + SURFACE_KEYS + ["azimuth", "elevation", "component", "rough", "coverage"]
     + CLAIM_COLUMNS,
 }

@@ -32,7 +32,8 @@ from .thesis import (
 )
 from .timings import render_timings
 
-__all__ = ["analysis_tables", "analysis_glm", "analysis_models", "analysis_random", "claim_discs", "claim_tables"]
+__all__ = ["analysis_tables", "analysis_glm", "analysis_models", "analysis_random", "claim_discs", "claim_design",
+           "claim_verdict", "claim_tables"]
 
 
 def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=print) -> tuple[dict, dict]:
@@ -116,16 +117,16 @@ def analysis_models(study: pd.DataFrame, settings: dict, lighting: dict) -> dict
 
 
 def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims: dict | None = None,
-                    discs: dict | None = None, elevation_step: float = 1.0) -> dict:
-    """The whole study (random tiles and the regular surface) -> per-tile statistics, the ensembles against the
-    regular surface, the seeds each comparison needs, the models refitted to every tile, and the random-roughness
-    claim's design and verdict.
+                    claim: dict | None = None) -> dict:
+    """The study's random tiles and the regular surface -> per-tile statistics, the ensembles against the regular
+    surface, the seeds each comparison needs, the models refitted to every tile, and, given ``claim``, the
+    random-roughness claim's verdict.
 
     Parameters
     ----------
     claims : :func:`roughlight.study.config.claim_settings` (its defaults when None)
-    discs : rule ``claim_discs``' ``geometry`` and ``radii`` and rule ``claim_grid``'s ``grid`` (None: computed
-        here from the study, with no claim grid)
+    claim : the claim's design and tested tiles (:func:`claim_verdict`'s ``rows``, ``geometry``, ``margins``,
+        ``design`` and ``steps``); None: no verdict
     """
     from . import ensembles as E
 
@@ -134,62 +135,75 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     stats = E.seed_statistics(study, lobe_halfwidth=halfwidth, min_peak=min_peak)
     summary = E.ensemble_summary(stats, pooled=E.pooled_statistics(study, halfwidth, min_peak))
     fits = E.ensemble_model_fits(study, lighting=lighting, hapke_max_phase=float(settings["hapke_max_phase"]))
-    if discs is None:
-        found = claim_discs(study, lighting)
-        discs = {"geometry": found["random_claim_geometry"], "radii": found["random_claim_radii"], "grid": None}
-    design = claim_tables(study, discs["radii"], discs["geometry"], discs.get("grid"), claims, elevation_step)
-    return {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
-            "random_model_fits": fits, **design}
+    out = {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
+           "random_model_fits": fits}
+    if claim is not None:
+        out["random_claims"] = claim_verdict(**claim)
+    return out
 
 
 def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
-    """Which lobes enter the claim and how far each kind's are looked for, from geometry, the regular surfaces and
-    the pilot seeds (rule ``claim_discs``; no tested seed is read).
-
-    Returns
-    -------
-    dict of DataFrames: ``random_claim_geometry`` (:func:`roughlight.analysis.claims.claim_geometry`),
-    ``random_claim_radii`` (:func:`roughlight.analysis.claims.search_radii`).
-    """
-    kinds = study["kind"].astype(str)
-    ensembles = {(str(k), float(t), float(a), float(i))
-                 for k, t, a, i in study.loc[kinds != "pyramids", ["kind"] + SURFACE_KEYS].drop_duplicates()
-                 .itertuples(index=False)}
-    regular, pilots, _ = C.split_stacks(study[C.is_pilot(study["seed"].to_numpy()) | (kinds == "pyramids")])
-    geometry = C.claim_geometry(list(regular.values()), lighting)
-    return {"random_claim_geometry": geometry, "random_claim_radii": C.search_radii(geometry, pilots, ensembles)}
+    """Which lobes enter the claim and their search discs, from geometry and the regular surfaces alone (rule
+    ``claim_discs``): ``random_claim_geometry`` (:func:`roughlight.analysis.claims.claim_geometry`)."""
+    regular = study[study["kind"].astype(str) == "pyramids"] if "kind" in study else study
+    stacks, _, _ = C.split_stacks(regular)
+    return {"random_claim_geometry": C.claim_geometry(list(stacks.values()), lighting)}
 
 
-def claim_tables(study: pd.DataFrame, radii: pd.DataFrame, geometry: pd.DataFrame, reference: pd.DataFrame | None,
-                 claims: dict, elevation_step: float = 1.0) -> dict:
-    """The claim's design and verdict as the tables rule ``analysis_random`` writes.
+def claim_design(study: pd.DataFrame, pilots: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame | None,
+                 claims: dict, steps: tuple[float, float] = (5.0, 1.0)) -> dict:
+    """The claim's design (rule ``claim_design``), from the regular surfaces, the exact reference and the pilot
+    seeds alone: no tested seed is read.
 
     Parameters
     ----------
-    study : the study's rows at the random grid points (the regular surface's among them, pilot seeds included)
-    radii, geometry : rule ``claim_discs``' tables
-    reference : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
-        grid's effect)
-    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
+    study : the study's regular rows at the random grid points (the fast method, every view)
+    pilots : the claim's pilot tiles' rows (rule ``claim_sweeps``' pilot files, at the claim's views)
+    geometry : rule ``claim_discs``' table
+    grid : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
+        view grid's effect)
+    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``pilot_seeds``,
+        ``tested``)
+    steps : the study's azimuth and elevation steps, degrees
 
     Returns
     -------
-    dict of DataFrames: ``random_claim_margins``, ``random_claim_design`` and ``random_claims``
-    (:mod:`roughlight.analysis.claims`' margins, design and verdict), ``random_claim_grid`` and ``random_claim_errors``
-    (:mod:`roughlight.analysis.claim_instrument`).
+    dict of DataFrames: ``random_claim_margins``, ``random_claim_design`` (:mod:`roughlight.analysis.claims`),
+    ``random_claim_grid``, ``random_claim_errors`` (:mod:`roughlight.analysis.claim_instrument`).
     """
-    regular, pilots, tested = C.split_stacks(study)
-    ref = reference_stacks(reference, elevation_step) if reference is not None and len(reference) else {}
+    regular, _, _ = C.split_stacks(study[study["kind"].astype(str) == "pyramids"])
+    pilot_stacks = C.seed_stacks_of(pilots, steps)
+    ref = reference_stacks(grid, steps[1]) if grid is not None and len(grid) else {}
     errors = instrument_errors(ref, geometry)
-    margin_table = C.margins(regular, radii, errors)
-    pilot_readings = {key: pooled_readings(stack, lobe_centres(key[1:]), C.disc_of(radii, key[0], key[1:]))
-                      for key, stack in pilots.items()}
+    kinds = sorted({kind for kind, *_ in claims.get("tested", [])} | {k[0] for k in pilot_stacks})
+    margin_table = C.margins(regular, geometry, kinds, errors)
+    readings = {key: pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]))
+                for key, stack in pilot_stacks.items()}
     configured = {(kind, float(t), float(a)): int(n) for kind, t, a, n in claims.get("tested", [])}
-    design = C.claim_design(margin_table, pilot_readings, claims, configured)
+    design = C.claim_design(margin_table, readings, claims, configured)
     if int(claims.get("pilot_seeds", 0)) == 0:
         design["plan"] = "no pilot seeds (claims.pilot_seeds 0): no plan"
-    readings = {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), C.disc_of(radii, key[0], key[1:]),
-                                                  reading)
-                for key, stack in tested.items() for reading in READINGS}
     return {"random_claim_margins": margin_table, "random_claim_design": design, "random_claim_errors": errors,
-            "random_claims": C.claim_table(readings, design, margin_table), "random_claim_grid": grid_table(ref, geometry)}
+            "random_claim_grid": grid_table(ref, geometry)}
+
+
+def claim_verdict(rows: pd.DataFrame, geometry: pd.DataFrame, margins: pd.DataFrame, design: pd.DataFrame,
+                  steps: tuple[float, float] = (5.0, 1.0)) -> pd.DataFrame:
+    """The claim's verdict (rule ``analysis_random``) from the tested tiles alone (rule ``claim_sweeps``' tested
+    files), in both readings: :func:`roughlight.analysis.claims.claim_table`."""
+    tested = C.seed_stacks_of(rows, steps)
+    readings = {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]), reading)
+                for key, stack in tested.items() for reading in READINGS}
+    return C.claim_table(readings, design, margins)
+
+
+def claim_tables(study: pd.DataFrame, claim_rows: pd.DataFrame, grid: pd.DataFrame | None, claims: dict,
+                 lighting: dict, steps: tuple[float, float] = (5.0, 1.0)) -> dict:
+    """Every table of the claim at once, in the workflow's order (rules ``claim_discs``, ``claim_design`` and the
+    verdict of ``analysis_random``): the pilot tiles of ``claim_rows`` plan, its tested tiles are tested."""
+    geometry = claim_discs(study, lighting)["random_claim_geometry"]
+    pilot = C.is_pilot(claim_rows["seed"].to_numpy())
+    design = claim_design(study, claim_rows[pilot], geometry, grid, claims, steps)
+    verdict = claim_verdict(claim_rows[~pilot], geometry, design["random_claim_margins"],
+                            design["random_claim_design"], steps)
+    return {"random_claim_geometry": geometry, **design, "random_claims": verdict}

@@ -32,8 +32,11 @@ __all__ = [
     "kinds",
     "seeds",
     "random_surfaces",
-    "ensemble_seeds",
     "pilot_seeds",
+    "claim_seeds",
+    "claim_surfaces",
+    "random_points",
+    "CLAIM_SEED_BASE",
     "PILOT_SEED_BASE",
     "random_surface_settings",
     "report_settings",
@@ -214,15 +217,15 @@ def _surface_problems(config: dict) -> list[str]:
         problems.append(f"config: surface.spread.apex + surface.spread.corner = {spread.get('apex', 0.5)} + "
                         f"{spread.get('corner', 0.3)} must be < 1 (else an apex can leave its cell's base: an "
                         "overhanging or vertical side)")
-    value = surface.get("seeds")
-    for name, listed in _seed_sets(value):
-        if isinstance(listed, list) and len(set(listed)) != len(listed):
-            problems.append(f"config: surface.seeds{'.' + name if name else ''} lists the same seed twice: {listed!r}")
-    if isinstance(value, dict):
-        missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
-        if missing:
-            problems.append(f"config: surface.seeds gives seeds per kind but none for {', '.join(missing)} "
-                            "(surface.kind measures it): add it, or give one count or list for every kind")
+    for key, value in (("surface.seeds", surface.get("seeds")), ("claims.seeds", config.get("claims", {}).get("seeds"))):
+        for name, listed in _seed_sets(value):
+            if isinstance(listed, list) and len(set(listed)) != len(listed):
+                problems.append(f"config: {key}{'.' + name if name else ''} lists the same seed twice: {listed!r}")
+        if isinstance(value, dict):
+            missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
+            if missing:
+                problems.append(f"config: {key} gives seeds per kind but none for {', '.join(missing)} "
+                                "(surface.kind measures it): add it, or give one count or list for every kind")
     return problems + _follower_problems(config)
 
 
@@ -332,18 +335,20 @@ def _seed_sets(value, name: str = ""):
         yield from _seed_sets(inner, f"{name}.{key}" if name else str(key))
 
 
-def seeds(config: dict, kind: str, point: tuple[float, float] | None = None) -> list[int]:
-    """The seeds of the random kind ``kind``'s ensemble at the random grid point ``point`` (truncation, aspect)
-    (``surface.seeds``: a count n gives 1..n; a mapping gives each kind its own count or list, or a ``default``
-    and the grid points, named ``t{truncation}_a{aspect}``, that take their own: an ensemble as large as its
-    point's claim tests need, docs/random-roughness.md). A named point not in the random grid is not measured."""
-    value = config.get("surface", {}).get("seeds", 1)
+def seeds(config: dict, kind: str, point: tuple[float, float] | None = None, key: str = "surface") -> list[int]:
+    """The seeds of the random kind ``kind``'s ensemble at the random grid point ``point`` (truncation, aspect):
+    ``surface.seeds`` (the study's tiles, a count n giving 1..n) or, with ``key`` "claims", ``claims.seeds`` (the
+    claim's tested tiles, a count n giving :data:`CLAIM_SEED_BASE` + 1 ...). A mapping gives each kind its own
+    count or list, or a ``default`` and the grid points, named ``t{truncation}_a{aspect}``, that take their own;
+    a named point not in the random grid is not measured."""
+    value = config.get(key, {}).get("seeds", 1)
+    base = CLAIM_SEED_BASE if key == "claims" else 0
     if isinstance(value, dict):
         value = value[kind]
     if isinstance(value, dict):
         own = {_point_of(key): inner for key, inner in value.items() if key != "default"}
         value = own.get(None if point is None else (label(point[0]), label(point[1])), value["default"])
-    return list(range(1, int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
+    return list(range(base + 1, base + int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
 
 
 def _point_of(key: str) -> tuple[str, str]:
@@ -354,6 +359,8 @@ def _point_of(key: str) -> tuple[str, str]:
 
 #: The claim design's pilot seeds are numbered from here + 1 (roughlight.analysis.claims.PILOT_SEED_BASE).
 PILOT_SEED_BASE = 1000
+#: A count of the claim's tested seeds (``claims.seeds``) numbers them from here + 1: tiles no study seed is.
+CLAIM_SEED_BASE = 100
 
 
 def claims(config: dict) -> dict:
@@ -364,29 +371,37 @@ def claims(config: dict) -> dict:
 
 
 def pilot_seeds(config: dict) -> list[int]:
-    """The pilot seeds every random ensemble renders beside its tested seeds (``claims.pilot_seeds``: 1001, ...):
-    the claim design's, never tested (docs/random-roughness.md)."""
+    """The pilot seeds every random ensemble of the claim renders beside its tested seeds (``claims.pilot_seeds``:
+    1001, ...): the claim design's, never tested (docs/random-roughness.md)."""
     count = int(claims(config)["pilot_seeds"])
     return list(range(PILOT_SEED_BASE + 1, PILOT_SEED_BASE + 1 + count))
 
 
-def ensemble_seeds(config: dict, kind: str, point: tuple[float, float]) -> list[int]:
-    """Every seed a random ensemble renders: its tested seeds (:func:`seeds`) and then the pilot seeds
-    (:func:`pilot_seeds`)."""
-    return seeds(config, kind, point) + pilot_seeds(config)
+def random_points(config: dict) -> list[tuple[float, float]]:
+    """The random grid points (truncation, aspect), grid values exactly as in grid:, in the grid's order."""
+    wanted = config["surface"]["random_grid"]
+    return [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
+            if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
 
 
 def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
-    """Every random surface of the study: (kind, truncation, aspect, seed), grid values exactly as in grid:, an
-    ensemble's tested seeds (:func:`seeds`) and then its pilot seeds (:func:`pilot_seeds`)."""
+    """Every random tile of the study: (kind, truncation, aspect, seed), an ensemble's ``surface.seeds``, each
+    measured at every view (the claim's own tiles are :func:`claim_surfaces`)."""
     random_kinds = [k for k in kinds(config) if k != "pyramids"]
-    if not random_kinds:
-        return []
-    wanted = config["surface"]["random_grid"]
-    points = [(float(t), float(a)) for t in config["grid"]["truncation"] for a in config["grid"]["aspect"]
-              if label(t) in {label(v) for v in wanted["truncation"]} and label(a) in {label(v) for v in wanted["aspect"]}]
-    return [(k, t, a, s) for k in random_kinds for t, a in points
-            for s in ensemble_seeds(config, k, (t, a))]
+    return [(k, t, a, s) for k in random_kinds for t, a in random_points(config) for s in seeds(config, k, (t, a))]
+
+
+def claim_seeds(config: dict, kind: str, point: tuple[float, float]) -> list[int]:
+    """Every seed a random ensemble of the claim renders: its tested seeds (``claims.seeds``) and then the pilot
+    seeds (:func:`pilot_seeds`)."""
+    return seeds(config, kind, point, "claims") + pilot_seeds(config)
+
+
+def claim_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
+    """Every random tile the claim renders at its own views (rule ``claim_sweeps``): (kind, truncation, aspect,
+    seed), an ensemble's tested seeds and then its pilot seeds."""
+    random_kinds = [k for k in kinds(config) if k != "pyramids"]
+    return [(k, t, a, s) for k in random_kinds for t, a in random_points(config) for s in claim_seeds(config, k, (t, a))]
 
 
 def every_view_surfaces(config: dict, n_seeds: int = 2) -> list[tuple[str, float, float, int]]:
@@ -421,13 +436,11 @@ def report_settings(config: dict) -> dict:
 
 def claim_settings(config: dict) -> dict:
     """The random-roughness claim's design (``claims:``, defaults filled) and the tested seeds each random ensemble
-    has (``tested``: [kind, truncation, aspect, count] lists), as plain types for params."""
+    of the claim has (``tested``: [kind, truncation, aspect, count] lists), as plain types for params."""
     settings = claims(config)
-    found: dict = {}
-    for kind, t, a, seed in random_surfaces(config):
-        if seed <= PILOT_SEED_BASE:
-            found[(kind, t, a)] = found.get((kind, t, a), 0) + 1
-    settings["tested"] = [[kind, t, a, n] for (kind, t, a), n in found.items()]
+    random_kinds = [k for k in kinds(config) if k != "pyramids"]
+    settings["tested"] = [[k, t, a, len(seeds(config, k, (t, a), "claims"))]
+                          for k in random_kinds for t, a in random_points(config)]
     return settings
 
 

@@ -120,19 +120,26 @@ def ensemble_member(ensemble: str, seed: int) -> str:
     return f"{ensemble}/s{int(seed)}.parquet"
 
 
-def ensembles(config: dict) -> list[tuple[str, float, float, list[int]]]:
+def ensembles(config: dict, claim: bool = False) -> list[tuple[str, float, float, list[int]]]:
     """Every random kind's ensemble at every random grid point: (kind, truncation, aspect, its seeds), in
-    :func:`roughlight.study.config.random_surfaces`' order."""
+    :func:`roughlight.study.config.random_surfaces`' order; with ``claim``, the claim's own (its tested and pilot
+    seeds, :func:`roughlight.study.config.claim_surfaces`)."""
     found: dict[tuple[str, float, float], list[int]] = {}
-    for kind, t, a, seed in rl_config.random_surfaces(config):
+    surfaces = rl_config.claim_surfaces(config) if claim else rl_config.random_surfaces(config)
+    for kind, t, a, seed in surfaces:
         found.setdefault((kind, t, a), []).append(seed)
     return [(kind, t, a, seeds) for (kind, t, a), seeds in found.items()]
 
 
-def ensemble_folders(config: dict, folder: str = "results/sweeps") -> list[str]:
-    """The folders of every ensemble at every incidence: the outputs of rule ``random_sweeps``' jobs."""
+def ensemble_folders(config: dict, folder: str = "results/sweeps", claim: bool = False) -> list[str]:
+    """The folders of every ensemble at every incidence: the outputs of rule ``random_sweeps``' jobs (with
+    ``claim``: of rule ``claim_sweeps``', under ``results/claims``)."""
     return [ensemble_folder(kind, t, a, i, folder)
-            for i in grid(config, "incidence") for kind, t, a, _ in ensembles(config)]
+            for i in grid(config, "incidence") for kind, t, a, _ in ensembles(config, claim)]
+
+
+#: Where rule ``claim_sweeps`` writes the claim's tiles, an ensemble a folder as the study's.
+CLAIM_FOLDER = "results/claims"
 
 
 def _random(config: dict, folder: str) -> list[Sweep]:

@@ -62,6 +62,7 @@ __all__ = [
     "SWEEP_FORMAT",
     "sweep_table",
     "read_sweep",
+    "claim_rows",
     "aggregate",
     "join_controls",
     "regular",
@@ -228,6 +229,32 @@ def read_sweep(path):
     if missing:
         raise ValueError(f"{path} lacks columns {missing}; delete it and rerun snakemake to rebuild it")
     return frame
+
+
+def claim_rows(folders, pilots: bool):
+    """The claim's tiles (rule ``claim_sweeps``' folders, a file ``s{seed}.parquet`` a seed) as rows in the study
+    table's columns (kind, seed, surface keys, views, component, ``rough``, ``rough_unrounded``,
+    ``rough_unshadowed``, coverage): its pilot seeds (``pilots`` True) or its tested seeds; the others' files are
+    not opened."""
+    import re
+    from pathlib import Path
+
+    import pandas as pd
+
+    from .config import PILOT_SEED_BASE
+
+    frames = []
+    for folder in folders:
+        for path in sorted(Path(folder).glob("s*.parquet")):
+            found = re.fullmatch(r"s(\d+)\.parquet", path.name)
+            if found and (int(found.group(1)) > PILOT_SEED_BASE) == pilots:
+                frames.append(read_sweep(path))
+    columns = KEY_COLUMNS + ["rough", "rough_unrounded", "rough_unshadowed", "coverage"]
+    if not frames:
+        return pd.DataFrame(columns=columns)
+    frame = pd.concat(frames, ignore_index=True).rename(columns={
+        "value": "rough", "value_unrounded": "rough_unrounded", "value_unshadowed": "rough_unshadowed"})
+    return frame[columns]
 
 
 def aggregate(rough_paths, control_paths):
@@ -471,7 +498,7 @@ def regular(study):
     return study.loc[study["kind"].astype(str) == "pyramids"].reset_index(drop=True)
 
 
-def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render, log=None):
+def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render, log=None, views=None):
     """Measure one sweep and write its table to ``path`` atomically.
 
     Parameters
@@ -486,6 +513,9 @@ def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render
     method : str, one of :data:`roughlight.render.methods.NAMES`
     render : dict, the method's config keys (:meth:`roughlight.render.methods.Method.settings`; may be empty)
     log : callable taking a message, optional
+    views : (azimuth, elevation) arrays, degrees, optional
+        Only these views of the sweep's grid (rule ``claim_sweeps``: the views around the claim's lobes); default
+        every view of the grid.
     """
     from ..render import methods, shading
     from ..render import views as sweeps
@@ -493,7 +523,8 @@ def run_sweep(path, surface: Surface, incidence, sweep, lighting, method, render
     log = log or (lambda message: None)
     lighting = shading.Lighting(**lighting)
     settings = methods.settings(method, render)
-    azimuth, elevation = sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"])
+    azimuth, elevation = (sweeps.view_grid(sweep["elevation_step"], sweep["azimuth_step"]) if views is None
+                          else (np.asarray(views[0], float), np.asarray(views[1], float)))
     log(
         f"sweep {surface} incidence={incidence}: "
         f"{azimuth.size} views, method={method}, {lighting}, {settings}"

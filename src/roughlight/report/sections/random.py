@@ -85,26 +85,22 @@ def claim_design_rows(design: pd.DataFrame) -> pd.DataFrame:
     for _, r in design.iterrows():
         rows.append({"kind": r["kind"].replace("_", " "), "truncation": r["truncation"], "aspect": r["aspect"],
                      "test": claim_test_label(r["test"]), "margin": r["margin"], "regular": r["regular"],
-                     "pilot seeds": int(r["pilot_seeds"]), "pilot mean": r["pilot_mean"], "pilot SE": r["pilot_se"],
+                     "pilot seeds": int(r["pilot_seeds"]), "pilot width": r["pilot_width"],
+                     "pilot mean": r["pilot_mean"], "pilot SE": r["pilot_se"],
                      "seeds planned": r["seeds_needed"], "plan": r["plan"], "ensemble plan": int(r["ensemble_seeds"]),
                      "seeds tested": int(r["seeds_configured"])})
     return pd.DataFrame(rows)
 
 
-def claim_geometry_rows(geometry: pd.DataFrame, radii: pd.DataFrame | None) -> pd.DataFrame:
+def claim_geometry_rows(geometry: pd.DataFrame) -> pd.DataFrame:
     """Which lobes enter the claim (rule ``claim_discs``): each grid point's lobe, where its regular lobe lies,
-    its width, the room the horizon leaves, whether it is in the claim (or why not) and each kind's search disc."""
+    its width, its search disc, the room the horizon leaves, and whether it is in the claim (or why not)."""
     rows = []
     for _, g in geometry.iterrows():
-        row = {"truncation": g["truncation"], "aspect": g["aspect"], "incidence": g["incidence"],
-               "lobe": "back lobe" if g["lobe"] == "back" else "hot spot",
-               "centre elevation": g["centre_elevation"], "regular width": g["width"], "room": g["cap"],
-               "in the claim": "yes" if g["in_claim"] else f"no: {g['why']}"}
-        if radii is not None:
-            for _, r in radii[(radii["truncation"] == g["truncation"]) & (radii["aspect"] == g["aspect"])
-                              & (radii["incidence"] == g["incidence"]) & (radii["lobe"] == g["lobe"])].iterrows():
-                row[f"disc: {r['kind'].replace('_', ' ')}"] = r["radius"]
-        rows.append(row)
+        rows.append({"truncation": g["truncation"], "aspect": g["aspect"], "incidence": g["incidence"],
+                     "lobe": "back lobe" if g["lobe"] == "back" else "hot spot",
+                     "centre elevation": g["centre_elevation"], "regular width": g["width"], "disc": g["radius"],
+                     "room": g["cap"], "in the claim": "yes" if g["in_claim"] else f"no: {g['why']}"})
     return pd.DataFrame(rows)
 
 
@@ -167,11 +163,10 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
                 tile_convergence: pd.DataFrame | None = None, random_tiles_png=None, plan: str = "full",
                 random_claims: pd.DataFrame | None = None, random_claim_design: pd.DataFrame | None = None,
                 random_claim_margins: pd.DataFrame | None = None, random_claim_geometry: pd.DataFrame | None = None,
-                random_claim_radii: pd.DataFrame | None = None, random_claim_grid: pd.DataFrame | None = None
-                ) -> dict | None:
+                random_claim_grid: pd.DataFrame | None = None) -> dict | None:
     """"Random roughness" (ensembles against the regular surface, the claim's design and verdict, the analytic
-    models refitted, seeds needed, the random tiles' benchmark), from rules ``claim_discs``, ``analysis_random``
-    and ``random_tiles``; None: no random kind measured."""
+    models refitted, seeds needed, the random tiles' benchmark), from rules ``claim_discs``, ``claim_design``,
+    ``analysis_random`` and ``random_tiles``; None: no random kind measured."""
     ensembles, seeds_needed, model_fits = random_ensembles, random_seeds_needed, random_model_fits
     if ensembles is None:
         return None
@@ -194,8 +189,7 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
         "settings": surface_settings or {}, "tests": _claim_tests(frame_or_none(random_claim_margins)),
         "claim": random_claim_rows(claims) if claims is not None else None, "counts": _claim_counts(claims),
         "design": claim_design_rows(design) if design is not None else None,
-        "geometry": (claim_geometry_rows(geometry, frame_or_none(random_claim_radii)) if geometry is not None
-                     else None),
+        "geometry": claim_geometry_rows(geometry) if geometry is not None else None,
         "grid": claim_grid_rows(grid) if grid is not None else None,
         "family": _claim_family(design), "charts": charts, "shown": shown, "best": _best_models(fits),
         "fits": fits[keys + [c for c in rmse if c in modelled]],
@@ -210,7 +204,6 @@ SECTION = Section("random", random_data, "random.html", title="Random roughness"
                           "random_claim_design": "results/analysis/random_claim_design.csv",
                           "random_claim_margins": "results/analysis/random_claim_margins.csv",
                           "random_claim_geometry": "results/analysis/random_claim_geometry.csv",
-                          "random_claim_radii": "results/analysis/random_claim_radii.csv",
                           "random_claim_grid": "results/analysis/random_claim_grid.csv",
                           "random_seeds_needed": "results/analysis/random_seeds_needed.csv",
                           "random_model_fits": "results/analysis/random_model_fits.parquet",
