@@ -88,8 +88,8 @@ def measure_study(cfg: dict, workdir: Path) -> pd.DataFrame:
 
 
 def claim_chain(cfg: dict, study: pd.DataFrame, workdir: Path) -> dict:
-    """The claim's rules in one process: its lobes and discs (claim_discs), its tiles at its views (claim_sweeps:
-    tested and pilot seeds), its design from the pilots (claim_design, without rule claim_grid's measurements);
+    """The claim's rules in one process: its lobes and discs (claim_discs), its tested tiles at its views
+    (claim_sweeps), its design from the study's tiles (claim_design, without rule claim_grid's measurements);
     returns the design's tables and analysis_random's ``claim`` (the tested rows, geometry, margins, design)."""
     from roughlight.analysis.claim_instrument import claim_views
 
@@ -106,11 +106,9 @@ def claim_chain(cfg: dict, study: pd.DataFrame, workdir: Path) -> dict:
                 run_sweep(str(folder / f"s{seed}.parquet"), make_surface(**plan.surface_settings(cfg, kind, t, a, seed)),
                           i, sweep, lighting, cfg["render"]["method"], plan.render_settings(cfg, "random"), views=views)
             folders.append(folder)
-    claims = rl_config.claim_settings(cfg)
-    design = steps.claim_design(study, claim_rows(folders, pilots=True), geometry, None, claims, steps_)
-    return {"random_claim_geometry": geometry, **design, "rows": claim_rows(folders, pilots=False),
-            "geometry": geometry, "margins": design["random_claim_margins"],
-            "design": design["random_claim_design"], "steps": steps_}
+    design = steps.claim_design(study, geometry, None, rl_config.claim_settings(cfg), steps_)
+    return {"random_claim_geometry": geometry, **design, "rows": claim_rows(folders), "geometry": geometry,
+            "margins": design["random_claim_margins"], "design": design["random_claim_design"], "steps": steps_}
 
 
 def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Path) -> str:

@@ -232,23 +232,22 @@ def test_every_view_below_the_light_on_its_azimuth_hides_every_shadow(tile_study
 
 
 def test_the_design_reads_no_tested_seed(tile_study):
-    """The lobes, search discs, margins and seed plan come from geometry, the regular surface and the pilot seeds:
-    the tested seeds may hold any number without moving them; the verdict moves."""
+    """The lobes, search discs, margins and seed plan come from geometry, the regular surface and the pilots (the
+    study's own tiles): the claim's tested tiles may hold any number without moving them; the verdict moves."""
     lighting = {"shininess": 64.0, "specular_model": "phong"}
-    claims = {"alpha": 0.05, "max_seeds": 12, "pilot_seeds": 2, "tested": [["random_pyramids", 1.0, 0.5, 2]]}
+    claims = {"alpha": 0.05, "max_seeds": 12, "tested": [["random_pyramids", 1.0, 0.5, 2]]}
     steps_ = (10.0, 2.0)
-    regular = tile_study[tile_study["kind"] == "pyramids"]
-    tiles = tile_study[tile_study["kind"] != "pyramids"]
-    tables = steps.claim_tables(regular, tiles, None, claims, lighting, steps_)
+    study = tile_study[tile_study["seed"] < 1000]  # the regular surface and the study's tiles, seeds 1 and 2
+    tiles = tile_study[tile_study["seed"] > 1000]  # the claim's tested tiles
+    tables = steps.claim_tables(study, tiles, None, claims, lighting, steps_)
     geometry = tables["random_claim_geometry"]
     assert set(geometry["lobe"]) == {"back", "hot_spot"} and geometry["in_claim"].all()
     np.testing.assert_allclose(geometry["radius"], C.CLEARANCE * geometry["width"])
     scrambled = tiles.copy()
-    tested = scrambled["seed"] < 1000
     rng = np.random.default_rng(7)
     for column in ("rough", "rough_unrounded", "rough_unshadowed"):
-        scrambled.loc[tested, column] *= rng.uniform(0.5, 1.5, tested.sum())
-    moved = steps.claim_tables(regular, scrambled, None, claims, lighting, steps_)
+        scrambled[column] *= rng.uniform(0.5, 1.5, len(scrambled))
+    moved = steps.claim_tables(study, scrambled, None, claims, lighting, steps_)
     for name in ("random_claim_geometry", "random_claim_margins", "random_claim_design"):
         pd.testing.assert_frame_equal(moved[name], tables[name])
     assert not moved["random_claims"]["mean"].equals(tables["random_claims"]["mean"])
@@ -261,7 +260,7 @@ def test_the_design_reads_no_tested_seed(tile_study):
     seen = set(zip(views[0], views[1]))
     inside = tiles[[(a, e) in seen for a, e in zip(tiles["azimuth"], tiles["elevation"])]]
     assert 0 < len(inside) < len(tiles)
-    cut = steps.claim_tables(regular, inside, None, claims, lighting, steps_)
+    cut = steps.claim_tables(study, inside, None, claims, lighting, steps_)
     pd.testing.assert_frame_equal(cut["random_claims"], tables["random_claims"])
 
 

@@ -218,10 +218,7 @@ def check_explorer(path, study: pd.DataFrame, workdir) -> dict:
     values at many views to 0.01, a flat plate minus the control zero everywhere, the readout following real
     mouse moves, no script error, no request leaving the page, nothing wider than the page, an injected script
     refused by the page's policy. Returns what it measured."""
-    from roughlight.study.config import PILOT_SEED_BASE
-
     study = study if "kind" in study else study.assign(kind="pyramids", seed=0)
-    study = study[study["seed"] <= PILOT_SEED_BASE]  # the claim design's pilot seeds are never shown
     with Browser(1280, 900, workdir=workdir) as browser:
         browser.open(path)
         assert browser.evaluate("window.roughlight.explorer.ready.then(() => true)") is True

@@ -206,7 +206,7 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     from roughlight.report.page import render_section
 
     tiles = study[study["kind"] != "pyramids"]
-    design = steps.claim_tables(study, tiles, None, {"pilot_seeds": 0, "alpha": 0.05, "max_seeds": 12,
+    design = steps.claim_tables(study, tiles, None, {"alpha": 0.05, "max_seeds": 12,
                                                      "tested": [["random_pyramids", 1.0, 1.0, 3]]},
                                 {"shininess": 64.0, "specular_model": "phong"}, (15.0, 2.0))
     tables = design

@@ -186,7 +186,7 @@ def random_surface_params(wildcards):
 
 def _ensemble(wildcards, claim=False):
     """The kind, truncation, aspect and seeds of a random_sweeps job's ensemble (claim: a claim_sweeps job's, its
-    tested and pilot seeds)."""
+    tested seeds)."""
     t, a = _value("truncation", wildcards.truncation), _value(
         "aspect", wildcards.aspect
     )
@@ -212,7 +212,7 @@ def random_ensemble_files(wildcards):
 
 
 def claim_ensemble_surfaces(wildcards):
-    """A claim_sweeps job's surfaces: its ensemble's tested and pilot tiles, a seed each."""
+    """A claim_sweeps job's surfaces: its ensemble's tested tiles, a seed each."""
     kind, t, a, seeds = _ensemble(wildcards, claim=True)
     return [rl_plan.surface_settings(config, kind, t, a, seed) for seed in seeds]
 

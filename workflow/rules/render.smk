@@ -94,8 +94,8 @@ rule random_sweeps:
         "../scripts/sweep.py"
 
 
-# the random-roughness claim's tiles: a random kind's tested and pilot seeds at a grid point, measured at the
-# claim's views alone (the views around its lobes, from rule claim_discs' geometry): a fifth of a full sweep's time
+# the random-roughness claim's tested tiles: a random kind's claims.seeds at a grid point, measured at the claim's
+# views alone (the views around its lobes, from rule claim_discs' geometry)
 rule claim_sweeps:
     input:
         geometry="results/analysis/random_claim_geometry.csv",

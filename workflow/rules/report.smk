@@ -211,12 +211,12 @@ rule claim_discs:
 
 
 # the claim's design: margins, the family and the seeds each test needs, from the regular surfaces, the exact
-# reference and the pilot seeds alone (roughlight.analysis.steps.claim_design): it opens no tested seed's file
+# reference and the pilots, the study's own random tiles, alone (roughlight.analysis.steps.claim_design): it
+# reads no tested tile (rule claim_sweeps')
 rule claim_design:
     input:
         study="results/study.parquet",
         geometry="results/analysis/random_claim_geometry.csv",
-        claims=claim_ensemble_folders(),
         claim_grid=claim_grid_file,
     output:
         random_claim_design="results/analysis/random_claim_design.csv",

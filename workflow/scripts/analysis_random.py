@@ -17,7 +17,7 @@ from roughlight.study.tables import claim_rows, read_study  # noqa: E402
 log = _log.setup(snakemake)
 out, inp = snakemake.output, snakemake.input
 study = read_study(inp.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
-claim = {"rows": claim_rows(inp.claims, pilots=False), "geometry": pd.read_csv(inp.geometry),
+claim = {"rows": claim_rows(inp.claims), "geometry": pd.read_csv(inp.geometry),
          "margins": pd.read_csv(inp.margins), "design": pd.read_csv(inp.design),
          "steps": (float(snakemake.params.sweep["azimuth_step"]), float(snakemake.params.sweep["elevation_step"]))}
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims, claim)

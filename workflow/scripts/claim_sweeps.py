@@ -1,5 +1,5 @@
-"""Snakemake adapter: a random kind's claim tiles at a grid point (its tested and pilot seeds), each measured at the
-claim's views alone, through the sweep store (roughlight.study.sweep_store)."""
+"""Snakemake adapter: a random kind's claim tiles at a grid point (its tested seeds, claims.seeds), each measured at
+the claim's views alone, through the sweep store (roughlight.study.sweep_store)."""
 import os
 import sys
 

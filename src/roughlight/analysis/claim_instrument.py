@@ -17,6 +17,7 @@ from ..render.shading import view_direction
 from ..study.selection import SURFACE_KEYS
 from .claim_readings import READINGS, SeedStack, lobe_centres, surface_readings
 from .claims import TESTS
+from .lobe_shape import tangent_basis
 
 __all__ = ["reference_steps", "claim_views", "reference_views", "reference_stacks", "instrument_errors", "grid_table"]
 
@@ -30,8 +31,10 @@ def reference_steps(azimuth_step: float) -> list[float]:
 def claim_views(geometry: pd.DataFrame, key, step: float, elevation_step: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
     """The views the claim reads at the grid point ``key`` (truncation, aspect, incidence), on the view grid of
     azimuth ``step`` and ``elevation_step``: every view within each claimed lobe's disc (its ``radius``), and a
-    step's reach beyond (the interpolation between views at the rim; the hot spot's also its width beyond, where
-    its edge is looked for to either side). Returns (azimuth, elevation) arrays, degrees, in the grid's order."""
+    step's reach beyond (the interpolation between views at the rim); the hot spot's also its width beyond, where
+    its edge is looked for to either side, but no lower than its width below the light's level (its reading looks
+    no lower: below the light every view hides every shadow). Returns (azimuth, elevation) arrays, degrees, in the
+    grid's order."""
     from ..render.views import view_grid
 
     part = geometry[(geometry["truncation"] == key[0]) & (geometry["aspect"] == key[1])
@@ -40,9 +43,15 @@ def claim_views(geometry: pd.DataFrame, key, step: float, elevation_step: float 
     az, el = view_grid(elevation_step, step)
     V = view_direction(el, az)
     near = np.zeros(len(az), bool)
+    beyond = 1.5 * max(step, elevation_step)
     for g in part.itertuples(index=False):
-        reach = g.radius + (g.width if g.lobe == "hot_spot" else 0.0) + 1.5 * max(step, elevation_step)
-        near |= np.degrees(np.arccos(np.clip(V @ centres[g.lobe], -1.0, 1.0))) <= reach
+        centre, spot = centres[g.lobe], g.lobe == "hot_spot"
+        within = np.degrees(np.arccos(np.clip(V @ centre, -1.0, 1.0))) <= g.radius + (g.width if spot else 0) + beyond
+        if spot:  # its edge's reach to either side, and nothing far below the light's level
+            with np.errstate(divide="ignore", invalid="ignore"):
+                height = np.degrees((V @ tangent_basis(centre)[0]) / (V @ centre))
+            within &= height >= -(g.width + beyond)
+        near |= within
     return az[near], el[near]
 
 

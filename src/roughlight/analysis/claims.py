@@ -32,8 +32,9 @@ exact reference and the pilot seeds, before any tested seed is read:
 * **Family** (:func:`claim_design`): every planned test (ensemble x lobe x statistic) is one of a family whose
   error is controlled together: each interval is a Student-t interval at the Bonferroni level ``1 - alpha / m``
   on the jackknife standard error over seeds.
-* **Seeds** (:func:`planned_seeds`): the pilot ensemble's mean and standard error give the tested seeds each test
-  needs; an ensemble tests as many as its most demanding test, up to ``claims.max_seeds``.
+* **Seeds** (:func:`planned_seeds`): the pilots, the study's own tiles of each ensemble (``surface.seeds``, never
+  tested by the claim), give by their mean and standard error the tested seeds each test needs; an ensemble tests
+  as many as its most demanding test that ``claims.max_seeds`` seeds can decide (``claims.seeds``, fresh tiles).
 
 The verdict (:func:`claim_table`), from the tested seeds only, in both readings (unrounded and 8-bit):
 
@@ -53,15 +54,12 @@ import numpy as np
 import pandas as pd
 
 from ..render.shading import view_direction
-from ..study.config import PILOT_SEED_BASE
 from ..study.selection import SURFACE_KEYS
 from .claim_readings import READINGS, SeedStack, lobe_centres, mirrored_halves, surface_readings
 
 __all__ = [
-    "PILOT_SEED_BASE",
     "CLEARANCE",
     "TESTS",
-    "is_pilot",
     "lobe_width",
     "claim_geometry",
     "discs",
@@ -125,11 +123,6 @@ TESTS = {
                  "around L, 1 a flat edge)",
     },
 }
-
-
-def is_pilot(seed) -> np.ndarray | bool:
-    """Whether ``seed`` (an int or an array) is a claim design's pilot seed (above :data:`PILOT_SEED_BASE`)."""
-    return np.asarray(seed) > PILOT_SEED_BASE if np.ndim(seed) else int(seed) > PILOT_SEED_BASE
 
 
 # ---------------------------------------------------------------------------------------------------------------
@@ -497,22 +490,18 @@ def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, l
 # the whole design and verdict from the study's tables
 
 
-def split_stacks(study: pd.DataFrame) -> tuple[dict, dict, dict]:
-    """The study's rows at the random grid points as :class:`SeedStack` s: the regular surfaces (by surface key),
-    each random ensemble's pilot seeds and its tested seeds (by kind and surface key)."""
+def split_stacks(study: pd.DataFrame) -> tuple[dict, dict]:
+    """The study's rows at the random grid points as :class:`SeedStack` s: the regular surfaces (by surface key)
+    and the study's random ensembles (by kind and surface key), the claim's pilots."""
     from .claim_readings import seed_stacks
 
-    regular, pilots, tested = {}, {}, {}
+    regular, random = {}, {}
     for stack in seed_stacks(study):
         if stack.kind == "pyramids":
             regular[stack.key] = stack
-            continue
-        pilot = is_pilot(stack.seeds)
-        if pilot.any():
-            pilots[(stack.kind,) + stack.key] = stack.subset(pilot)
-        if (~pilot).any():
-            tested[(stack.kind,) + stack.key] = stack.subset(~pilot)
-    return regular, pilots, tested
+        else:
+            random[(stack.kind,) + stack.key] = stack
+    return regular, random
 
 
 def seed_stacks_of(rows: pd.DataFrame, steps: tuple[float, float]) -> dict:

@@ -11,9 +11,7 @@ its statistics are NaN and the row's ``note`` says why.
 
 The regular surface is one surface (its values have no seed-to-seed spread); each random kind is a sample of
 seeds. :func:`ensemble_summary` describes each ensemble (95% intervals, a test a row, with no correction for the
-family: the claim's inference is :func:`roughlight.analysis.claims.claim_table`). Pilot seeds
-(:func:`roughlight.analysis.claims.is_pilot`) serve the claim's design only: the summaries, the seed-averaged views
-and the model refits use the tested seeds.
+family: the claim's inference is :func:`roughlight.analysis.claims.claim_table`, on tiles of its own).
 """
 
 from __future__ import annotations
@@ -25,7 +23,6 @@ import pandas as pd
 
 from ..render.views import distinct_views
 from ..study.selection import SURFACE_KEYS
-from .claims import is_pilot
 from .grids import surface_value_grids
 
 __all__ = [
@@ -77,10 +74,9 @@ def random_points(study: pd.DataFrame) -> pd.DataFrame:
 
 
 def tested(study: pd.DataFrame) -> pd.DataFrame:
-    """The study's rows without the claim design's pilot seeds (:func:`roughlight.analysis.claims.is_pilot`)."""
-    if "seed" not in study:
-        return study
-    return study[~is_pilot(study["seed"].to_numpy())]
+    """The study's rows: every random tile of the study is described (the claim's pilots are the study's tiles;
+    its tested tiles are rule ``claim_sweeps``', never in the study table)."""
+    return study
 
 
 def _per_sweep(study: pd.DataFrame):

@@ -146,24 +146,23 @@ def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
     """Which lobes enter the claim and their search discs, from geometry and the regular surfaces alone (rule
     ``claim_discs``): ``random_claim_geometry`` (:func:`roughlight.analysis.claims.claim_geometry`)."""
     regular = study[study["kind"].astype(str) == "pyramids"] if "kind" in study else study
-    stacks, _, _ = C.split_stacks(regular)
+    stacks, _ = C.split_stacks(regular)
     return {"random_claim_geometry": C.claim_geometry(list(stacks.values()), lighting)}
 
 
-def claim_design(study: pd.DataFrame, pilots: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame | None,
-                 claims: dict, steps: tuple[float, float] = (5.0, 1.0)) -> dict:
-    """The claim's design (rule ``claim_design``), from the regular surfaces, the exact reference and the pilot
-    seeds alone: no tested seed is read.
+def claim_design(study: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame | None, claims: dict,
+                 steps: tuple[float, float] = (5.0, 1.0)) -> dict:
+    """The claim's design (rule ``claim_design``), from the regular surfaces, the exact reference and the pilots,
+    the study's own random tiles (``surface.seeds``): no tested seed (``claims.seeds``) is read.
 
     Parameters
     ----------
-    study : the study's regular rows at the random grid points (the fast method, every view)
-    pilots : the claim's pilot tiles' rows (rule ``claim_sweeps``' pilot files, at the claim's views)
+    study : the study's rows at the random grid points: the regular surfaces and the study's random tiles (the fast
+        method, every view)
     geometry : rule ``claim_discs``' table
     grid : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
         view grid's effect)
-    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``pilot_seeds``,
-        ``tested``)
+    claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
     steps : the study's azimuth and elevation steps, degrees
 
     Returns
@@ -171,18 +170,15 @@ def claim_design(study: pd.DataFrame, pilots: pd.DataFrame, geometry: pd.DataFra
     dict of DataFrames: ``random_claim_margins``, ``random_claim_design`` (:mod:`roughlight.analysis.claims`),
     ``random_claim_grid``, ``random_claim_errors`` (:mod:`roughlight.analysis.claim_instrument`).
     """
-    regular, _, _ = C.split_stacks(study[study["kind"].astype(str) == "pyramids"])
-    pilot_stacks = C.seed_stacks_of(pilots, steps)
+    regular, pilots = C.split_stacks(study)
     ref = reference_stacks(grid, steps[1]) if grid is not None and len(grid) else {}
     errors = instrument_errors(ref, geometry)
-    kinds = sorted({kind for kind, *_ in claims.get("tested", [])} | {k[0] for k in pilot_stacks})
+    kinds = sorted({kind for kind, *_ in claims.get("tested", [])} | {k[0] for k in pilots})
     margin_table = C.margins(regular, geometry, kinds, errors)
     readings = {key: pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]))
-                for key, stack in pilot_stacks.items()}
+                for key, stack in pilots.items()}
     configured = {(kind, float(t), float(a)): int(n) for kind, t, a, n in claims.get("tested", [])}
     design = C.claim_design(margin_table, readings, claims, configured)
-    if int(claims.get("pilot_seeds", 0)) == 0:
-        design["plan"] = "no pilot seeds (claims.pilot_seeds 0): no plan"
     return {"random_claim_margins": margin_table, "random_claim_design": design, "random_claim_errors": errors,
             "random_claim_grid": grid_table(ref, geometry)}
 
@@ -200,10 +196,9 @@ def claim_verdict(rows: pd.DataFrame, geometry: pd.DataFrame, margins: pd.DataFr
 def claim_tables(study: pd.DataFrame, claim_rows: pd.DataFrame, grid: pd.DataFrame | None, claims: dict,
                  lighting: dict, steps: tuple[float, float] = (5.0, 1.0)) -> dict:
     """Every table of the claim at once, in the workflow's order (rules ``claim_discs``, ``claim_design`` and the
-    verdict of ``analysis_random``): the pilot tiles of ``claim_rows`` plan, its tested tiles are tested."""
+    verdict of ``analysis_random``): the study's random tiles plan, the claim's tiles (``claim_rows``) are tested."""
     geometry = claim_discs(study, lighting)["random_claim_geometry"]
-    pilot = C.is_pilot(claim_rows["seed"].to_numpy())
-    design = claim_design(study, claim_rows[pilot], geometry, grid, claims, steps)
-    verdict = claim_verdict(claim_rows[~pilot], geometry, design["random_claim_margins"],
-                            design["random_claim_design"], steps)
+    design = claim_design(study, geometry, grid, claims, steps)
+    verdict = claim_verdict(claim_rows, geometry, design["random_claim_margins"], design["random_claim_design"],
+                            steps)
     return {"random_claim_geometry": geometry, **design, "random_claims": verdict}

@@ -74,13 +74,9 @@ class Sweeps:
 def study_columns(study: pd.DataFrame) -> dict:
     """The columns of a study table the explorer reads, as numpy arrays (:func:`study_sweeps` takes them):
     ``kind`` as codes into ``kind_labels``, ``component`` as codes into :data:`COMPONENTS`, the rest as floats. A
-    table without ``kind`` (and ``seed``) is all regular. The claim design's pilot seeds
-    (:data:`roughlight.study.config.PILOT_SEED_BASE` and up) are left out: they are never a result."""
-    from ..study.config import PILOT_SEED_BASE
-
+    table without ``kind`` (and ``seed``) is all regular."""
     if "kind" not in study:  # a table without kind and seed is all regular (roughlight.study.tables.regular)
         study = study.assign(kind="pyramids", seed=0)
-    study = study[study["seed"].to_numpy() <= PILOT_SEED_BASE]
     missing = [c for c in COLUMNS if c not in study]
     if missing:
         raise ValueError(f"the study table lacks the column(s) {missing}")
@@ -101,13 +97,6 @@ def read_study_columns(path) -> dict:
     missing = [c for c in COLUMNS if c not in names]
     if missing:
         raise ValueError(f"{path} lacks the column(s) {missing}: not a study table")
-    from ..study.config import PILOT_SEED_BASE
-
-    # the claim design's pilot seeds are never shown (as in study_columns): their rows are dropped as each column
-    # is read
-    seed = pq.read_table(path, columns=["seed"]).column(0).to_numpy()
-    keep = None if (seed <= PILOT_SEED_BASE).all() else np.flatnonzero(seed <= PILOT_SEED_BASE)
-    del seed
     out = {}
     for name in COLUMNS:
         column = pq.read_table(path, columns=[name], read_dictionary=[name] if name in ("kind", "component")
@@ -120,8 +109,7 @@ def read_study_columns(path) -> dict:
         else:
             values = column.to_numpy().astype(float, copy=False)
         del column
-        out[name] = values if keep is None else values[keep]
-        del values
+        out[name] = values
     return out
 
 

@@ -32,12 +32,10 @@ __all__ = [
     "kinds",
     "seeds",
     "random_surfaces",
-    "pilot_seeds",
     "claim_seeds",
     "claim_surfaces",
     "random_points",
     "CLAIM_SEED_BASE",
-    "PILOT_SEED_BASE",
     "random_surface_settings",
     "report_settings",
     "claim_settings",
@@ -357,9 +355,8 @@ def _point_of(key: str) -> tuple[str, str]:
     return label(float(t)), label(float(a))
 
 
-#: The claim design's pilot seeds are numbered from here + 1 (roughlight.analysis.claims.PILOT_SEED_BASE).
-PILOT_SEED_BASE = 1000
-#: A count of the claim's tested seeds (``claims.seeds``) numbers them from here + 1: tiles no study seed is.
+#: A count of the claim's tested seeds (``claims.seeds``) numbers them from here + 1: tiles none of the study's
+#: first hundred seeds (``surface.seeds``, the claim's pilots) is.
 CLAIM_SEED_BASE = 100
 
 
@@ -368,13 +365,6 @@ def claims(config: dict) -> dict:
     validated has no defaults filled): the random-roughness claim's design."""
     schema = _parsed_schema(str(SCHEMA_PATH), SCHEMA_PATH.stat().st_mtime_ns)["properties"]["claims"]["properties"]
     return {**{key: spec["default"] for key, spec in schema.items()}, **config.get("claims", {})}
-
-
-def pilot_seeds(config: dict) -> list[int]:
-    """The pilot seeds every random ensemble of the claim renders beside its tested seeds (``claims.pilot_seeds``:
-    1001, ...): the claim design's, never tested (docs/random-roughness.md)."""
-    count = int(claims(config)["pilot_seeds"])
-    return list(range(PILOT_SEED_BASE + 1, PILOT_SEED_BASE + 1 + count))
 
 
 def random_points(config: dict) -> list[tuple[float, float]]:
@@ -392,14 +382,14 @@ def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
 
 
 def claim_seeds(config: dict, kind: str, point: tuple[float, float]) -> list[int]:
-    """Every seed a random ensemble of the claim renders: its tested seeds (``claims.seeds``) and then the pilot
-    seeds (:func:`pilot_seeds`)."""
-    return seeds(config, kind, point, "claims") + pilot_seeds(config)
+    """The seeds a random ensemble of the claim tests (``claims.seeds``); its pilots are the study's own tiles
+    there (:func:`seeds`, ``surface.seeds``)."""
+    return seeds(config, kind, point, "claims")
 
 
 def claim_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
-    """Every random tile the claim renders at its own views (rule ``claim_sweeps``): (kind, truncation, aspect,
-    seed), an ensemble's tested seeds and then its pilot seeds."""
+    """Every random tile the claim tests, measured at its own views (rule ``claim_sweeps``): (kind, truncation,
+    aspect, seed)."""
     random_kinds = [k for k in kinds(config) if k != "pyramids"]
     return [(k, t, a, s) for k in random_kinds for t, a in random_points(config) for s in claim_seeds(config, k, (t, a))]
 

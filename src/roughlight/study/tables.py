@@ -231,24 +231,15 @@ def read_sweep(path):
     return frame
 
 
-def claim_rows(folders, pilots: bool):
-    """The claim's tiles (rule ``claim_sweeps``' folders, a file ``s{seed}.parquet`` a seed) as rows in the study
-    table's columns (kind, seed, surface keys, views, component, ``rough``, ``rough_unrounded``,
-    ``rough_unshadowed``, coverage): its pilot seeds (``pilots`` True) or its tested seeds; the others' files are
-    not opened."""
-    import re
+def claim_rows(folders):
+    """The claim's tested tiles (rule ``claim_sweeps``' folders, a file ``s{seed}.parquet`` a seed) as rows in the
+    study table's columns (kind, seed, surface keys, views, component, ``rough``, ``rough_unrounded``,
+    ``rough_unshadowed``, coverage)."""
     from pathlib import Path
 
     import pandas as pd
 
-    from .config import PILOT_SEED_BASE
-
-    frames = []
-    for folder in folders:
-        for path in sorted(Path(folder).glob("s*.parquet")):
-            found = re.fullmatch(r"s(\d+)\.parquet", path.name)
-            if found and (int(found.group(1)) > PILOT_SEED_BASE) == pilots:
-                frames.append(read_sweep(path))
+    frames = [read_sweep(path) for folder in folders for path in sorted(Path(folder).glob("s*.parquet"))]
     columns = KEY_COLUMNS + ["rough", "rough_unrounded", "rough_unshadowed", "coverage"]
     if not frames:
         return pd.DataFrame(columns=columns)
