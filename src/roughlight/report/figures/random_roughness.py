@@ -16,6 +16,7 @@ from .common import (
     hemisphere_map_problem,
     legend_below,
     placeholder,
+    rendered_values,
     theme,
 )
 
@@ -86,9 +87,11 @@ def random_map(fig, ax, sel, kind, surface) -> None:
     0 to its maximum): the shapes are compared, not the levels. ``sel``: the sweep's rows of one component
     (``azimuth``, ``elevation`` in degrees, ``rough`` 0-255), each view once; ``surface`` (truncation, aspect,
     incidence). A random tile is not symmetric about the light's plane: every view is drawn as measured
-    (:func:`.common.hemisphere_map`), none mirrored."""
+    (:func:`.common.hemisphere_map`), none mirrored; the views not rendered (e = 0, 180) are not drawn."""
     t, a, i = surface
-    value = sel["rough"].to_numpy(float)
+    # the views not rendered (e = 0 and 180, coverage 0: stored as 0) are left out, never drawn as dark views
+    value = rendered_values(sel["elevation"].to_numpy(float), sel["rough"].to_numpy(float),
+                            sel["coverage"].to_numpy(float) if "coverage" in sel else None)
     top = max(float(np.nanmax(value)), 1.0)
     mappable = hemisphere_map(ax, sel["azimuth"].to_numpy(float), sel["elevation"].to_numpy(float), value,
                               levels=np.linspace(0, top, 16), cmap="magma")
