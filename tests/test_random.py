@@ -378,7 +378,7 @@ def test_the_page_shows_the_convergence_a_statistic_a_row_and_leaves_an_old_tabl
     value beside the mean surface's ± its error [interval] at each tile size, why a statistic was not read, and the
     views per second; a table of the old per-seed design is not read."""
     from roughlight.measurements import random_tiles as B
-    from roughlight.report.sections.random import _random_tiles
+    from roughlight.report.sections.random import convergence_shown
 
     rows = []
     for kind, cells, seeds in (("pyramids", 0, 1), ("random_pyramids", 1, 3), ("random_pyramids", 4, 3)):
@@ -391,8 +391,8 @@ def test_the_page_shows_the_convergence_a_statistic_a_row_and_leaves_an_old_tabl
                          "why": "wider than the search disc" if unread else "",
                          "radius": np.nan if lobe == "diffuse" else {"back": 25.3, "hot_spot": 18.6}[lobe],
                          "disc_cells": 4, "seconds": 0.1, "views": 6444, "views_per_second": 6444 / (0.1 + cells)})
-    shown = _random_tiles(None, pd.DataFrame(rows, columns=B.CONVERGENCE_COLUMNS), None)
-    table = shown["convergence"].set_index("statistic")
+    shown, point = convergence_shown(pd.DataFrame(rows, columns=B.CONVERGENCE_COLUMNS))
+    table = shown.set_index("statistic")
     assert list(table.columns) == ["kind", "unit", "seeds", "regular", "1 cell", "4 cells", "not read"]
     assert len(table) == len(B.CONVERGENCE_STATISTICS) + 1
     assert table.loc["hot spot width", "4 cells"] == "14 ± 0.5 [11.8, 16.2]"  # t(0.975, 2) = 4.30
@@ -400,10 +400,10 @@ def test_the_page_shows_the_convergence_a_statistic_a_row_and_leaves_an_old_tabl
     assert table.loc["back squareness", "not read"] == "4 cells: wider than the search disc"
     assert table.loc["views per second", "regular"] == pytest.approx(64440) and table.loc["back contrast",
                                                                                           "regular"] == 10.0
-    assert shown["convergence_point"]["discs"] == ["random pyramids: back lobe 25.3°, hot spot 18.6°"]
+    assert point["discs"] == ["random pyramids: back lobe 25.3°, hot spot 18.6°"] and point["disc_cells"] == 4
     old = pd.DataFrame({"kind": ["random_pyramids"], "cells": [4], "seed": [1], "statistic": ["back_peak"],
                         "value": [1.0], "seconds": [0.1], "views": [10], "views_per_second": [100.0]})
-    assert _random_tiles(None, old, None)["convergence"] is None
+    assert convergence_shown(old) == (None, None) and convergence_shown(None) == (None, None)
 
 
 def test_the_random_parts_of_the_report_follow_surface_kind(workflow_dir):

@@ -61,7 +61,13 @@ CONVERGENCE_STATISTICS = tuple(STATISTICS) + ("diffuse_level",)
 #: The range each followed statistic takes (its interval is cut to it): the claim's tests' where they give one.
 STATISTIC_RANGES = {**{name: (0.0, math.inf) for name in ("back_width", "hot_spot_width")},
                     **{name: test["range"] for name, test in TESTS.items()}, "diffuse_level": (0.0, 255.0)}
-#: :func:`tile_convergence`'s columns.
+#: :func:`tile_convergence`'s columns: ``kind`` (``pyramids`` for the regular surface), ``discs`` (the kind whose
+#: discs it is read in: the regular surface is read once in each kind's), ``truncation``, ``aspect``, ``incidence``
+#: (the point), ``cells`` (0 for the regular surface), ``seeds``, ``statistic``, ``lobe``, ``unit``, ``value`` (the
+#: mean surface's), ``se`` (its jackknife standard error over seeds, NaN for fewer than 2 or where a resample
+#: cannot be read), ``why`` ('' or why the lobe could not be read), ``radius`` (the lobe's search disc, degrees;
+#: NaN outside the claim), ``disc_cells`` (the tile size the discs were set from), ``seconds`` (a tile's mean sweep
+#: time), ``views`` (rendered: not e = 0, 180), ``views_per_second`` (the mean over tiles of a sweep's).
 CONVERGENCE_COLUMNS = ["kind", "discs", "truncation", "aspect", "incidence", "cells", "seeds", "statistic", "lobe",
                        "unit", "value", "se", "why", "radius", "disc_cells", "seconds", "views", "views_per_second"]
 #: Each followed statistic's lobe and unit.
@@ -130,8 +136,8 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     jackknife standard error over seeds), with the diffuse's hemisphere level. Every tile size is read in the same
     discs: the claim's rule (:func:`roughlight.analysis.claims.search_radii`, on the regular surface's geometry from
     :func:`roughlight.analysis.claims.claim_geometry`) applied to the kind's seeds at the study's tile size
-    (``surface["cells"]``; the smoke plan's own largest, ``disc_cells``), measured among the tile sizes if the plan
-    does not list it. A lobe outside the claim at the point is not read (its statistics NaN, ``why`` says why).
+    (``surface["cells"]``; the smoke plan's own largest, ``disc_cells``), measured if the plan does not list it. A
+    lobe outside the claim is not read (NaN, ``why`` says why).
 
     Parameters
     ----------
@@ -140,18 +146,11 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     settings : the fast method's settings (its knobs for random tiles among them)
     log : callable taking a line, optional
     surface : how the study builds tiles (``surface.cells``, ``surface.spread``:
-        :func:`roughlight.study.config.random_surface_settings`); default 4 cells, the default spread
+        :func:`roughlight.study.config.random_surface_settings`; default 4 cells, the default spread)
 
     Returns
     -------
-    DataFrame, a row per kind, tile size and statistic (:data:`CONVERGENCE_STATISTICS`): ``kind``, ``discs`` (the
-    kind whose discs it is read in: the regular surface is read once in each kind's), ``truncation``, ``aspect``,
-    ``incidence`` (the point), ``cells`` (0 for the regular surface), ``seeds``, ``statistic``, ``lobe``,
-    ``unit``, ``value`` (the mean surface's), ``se`` (its jackknife standard error over seeds, NaN for fewer than
-    2 or where a resample cannot be read), ``why`` ('' or why the lobe could not be read), ``radius`` (the lobe's
-    search disc, degrees; NaN outside the claim), ``disc_cells`` (the tile size the discs were set from),
-    ``seconds`` (a tile's mean sweep time), ``views`` (rendered: not e = 0, 180), ``views_per_second`` (the mean
-    over tiles of a sweep's).
+    DataFrame, a row per kind, tile size and statistic (:data:`CONVERGENCE_STATISTICS`): :data:`CONVERGENCE_COLUMNS`.
     """
     from ..analysis.claim_readings import lobe_centres
     from ..analysis.claims import claim_geometry, search_radii
@@ -159,55 +158,69 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     from ..render.views import view_grid
 
     p = comparison.plan_size(PLANS, plan, "random tiles")
-    log = log or (lambda message: None)
-    lighting = lighting or Lighting()
-    settings = methods.settings("fast", settings)
+    log, lighting, settings = log or (lambda message: None), lighting or Lighting(), methods.settings("fast", settings)
     surface = {"cells": DEFAULT_CELLS, "spread": None, **(surface or {})}
     disc_cells = int(p.get("disc_cells") or surface["cells"])
-    t, a, i = p["point"]
     azimuth, elevation = view_grid(*p["views"])
-    views = int(np.count_nonzero((elevation > 0) & (elevation < 180)))  # rendered: not the grazing e = 0, 180
-    kinds = tuple(p.get("kinds", RANDOM_KINDS))
+    kinds, sizes = tuple(p.get("kinds", RANDOM_KINDS)), sorted(set(p["cells"]) | {disc_cells})
 
     def measure(kind, cells, seeds):
-        frames, seconds = [], []
-        for seed in seeds:
-            tile = make_surface(kind, t, a, seed, cells=max(cells, 1), spread=surface["spread"])
-            frame, result = _sweep_frame(tile, i, azimuth, elevation, lighting, settings)
-            frames.append(frame)
-            seconds.append(float(result["seconds"]))
-            log(f"{kind} cells={cells} seed={seed}: {views} views in {result['seconds']:.2f} s")
-        return _stack(frames), np.asarray(seconds)
+        return _swept_stack(kind, cells, seeds, p["point"], surface["spread"], (azimuth, elevation), lighting,
+                            settings, log)
 
-    regular, regular_seconds = measure("pyramids", 0, [0])
-    ensembles = {(kind, cells): measure(kind, cells, range(1, int(p["seeds"]) + 1))
-                 for kind in kinds for cells in sorted(set(p["cells"]) | {disc_cells})}
-    geometry = claim_geometry([regular], lighting.as_dict())
-    radii = search_radii(geometry, {(kind,) + regular.key: ensembles[kind, disc_cells][0] for kind in kinds})
-    centres = lobe_centres(regular.key)
-    why_out = dict(zip(geometry["lobe"], geometry["why"]))
+    regular = measure("pyramids", 0, [0])
+    ensembles = {(kind, cells): measure(kind, cells, range(1, int(p["seeds"]) + 1)) for kind in kinds
+                 for cells in sizes}
+    geometry = claim_geometry([regular[0]], lighting.as_dict())
+    radii = search_radii(geometry, {(kind,) + regular[0].key: ensembles[kind, disc_cells][0] for kind in kinds})
+    out = dict(geometry=geometry, centres=lobe_centres(regular[0].key), disc_cells=disc_cells,
+               views=int(np.count_nonzero((elevation > 0) & (elevation < 180))))  # rendered: not e = 0, 180
     rows = []
     for kind in kinds:
         part = radii[radii["kind"] == kind]
         disc = dict(zip(part["lobe"], part["radius"].astype(float)))
-        measured = [("pyramids", 0, regular, regular_seconds)]
-        measured += [(kind, cells, *ensembles[kind, cells]) for cells in sorted(set(p["cells"]) | {disc_cells})]
-        for name, cells, stack, seconds in measured:
-            reading = _readings(stack, centres, disc)
-            for statistic in CONVERGENCE_STATISTICS:
-                lobe, unit = STATISTIC_UNITS[statistic]
-                why = reading.get(f"{lobe}_why", "")
-                if lobe != "diffuse" and lobe not in disc:
-                    why = f"not in the claim at t {t:g}, a {a:g}, i {i:g}: {why_out.get(lobe, '')}"
-                rows.append({"kind": name, "discs": kind, "truncation": t, "aspect": a, "incidence": i,
-                             "cells": cells, "seeds": len(stack),
-                             "statistic": statistic, "lobe": lobe, "unit": unit,
-                             "value": float(reading[statistic]), "se": float(reading.get(f"{statistic}_se", np.nan)),
-                             "why": why or "", "radius": disc.get(lobe, np.nan), "disc_cells": disc_cells,
-                             "seconds": float(seconds.mean()), "views": views,
-                             "views_per_second": float(np.mean(views / seconds))})
+        for name, cells, (stack, seconds) in [("pyramids", 0, regular)] + [(kind, c, ensembles[kind, c])
+                                                                           for c in sizes]:
+            rows += _convergence_rows(name, kind, cells, stack, seconds, disc, **out)
         log(f"{kind}: discs {', '.join(f'{k} {v:.1f} deg' for k, v in disc.items())} (from {disc_cells}-cell tiles)")
     return pd.DataFrame(rows, columns=CONVERGENCE_COLUMNS)
+
+
+def _swept_stack(kind, cells, seeds, point, spread, views, lighting, settings, log):
+    """One kind's tiles of ``cells`` a side (the regular surface: ``pyramids``, seed 0) at ``point`` swept on
+    ``views`` (azimuth, elevation): their :class:`~roughlight.analysis.claim_readings.SeedStack` and each sweep's
+    seconds."""
+    t, a, i = point
+    frames, seconds = [], []
+    for seed in seeds:
+        tile = make_surface(kind, t, a, seed, cells=max(cells, 1), spread=spread)
+        frame, result = _sweep_frame(tile, i, *views, lighting, settings)
+        frames.append(frame)
+        seconds.append(float(result["seconds"]))
+        rendered = int(np.count_nonzero((views[1] > 0) & (views[1] < 180)))  # not the grazing e = 0, 180
+        log(f"{kind} cells={cells} seed={seed}: {rendered} views in {result['seconds']:.2f} s")
+    return _stack(frames), np.asarray(seconds)
+
+
+def _convergence_rows(kind, discs, cells, stack, seconds, disc, geometry, centres, disc_cells, views) -> list:
+    """:func:`tile_convergence`'s rows of one surface (``kind``; ``cells`` 0: the regular one) read in ``discs``'
+    discs (``disc``: lobe -> radius, degrees; a lobe without one is outside the claim, ``geometry`` says why)."""
+    t, a, i = stack.key
+    reading = _readings(stack, centres, disc)
+    out_of_claim = dict(zip(geometry["lobe"], geometry["why"]))
+    rows = []
+    for statistic in CONVERGENCE_STATISTICS:
+        lobe, unit = STATISTIC_UNITS[statistic]
+        why = reading.get(f"{lobe}_why", "")
+        if lobe != "diffuse" and lobe not in disc:
+            why = f"not in the claim at t {t:g}, a {a:g}, i {i:g}: {out_of_claim.get(lobe, '')}"
+        rows.append({"kind": kind, "discs": discs, "truncation": t, "aspect": a, "incidence": i, "cells": cells,
+                     "seeds": len(stack), "statistic": statistic, "lobe": lobe, "unit": unit,
+                     "value": float(reading[statistic]), "se": float(reading.get(f"{statistic}_se", np.nan)),
+                     "why": why or "", "radius": disc.get(lobe, np.nan), "disc_cells": disc_cells,
+                     "seconds": float(seconds.mean()), "views": views,
+                     "views_per_second": float(np.mean(views / seconds))})
+    return rows
 
 
 def convergence_summary(convergence: pd.DataFrame, level: float = 0.95) -> pd.DataFrame:

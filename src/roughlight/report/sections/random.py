@@ -190,29 +190,33 @@ def convergence_rows(summary: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _random_tiles(accuracy, convergence, tiles_png) -> dict:
-    """The random tiles' benchmark: the fast renderer against the exact reference, tile-size convergence (the
-    claim's statistics of each kind's mean surface by tile size: :func:`convergence_rows`)."""
+def convergence_shown(convergence: pd.DataFrame | None) -> tuple[pd.DataFrame | None, dict | None]:
+    """Rule ``random_tiles``' ``tile_convergence.parquet`` as the page shows it: :func:`convergence_rows` of its
+    summary and its point (truncation, aspect, incidence, the tile size its discs were set from and each kind's
+    discs); (None, None) without one, or for a table of the old design (per-seed statistics, before the claim's
+    readings), which is not read."""
     from ...measurements.random_tiles import CONVERGENCE_COLUMNS, convergence_summary
 
-    convergence = frame_or_none(convergence)
+    if convergence is None or not set(CONVERGENCE_COLUMNS) <= set(convergence.columns) or not len(convergence):
+        return None, None
+    first = convergence.iloc[0]
+    discs = convergence[np.isfinite(convergence["radius"])].drop_duplicates(["discs", "lobe"])
+    lobe = {"back": "back lobe", "hot_spot": "hot spot"}
+    point = {"truncation": first["truncation"], "aspect": first["aspect"], "incidence": first["incidence"],
+             "disc_cells": int(first["disc_cells"]),
+             "discs": [f"{kind.replace('_', ' ')}: " + ", ".join(f"{lobe.get(r['lobe'], r['lobe'])} {r['radius']:.1f}°"
+                                                                  for _, r in d.iterrows())
+                       for kind, d in discs.groupby("discs", sort=False)]}
+    summary = convergence_summary(convergence)
+    return (convergence_rows(summary) if len(summary) else None), point
+
+
+def _random_tiles(accuracy, convergence, tiles_png) -> dict:
+    """The random tiles' benchmark: the fast renderer against the exact reference, tile-size convergence (the
+    claim's statistics of each kind's mean surface by tile size: :func:`convergence_shown`)."""
     tiles_png = existing(tiles_png)
-    # a table of the old design (per-seed statistics, before the claim's readings) is not read
-    current = convergence is not None and set(CONVERGENCE_COLUMNS) <= set(convergence.columns)
-    summary = convergence_summary(convergence) if current else None
-    point = None
-    if summary is not None and len(convergence):
-        first = convergence.iloc[0]
-        discs = convergence[np.isfinite(convergence["radius"])].drop_duplicates(["discs", "lobe"])
-        lobe = {"back": "back lobe", "hot_spot": "hot spot"}
-        point = {"truncation": first["truncation"], "aspect": first["aspect"], "incidence": first["incidence"],
-                 "disc_cells": int(first["disc_cells"]),
-                 "discs": [f"{kind.replace('_', ' ')}: " + ", ".join(f"{lobe.get(r['lobe'], r['lobe'])} "
-                                                                      f"{r['radius']:.1f}°" for _, r in d.iterrows())
-                           for kind, d in discs.groupby("discs", sort=False)]}
-    return {"accuracy": frame_or_none(accuracy),
-            "convergence": convergence_rows(summary) if summary is not None and len(summary) else None,
-            "convergence_point": point,
+    table, point = convergence_shown(frame_or_none(convergence))
+    return {"accuracy": frame_or_none(accuracy), "convergence": table, "convergence_point": point,
             "tiles_png": tiles_png, "tiles_caption": caption_text("random_tiles") if tiles_png else None}
 
 
