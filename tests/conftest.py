@@ -84,6 +84,8 @@ EXPECTED_SECONDS = {
     "tests/test_implicit.py::": 6,
     "tests/test_implicit_table.py::": 2,
     "tests/test_random.py::test_random_accuracy_leaves_out": 2,
+    "tests/test_random.py::test_a_one_cell_tile_without_spread": 6,
+    "tests/test_random.py::test_tile_convergence_reads_every_statistic": 3,
     "tests/test_lighting_against_reference.py::": 2,
     "tests/test_random.py::test_ensemble_statistics_on_a_tiny_grid": 2,
     "tests/test_study_table.py::test_the_study_is_written_a_sweep_at_a_time": 1.5,

@@ -60,6 +60,43 @@ def views(grid):
     return sweeps.view_grid(elevation_step, azimuth_step)
 
 
+def rendered(sweep):
+    """A sweep's rows at the views that were rendered (0 < e < 180): what a map may draw."""
+    return sweep[~sweeps.is_grazing(sweep["elevation"].to_numpy(float))]
+
+
+def not_rendered_rows(study, value, coverage=True):
+    """``study`` with ``value`` in every row of a view not rendered (e = 0 and 180), and (``coverage``) the
+    sweeps' coverage column: 0 there, 1 elsewhere."""
+    out = study.copy()
+    grazing = sweeps.is_grazing(out["elevation"].to_numpy(float))
+    out.loc[grazing, "rough"] = value
+    if coverage:
+        out["coverage"] = np.where(grazing, 0.0, 1.0)
+    return out
+
+
+def drawn_triangles(map_):
+    """A map's drawn triangles as their corners' positions (each triangle's corners in order, the triangles
+    sorted): the same drawing whatever the nodes' numbering (a grid with or without its e = 0, 180 rows)."""
+    tri = map_.triangulation
+    corners = np.stack([tri.x[tri.get_masked_triangles()], tri.y[tri.get_masked_triangles()]], axis=-1)
+    corners = corners.reshape(len(corners), -1)
+    return corners[np.lexsort(corners.T[::-1])]
+
+
+def assert_same_maps(first, other):
+    """Two lists of drawn maps (:class:`Drawn`) show the same nodes, values, triangles and bands."""
+    assert len(first) == len(other) > 0
+    for a, b in zip(first, other):
+        np.testing.assert_array_equal(a.x, b.x)
+        np.testing.assert_array_equal(a.z, b.z)
+        np.testing.assert_array_equal(drawn_triangles(a), drawn_triangles(b))
+        np.testing.assert_array_equal(a.contours.levels, b.contours.levels)
+    # no node on the horizon (e = 0, 180: the disc's rim)
+    assert all(np.hypot(map_.x, map_.y).max() < 1.0 - 1e-6 for map_ in first + other)
+
+
 @dataclass
 class Drawn:
     """One ``tricontourf`` call: the axes, the triangulation's nodes in a triangle and their values, its
@@ -169,9 +206,22 @@ def test_random_maps_show_each_tile_as_measured(grid, drawn, tmp_path):
     expected = [("pyramids", 0), ("random_pyramids", 1), ("random_heightfield", 1)]
     assert len(drawn) == len(expected)
     for map_, (kind, seed) in zip(drawn, expected):
-        sweep = study[(study.kind == kind) & (study.seed == seed) & (study.component == "specular")]
+        sweep = rendered(study[(study.kind == kind) & (study.seed == seed) & (study.component == "specular")])
         assert_drawn_from_measured(map_, sweep["azimuth"], sweep["elevation"], sweep["rough"])
         assert kind.replace("_", " ") in map_.ax.get_title(loc="left")
+
+
+@pytest.mark.parametrize("grid", GRIDS)
+def test_random_maps_leave_out_the_views_not_rendered(grid, drawn):
+    """The views not rendered (e = 0 and 180, coverage 0) are no measurement: whether their rows hold 0 (as a
+    sweep stores them), 255 or NaN, with or without the coverage column, every map draws the same nodes, values,
+    triangles and bands, and none on the horizon."""
+    study = random_study(grid)
+    for value, coverage in ((0.0, True), (255.0, True), (255.0, False), (np.nan, False)):
+        random_roughness.fig_random_maps(not_rendered_rows(study, value, coverage))
+        plt.close("all")
+    assert len(drawn) == 12
+    assert_same_maps(drawn[:3] * 3, drawn[3:])
 
 
 def test_no_node_at_the_mirror_image_of_a_view(drawn):
@@ -214,7 +264,7 @@ def test_fig19_maps_show_the_measured_views(grid, drawn):
     try:
         assert len(drawn) == len(surfaces)
         for map_, (t, a, _) in zip(drawn, surfaces):
-            sweep = study[(study.truncation == t) & (study.aspect == a)]
+            sweep = rendered(study[(study.truncation == t) & (study.aspect == a)])
             assert_drawn_from_measured(map_, sweep["azimuth"], sweep["elevation"], sweep["rough"])
             # the back lobe's dots mark measured views only (none mirrored)
             X, Y = topdown(sweep["azimuth"], sweep["elevation"])
@@ -226,6 +276,26 @@ def test_fig19_maps_show_the_measured_views(grid, drawn):
         assert any(line.get_marker() == "." for line in drawn[1].ax.get_lines())  # t 1, a 1 has a back lobe
     finally:
         plt.close(fig)
+
+
+@pytest.mark.parametrize("grid", GRIDS)
+def test_fig19_maps_leave_out_the_views_not_rendered(grid, drawn):
+    """Fig. 19's maps and the back lobe's dots are the same whether the views not rendered (e = 0 and 180,
+    coverage 0) hold 0, 255 or NaN, with or without the coverage column: none is drawn, as dark or as bright."""
+    surfaces = [(0.0, 0.0, 30.0), (1.0, 1.0, 30.0)]
+    study = regular_study(grid, surfaces)
+    dots = []
+    for value, coverage in ((0.0, True), (255.0, True), (255.0, False), (np.nan, False)):
+        fig = specular.fig19_topdown(not_rendered_rows(study, value, coverage), surfaces=surfaces)
+        dots.append([line.get_data() for ax in fig.axes for line in ax.get_lines() if line.get_marker() == "."])
+        plt.close(fig)
+    assert len(drawn) == 8
+    assert_same_maps(drawn[:2] * 3, drawn[2:])
+    assert dots[0] and all(len(d) == len(dots[0]) for d in dots)
+    for other in dots[1:]:
+        for (x0, y0), (x1, y1) in zip(dots[0], other):
+            np.testing.assert_array_equal(x0, x1)
+            np.testing.assert_array_equal(y0, y1)
 
 
 # ---------------------------------------------------------------------------

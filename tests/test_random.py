@@ -318,17 +318,104 @@ def test_a_points_seeds_are_checked_as_a_kinds():
             rl_config.validate_config({**base, "surface": {**base["surface"], "seeds": seeds}})
 
 
-def test_tile_convergence_measures_the_regular_surface_beside_the_tiles(monkeypatch):
+#: A plan of the tile-size convergence for the tests: random pyramids, the claim's point and the study's views.
+TINY_CONVERGENCE = {"point": (1.0, 0.5, 30.0), "kinds": ("random_pyramids",), "views": (1.0, 5.0),
+                    "accuracy_cells": 1, "accuracy_seeds": 1, "accuracy_views": (30.0, 60.0)}
+
+
+def test_tile_convergence_reads_every_statistic_of_the_mean_surface_at_every_tile_size(monkeypatch):
+    """The convergence table has every followed statistic at every tile size and on the regular surface, read in
+    the same discs at every size; with 3 seeds each has a finite jackknife error and an interval around it. A small
+    spread keeps the back lobe readable (at the default spread the mean surface's is wider than its disc)."""
     from roughlight.measurements import random_tiles as B
 
-    monkeypatch.setitem(B.PLANS, "tiny", {"point": (1.0, 1.0, 30.0), "cells": (1,), "seeds": 1, "views": (3.0, 30.0),
-                                          "accuracy_cells": 1, "accuracy_seeds": 1, "accuracy_views": (30.0, 60.0)})
-    convergence = B.tile_convergence("tiny")
-    assert set(convergence["kind"]) == {"pyramids", "random_pyramids", "random_heightfield"}
+    monkeypatch.setitem(B.PLANS, "tiny", {**TINY_CONVERGENCE, "cells": (1, 2), "seeds": 3})
+    spread = {"truncation": 0.1, "aspect": 0.1, "apex": 0.1, "corner": 0.1}
+    convergence = B.tile_convergence("tiny", surface={"cells": 2, "spread": spread})
+    assert list(convergence.columns) == B.CONVERGENCE_COLUMNS
+    assert set(B.CONVERGENCE_STATISTICS) >= {"back_squareness", "back_phase_shift", "hot_spot_flatness",
+                                             "diffuse_level"}
+    cells = convergence.groupby("cells")["statistic"].apply(sorted).to_dict()
+    assert cells == {c: sorted(B.CONVERGENCE_STATISTICS) for c in (0, 1, 2)}
+    random = convergence[convergence.kind == "random_pyramids"]
+    assert (random["seeds"] == 3).all() and (convergence.loc[convergence.kind == "pyramids", "seeds"] == 1).all()
+    assert np.isfinite(convergence["value"]).all(), convergence.loc[~np.isfinite(convergence["value"]), "why"]
+    assert np.isfinite(random["se"]).all() and (random["se"] > 0).all()
+    # one disc per lobe, whatever the tile size (set from the 2-cell seeds), the regular surface's the same
+    lobes = convergence[convergence.lobe != "diffuse"]
+    assert (lobes.groupby("lobe")["radius"].nunique() == 1).all() and (convergence["disc_cells"] == 2).all()
     summary = B.convergence_summary(convergence)
-    level = summary[(summary.statistic == "diffuse_level")]
-    regular = convergence[(convergence.kind == "pyramids") & (convergence.statistic == "diffuse_level")]["value"]
-    assert np.allclose(level["regular"], regular.iloc[0]) and (level["regular_views_per_second"] > 0).all()
+    assert len(summary) == 2 * len(B.CONVERGENCE_STATISTICS)
+    assert np.isfinite(summary[["low", "high", "regular"]]).all().all()
+    assert ((summary["low"] <= summary["value"]) & (summary["value"] <= summary["high"])).all()
+    regular = convergence[convergence.kind == "pyramids"].set_index("statistic")["value"]
+    np.testing.assert_array_equal(summary["regular"], regular[summary["statistic"]].to_numpy())
+    # the interval is the Student-t one on the jackknife error (2 degrees of freedom), where the range allows
+    inside = summary[summary["low"] > 0]
+    np.testing.assert_allclose(inside["high"] - inside["value"], 4.302653 * inside["se"], rtol=1e-6)
+    assert (summary["views_per_second"] > 0).all() and (summary["regular_views_per_second"] > 0).all()
+
+
+def test_a_one_cell_tile_without_spread_reads_as_the_regular_surface(monkeypatch):
+    """A 1-cell tile is a regular grid of its one pyramid: with no spread it is the regular surface, and the mean
+    of its seeds (all alike: no error) reads as the regular surface does, statistic by statistic, in the same
+    discs. Both sampled finely (64 pixels and 2048 shadow texels a period), so that what is left is the two
+    renderers' paths (a tile's regions counted, the regular surface's facets): the back lobe to rounding, the hot
+    spot, which the shadow map shapes, within a few hundredths. (At the study's densities a 1-cell tile's hot spot
+    is 0.8 deg wider than the regular surface's: 16 pixels and 128 texels a cell against 28 and 512.)"""
+    from roughlight.measurements import random_tiles as B
+
+    monkeypatch.setitem(B.PLANS, "tiny", {**TINY_CONVERGENCE, "cells": (1,), "seeds": 2})
+    flat = {"truncation": 0.0, "aspect": 0.0, "apex": 0.0, "corner": 0.0}
+    fine = {"pixels_per_period": 64, "shadow_map_size": 2048, "tile_pixels_per_period": 64,
+            "tile_shadow_map_size": 2048}
+    convergence = B.tile_convergence("tiny", settings=fine, surface={"cells": 1, "spread": flat})
+    tile = convergence[convergence.kind == "random_pyramids"].set_index("statistic")
+    regular = convergence[convergence.kind == "pyramids"].set_index("statistic")
+    assert set(tile.index) == set(regular.index) == set(B.CONVERGENCE_STATISTICS)
+    assert np.isfinite(regular["value"]).all() and (tile["se"] == 0).all()
+    tolerance = {"back_contrast": 0.01, "back_squareness": 0.002, "back_phase_shift": 0.01, "back_width": 0.01,
+                 "hot_spot_contrast": 0.03, "hot_spot_flatness": 0.02, "hot_spot_width": 0.05, "diffuse_level": 0.05}
+    for name, within in tolerance.items():
+        assert tile.loc[name, "value"] == pytest.approx(regular.loc[name, "value"], abs=within), name
+    # a tile with the default spread is a grid of another pyramid each seed: its mean is not the regular surface
+    monkeypatch.setitem(B.PLANS, "tiny", {**TINY_CONVERGENCE, "cells": (1,), "seeds": 2})
+    spread = B.tile_convergence("tiny", surface={"cells": 1})
+    back = spread[(spread.statistic == "back_contrast")].set_index("kind")["value"]
+    assert abs(back["random_pyramids"] - back["pyramids"]) > 1.0
+
+
+def test_the_page_shows_the_convergence_a_statistic_a_row_and_leaves_an_old_table_out():
+    """The page's table (rule random_tiles' tile_convergence.parquet): a row per kind and statistic, the regular
+    value beside the mean surface's ± its error [interval] at each tile size, why a statistic was not read, and the
+    views per second; a table of the old per-seed design is not read."""
+    from roughlight.measurements import random_tiles as B
+    from roughlight.report.sections.random import convergence_shown
+
+    rows = []
+    for kind, cells, seeds in (("pyramids", 0, 1), ("random_pyramids", 1, 3), ("random_pyramids", 4, 3)):
+        for statistic in B.CONVERGENCE_STATISTICS:
+            lobe, unit = B.STATISTIC_UNITS[statistic]
+            unread = cells == 4 and lobe == "back" and statistic != "back_contrast"
+            rows.append({"kind": kind, "discs": "random_pyramids", "truncation": 1.0, "aspect": 0.5,
+                         "incidence": 30.0, "cells": cells, "seeds": seeds, "statistic": statistic, "lobe": lobe,
+                         "unit": unit, "value": np.nan if unread else 10.0 + cells, "se": np.nan if seeds < 2 else 0.5,
+                         "why": "wider than the search disc" if unread else "",
+                         "radius": np.nan if lobe == "diffuse" else {"back": 25.3, "hot_spot": 18.6}[lobe],
+                         "disc_cells": 4, "seconds": 0.1, "views": 6444, "views_per_second": 6444 / (0.1 + cells)})
+    shown, point = convergence_shown(pd.DataFrame(rows, columns=B.CONVERGENCE_COLUMNS))
+    table = shown.set_index("statistic")
+    assert list(table.columns) == ["kind", "unit", "seeds", "regular", "1 cell", "4 cells", "not read"]
+    assert len(table) == len(B.CONVERGENCE_STATISTICS) + 1
+    assert table.loc["hot spot width", "4 cells"] == "14 ± 0.5 [11.8, 16.2]"  # t(0.975, 2) = 4.30
+    assert table.loc["back squareness", "4 cells"] == "–"
+    assert table.loc["back squareness", "not read"] == "4 cells: wider than the search disc"
+    assert table.loc["views per second", "regular"] == pytest.approx(64440) and table.loc["back contrast",
+                                                                                          "regular"] == 10.0
+    assert point["discs"] == ["random pyramids: back lobe 25.3°, hot spot 18.6°"] and point["disc_cells"] == 4
+    old = pd.DataFrame({"kind": ["random_pyramids"], "cells": [4], "seed": [1], "statistic": ["back_peak"],
+                        "value": [1.0], "seconds": [0.1], "views": [10], "views_per_second": [100.0]})
+    assert convergence_shown(old) == (None, None) and convergence_shown(None) == (None, None)
 
 
 def test_the_random_parts_of_the_report_follow_surface_kind(workflow_dir):

@@ -129,9 +129,10 @@ rule light_transport:
         "../scripts/light_transport.py"
 
 
-# Random tiles (surface.kind): lobe and diffuse statistics against tile size (the tile-size choice), the fast
-# renderer against the exact reference on random tiles and its views per second beside the regular surface's,
-# and pictures of each kind.
+# Random tiles (surface.kind): the random-roughness claim's statistics of each kind's mean surface against tile
+# size (the tile-size choice; the claim's discs, set at surface.cells, at t 1, a 0.5, i 30), the fast renderer
+# against the exact reference on random tiles and its views per second beside the regular surface's, and pictures
+# of each kind.
 rule random_tiles:
     output:
         convergence="results/benchmarks/{plan}/tile_convergence.parquet",
@@ -154,6 +155,7 @@ rule random_tiles:
         gl=gl_params,
         lighting=lighting_params,
         render=fast_tile_render_params,
+        surface=tile_surface_params,
     script:
         "../scripts/random_tiles.py"
 

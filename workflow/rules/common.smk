@@ -289,6 +289,12 @@ def fast_tile_render_params(wildcards):
     return rl_config.render_settings_from_config(config, random_tiles=True)
 
 
+def tile_surface_params(wildcards):
+    """How the study builds random tiles (surface.cells, surface.spread): the tiles rule random_tiles measures and
+    the tile size its discs are set from."""
+    return rl_config.random_surface_settings(config)
+
+
 def table_aspects_param(wildcards):
     """The aspects of Tables 1-2 and of the arc figures (report.table_aspects)."""
     return rl_config.report_settings(config)["table_aspects"]

@@ -21,13 +21,14 @@ log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
 settings = methods.settings("fast", snakemake.params.render)
 plan = snakemake.wildcards.plan
-convergence = roughness_bench.tile_convergence(plan, lighting=lighting, settings=settings, log=log)
+convergence = roughness_bench.tile_convergence(plan, lighting=lighting, settings=settings, log=log,
+                                               surface=snakemake.params.surface)
 write_frame(convergence, snakemake.output.convergence)
 summary = roughness_bench.convergence_summary(convergence)
 accuracy = roughness_bench.random_accuracy(plan, lighting=lighting, settings=settings, log=log)
 write_frame(accuracy, snakemake.output.accuracy)
 pictures = roughness_bench.random_pictures(plan, lighting=lighting)
 figures.make("random_tiles", snakemake.output.chart, summary=summary, accuracy=accuracy, pictures=pictures)
-log(summary.round(4).to_string())
+log(summary.drop(columns="why").round(4).to_string())
 log(accuracy.round(4).to_string())
 _log.end_job()  # outputs written: leave without the interpreter's teardown

@@ -382,6 +382,21 @@ def _fill_polygon(px, py) -> np.ndarray:
     return np.array(out, int).reshape(-1, 3)
 
 
+def rendered_values(elevation, values, coverage=None) -> np.ndarray:
+    """``values`` with NaN at the views that were not rendered: the grazing ones (e = 0 and 180,
+    :func:`roughlight.render.views.is_grazing`) and any whose ``coverage`` (when given) is 0. A sweep stores 0
+    there, which is no measurement: a map draws them as NaN, never as dark views. Arrays of one shape (or
+    ``elevation`` broadcastable against ``values``)."""
+    from ...render.views import is_grazing
+
+    out = np.array(values, float)
+    gone = np.broadcast_to(is_grazing(elevation), out.shape)
+    if coverage is not None:
+        gone = gone | ~(np.asarray(coverage, float) > 0)
+    out[gone] = np.nan
+    return out
+
+
 def hemisphere_map(ax, azimuth, elevation, values, levels, cmap="magma"):
     """Filled contours of a sweep's values over the hemisphere, seen from above, from its measured views only.
 

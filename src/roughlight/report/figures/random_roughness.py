@@ -16,6 +16,7 @@ from .common import (
     hemisphere_map_problem,
     legend_below,
     placeholder,
+    rendered_values,
     theme,
 )
 
@@ -86,9 +87,11 @@ def random_map(fig, ax, sel, kind, surface) -> None:
     0 to its maximum): the shapes are compared, not the levels. ``sel``: the sweep's rows of one component
     (``azimuth``, ``elevation`` in degrees, ``rough`` 0-255), each view once; ``surface`` (truncation, aspect,
     incidence). A random tile is not symmetric about the light's plane: every view is drawn as measured
-    (:func:`.common.hemisphere_map`), none mirrored."""
+    (:func:`.common.hemisphere_map`), none mirrored; the views not rendered (e = 0, 180) are not drawn."""
     t, a, i = surface
-    value = sel["rough"].to_numpy(float)
+    # the views not rendered (e = 0 and 180, coverage 0: stored as 0) are left out, never drawn as dark views
+    value = rendered_values(sel["elevation"].to_numpy(float), sel["rough"].to_numpy(float),
+                            sel["coverage"].to_numpy(float) if "coverage" in sel else None)
     top = max(float(np.nanmax(value)), 1.0)
     mappable = hemisphere_map(ax, sel["azimuth"].to_numpy(float), sel["elevation"].to_numpy(float), value,
                               levels=np.linspace(0, top, 16), cmap="magma")
@@ -128,29 +131,34 @@ def fig_random_maps(study: pd.DataFrame, component: str = "specular", seed: int 
 
 
 def _convergence_panel(ax, summary, name, first) -> None:
-    """One followed statistic (or the views per second) against tile size, per kind; the regular surface dashed."""
+    """One followed statistic of the mean surface (or the views per second) against tile size, per kind, with its
+    95% interval over seeds; the regular surface dashed (its value in the same discs)."""
     speed = name == "views_per_second"
     for kind, g in summary.groupby("kind"):
         g = g[g["statistic"] == (first if speed else name)].sort_values("cells")
-        y = g["views_per_second"] if speed else g["mean"]
-        err = None if speed else g["ci_half_width"]
+        y = g["views_per_second"] if speed else g["value"]
+        err = None if speed else np.vstack([(g["value"] - g["low"]).to_numpy(float),
+                                            (g["high"] - g["value"]).to_numpy(float)])
         ax.errorbar(g["cells"], y, yerr=err, marker="o", capsize=3, color=KIND_COLOURS.get(kind),
                     label=kind.replace("_", " "))
         if not speed and np.isfinite(g["regular"].iloc[0]):
-            ax.axhline(g["regular"].iloc[0], color="k", ls="--", lw=1)
+            ax.axhline(g["regular"].iloc[0], color=KIND_COLOURS.get(kind), ls="--", lw=1)
     if speed:
         regular = summary["regular_views_per_second"].dropna()
         if len(regular):
             ax.axhline(float(regular.iloc[0]), color="k", ls="--", lw=1, label="regular surface")
         ax.set_yscale("log")
-    ax.set_title(name.replace("_", " ") + (" (fast renderer)" if speed else ""), fontsize=9)
+    unit = "" if speed else str(summary.loc[summary["statistic"] == name, "unit"].iloc[0])
+    ax.set_title(name.replace("_", " ") + (" (fast renderer)" if speed else f" ({unit})" if unit else ""),
+                 fontsize=9)
     ax.set_xlabel("tile size (cells a side)", fontsize=8)
 
 
 def fig_random_tiles(summary: pd.DataFrame, accuracy: pd.DataFrame, pictures):
-    """The random tiles' benchmark on one page: each followed statistic against tile size (ensemble mean and
-    95% interval over seeds, the regular surface dashed), the fast renderer's views per second against tile size,
-    and pictures of each kind as rendered at the thesis's telling views (kinds by rows)."""
+    """The random tiles' benchmark on one page: each followed statistic of each kind's mean surface against tile
+    size (its 95% Student-t interval on the jackknife error over seeds; the regular surface, read in the same
+    discs, dashed in the kind's colour), the fast renderer's views per second against tile size, and pictures of
+    each kind as rendered at the thesis's telling views (kinds by rows)."""
     theme()
     names = list(dict.fromkeys(summary["statistic"]))
     ncol = 3

@@ -11,7 +11,7 @@ import pandas as pd
 import seaborn as sns
 
 from ...analysis.areas import front_facet_share
-from ...analysis.grids import arc, surface_grids
+from ...analysis.grids import arc, surface_value_grids
 from ...analysis.lobes import MIN_LOBE_PEAK, lobe_directions
 from ...analysis.thesis import TABLE_ASPECTS, THESIS_INCIDENCE, table_data, thesis_model_predictions
 from ...render.shading import phase_angle, view_direction
@@ -32,6 +32,7 @@ from .common import (
     panels_legend,
     pick_incidence,
     placeholder,
+    rendered_values,
     select,
     theme,
 )
@@ -319,7 +320,10 @@ def fig19_topdown(study: pd.DataFrame, surfaces=None, max_angle: float = 45.0, i
     centred on zero phase would keep phase 0.
     """
     theme()
-    grids = {key: (az, el, v) for key, az, el, v in surface_grids(study, "specular")}
+    # the views not rendered (e = 0 and 180, coverage 0: stored as 0) are left out, never drawn as dark views
+    columns = ("rough", "coverage") if "coverage" in study else ("rough",)
+    grids = {key: (az, el, rendered_values(el[None, :], g["rough"], g.get("coverage")))
+             for key, az, el, g in surface_value_grids(study, "specular", columns)}
     inc = pick_incidence(study, incidence)
     surfaces = _example_surfaces(grids, inc) if surfaces is None else surfaces
     if not surfaces:

@@ -146,14 +146,73 @@ def _best_models(fits: pd.DataFrame) -> list[dict]:
     return items
 
 
-def _random_tiles(accuracy, convergence, tiles_png) -> dict:
-    """The random tiles' benchmark: the fast renderer against the exact reference, tile-size convergence."""
-    from ...measurements.random_tiles import convergence_summary
+def _estimate(value: float, se: float, low: float, high: float) -> str:
+    """``value ± se [low, high]`` to 3 significant figures; less where there is no error or interval, "–" where
+    there is no value."""
+    if not np.isfinite(value):
+        return "–"
+    if not np.isfinite(se):
+        return f"{value:.3g}"
+    interval = f" [{low:.3g}, {high:.3g}]" if np.isfinite(low) else ""
+    return f"{value:.3g} ± {se:.2g}{interval}"
 
-    convergence = frame_or_none(convergence)
+
+def convergence_rows(summary: pd.DataFrame) -> pd.DataFrame:
+    """The tile-size convergence as the page shows it (rule ``random_tiles``,
+    :func:`roughlight.measurements.random_tiles.convergence_summary`): a row per kind and statistic, the regular
+    surface's value in the same discs, then at each tile size the mean surface's value ± its jackknife error over
+    seeds [its 95% Student-t interval], and why a statistic could not be read where it could not; each kind's last
+    row its views per second (the regular surface's beside it)."""
+    cells = sorted(summary["cells"].unique())
+    label = {c: f"{c} cell{'s' if c != 1 else ''}" for c in cells}
+    rows = []
+    for kind, part in summary.groupby("kind", sort=False):
+        for name, g in part.groupby("statistic", sort=False):
+            by = g.set_index("cells")
+            row = {"kind": kind.replace("_", " "), "statistic": name.replace("_", " "), "unit": g["unit"].iloc[0],
+                   "seeds": int(g["seeds"].max()), "regular": g["regular"].iloc[0]}
+            for c in cells:
+                r = by.loc[c] if c in by.index else None
+                row[label[c]] = "" if r is None else _estimate(r["value"], r["se"], r["low"], r["high"])
+            unread = g[g["why"] != ""]
+            row["not read"] = "; ".join(f"{', '.join(str(c) for c in w['cells'])} cells: {why}"
+                                        for why, w in unread.groupby("why", sort=False))
+            rows.append(row)
+        speed = part.drop_duplicates("cells").set_index("cells")
+        rows.append({"kind": kind.replace("_", " "), "statistic": "views per second", "unit": "",
+                     "seeds": int(part["seeds"].max()), "regular": speed["regular_views_per_second"].iloc[0],
+                     **{label[c]: f"{speed.loc[c, 'views_per_second']:.0f}" if c in speed.index else ""
+                        for c in cells}, "not read": ""})
+    return pd.DataFrame(rows)
+
+
+def convergence_shown(convergence: pd.DataFrame | None) -> tuple[pd.DataFrame | None, dict | None]:
+    """Rule ``random_tiles``' ``tile_convergence.parquet`` as the page shows it: :func:`convergence_rows` of its
+    summary and its point (truncation, aspect, incidence, the tile size its discs were set from and each kind's
+    discs); (None, None) without one, or for a table of the old design (per-seed statistics, before the claim's
+    readings), which is not read."""
+    from ...measurements.random_tiles import CONVERGENCE_COLUMNS, convergence_summary
+
+    if convergence is None or not set(CONVERGENCE_COLUMNS) <= set(convergence.columns) or not len(convergence):
+        return None, None
+    first = convergence.iloc[0]
+    discs = convergence[np.isfinite(convergence["radius"])].drop_duplicates(["discs", "lobe"])
+    lobe = {"back": "back lobe", "hot_spot": "hot spot"}
+    point = {"truncation": first["truncation"], "aspect": first["aspect"], "incidence": first["incidence"],
+             "disc_cells": int(first["disc_cells"]),
+             "discs": [f"{kind.replace('_', ' ')}: " + ", ".join(f"{lobe.get(r['lobe'], r['lobe'])} {r['radius']:.1f}°"
+                                                                  for _, r in d.iterrows())
+                       for kind, d in discs.groupby("discs", sort=False)]}
+    summary = convergence_summary(convergence)
+    return (convergence_rows(summary) if len(summary) else None), point
+
+
+def _random_tiles(accuracy, convergence, tiles_png) -> dict:
+    """The random tiles' benchmark: the fast renderer against the exact reference, tile-size convergence (the
+    claim's statistics of each kind's mean surface by tile size: :func:`convergence_shown`)."""
     tiles_png = existing(tiles_png)
-    return {"accuracy": frame_or_none(accuracy),
-            "convergence": convergence_summary(convergence) if convergence is not None else None,
+    table, point = convergence_shown(frame_or_none(convergence))
+    return {"accuracy": frame_or_none(accuracy), "convergence": table, "convergence_point": point,
             "tiles_png": tiles_png, "tiles_caption": caption_text("random_tiles") if tiles_png else None}
 
 
