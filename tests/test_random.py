@@ -343,7 +343,7 @@ def test_tile_convergence_reads_every_statistic_of_the_mean_surface_at_every_til
     assert np.isfinite(random["se"]).all() and (random["se"] > 0).all()
     # one disc per lobe, whatever the tile size (set from the 2-cell seeds), the regular surface's the same
     lobes = convergence[convergence.lobe != "diffuse"]
-    assert (lobes.groupby("lobe")["radius"].nunique() == 1).all() and (convergence["disc_cells"] == 2).all()
+    assert (lobes.groupby("lobe")["radius"].nunique() == 1).all()
     summary = B.convergence_summary(convergence)
     assert len(summary) == 2 * len(B.CONVERGENCE_STATISTICS)
     assert np.isfinite(summary[["low", "high", "regular"]]).all().all()
@@ -402,7 +402,7 @@ def test_the_page_shows_the_convergence_a_statistic_a_row_and_leaves_an_old_tabl
                          "unit": unit, "value": np.nan if unread else 10.0 + cells, "se": np.nan if seeds < 2 else 0.5,
                          "why": "wider than the search disc" if unread else "",
                          "radius": np.nan if lobe == "diffuse" else {"back": 25.3, "hot_spot": 18.6}[lobe],
-                         "disc_cells": 4, "seconds": 0.1, "views": 6444, "views_per_second": 6444 / (0.1 + cells)})
+                         "seconds": 0.1, "views": 6444, "views_per_second": 6444 / (0.1 + cells)})
     shown, point = convergence_shown(pd.DataFrame(rows, columns=B.CONVERGENCE_COLUMNS))
     table = shown.set_index("statistic")
     assert list(table.columns) == ["kind", "unit", "seeds", "regular", "1 cell", "4 cells", "not read"]
@@ -412,7 +412,7 @@ def test_the_page_shows_the_convergence_a_statistic_a_row_and_leaves_an_old_tabl
     assert table.loc["back squareness", "not read"] == "4 cells: wider than the search disc"
     assert table.loc["views per second", "regular"] == pytest.approx(64440) and table.loc["back contrast",
                                                                                           "regular"] == 10.0
-    assert point["discs"] == ["random pyramids: back lobe 25.3°, hot spot 18.6°"] and point["disc_cells"] == 4
+    assert point["discs"] == ["random pyramids: back lobe 25.3°, hot spot 18.6°"]
     old = pd.DataFrame({"kind": ["random_pyramids"], "cells": [4], "seed": [1], "statistic": ["back_peak"],
                         "value": [1.0], "seconds": [0.1], "views": [10], "views_per_second": [100.0]})
     assert convergence_shown(old) == (None, None) and convergence_shown(None) == (None, None)

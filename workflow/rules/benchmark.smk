@@ -225,6 +225,6 @@ rule claim_grid:
         gl=gl_params,
         lighting=lighting_params,
         sweep=sweep_params,
-        render=fast_render_params,
+        render=random_render_params,
     script:
         "../scripts/claim_grid.py"

@@ -130,10 +130,11 @@ def grid_table(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
 
 
 def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
-    """What the instrument's method and view grid alone do to each regular lobe's statistics, in the lobe's own
-    disc: the fast method against the exact reference on the study's view grid (``sampling_error``), and the
-    study's azimuth step against 1 degree (``grid_effect``: the exact reference's where it measured 1 degree, else
-    the fast method's).
+    """What the instrument's method and view grid alone do to each regular lobe's statistics, in the lobe's disc:
+    on the study's view grid, the fast method (the regular surface's sampling: ``fast_error``) and the same geometry
+    drawn as the random tiles are (their sampling: ``tile_error``) against the exact reference, the larger the
+    ``sampling_error``; and the study's azimuth step against 1 degree (``grid_effect``: the exact reference's where
+    it measured 1 degree, else the fast method's).
 
     Parameters
     ----------
@@ -142,7 +143,8 @@ def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
 
     Returns
     -------
-    DataFrame: surface keys, ``test``, ``sampling_error``, ``grid_effect``, ``grid_method``.
+    DataFrame: surface keys, ``test``, ``fast_error``, ``tile_error``, ``sampling_error``, ``grid_effect``,
+    ``grid_method``.
     """
     rows = []
     for g in geometry[geometry["in_claim"]].itertuples(index=False):
@@ -158,9 +160,13 @@ def instrument_errors(reference: dict, geometry: pd.DataFrame) -> pd.DataFrame:
         for test, spec in TESTS.items():
             if spec["lobe"] != g.lobe:
                 continue
-            sampling = (abs(read["fast", coarse][test] - read["reference", coarse][test])
-                        if ("fast", coarse) in read and ("reference", coarse) in read else np.nan)
+            exact = read[("reference", coarse)][test] if ("reference", coarse) in read else np.nan
+            errors = [abs(read[method, coarse][test] - exact) if (method, coarse) in read else np.nan
+                      for method in ("fast", "tile")]
             grid = abs(read[fine_method, coarse][test] - read[fine_method, finest][test])
-            rows.append({**dict(zip(SURFACE_KEYS, key)), "test": test, "sampling_error": sampling,
+            rows.append({**dict(zip(SURFACE_KEYS, key)), "test": test, "fast_error": errors[0],
+                         "tile_error": errors[1], "sampling_error": max((e for e in errors if np.isfinite(e)),
+                                                                         default=np.nan),
                          "grid_effect": grid, "grid_method": fine_method})
-    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["test", "sampling_error", "grid_effect", "grid_method"])
+    return pd.DataFrame(rows, columns=SURFACE_KEYS + ["test", "fast_error", "tile_error", "sampling_error",
+                                                      "grid_effect", "grid_method"])

@@ -4,8 +4,8 @@ the exact reference and its speed beside the regular surface's, and pictures of 
 The tile-size convergence (:func:`tile_convergence`, :func:`convergence_summary`) follows the random-roughness
 claim's own statistics (:mod:`roughlight.analysis.claim_readings`): each kind's mean surface over its seeds, read
 on the back lobe and the hot spot before rounding, with its delete-one jackknife error over seeds, in the same
-discs at every tile size (the claim's rule, :func:`roughlight.analysis.claims.search_radii`, applied to the seeds
-at the study's tile size), beside the regular surface in those discs, at t 1, a 0.5, i 30: a point where both
+discs at every tile size (the claim's, :func:`roughlight.analysis.claims.discs`: three of the regular lobe's
+widths), beside the regular surface in those discs, at t 1, a 0.5, i 30: a point where both
 lobes enter the claim at the default light (at a 1 the back lobe does not clear the horizon by three widths).
 
 Plans (``measurements.plan``, the folder ``results/benchmarks/{plan}/``):
@@ -15,7 +15,7 @@ Plans (``measurements.plan``, the folder ``results/benchmarks/{plan}/``):
   (30 x 45 degrees). About 15 s a job, as before (rule ``random_tiles``' benchmark file): a random heightfield's
   sweep costs two to three times a random pyramids' one, so the quick plan leaves it out.
 * ``smoke``: a check that a config builds the whole report: 1- and 2-cell tiles, 2 seeds, views every
-  10 x 30 degrees, the discs from its own 2-cell tiles; its numbers are not for reading.
+  10 x 30 degrees; its numbers are not for reading.
 * ``full`` (``make bench``): both kinds in tiles of 1, 2, 3, 4 and 6 cells, 6 seeds, on the study's views;
   accuracy on 2 seeds of 4-cell tiles (the study's default) of each kind at the corners of the default random
   grid (t 0.5 and 1 x a 0.5 and 1: 16 tiles) at 5 x 15 degrees (444 views).
@@ -47,7 +47,7 @@ PLANS = {
     # a check that a config builds the whole report, in seconds (its numbers are not for reading: its views are
     # too coarse for the claim's discs, which it takes from its own largest tile)
     "smoke": {"point": (1.0, 0.5, 30.0), "kinds": ("random_pyramids",), "cells": (1, 2), "seeds": 2,
-              "views": (10.0, 30.0), "disc_cells": 2,
+              "views": (10.0, 30.0),
               "accuracy_cells": 2, "accuracy_seeds": 1, "accuracy_views": (45.0, 90.0),
               "accuracy_points": ((1.0, 1.0),)},
     "full": {"point": (1.0, 0.5, 30.0), "kinds": RANDOM_KINDS, "cells": (1, 2, 3, 4, 6), "seeds": 6,
@@ -66,10 +66,10 @@ STATISTIC_RANGES = {**{name: (0.0, math.inf) for name in ("back_width", "hot_spo
 #: (the point), ``cells`` (0 for the regular surface), ``seeds``, ``statistic``, ``lobe``, ``unit``, ``value`` (the
 #: mean surface's), ``se`` (its jackknife standard error over seeds, NaN for fewer than 2 or where a resample
 #: cannot be read), ``why`` ('' or why the lobe could not be read), ``radius`` (the lobe's search disc, degrees;
-#: NaN outside the claim), ``disc_cells`` (the tile size the discs were set from), ``seconds`` (a tile's mean sweep
+#: NaN outside the claim), ``seconds`` (a tile's mean sweep
 #: time), ``views`` (rendered: not e = 0, 180), ``views_per_second`` (the mean over tiles of a sweep's).
 CONVERGENCE_COLUMNS = ["kind", "discs", "truncation", "aspect", "incidence", "cells", "seeds", "statistic", "lobe",
-                       "unit", "value", "se", "why", "radius", "disc_cells", "seconds", "views", "views_per_second"]
+                       "unit", "value", "se", "why", "radius", "seconds", "views", "views_per_second"]
 #: Each followed statistic's lobe and unit.
 STATISTIC_UNITS = {**{name: (lobe, unit) for name, (lobe, _, unit) in STATISTICS.items()},
                    "diffuse_level": ("diffuse", "0-255")}
@@ -134,10 +134,9 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     but at the smoke plan) and their mean surface is read as the claim reads a tested ensemble
     (:func:`roughlight.analysis.claim_readings.pooled_readings`, the unrounded reading, with the delete-one
     jackknife standard error over seeds), with the diffuse's hemisphere level. Every tile size is read in the same
-    discs: the claim's rule (:func:`roughlight.analysis.claims.search_radii`, on the regular surface's geometry from
-    :func:`roughlight.analysis.claims.claim_geometry`) applied to the kind's seeds at the study's tile size
-    (``surface["cells"]``; the smoke plan's own largest, ``disc_cells``), measured if the plan does not list it. A
-    lobe outside the claim is not read (NaN, ``why`` says why).
+    discs, the claim's (:func:`roughlight.analysis.claims.discs`, on the regular surface's geometry from
+    :func:`roughlight.analysis.claims.claim_geometry`). A lobe outside the claim is not read (NaN, ``why`` says
+    why).
 
     Parameters
     ----------
@@ -153,16 +152,15 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     DataFrame, a row per kind, tile size and statistic (:data:`CONVERGENCE_STATISTICS`): :data:`CONVERGENCE_COLUMNS`.
     """
     from ..analysis.claim_readings import lobe_centres
-    from ..analysis.claims import claim_geometry, search_radii
+    from ..analysis.claims import claim_geometry, discs
     from ..render.shading import Lighting
     from ..render.views import view_grid
 
     p = comparison.plan_size(PLANS, plan, "random tiles")
     log, lighting, settings = log or (lambda message: None), lighting or Lighting(), methods.settings("fast", settings)
     surface = {"cells": DEFAULT_CELLS, "spread": None, **(surface or {})}
-    disc_cells = int(p.get("disc_cells") or surface["cells"])
     azimuth, elevation = view_grid(*p["views"])
-    kinds, sizes = tuple(p.get("kinds", RANDOM_KINDS)), sorted(set(p["cells"]) | {disc_cells})
+    kinds, sizes = tuple(p.get("kinds", RANDOM_KINDS)), sorted(set(p["cells"]))
 
     def measure(kind, cells, seeds):
         return _swept_stack(kind, cells, seeds, p["point"], surface["spread"], (azimuth, elevation), lighting,
@@ -172,17 +170,15 @@ def tile_convergence(plan: str = "quick", lighting=None, settings=None, log=None
     ensembles = {(kind, cells): measure(kind, cells, range(1, int(p["seeds"]) + 1)) for kind in kinds
                  for cells in sizes}
     geometry = claim_geometry([regular[0]], lighting.as_dict())
-    radii = search_radii(geometry, {(kind,) + regular[0].key: ensembles[kind, disc_cells][0] for kind in kinds})
-    out = dict(geometry=geometry, centres=lobe_centres(regular[0].key), disc_cells=disc_cells,
+    disc = discs(geometry, regular[0].key)
+    out = dict(geometry=geometry, centres=lobe_centres(regular[0].key),
                views=int(np.count_nonzero((elevation > 0) & (elevation < 180))))  # rendered: not e = 0, 180
     rows = []
     for kind in kinds:
-        part = radii[radii["kind"] == kind]
-        disc = dict(zip(part["lobe"], part["radius"].astype(float)))
         for name, cells, (stack, seconds) in [("pyramids", 0, regular)] + [(kind, c, ensembles[kind, c])
                                                                            for c in sizes]:
             rows += _convergence_rows(name, kind, cells, stack, seconds, disc, **out)
-        log(f"{kind}: discs {', '.join(f'{k} {v:.1f} deg' for k, v in disc.items())} (from {disc_cells}-cell tiles)")
+        log(f"{kind}: discs {', '.join(f'{k} {v:.1f} deg' for k, v in disc.items())}")
     return pd.DataFrame(rows, columns=CONVERGENCE_COLUMNS)
 
 
@@ -202,7 +198,7 @@ def _swept_stack(kind, cells, seeds, point, spread, views, lighting, settings, l
     return _stack(frames), np.asarray(seconds)
 
 
-def _convergence_rows(kind, discs, cells, stack, seconds, disc, geometry, centres, disc_cells, views) -> list:
+def _convergence_rows(kind, discs, cells, stack, seconds, disc, geometry, centres, views) -> list:
     """:func:`tile_convergence`'s rows of one surface (``kind``; ``cells`` 0: the regular one) read in ``discs``'
     discs (``disc``: lobe -> radius, degrees; a lobe without one is outside the claim, ``geometry`` says why)."""
     t, a, i = stack.key
@@ -217,7 +213,7 @@ def _convergence_rows(kind, discs, cells, stack, seconds, disc, geometry, centre
         rows.append({"kind": kind, "discs": discs, "truncation": t, "aspect": a, "incidence": i, "cells": cells,
                      "seeds": len(stack), "statistic": statistic, "lobe": lobe, "unit": unit,
                      "value": float(reading[statistic]), "se": float(reading.get(f"{statistic}_se", np.nan)),
-                     "why": why or "", "radius": disc.get(lobe, np.nan), "disc_cells": disc_cells,
+                     "why": why or "", "radius": disc.get(lobe, np.nan),
                      "seconds": float(seconds.mean()), "views": views,
                      "views_per_second": float(np.mean(views / seconds))})
     return rows

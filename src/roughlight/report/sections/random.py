@@ -188,9 +188,8 @@ def convergence_rows(summary: pd.DataFrame) -> pd.DataFrame:
 
 def convergence_shown(convergence: pd.DataFrame | None) -> tuple[pd.DataFrame | None, dict | None]:
     """Rule ``random_tiles``' ``tile_convergence.parquet`` as the page shows it: :func:`convergence_rows` of its
-    summary and its point (truncation, aspect, incidence, the tile size its discs were set from and each kind's
-    discs); (None, None) without one, or for a table of the old design (per-seed statistics, before the claim's
-    readings), which is not read."""
+    summary and its point (truncation, aspect, incidence and each kind's discs); (None, None) without one, or for a
+    table of the old design (per-seed statistics, before the claim's readings), which is not read."""
     from ...measurements.random_tiles import CONVERGENCE_COLUMNS, convergence_summary
 
     if convergence is None or not set(CONVERGENCE_COLUMNS) <= set(convergence.columns) or not len(convergence):
@@ -199,7 +198,6 @@ def convergence_shown(convergence: pd.DataFrame | None) -> tuple[pd.DataFrame | 
     discs = convergence[np.isfinite(convergence["radius"])].drop_duplicates(["discs", "lobe"])
     lobe = {"back": "back lobe", "hot_spot": "hot spot"}
     point = {"truncation": first["truncation"], "aspect": first["aspect"], "incidence": first["incidence"],
-             "disc_cells": int(first["disc_cells"]),
              "discs": [f"{kind.replace('_', ' ')}: " + ", ".join(f"{lobe.get(r['lobe'], r['lobe'])} {r['radius']:.1f}°"
                                                                   for _, r in d.iterrows())
                        for kind, d in discs.groupby("discs", sort=False)]}
