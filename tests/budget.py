@@ -41,7 +41,8 @@ def part(path: str) -> str:
     parts = Path(path).parts
     if parts[0] == "sweeps":
         return "random tile sweeps" if len(parts) > 3 else "regular and control sweeps"
-    names = {"report": "report", "stability": "stability scans", "benchmarks": "benchmarks", "study": "study table"}
+    names = {"report": "report", "stability": "stability scans", "benchmarks": "benchmarks", "study": "study table",
+             "claims": "claim sweeps"}
     return names.get(parts[0], parts[0])
 
 
