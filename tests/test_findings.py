@@ -382,7 +382,7 @@ def test_the_random_claims_are_the_claim_tables(full_page):
     assert square["mean"] == (-0.17, -0.02) and square["regular"] == (-0.178, -0.155)
     assert (found["points"], found["kinds"], unrounded["n_tests"]) == (2, 2, 8)
     assert found["regular"]["back"]["shape"] == "ellipse" and unrounded["headline"] == "refuted"
-    assert eight["headline"] == "mixed" and found["level"] == pytest.approx(1 - 0.05 / 8)
+    assert eight["headline"] == "unsupported" and found["level"] == pytest.approx(1 - 0.05 / 8)
     text = statement(full_page, "random")
     assert text.startswith("No test of the thesis's random-roughness claim finds the difference it claims.")
     assert "back lobe: squareness: no lobe in 2, difference against the claim in 1, no difference in 1 of 4" in text
@@ -390,6 +390,13 @@ def test_the_random_claims_are_the_claim_tables(full_page):
     assert "Read at 8 bits, as the thesis's framebuffer: " in text and "undecided in 1" in text
     no_lobes = claims_frame().assign(verdict="no lobe")
     assert PF.random_claim_finding(no_lobes, shown=True)["readings"]["unrounded"]["headline"] == "no lobe"
+    # one difference as the thesis claims beside one against it is a mixed verdict; every one as claimed supports it
+    both = claims_frame()
+    both.loc[(both["test"] == "back_squareness") & (both["truncation"] == 1.0), ["verdict", "agrees"]] = [
+        "difference", True]
+    assert PF.random_claim_finding(both, shown=True)["readings"]["unrounded"]["headline"] == "mixed"
+    both.loc[both["verdict"] == "difference", "agrees"] = True
+    assert PF.random_claim_finding(both, shown=True)["readings"]["unrounded"]["headline"] == "supported"
 
 
 def test_the_renderer_statements_are_the_benchmarks(full_page):
@@ -525,7 +532,7 @@ def test_the_claim_its_design_and_its_finding_show_in_chromium(tables, tmp_path)
     assert [row[head.index("unrounded: verdict")] for row in text["rows"]] == list(unrounded["verdict"])
     eight = claims[claims["reading"] == "8-bit"]
     assert [row[head.index("8-bit: verdict")] for row in text["rows"]] == list(eight["verdict"])
-    assert "Margin 0.05–0.05 over the grid points, set most often by the difference that matters" in text["design"]
+    assert "Margin 0.05 over the grid points, set most often by the difference that matters" in text["design"]
     assert "the 8 planned tests are corrected together (Bonferroni)" in text["design"]
     assert text["finding"].startswith("No test of the thesis's random-roughness claim finds the difference it claims.")
 

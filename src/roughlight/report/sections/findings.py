@@ -200,8 +200,8 @@ def _regular_shapes(claims: pd.DataFrame) -> dict:
 
 def _claim_headline(claims: pd.DataFrame) -> str:
     """What one reading's verdicts add up to, over the shape tests: "supported" (every shape test a difference as
-    claimed), "refuted" (every one decided, none as claimed), "no lobe" (no random surface has a lobe to compare),
-    "undecided" (none decided), else "mixed"."""
+    claimed), "refuted" (every one decided, none as claimed), "unsupported" (some decided, none as claimed, the rest
+    undecided), "no lobe" (no random surface has a lobe to compare), "undecided" (none decided), else "mixed"."""
     shape = claims[claims["test"].map(lambda t: not t.endswith("_contrast"))]
     verdicts = shape["verdict"]
     if (verdicts == "no lobe").all():
@@ -214,8 +214,8 @@ def _claim_headline(claims: pd.DataFrame) -> str:
     claimed = (compared == "difference") & (agrees == True)  # noqa: E712
     if claimed.all():
         return "supported"
-    if decided.all() and not claimed.any():
-        return "refuted"
+    if not claimed.any():
+        return "refuted" if decided.all() else "unsupported"
     return "mixed"
 
 
