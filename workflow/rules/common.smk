@@ -26,6 +26,7 @@ wildcard_constraints:
     aspect=r"[0-9][0-9.e+-]*",
     kind="random_pyramids|random_heightfield",
     seed=r"[1-9][0-9]*",
+    role="pilots|tested",
 
 
 # Job order on a workstation (Snakemake runs the ready job of highest priority first): the sweeps, then the chain
@@ -184,16 +185,16 @@ def random_surface_params(wildcards):
     )
 
 
-def _ensemble(wildcards, claim=False):
-    """The kind, truncation, aspect and seeds of a random_sweeps job's ensemble (claim: a claim_sweeps job's, its
-    tested seeds)."""
+def _ensemble(wildcards, role=None):
+    """The kind, truncation, aspect and seeds of a random_sweeps job's ensemble (role: a claim_sweeps job's, its
+    pilots or its tested seeds)."""
     t, a = _value("truncation", wildcards.truncation), _value(
         "aspect", wildcards.aspect
     )
     seeds = (
-        rl_config.claim_seeds(config, wildcards.kind, (t, a))
-        if claim
-        else rl_config.seeds(config, wildcards.kind, (t, a))
+        rl_config.seeds(config, wildcards.kind, (t, a))
+        if role is None
+        else rl_config.claim_seeds(config, wildcards.kind, (t, a), role)
     )
     return (wildcards.kind, t, a, seeds)
 
@@ -212,23 +213,27 @@ def random_ensemble_files(wildcards):
 
 
 def claim_ensemble_surfaces(wildcards):
-    """A claim_sweeps job's surfaces: its ensemble's tested tiles, a seed each."""
-    kind, t, a, seeds = _ensemble(wildcards, claim=True)
-    return [rl_plan.surface_settings(config, kind, t, a, seed) for seed in seeds]
+    """A claim_sweeps job's surfaces: its ensemble's pilot or tested tiles (wildcard role), a seed each, built
+    at claims.cells."""
+    kind, t, a, seeds = _ensemble(wildcards, wildcards.role)
+    return [
+        rl_plan.surface_settings(config, kind, t, a, seed, claim=True) for seed in seeds
+    ]
 
 
 def claim_ensemble_files(wildcards):
-    """A claim_sweeps job's sweep files, in its folder under results/claims, in the order of its surfaces."""
-    kind, t, a, seeds = _ensemble(wildcards, claim=True)
+    """A claim_sweeps job's sweep files, in its folder under results/claims/{role}, in the order of its surfaces."""
+    kind, t, a, seeds = _ensemble(wildcards, wildcards.role)
     folder = rl_plan.ensemble_folder(
-        kind, t, a, wildcards.incidence, rl_plan.CLAIM_FOLDER
+        kind, t, a, wildcards.incidence, rl_plan.claim_folder(wildcards.role)
     )
     return [rl_plan.ensemble_member(folder, seed) for seed in seeds]
 
 
-def claim_ensemble_folders():
-    """The folders of the claim_sweeps jobs: a random kind's claim ensemble at a random grid point and incidence."""
-    return rl_plan.ensemble_folders(config, rl_plan.CLAIM_FOLDER, claim=True)
+def claim_ensemble_folders(role):
+    """The folders of the claim_sweeps jobs in role (pilots or tested): a random kind's claim ensemble at a random
+    grid point and incidence."""
+    return rl_plan.ensemble_folders(config, role)
 
 
 def random_surface_settings(wildcards):

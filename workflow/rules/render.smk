@@ -94,17 +94,18 @@ rule random_sweeps:
         "../scripts/sweep.py"
 
 
-# the random-roughness claim's tested tiles: a random kind's claims.seeds at a grid point, measured at the claim's
-# views alone (the views around its lobes, from rule claim_discs' geometry)
+# the random-roughness claim's tiles at a grid point, built at claims.cells and measured at the claim's views
+# alone (the views around its lobes, from rule claim_discs' geometry): a random kind's pilots (claims.pilots,
+# which plan the test) or its tested tiles (claims.seeds)
 rule claim_sweeps:
     input:
         geometry="results/analysis/random_claim_geometry.csv",
     output:
-        directory("results/claims/i{incidence}/{kind}/t{truncation}_a{aspect}"),
+        directory("results/claims/{role}/i{incidence}/{kind}/t{truncation}_a{aspect}"),
     log:
-        "results/logs/claims/i{incidence}/{kind}/t{truncation}_a{aspect}.log",
+        "results/logs/claims/{role}/i{incidence}/{kind}/t{truncation}_a{aspect}.log",
     benchmark:
-        "results/logs/claims/i{incidence}/{kind}/t{truncation}_a{aspect}.benchmark.tsv"
+        "results/logs/claims/{role}/i{incidence}/{kind}/t{truncation}_a{aspect}.benchmark.tsv"
     priority: PRIORITY_TILE_SWEEPS
     group:
         "sweeps"

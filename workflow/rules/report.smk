@@ -211,11 +211,12 @@ rule claim_discs:
 
 
 # the claim's design: margins, the family and the seeds each test needs, from the regular surfaces, the exact
-# reference and the pilots, the study's own random tiles, alone (roughlight.analysis.steps.claim_design): it
-# reads no tested tile (rule claim_sweeps')
+# reference and the pilots (rule claim_sweeps' pilot tiles) alone (roughlight.analysis.steps.claim_design): it
+# reads no tested tile
 rule claim_design:
     input:
         study="results/study.parquet",
+        pilots=claim_ensemble_folders("pilots"),
         geometry="results/analysis/random_claim_geometry.csv",
         claim_grid=claim_grid_file,
     output:
@@ -242,7 +243,7 @@ rule claim_design:
 rule analysis_random:
     input:
         study="results/study.parquet",
-        claims=claim_ensemble_folders(),
+        claims=claim_ensemble_folders("tested"),
         geometry="results/analysis/random_claim_geometry.csv",
         design="results/analysis/random_claim_design.csv",
         margins="results/analysis/random_claim_margins.csv",

@@ -36,6 +36,9 @@ __all__ = [
     "claim_surfaces",
     "random_points",
     "CLAIM_SEED_BASE",
+    "CLAIM_PILOT_BASE",
+    "CLAIM_ROLES",
+    "claim_surface_settings",
     "random_surface_settings",
     "report_settings",
     "claim_settings",
@@ -219,6 +222,14 @@ def _surface_problems(config: dict) -> list[str]:
         for name, listed in _seed_sets(value):
             if isinstance(listed, list) and len(set(listed)) != len(listed):
                 problems.append(f"config: {key}{'.' + name if name else ''} lists the same seed twice: {listed!r}")
+    pilots = range(CLAIM_PILOT_BASE + 1, CLAIM_PILOT_BASE + int(claims(config)["pilots"]) + 1)
+    for name, listed in _seed_sets(claims(config)["seeds"]):
+        tested = listed if isinstance(listed, list) else range(CLAIM_SEED_BASE + 1, CLAIM_SEED_BASE + int(listed) + 1)
+        shared = sorted(set(tested) & set(pilots))
+        if shared:
+            problems.append(f"config: claims.seeds{'.' + name if name else ''} takes the claim's pilot seeds "
+                            f"{shared[0]}..{shared[-1]} (claims.pilots: seeds {pilots[0]}..{pilots[-1]}): a pilot "
+                            "plans the test and is never tested; give fewer or other seeds")
         if isinstance(value, dict):
             missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
             if missing:
@@ -355,9 +366,16 @@ def _point_of(key: str) -> tuple[str, str]:
     return label(float(t)), label(float(a))
 
 
-#: A count of the claim's tested seeds (``claims.seeds``) numbers them from here + 1: tiles none of the study's
-#: first hundred seeds (``surface.seeds``, the claim's pilots) is.
-CLAIM_SEED_BASE = 100
+#: A count of the claim's tested seeds (``claims.seeds``) numbers them from here + 1: tiles no seed of the study's
+#: (``surface.seeds``, counts up to 200), of the claim's first round (101-112, read in November 2026, when the
+#: claim's tiles were the study's 4-cell ones) or of its pilots (:data:`CLAIM_PILOT_BASE`) is.
+CLAIM_SEED_BASE = 200
+
+#: The claim's pilots (``claims.pilots``, a count n) are seeds here + 1 ... + n, at the claim's tile size.
+CLAIM_PILOT_BASE = 500
+
+#: The claim's tiles by role: the pilots plan the seeds and are never tested; the tested tiles decide.
+CLAIM_ROLES = ("pilots", "tested")
 
 
 def claims(config: dict) -> dict:
@@ -381,17 +399,28 @@ def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
     return [(k, t, a, s) for k in random_kinds for t, a in random_points(config) for s in seeds(config, k, (t, a))]
 
 
-def claim_seeds(config: dict, kind: str, point: tuple[float, float]) -> list[int]:
-    """The seeds a random ensemble of the claim tests (``claims.seeds``); its pilots are the study's own tiles
-    there (:func:`seeds`, ``surface.seeds``)."""
+def claim_seeds(config: dict, kind: str, point: tuple[float, float], role: str = "tested") -> list[int]:
+    """The seeds of a random ensemble of the claim in ``role`` (:data:`CLAIM_ROLES`): the tested tiles
+    (``claims.seeds``, from :data:`CLAIM_SEED_BASE` + 1) or the pilots (``claims.pilots``, a count n: seeds
+    :data:`CLAIM_PILOT_BASE` + 1 ... + n, the same at every grid point)."""
+    if role == "pilots":
+        return list(range(CLAIM_PILOT_BASE + 1, CLAIM_PILOT_BASE + int(claims(config)["pilots"]) + 1))
+    if role != "tested":
+        raise ValueError(f"a claim tile's role is one of {CLAIM_ROLES}, got {role!r}")
     return seeds(config, kind, point, "claims")
 
 
-def claim_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
-    """Every random tile the claim tests, measured at its own views (rule ``claim_sweeps``): (kind, truncation,
-    aspect, seed)."""
+def claim_surfaces(config: dict, role: str = "tested") -> list[tuple[str, float, float, int]]:
+    """Every random tile of the claim in ``role`` (:func:`claim_seeds`), measured at its own views (rule
+    ``claim_sweeps``): (kind, truncation, aspect, seed)."""
     random_kinds = [k for k in kinds(config) if k != "pyramids"]
-    return [(k, t, a, s) for k in random_kinds for t, a in random_points(config) for s in claim_seeds(config, k, (t, a))]
+    return [(k, t, a, s) for k in random_kinds for t, a in random_points(config)
+            for s in claim_seeds(config, k, (t, a), role)]
+
+
+def claim_surface_settings(config: dict) -> dict:
+    """How the claim's tiles are built: ``claims.cells`` cells a side, ``surface.spread`` as the study's tiles."""
+    return {**random_surface_settings(config), "cells": int(claims(config)["cells"])}
 
 
 def every_view_surfaces(config: dict, n_seeds: int = 2) -> list[tuple[str, float, float, int]]:
@@ -431,6 +460,7 @@ def claim_settings(config: dict) -> dict:
     random_kinds = [k for k in kinds(config) if k != "pyramids"]
     settings["tested"] = [[k, t, a, len(seeds(config, k, (t, a), "claims"))]
                           for k in random_kinds for t, a in random_points(config)]
+    settings["pilots"], settings["cells"] = int(settings["pilots"]), int(settings["cells"])
     return settings
 
 

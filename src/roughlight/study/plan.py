@@ -28,6 +28,7 @@ __all__ = [
     "ensembles",
     "ensemble_folder",
     "ensemble_folders",
+    "claim_folder",
     "ensemble_member",
     "rough_row_surfaces",
     "mesh_files",
@@ -80,13 +81,15 @@ def render_settings(config: dict, group: str | None = None) -> dict:
     return rl_config.render_settings_from_config(config, random_tiles=group == "random")
 
 
-def surface_settings(config: dict, kind: str, truncation: float, aspect: float, seed: int | None = None) -> dict:
+def surface_settings(config: dict, kind: str, truncation: float, aspect: float, seed: int | None = None,
+                     claim: bool = False) -> dict:
     """A measured surface as ``make_surface`` takes it: a regular grid point (``pyramids``), or a random tile
-    with its seed and how tiles are built (``surface.cells``, ``surface.spread``)."""
+    with its seed and how tiles are built (``surface.cells``, ``surface.spread``; with ``claim``, the claim's
+    tiles' ``claims.cells``)."""
     if kind == "pyramids":
         return {"kind": kind, "truncation": truncation, "aspect": aspect}
-    return {"kind": kind, "truncation": truncation, "aspect": aspect, "seed": int(seed),
-            **rl_config.random_surface_settings(config)}
+    built = rl_config.claim_surface_settings(config) if claim else rl_config.random_surface_settings(config)
+    return {"kind": kind, "truncation": truncation, "aspect": aspect, "seed": int(seed), **built}
 
 
 def rough_row_files(config: dict, folder: str = "results/sweeps") -> list[str]:
@@ -120,22 +123,29 @@ def ensemble_member(ensemble: str, seed: int) -> str:
     return f"{ensemble}/s{int(seed)}.parquet"
 
 
-def ensembles(config: dict, claim: bool = False) -> list[tuple[str, float, float, list[int]]]:
+def ensembles(config: dict, role: str | None = None) -> list[tuple[str, float, float, list[int]]]:
     """Every random kind's ensemble at every random grid point: (kind, truncation, aspect, its seeds), in
-    :func:`roughlight.study.config.random_surfaces`' order; with ``claim``, the claim's own (its tested and pilot
-    seeds, :func:`roughlight.study.config.claim_surfaces`)."""
+    :func:`roughlight.study.config.random_surfaces`' order; with ``role`` ("pilots" or "tested"), the claim's own
+    (:func:`roughlight.study.config.claim_surfaces`)."""
     found: dict[tuple[str, float, float], list[int]] = {}
-    surfaces = rl_config.claim_surfaces(config) if claim else rl_config.random_surfaces(config)
+    surfaces = rl_config.random_surfaces(config) if role is None else rl_config.claim_surfaces(config, role)
     for kind, t, a, seed in surfaces:
         found.setdefault((kind, t, a), []).append(seed)
     return [(kind, t, a, seeds) for (kind, t, a), seeds in found.items()]
 
 
-def ensemble_folders(config: dict, folder: str = "results/sweeps", claim: bool = False) -> list[str]:
+def ensemble_folders(config: dict, role: str | None = None) -> list[str]:
     """The folders of every ensemble at every incidence: the outputs of rule ``random_sweeps``' jobs (with
-    ``claim``: of rule ``claim_sweeps``', under ``results/claims``)."""
+    ``role``: of rule ``claim_sweeps``', under :func:`claim_folder`)."""
+    folder = "results/sweeps" if role is None else claim_folder(role)
     return [ensemble_folder(kind, t, a, i, folder)
-            for i in grid(config, "incidence") for kind, t, a, _ in ensembles(config, claim)]
+            for i in grid(config, "incidence") for kind, t, a, _ in ensembles(config, role)]
+
+
+def claim_folder(role: str) -> str:
+    """Where rule ``claim_sweeps`` writes the claim's tiles in ``role`` (pilots or tested), an ensemble a folder as
+    the study's."""
+    return f"{CLAIM_FOLDER}/{role}"
 
 
 #: Where rule ``claim_sweeps`` writes the claim's tiles, an ensemble a folder as the study's.
