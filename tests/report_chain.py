@@ -88,26 +88,30 @@ def measure_study(cfg: dict, workdir: Path) -> pd.DataFrame:
 
 
 def claim_chain(cfg: dict, study: pd.DataFrame, workdir: Path) -> dict:
-    """The claim's rules in one process: its lobes and discs (claim_discs), its tested tiles at its views
-    (claim_sweeps), its design from the study's tiles (claim_design, without rule claim_grid's measurements);
-    returns the design's tables and analysis_random's ``claim`` (the tested rows, geometry, margins, design)."""
+    """The claim's rules in one process: its lobes and discs (claim_discs), its pilot and tested tiles at its views
+    and tile size (claim_sweeps), its design from the pilots (claim_design, without rule claim_grid's
+    measurements); returns the design's tables and analysis_random's ``claim`` (the tested rows, geometry, margins,
+    design)."""
     from roughlight.analysis.claim_instrument import claim_views
 
     lighting, sweep = plan.lighting(cfg), plan.sweep_settings(cfg)
     steps_ = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
     geometry = steps.claim_discs(study, lighting)["random_claim_geometry"]
-    folders = []
-    for i in plan.grid(cfg, "incidence"):
-        for kind, t, a, seeds in plan.ensembles(cfg, claim=True):
-            folder = workdir / plan.ensemble_folder(kind, t, a, i, plan.CLAIM_FOLDER)
-            folder.mkdir(parents=True, exist_ok=True)
-            views = claim_views(geometry, (t, a, float(i)), *steps_)
-            for seed in seeds:
-                run_sweep(str(folder / f"s{seed}.parquet"), make_surface(**plan.surface_settings(cfg, kind, t, a, seed)),
-                          i, sweep, lighting, cfg["render"]["method"], plan.render_settings(cfg, "random"), views=views)
-            folders.append(folder)
-    design = steps.claim_design(study, geometry, None, rl_config.claim_settings(cfg), steps_)
-    return {"random_claim_geometry": geometry, **design, "rows": claim_rows(folders), "geometry": geometry,
+    folders = {role: [] for role in rl_config.CLAIM_ROLES}
+    for role in rl_config.CLAIM_ROLES:
+        for i in plan.grid(cfg, "incidence"):
+            for kind, t, a, seeds in plan.ensembles(cfg, role):
+                folder = workdir / plan.ensemble_folder(kind, t, a, i, plan.claim_folder(role))
+                folder.mkdir(parents=True, exist_ok=True)
+                views = claim_views(geometry, (t, a, float(i)), *steps_)
+                for seed in seeds:
+                    surface = make_surface(**plan.surface_settings(cfg, kind, t, a, seed, claim=True))
+                    run_sweep(str(folder / f"s{seed}.parquet"), surface, i, sweep, lighting, cfg["render"]["method"],
+                              plan.render_settings(cfg, "random"), views=views)
+                folders[role].append(folder)
+    design = steps.claim_design(study, geometry, None, rl_config.claim_settings(cfg), steps_,
+                                claim_rows(folders["pilots"]))
+    return {"random_claim_geometry": geometry, **design, "rows": claim_rows(folders["tested"]), "geometry": geometry,
             "margins": design["random_claim_margins"], "design": design["random_claim_design"], "steps": steps_}
 
 
@@ -139,7 +143,7 @@ def build_page(cfg: dict, followed: list[str], study: pd.DataFrame, workdir: Pat
     ran_on = renderers(sorted((workdir / "results" / "sweeps").rglob("*.parquet")))  # as study_table records them
     return R.build_report(outputs, figures, config=cfg, provenance={"settings": settings, "renderers": ran_on},
                           followed=followed,
-                          surface_settings=rl_config.random_surface_settings(cfg),
+                          surface_settings=rl_config.page_surface_settings(cfg),
                           table_aspects=settings["table_aspects"], table_incidence=settings["table_incidence"])
 
 

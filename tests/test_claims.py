@@ -264,6 +264,30 @@ def test_the_design_reads_no_tested_seed(tile_study):
     pd.testing.assert_frame_equal(cut["random_claims"], tables["random_claims"])
 
 
+def test_the_claims_own_pilots_plan_it_and_the_studys_tiles_do_not(tile_study):
+    """Given the claim's own pilot tiles (rule claim_sweeps' pilots), the design plans from them alone: the study's
+    random tiles may hold any number without moving it, and the plan is the pilots' own."""
+    claims = {"alpha": 0.05, "max_seeds": 12, "tested": [["random_pyramids", 1.0, 0.5, 2]]}
+    steps_ = (10.0, 2.0)
+    study = tile_study[tile_study["seed"] < 1000]
+    pilots = tile_study[tile_study["seed"] > 1000]
+    geometry = steps.claim_discs(study, {"shininess": 64.0, "specular_model": "phong"})["random_claim_geometry"]
+    design = steps.claim_design(study, geometry, None, claims, steps_, pilots)["random_claim_design"]
+    scrambled = study.copy()
+    random = scrambled["kind"].astype(str) != "pyramids"
+    for column in ("rough", "rough_unrounded", "rough_unshadowed"):
+        scrambled.loc[random, column] *= np.random.default_rng(3).uniform(0.5, 1.5, int(random.sum()))
+    moved = steps.claim_design(scrambled, geometry, None, claims, steps_, pilots)["random_claim_design"]
+    pd.testing.assert_frame_equal(moved, design)
+    own = R.pooled_readings(C.seed_stacks_of(pilots, steps_)[("random_pyramids", 1.0, 0.5, 30.0)],
+                            R.lobe_centres((1.0, 0.5, 30.0)), C.discs(geometry, (1.0, 0.5, 30.0)))
+    row = design.set_index("test").loc["back_contrast"]
+    assert row["pilot_mean"] == pytest.approx(own["back_contrast"]) and row["pilot_seeds"] == own["seeds"]
+    study_tiles = steps.claim_design(study, geometry, None, claims, steps_)["random_claim_design"]
+    assert not np.allclose(study_tiles["pilot_mean"].astype(float), design["pilot_mean"].astype(float),
+                           equal_nan=True)
+
+
 def test_a_regular_lobe_near_the_horizon_stays_out_of_the_claim():
     """The back mirror direction lies at elevation 180 - (i + 2 alpha): at aspect 1 under a light at incidence 30
     it is 23 deg up, less than three of its lobe's widths, so the design leaves it out, and says why."""

@@ -10,6 +10,7 @@ from roughlight.analysis import ensembles as E
 from roughlight.render import views as sweeps
 from roughlight.render.exact.reference import reference_sweep
 from roughlight.study import config as rl_config
+from roughlight.study import plan
 from roughlight.surfaces import geometry
 from roughlight.surfaces.roughness import (
     RandomSurface,
@@ -316,6 +317,31 @@ def test_a_points_seeds_are_checked_as_a_kinds():
                   {"random_pyramids": {"default": 2, "t1_a1": 0}}):
         with pytest.raises(Exception, match="surface"):
             rl_config.validate_config({**base, "surface": {**base["surface"], "seeds": seeds}})
+
+
+def test_the_claims_tiles_are_its_own_pilots_and_fresh_tested_seeds_at_its_own_tile_size():
+    """claims.pilots are seeds 501.. at every grid point; claims.seeds count from 201 (the claim's first round's
+    101-112 were read); both are built at claims.cells, the study's tiles at surface.cells; a tested seed that is a
+    pilot is refused by name."""
+    cfg = rl_config.validate_config({"grid": {"truncation": [1.0], "aspect": [0.5, 1.0]},
+                                     "surface": {"kind": ["random_pyramids"], "cells": 3, "seeds": 2},
+                                     "claims": {"pilots": 3, "cells": 6, "seeds": {"random_pyramids": {
+                                         "default": 2, "t1_a1": [7, 9]}}}})
+    pilots = rl_config.claim_surfaces(cfg, "pilots")
+    assert {s for *_, s in pilots} == {501, 502, 503} and len(pilots) == 6
+    tested = {(a, s) for _, _, a, s in rl_config.claim_surfaces(cfg)}
+    assert tested == {(0.5, 201), (0.5, 202), (1.0, 7), (1.0, 9)}
+    assert plan.surface_settings(cfg, "random_pyramids", 1.0, 0.5, 201, claim=True)["cells"] == 6
+    assert plan.surface_settings(cfg, "random_pyramids", 1.0, 0.5, 1)["cells"] == 3
+    assert plan.ensemble_folders(cfg, "pilots") == [f"results/claims/pilots/i30/random_pyramids/t1_a{a}"
+                                                    for a in ("0.5", "1")]
+    with pytest.raises(ValueError, match=r"claims.seeds.random_pyramids.t1_a1 takes the claim's pilot seeds 501..502"):
+        rl_config.validate_config({**cfg, "claims": {"pilots": 3, "seeds": {"random_pyramids": {
+            "default": 2, "t1_a1": [7, 501, 502]}}}})
+    with pytest.raises(ValueError, match=r"claims.seeds takes the claim's pilot seeds 501..508"):
+        rl_config.validate_config({**cfg, "claims": {"pilots": 8, "seeds": 310}})
+    with pytest.raises(ValueError, match="role"):
+        rl_config.claim_seeds(cfg, "random_pyramids", (1.0, 0.5), "pilot")
 
 
 #: A plan of the tile-size convergence for the tests: random pyramids, the claim's point and the study's views.

@@ -23,7 +23,7 @@ from roughlight.study import config as rl_config
 from roughlight.surfaces.surface import aspect_label
 
 from .report_chain import SCHEMA, resolved, whole_report
-from .users_workflow import CLAIM_SEEDS, DEFAULT, GRIDS, MEASUREMENTS, SEEDS, grid_config, kept
+from .users_workflow import CLAIM_TILES, DEFAULT, GRIDS, MEASUREMENTS, SEEDS, grid_config, kept
 
 S32 = math.sqrt(3.0) / 2.0
 SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "export", "random",
@@ -38,10 +38,10 @@ DRAWN_CELLS = 2
 
 def user_config(grid: dict, sweep: dict | None = None) -> dict:
     """config/config.yaml with the user's edits of grid (and sweep), as a user's --configfile merges them, and
-    :data:`SEEDS` study (the claim's pilots) and :data:`CLAIM_SEEDS` tested seeds a random kind."""
+    :data:`SEEDS` study tiles and the claim's tiles of :data:`CLAIM_TILES` a random kind."""
     cfg = json.loads(json.dumps(DEFAULT))
     cfg["surface"]["seeds"] = SEEDS
-    cfg["claims"]["seeds"] = CLAIM_SEEDS
+    cfg["claims"].update(CLAIM_TILES)
     cfg["grid"].update(grid)
     if sweep:
         cfg["sweep"].update(sweep)

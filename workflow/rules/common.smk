@@ -237,8 +237,9 @@ def claim_ensemble_folders(role):
 
 
 def random_surface_settings(wildcards):
-    """surface.cells and surface.spread (how random tiles are built), for the report's text."""
-    return rl_config.random_surface_settings(config)
+    """surface.cells and surface.spread (how random tiles are built) and the claim's tiles (claims.cells,
+    claims.pilots), for the report's text."""
+    return rl_config.page_surface_settings(config)
 
 
 def rough_row_surfaces(wildcards):

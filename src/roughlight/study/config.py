@@ -40,6 +40,7 @@ __all__ = [
     "CLAIM_ROLES",
     "claim_surface_settings",
     "random_surface_settings",
+    "page_surface_settings",
     "report_settings",
     "claim_settings",
     "claims",
@@ -441,6 +442,13 @@ def random_surface_settings(config: dict) -> dict:
     """How random tiles are built (``surface.cells`` and ``surface.spread``), as plain types for params."""
     surface = config["surface"]
     return {"cells": int(surface["cells"]), "spread": {k: float(v) for k, v in surface["spread"].items()}}
+
+
+def page_surface_settings(config: dict) -> dict:
+    """How the study's random tiles are built (:func:`random_surface_settings`) and the claim's tiles' size and
+    pilots (``claim_cells``, ``claim_pilots``), for the page's text."""
+    claim = claims(config)
+    return {**random_surface_settings(config), "claim_cells": int(claim["cells"]), "claim_pilots": int(claim["pilots"])}
 
 
 def report_settings(config: dict) -> dict:
