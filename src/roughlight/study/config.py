@@ -223,6 +223,17 @@ def _surface_problems(config: dict) -> list[str]:
         for name, listed in _seed_sets(value):
             if isinstance(listed, list) and len(set(listed)) != len(listed):
                 problems.append(f"config: {key}{'.' + name if name else ''} lists the same seed twice: {listed!r}")
+        if isinstance(value, dict):
+            missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
+            if missing:
+                problems.append(f"config: {key} gives seeds per kind but none for {', '.join(missing)} "
+                                "(surface.kind measures it): add it, or give one count or list for every kind")
+    return problems + _pilot_problems(config)
+
+
+def _pilot_problems(config: dict) -> list[str]:
+    """A tested seed of the claim that is one of its pilots (a pilot plans the test and is never tested)."""
+    problems = []
     pilots = range(CLAIM_PILOT_BASE + 1, CLAIM_PILOT_BASE + int(claims(config)["pilots"]) + 1)
     for name, listed in _seed_sets(claims(config)["seeds"]):
         tested = listed if isinstance(listed, list) else range(CLAIM_SEED_BASE + 1, CLAIM_SEED_BASE + int(listed) + 1)
@@ -231,11 +242,6 @@ def _surface_problems(config: dict) -> list[str]:
             problems.append(f"config: claims.seeds{'.' + name if name else ''} takes the claim's pilot seeds "
                             f"{shared[0]}..{shared[-1]} (claims.pilots: seeds {pilots[0]}..{pilots[-1]}): a pilot "
                             "plans the test and is never tested; give fewer or other seeds")
-        if isinstance(value, dict):
-            missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
-            if missing:
-                problems.append(f"config: {key} gives seeds per kind but none for {', '.join(missing)} "
-                                "(surface.kind measures it): add it, or give one count or list for every kind")
     return problems + _follower_problems(config)
 
 
