@@ -32,9 +32,10 @@ exact reference and the pilot seeds, before any tested seed is read:
 * **Family** (:func:`claim_design`): every planned test (ensemble x lobe x statistic) is one of a family whose
   error is controlled together: each interval is a Student-t interval at the Bonferroni level ``1 - alpha / m``
   on the jackknife standard error over seeds.
-* **Seeds** (:func:`planned_seeds`): the pilots, the study's own tiles of each ensemble (``surface.seeds``, never
-  tested by the claim), give by their mean and standard error the tested seeds each test needs; an ensemble tests
-  as many as its most demanding test that ``claims.max_seeds`` seeds can decide (``claims.seeds``, fresh tiles).
+* **Seeds** (:func:`planned_seeds`): the pilots, the claim's own pilot tiles of each ensemble (``claims.pilots``
+  at ``claims.cells``, never tested), give by their mean and standard error the tested seeds each test needs; an
+  ensemble tests as many as its most demanding test that ``claims.max_seeds`` seeds can decide (``claims.seeds``,
+  fresh tiles).
 
 The verdict (:func:`claim_table`), from the tested seeds only, in both readings (unrounded and 8-bit):
 

@@ -74,8 +74,8 @@ def random_points(study: pd.DataFrame) -> pd.DataFrame:
 
 
 def tested(study: pd.DataFrame) -> pd.DataFrame:
-    """The study's rows: every random tile of the study is described (the claim's pilots are the study's tiles;
-    its tested tiles are rule ``claim_sweeps``', never in the study table)."""
+    """The study's rows: every random tile of the study is described (the claim's pilots and tested tiles are rule
+    ``claim_sweeps``', never in the study table)."""
     return study
 
 
