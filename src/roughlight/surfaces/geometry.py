@@ -40,12 +40,27 @@ __all__ = [
     "facet_areas",
     "facets",
     "lobe_centres",
+    "ring_next",
+    "twice_signed_area",
 ]
 
 #: Facet names in the order :func:`facet_polygons` returns them. ``east`` is
 #: the side facet whose normal leans toward +x (toward the light, whose
 #: azimuth is 0), ``west`` toward -x, ``north`` toward +y, ``south`` toward -y.
 FACET_NAMES = ("top", "east", "west", "north", "south")
+
+def ring_next(points: np.ndarray) -> np.ndarray:
+    """Each corner's successor around its ring: ``points`` ((n, ...) array, a ring's corners in order) shifted by
+    one, the first last (``np.roll(points, -1, axis=0)``, without its per-call cost: a random tile has thousands
+    of rings)."""
+    return np.concatenate((points[1:], points[:1]))
+
+
+def twice_signed_area(x: np.ndarray, y: np.ndarray) -> float:
+    """Twice the signed area of the ring with corners ``(x, y)`` ((n,) arrays each, in order; positive
+    counter-clockwise): the shoelace sum."""
+    return float(np.dot(x, ring_next(y)) - np.dot(y, ring_next(x)))
+
 
 def top_side(truncation: float) -> float:
     """Side of the top face, ``1 - t`` (units of the period)."""

@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .geometry import twice_signed_area
 from .surface import LENGTH_EPS, Surface, label
 
 __all__ = [
@@ -142,8 +143,7 @@ def rms_slope(polygons) -> float:
 
 
 def _shoelace(xy: np.ndarray) -> float:
-    x, y = xy[:, 0], xy[:, 1]
-    return float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+    return twice_signed_area(xy[:, 0], xy[:, 1])
 
 
 def random_generator(kind: str, truncation: float, aspect: float, seed: int) -> np.random.Generator:

@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...surfaces.geometry import twice_signed_area
 from .raster import count_views
 
 __all__ = ["region_triangles", "counted_views", "counted_pixels", "VIEWS_AT_ONCE"]
@@ -79,8 +80,7 @@ def region_triangles(regions):
     for r, rings in enumerate(regions.rings):
         polygons = []
         for ring in rings:
-            x, y = ring[:, 0], ring[:, 1]
-            twice_area = np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))
+            twice_area = twice_signed_area(ring[:, 0], ring[:, 1])
             if twice_area > 1e-15:  # an exterior starts a polygon
                 polygons.append([ring[:, :2], []])
             elif twice_area < -1e-15 and polygons:  # a hole of the last exterior

@@ -40,6 +40,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ...surfaces.geometry import ring_next, twice_signed_area
 from .sampling import LatticePass, candidate_lattices, lattice_passes, surface_shift
 
 __all__ = ["Regions", "facet_regions", "adaptive_regions", "area_ratio", "front_facing", "exact_views",
@@ -163,7 +164,7 @@ def facet_edges(regions: Regions):
     for r, rings in enumerate(regions.rings):
         for ring in rings:
             start.append(ring)
-            end.append(np.roll(ring, -1, axis=0))
+            end.append(ring_next(ring))
             owner.append(np.full(len(ring), r))
     if not start:
         return np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, int)
@@ -279,8 +280,7 @@ def region_plan_areas(regions: Regions) -> np.ndarray:
     out = np.zeros(len(regions.rings))
     for r, rings in enumerate(regions.rings):
         for ring in rings:
-            x, y = ring[:, 0], ring[:, 1]
-            out[r] += 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+            out[r] += 0.5 * twice_signed_area(ring[:, 0], ring[:, 1])
     return out
 
 
