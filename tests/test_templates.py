@@ -430,3 +430,25 @@ def test_the_templates_load_from_the_package():
     env = T.environment()
     assert isinstance(env.loader, jinja2.PackageLoader) and env.autoescape is True
     assert set(env.list_templates()) >= set(CASES) | APART | {"report.css"}
+
+
+def test_a_changed_template_caption_or_section_changes_the_pages_code_digest(tmp_path):
+    """Rule report_html takes the page's code digest as a param: a template, caption or section edited reruns the
+    page; the figures' code (drawn by the figure rules), caches and the package's README do not."""
+    import shutil
+
+    from roughlight.report import registry
+
+    root = tmp_path / "report"
+    shutil.copytree(Path(registry.__file__).resolve().parent, root)
+    digest = registry.page_code_digest(root)
+    assert digest == registry.page_code_digest(root) == registry.page_code_digest()
+    for left_out in ("figures/common.py", "README.md"):
+        (root / left_out).write_text((root / left_out).read_text() + "\n# edited\n")
+    (root / "__pycache__").mkdir(exist_ok=True)
+    (root / "__pycache__" / "x.pyc").write_bytes(b"cache")
+    assert registry.page_code_digest(root) == digest
+    for edited in ("templates/random.html", "captions/random_claims.rst", "sections/random.py"):
+        before = registry.page_code_digest(root)
+        (root / edited).write_text((root / edited).read_text() + " ")
+        assert registry.page_code_digest(root) != before, edited

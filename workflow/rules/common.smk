@@ -343,6 +343,13 @@ def explorer_budget(wildcards):
     return int(config["report"]["explorer"]["budget"])
 
 
+def page_code(wildcards):
+    """A digest of the page's own code (roughlight.report but its figures: sections, templates, captions): a
+    change to how the page is written reruns rule report_html, whose code trigger sees its script alone.
+    """
+    return rl_registry.page_code_digest()
+
+
 def report_inputs(wildcards):
     """The page's inputs (report_html): the inputs every section of the page declares (roughlight.report.sections),
     for the sections config switches on (each section's switch: report.speed_accuracy, report.implicit,

@@ -338,5 +338,6 @@ rule report_html:
         plan=measurement_plan,
         surface_settings=random_surface_settings,
         followed=followed_params,
+        page_code=page_code,
     script:
         "../scripts/report_html.py"

@@ -227,3 +227,24 @@ class Section:
         """Its inputs with ``{plan}`` filled in: name -> path (``figures``: a list of paths)."""
         return {name: [p.format(plan=plan) for p in path] if isinstance(path, (list, tuple)) else path.format(plan=plan)
                 for name, path in self.inputs.items()}
+
+
+#: The page's own code, under this package: what rule ``report_html`` writes the page with (its sections, templates
+#: and captions); ``figures/`` is drawn by the figure rules and left out.
+PAGE_CODE_SKIP = ("figures", "__pycache__", "README.md")
+
+
+def page_code_digest(root=None) -> str:
+    """A SHA-256 digest of the page's own code: every file under ``root`` (default: the report package) but
+    :data:`PAGE_CODE_SKIP`, by relative path and content. Rule ``report_html`` takes it as a param, so that a
+    changed template, caption or section reruns the page (Snakemake's code trigger sees its script alone)."""
+    import hashlib
+
+    root = Path(__file__).resolve().parent if root is None else Path(root)
+    digest = hashlib.sha256()
+    for path in sorted(p for p in root.rglob("*") if p.is_file()):
+        rel = path.relative_to(root)
+        if rel.parts[0] in PAGE_CODE_SKIP or "__pycache__" in rel.parts:
+            continue
+        digest.update(str(rel).encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()
