@@ -36,7 +36,6 @@ __all__ = [
     "bootstrap_interval",
     "ensemble_model_fits",
     "random_points",
-    "tested",
 ]
 
 #: One row per surface kind, seed and grid point.
@@ -71,12 +70,6 @@ def random_points(study: pd.DataFrame) -> pd.DataFrame:
         return study
     points = study.loc[kind != "pyramids", ["truncation", "aspect"]].drop_duplicates()
     return study.merge(points, on=["truncation", "aspect"], how="inner")
-
-
-def tested(study: pd.DataFrame) -> pd.DataFrame:
-    """The study's rows: every random tile of the study is described (the claim's pilots and tested tiles are rule
-    ``claim_sweeps``', never in the study table)."""
-    return study
 
 
 def _per_sweep(study: pd.DataFrame):
@@ -150,7 +143,7 @@ def seed_statistics(study: pd.DataFrame, lobe_halfwidth: float = 40.0, min_peak:
 def pooled_study(study: pd.DataFrame) -> pd.DataFrame:
     """Each random kind's seed-averaged views at every random grid point (seed 0): the reflectance of a surface
     made of many tiles, as a large random surface is, where each seed alone is a small patch of one."""
-    data = tested(random_points(study))
+    data = random_points(study)
     data = data[data["kind"].astype(str) != "pyramids"]
     keys = ["kind"] + SURFACE_KEYS + ["azimuth", "elevation", "phase", "component"]
     pooled = data.groupby(keys, observed=True, as_index=False)[["rough", "control", "coverage"]].mean()
@@ -176,10 +169,10 @@ def ensemble_summary(stats: pd.DataFrame, level: float = 0.95, pooled: pd.DataFr
 
     Returns
     -------
-    DataFrame, one row per random kind x grid point x statistic (tested seeds only, no pilot; a descriptive
+    DataFrame, one row per random kind x grid point x statistic (the study's tiles, ``surface.seeds``; a descriptive
     table: each interval and test stands alone, with no correction for the family, which the claim's verdict
     has, :func:`roughlight.analysis.claims.claim_table`): ``kind``, surface keys, ``statistic``, ``unit``,
-    ``rendered`` (tested seeds), ``seeds`` (n with a value),
+    ``rendered`` (tiles), ``seeds`` (n with a value),
     ``mean``, ``sd``, ``ci_low``, ``ci_high`` (the ``level`` interval of the
     mean), ``regular`` (the regular surface's value), ``difference``
     (mean - regular), ``t`` and ``p_value`` (two-sided one-sample t-test of
@@ -195,7 +188,7 @@ def ensemble_summary(stats: pd.DataFrame, level: float = 0.95, pooled: pd.DataFr
     pooled_values = (pooled.set_index(["kind"] + SURFACE_KEYS + ["statistic"])["value"]
                      if pooled is not None and len(pooled) else pd.Series(dtype=float))
     rows = []
-    random = tested(stats[stats["kind"] != "pyramids"])
+    random = stats[stats["kind"] != "pyramids"]
     for (kind, t, a, i, name), group in random.groupby(["kind"] + SURFACE_KEYS + ["statistic"], sort=True):
         values = group["value"].dropna().to_numpy(float)
         n = len(values)
@@ -288,7 +281,7 @@ def ensemble_model_fits(study: pd.DataFrame, lighting: dict | None = None, hapke
     """
     from .surface_models import analytic_model_fits
 
-    data = tested(random_points(study))
+    data = random_points(study)
     keys = SURFACE_KEYS + ["azimuth", "elevation", "component"]
     regular = data[data["kind"].astype(str) == "pyramids"].set_index(keys)["rough"]
     frames = []
