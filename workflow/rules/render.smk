@@ -126,7 +126,7 @@ rule claim_sweeps:
         store=rl_sweep_store.STORE,
         format=rl_tables.SWEEP_FORMAT,
     script:
-        "../scripts/claim_sweeps.py"
+        "../scripts/sweep.py"
 
 
 rule surface_meshes:

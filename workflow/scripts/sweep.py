@@ -1,5 +1,6 @@
-"""Snakemake adapter: a job's sweeps (a truncation's row of rough surfaces, a random tile, or the control), each to
-its Parquet file, through the sweep store (roughlight.study.sweep_store)."""
+"""Snakemake adapter: a job's sweeps (a truncation's row of rough surfaces, a random ensemble's tiles, the control,
+or a claim ensemble's pilot or tested tiles at the claim's views alone), each to its Parquet file, through the sweep
+store (roughlight.study.sweep_store)."""
 import os
 import sys
 
@@ -22,11 +23,23 @@ params = snakemake.params
 # the store's key: every param but the job's own surfaces and files and the store's folder, so that a setting a
 # rule passes to its sweeps is part of the key without being listed here
 settings = {key: value for key, value in params.items() if key not in ("surfaces", "files", "store")}
+views = None
+if "geometry" in snakemake.input.keys():  # rule claim_sweeps: the views around the claim's lobes alone
+    import pandas as pd
+
+    from roughlight.analysis.claim_instrument import claim_views
+
+    first = params.surfaces[0]
+    key = (float(first["truncation"]), float(first["aspect"]), float(params.incidence))
+    views = claim_views(pd.read_csv(snakemake.input.geometry), key, params.sweep["azimuth_step"],
+                        params.sweep["elevation_step"])
+    log(f"claim views at t {key[0]:g}, a {key[1]:g}, incidence {key[2]:g}: {len(views[0])} of the grid's views")
+    settings["views"] = [[float(a), float(e)] for a, e in zip(*views)]  # and the views enter the store's key
 
 
 def measure(path, surface):
     run_sweep(path, surface=make_surface(**surface), incidence=params.incidence, sweep=params.sweep,
-              lighting=params.lighting, method=params.method, render=params.render, log=log)
+              lighting=params.lighting, method=params.method, render=params.render, log=log, views=views)
 
 
 # a job's sweep files: its outputs, or those in its output folder (random_sweeps: an ensemble, a file a seed)
