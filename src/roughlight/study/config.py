@@ -30,6 +30,8 @@ __all__ = [
     "label",
     "surfaces",
     "kinds",
+    "random_kinds",
+    "pilot_seeds",
     "seeds",
     "random_surfaces",
     "claim_seeds",
@@ -224,7 +226,7 @@ def _surface_problems(config: dict) -> list[str]:
             if isinstance(listed, list) and len(set(listed)) != len(listed):
                 problems.append(f"config: {key}{'.' + name if name else ''} lists the same seed twice: {listed!r}")
         if isinstance(value, dict):
-            missing = [k for k in kinds(config) if k != "pyramids" and k not in value]
+            missing = [k for k in random_kinds(config) if k not in value]
             if missing:
                 problems.append(f"config: {key} gives seeds per kind but none for {', '.join(missing)} "
                                 "(surface.kind measures it): add it, or give one count or list for every kind")
@@ -234,10 +236,9 @@ def _surface_problems(config: dict) -> list[str]:
 def _pilot_problems(config: dict) -> list[str]:
     """A tested seed of the claim that is one of its pilots (a pilot plans the test and is never tested)."""
     problems = []
-    pilots = range(CLAIM_PILOT_BASE + 1, CLAIM_PILOT_BASE + int(claims(config)["pilots"]) + 1)
+    pilots = pilot_seeds(config)
     for name, listed in _seed_sets(claims(config)["seeds"]):
-        tested = listed if isinstance(listed, list) else range(CLAIM_SEED_BASE + 1, CLAIM_SEED_BASE + int(listed) + 1)
-        shared = sorted(set(tested) & set(pilots))
+        shared = sorted(set(_seed_list(listed, CLAIM_SEED_BASE)) & set(pilots))
         if shared:
             problems.append(f"config: claims.seeds{'.' + name if name else ''} takes the claim's pilot seeds "
                             f"{shared[0]}..{shared[-1]} (claims.pilots: seeds {pilots[0]}..{pilots[-1]}): a pilot "
@@ -342,6 +343,11 @@ def kinds(config: dict) -> list[str]:
     return sorted(set(listed) | {"pyramids"}, key=["pyramids", "random_pyramids", "random_heightfield"].index)
 
 
+def random_kinds(config: dict) -> list[str]:
+    """The random kinds measured (:func:`kinds` without the regular pyramids), in :func:`kinds`' order."""
+    return [k for k in kinds(config) if k != "pyramids"]
+
+
 def _seed_sets(value, name: str = ""):
     """Every count or list of seeds in ``surface.seeds`` (a count, a list, or mappings of them), with its key path."""
     if not isinstance(value, dict):
@@ -364,6 +370,11 @@ def seeds(config: dict, kind: str, point: tuple[float, float] | None = None, key
     if isinstance(value, dict):
         own = {_point_of(key): inner for key, inner in value.items() if key != "default"}
         value = own.get(None if point is None else (label(point[0]), label(point[1])), value["default"])
+    return _seed_list(value, base)
+
+
+def _seed_list(value, base: int = 0) -> list[int]:
+    """A count n (seeds ``base`` + 1 ... ``base`` + n) or a list of seeds, as the sorted seeds it names."""
     return list(range(base + 1, base + int(value) + 1)) if not isinstance(value, list) else sorted(int(s) for s in value)
 
 
@@ -402,8 +413,8 @@ def random_points(config: dict) -> list[tuple[float, float]]:
 def random_surfaces(config: dict) -> list[tuple[str, float, float, int]]:
     """Every random tile of the study: (kind, truncation, aspect, seed), an ensemble's ``surface.seeds``, each
     measured at every view (the claim's own tiles are :func:`claim_surfaces`)."""
-    random_kinds = [k for k in kinds(config) if k != "pyramids"]
-    return [(k, t, a, s) for k in random_kinds for t, a in random_points(config) for s in seeds(config, k, (t, a))]
+    return [(k, t, a, s) for k in random_kinds(config) for t, a in random_points(config)
+            for s in seeds(config, k, (t, a))]
 
 
 def claim_seeds(config: dict, kind: str, point: tuple[float, float], role: str = "tested") -> list[int]:
@@ -411,17 +422,22 @@ def claim_seeds(config: dict, kind: str, point: tuple[float, float], role: str =
     (``claims.seeds``, from :data:`CLAIM_SEED_BASE` + 1) or the pilots (``claims.pilots``, a count n: seeds
     :data:`CLAIM_PILOT_BASE` + 1 ... + n, the same at every grid point)."""
     if role == "pilots":
-        return list(range(CLAIM_PILOT_BASE + 1, CLAIM_PILOT_BASE + int(claims(config)["pilots"]) + 1))
+        return pilot_seeds(config)
     if role != "tested":
         raise ValueError(f"a claim tile's role is one of {CLAIM_ROLES}, got {role!r}")
     return seeds(config, kind, point, "claims")
 
 
+def pilot_seeds(config: dict) -> list[int]:
+    """The claim's pilot seeds (``claims.pilots``, a count n): :data:`CLAIM_PILOT_BASE` + 1 ... + n, the same for
+    every random ensemble."""
+    return _seed_list(int(claims(config)["pilots"]), CLAIM_PILOT_BASE)
+
+
 def claim_surfaces(config: dict, role: str = "tested") -> list[tuple[str, float, float, int]]:
     """Every random tile of the claim in ``role`` (:func:`claim_seeds`), measured at its own views (rule
     ``claim_sweeps``): (kind, truncation, aspect, seed)."""
-    random_kinds = [k for k in kinds(config) if k != "pyramids"]
-    return [(k, t, a, s) for k in random_kinds for t, a in random_points(config)
+    return [(k, t, a, s) for k in random_kinds(config) for t, a in random_points(config)
             for s in claim_seeds(config, k, (t, a), role)]
 
 
@@ -471,9 +487,8 @@ def claim_settings(config: dict) -> dict:
     """The random-roughness claim's design (``claims:``, defaults filled) and the tested seeds each random ensemble
     of the claim has (``tested``: [kind, truncation, aspect, count] lists), as plain types for params."""
     settings = claims(config)
-    random_kinds = [k for k in kinds(config) if k != "pyramids"]
-    settings["tested"] = [[k, t, a, len(seeds(config, k, (t, a), "claims"))]
-                          for k in random_kinds for t, a in random_points(config)]
+    settings["tested"] = [[k, t, a, len(claim_seeds(config, k, (t, a)))]
+                          for k in random_kinds(config) for t, a in random_points(config)]
     settings["pilots"], settings["cells"] = int(settings["pilots"]), int(settings["cells"])
     return settings
 
