@@ -239,7 +239,8 @@ def test_the_design_reads_no_tested_seed(tile_study):
     steps_ = (10.0, 2.0)
     study = tile_study[tile_study["seed"] < 1000]  # the regular surface and the study's tiles, seeds 1 and 2
     tiles = tile_study[tile_study["seed"] > 1000]  # the claim's tested tiles
-    tables = steps.claim_tables(study, tiles, None, claims, lighting, steps_)
+    pilots = study[study["kind"].astype(str) != "pyramids"]  # the pilots: the study's tiles here
+    tables = steps.claim_tables(study, tiles, None, claims, lighting, steps_, pilots=pilots)
     geometry = tables["random_claim_geometry"]
     assert set(geometry["lobe"]) == {"back", "hot_spot"} and geometry["in_claim"].all()
     np.testing.assert_allclose(geometry["radius"], C.CLEARANCE * geometry["width"])
@@ -247,7 +248,7 @@ def test_the_design_reads_no_tested_seed(tile_study):
     rng = np.random.default_rng(7)
     for column in ("rough", "rough_unrounded", "rough_unshadowed"):
         scrambled[column] *= rng.uniform(0.5, 1.5, len(scrambled))
-    moved = steps.claim_tables(study, scrambled, None, claims, lighting, steps_)
+    moved = steps.claim_tables(study, scrambled, None, claims, lighting, steps_, pilots=pilots)
     for name in ("random_claim_geometry", "random_claim_margins", "random_claim_design"):
         pd.testing.assert_frame_equal(moved[name], tables[name])
     assert not moved["random_claims"]["mean"].equals(tables["random_claims"]["mean"])
@@ -260,7 +261,7 @@ def test_the_design_reads_no_tested_seed(tile_study):
     seen = set(zip(views[0], views[1]))
     inside = tiles[[(a, e) in seen for a, e in zip(tiles["azimuth"], tiles["elevation"])]]
     assert 0 < len(inside) < len(tiles)
-    cut = steps.claim_tables(study, inside, None, claims, lighting, steps_)
+    cut = steps.claim_tables(study, inside, None, claims, lighting, steps_, pilots=pilots)
     pd.testing.assert_frame_equal(cut["random_claims"], tables["random_claims"])
 
 
@@ -272,18 +273,19 @@ def test_the_claims_own_pilots_plan_it_and_the_studys_tiles_do_not(tile_study):
     study = tile_study[tile_study["seed"] < 1000]
     pilots = tile_study[tile_study["seed"] > 1000]
     geometry = steps.claim_discs(study, {"shininess": 64.0, "specular_model": "phong"})["random_claim_geometry"]
-    design = steps.claim_design(study, geometry, None, claims, steps_, pilots)["random_claim_design"]
+    design = steps.claim_design(study, geometry, None, claims, steps_, pilots=pilots)["random_claim_design"]
     scrambled = study.copy()
     random = scrambled["kind"].astype(str) != "pyramids"
     for column in ("rough", "rough_unrounded", "rough_unshadowed"):
         scrambled.loc[random, column] *= np.random.default_rng(3).uniform(0.5, 1.5, int(random.sum()))
-    moved = steps.claim_design(scrambled, geometry, None, claims, steps_, pilots)["random_claim_design"]
+    moved = steps.claim_design(scrambled, geometry, None, claims, steps_, pilots=pilots)["random_claim_design"]
     pd.testing.assert_frame_equal(moved, design)
     own = R.pooled_readings(C.seed_stacks_of(pilots, steps_)[("random_pyramids", 1.0, 0.5, 30.0)],
                             R.lobe_centres((1.0, 0.5, 30.0)), C.discs(geometry, (1.0, 0.5, 30.0)))
     row = design.set_index("test").loc["back_contrast"]
     assert row["pilot_mean"] == pytest.approx(own["back_contrast"]) and row["pilot_seeds"] == own["seeds"]
-    study_tiles = steps.claim_design(study, geometry, None, claims, steps_)["random_claim_design"]
+    study_tiles = steps.claim_design(study, geometry, None, claims, steps_,
+                                     pilots=study[random.to_numpy()])["random_claim_design"]
     assert not np.allclose(study_tiles["pilot_mean"].astype(float), design["pilot_mean"].astype(float),
                            equal_nan=True)
 

@@ -209,7 +209,7 @@ def test_ensemble_statistics_on_a_tiny_grid(tmp_path):
     tiles = study[study["kind"] != "pyramids"]
     design = steps.claim_tables(study, tiles, None, {"alpha": 0.05, "max_seeds": 12,
                                                      "tested": [["random_pyramids", 1.0, 1.0, 3]]},
-                                {"shininess": 64.0, "specular_model": "phong"}, (15.0, 2.0))
+                                {"shininess": 64.0, "specular_model": "phong"}, (15.0, 2.0), pilots=tiles)
     tables = design
     html = render_section("random", random_ensembles=summary, random_seeds_needed=needed, random_model_fits=fits,
                           surface_settings={"cells": 2, "spread": {"truncation": 0.2}},
@@ -511,6 +511,10 @@ def test_read_study_keeps_exactly_the_rows_each_analysis_reads(tmp_path):
     assert set(zip(kept["kind"], kept["truncation"], kept["aspect"])) == {
         ("pyramids", 1.0, 1.0), ("random_pyramids", 1.0, 1.0), ("random_heightfield", 1.0, 1.0)}
     pd.testing.assert_frame_equal(E.random_points(kept), E.random_points(whole), check_exact=True)
+    # the claim's rules: the regular surface at the random grid points alone
+    claim = read_study(path, rows="regular_points")
+    assert set(zip(claim["kind"], claim["truncation"], claim["aspect"])) == {("pyramids", 1.0, 1.0)}
+    pd.testing.assert_frame_equal(claim, regular(E.random_points(whole)), check_exact=True)
     with pytest.raises(ValueError, match="rows must be one of"):
         read_study(path, rows="random")
 

@@ -37,7 +37,7 @@ def study_file(tmp_path, with_kind=True):
 @pytest.mark.parametrize("with_kind", [True, False])
 def test_reading_a_jobs_columns_is_reading_all_and_selecting_them(tmp_path, with_kind):
     path = study_file(tmp_path, with_kind)
-    for rows in ("regular", "random_points", "all"):
+    for rows in ("regular", "random_points", "regular_points", "all"):
         for columns in STUDY_COLUMNS.values():
             if not with_kind and "kind" in columns:  # a table from before random tiles: analysis_random never runs
                 continue

@@ -14,11 +14,11 @@ from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.study.tables import claim_rows, read_study  # noqa: E402
 
 log = _log.setup(snakemake)
-study = read_study(snakemake.input.study, rows="random_points", columns=STUDY_COLUMNS["claim_discs"])
+study = read_study(snakemake.input.study, rows="regular_points", columns=STUDY_COLUMNS["claim_discs"])
 steps = (float(snakemake.params.sweep["azimuth_step"]), float(snakemake.params.sweep["elevation_step"]))
 pilots = claim_rows(snakemake.input.pilots)
 tables = claim_design(study, pd.read_csv(snakemake.input.geometry), pd.read_parquet(snakemake.input.claim_grid),
-                      snakemake.params.claims, steps, pilots)
+                      snakemake.params.claims, steps, pilots=pilots)
 for name, frame in tables.items():
     write_frame(frame, snakemake.output[name])
 design = tables["random_claim_design"]

@@ -71,7 +71,7 @@ __all__ = [
     "claim_design",
     "decide",
     "claim_table",
-    "split_stacks",
+    "regular_stacks",
     "seed_stacks_of",
 ]
 
@@ -491,18 +491,13 @@ def _verdict_row(d, reading: str, pooled: dict, regular: float, margin: float, l
 # the whole design and verdict from the study's tables
 
 
-def split_stacks(study: pd.DataFrame) -> tuple[dict, dict]:
-    """The study's rows at the random grid points as :class:`SeedStack` s: the regular surfaces (by surface key)
-    and the study's random ensembles (by kind and surface key), the claim's pilots."""
+def regular_stacks(study: pd.DataFrame) -> dict:
+    """The regular surface's rows in ``study`` (its other kinds' are left out) as :class:`SeedStack` s, by surface
+    key: one tile, seed 0, at each random grid point."""
     from .claim_readings import seed_stacks
 
-    regular, random = {}, {}
-    for stack in seed_stacks(study):
-        if stack.kind == "pyramids":
-            regular[stack.key] = stack
-        else:
-            random[(stack.kind,) + stack.key] = stack
-    return regular, random
+    regular = study[study["kind"].astype(str) == "pyramids"] if "kind" in study else study
+    return {stack.key: stack for stack in seed_stacks(regular)}
 
 
 def seed_stacks_of(rows: pd.DataFrame, steps: tuple[float, float]) -> dict:

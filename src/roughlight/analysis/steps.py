@@ -145,35 +145,33 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
 def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
     """Which lobes enter the claim and their search discs, from geometry and the regular surfaces alone (rule
     ``claim_discs``): ``random_claim_geometry`` (:func:`roughlight.analysis.claims.claim_geometry`)."""
-    regular = study[study["kind"].astype(str) == "pyramids"] if "kind" in study else study
-    stacks, _ = C.split_stacks(regular)
-    return {"random_claim_geometry": C.claim_geometry(list(stacks.values()), lighting)}
+    return {"random_claim_geometry": C.claim_geometry(list(C.regular_stacks(study).values()), lighting)}
 
 
 def claim_design(study: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame | None, claims: dict,
-                 steps: tuple[float, float] = (5.0, 1.0), pilots: pd.DataFrame | None = None) -> dict:
+                 steps: tuple[float, float] = (5.0, 1.0), *, pilots: pd.DataFrame) -> dict:
     """The claim's design (rule ``claim_design``), from the regular surfaces, the exact reference and the pilots:
     no tested seed (``claims.seeds``) is read.
 
     Parameters
     ----------
-    study : the study's rows at the random grid points: the regular surfaces and the study's random tiles (the fast
-        method, every view)
+    study : the regular surfaces' rows at the random grid points (the fast method, every view; other kinds' rows
+        are left out)
     geometry : rule ``claim_discs``' table
     grid : rule ``claim_grid``'s measurements (None: none; the margins go without the sampling error and the
         view grid's effect)
     claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
     steps : the study's azimuth and elevation steps, degrees
     pilots : the pilot tiles' rows (rule ``claim_sweeps``' pilots, ``claims.pilots`` at ``claims.cells``, as
-        :func:`roughlight.study.tables.claim_rows` gives them); None: the study's own random tiles in ``study``
+        :func:`roughlight.study.tables.claim_rows` gives them)
 
     Returns
     -------
     dict of DataFrames: ``random_claim_margins``, ``random_claim_design`` (:mod:`roughlight.analysis.claims`),
     ``random_claim_grid``, ``random_claim_errors`` (:mod:`roughlight.analysis.claim_instrument`).
     """
-    regular, study_tiles = C.split_stacks(study)
-    pilots = study_tiles if pilots is None else C.seed_stacks_of(pilots, steps)
+    regular = C.regular_stacks(study)
+    pilots = C.seed_stacks_of(pilots, steps)
     ref = reference_stacks(grid, steps[1]) if grid is not None and len(grid) else {}
     errors = instrument_errors(ref, geometry)
     kinds = sorted({kind for kind, *_ in claims.get("tested", [])} | {k[0] for k in pilots})
@@ -197,12 +195,11 @@ def claim_verdict(rows: pd.DataFrame, geometry: pd.DataFrame, margins: pd.DataFr
 
 
 def claim_tables(study: pd.DataFrame, claim_rows: pd.DataFrame, grid: pd.DataFrame | None, claims: dict,
-                 lighting: dict, steps: tuple[float, float] = (5.0, 1.0), pilots: pd.DataFrame | None = None) -> dict:
+                 lighting: dict, steps: tuple[float, float] = (5.0, 1.0), *, pilots: pd.DataFrame) -> dict:
     """Every table of the claim at once, in the workflow's order (rules ``claim_discs``, ``claim_design`` and the
-    verdict of ``analysis_random``): the ``pilots``' rows (None: the study's random tiles) plan, the claim's tested
-    tiles (``claim_rows``) decide."""
+    verdict of ``analysis_random``): the ``pilots``' rows plan, the claim's tested tiles (``claim_rows``) decide."""
     geometry = claim_discs(study, lighting)["random_claim_geometry"]
-    design = claim_design(study, geometry, grid, claims, steps, pilots)
+    design = claim_design(study, geometry, grid, claims, steps, pilots=pilots)
     verdict = claim_verdict(claim_rows, geometry, design["random_claim_margins"], design["random_claim_design"],
                             steps)
     return {"random_claim_geometry": geometry, **design, "random_claims": verdict}
