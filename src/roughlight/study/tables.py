@@ -232,7 +232,7 @@ def read_sweep(path):
 
 
 def claim_rows(folders):
-    """The claim's tested tiles (rule ``claim_sweeps``' folders, a file ``s{seed}.parquet`` a seed) as rows in the
+    """The claim's pilot or tested tiles (rule ``claim_sweeps``' folders, a file ``s{seed}.parquet`` a seed) as rows in the
     study table's columns (kind, seed, surface keys, views, component, ``rough``, ``rough_unrounded``,
     ``rough_unshadowed``, coverage)."""
     from pathlib import Path
