@@ -23,7 +23,7 @@ from .workflow_copy import REPO, SNAKEMAKE, copy_workflow
 #: config/config.yaml as shipped: what a user's --configfile edits.
 DEFAULT = yaml.safe_load((REPO / "config" / "config.yaml").read_text())
 
-#: The study's seeds (the claim's pilots) and the claim's tested seeds of each random kind in the user-grid tests:
+#: The study's seeds and the claim's tested seeds of each random kind in the user-grid tests:
 #: they vary the grid, and the ensembles' size and the claim's design have tests of their own (tests/test_random.py,
 #: tests/test_claims.py); the shipped counts would add half again to every report built there (issue 46: the random
 #: sweeps were most of an example's time).
