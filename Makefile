@@ -15,7 +15,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium slurm study test cluster-test bench every-view budget style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots bench every-view budget style lint clean
 
 # the project's own bytecode too, at every setup (only what changed): where PYTHONDONTWRITEBYTECODE is set (as on
 # this machine) every job would otherwise compile the package's modules from source, 0.1-0.2 s a sweep job
@@ -85,6 +85,12 @@ test: setup chromium slurm style
 # the study on a single-node SLURM brought up here, through profiles/slurm, against a local run (a few minutes)
 cluster-test: setup slurm
 	$(BIN)/python -m pytest -q tests/test_cluster.py
+
+# the claim's pilots rendered again (every ensemble's, claims.registered_pilots off) and their readings registered
+# in config/claim_pilots.csv, printing which moved (docs/random-roughness.md); commit the file with the design
+claim-pilots: setup
+	$(BIN)/snakemake --cores $(CORES) results/analysis/random_claim_pilots.csv --config 'claims={registered_pilots: ""}'
+	$(BIN)/python -m roughlight.study.pilots results/analysis/random_claim_pilots.csv config/claim_pilots.csv
 
 # the full-size speed/accuracy benchmark and stability scans (results/benchmarks/full/, results/stability/full/),
 # and the report built with them

@@ -110,7 +110,7 @@ def claim_chain(cfg: dict, study: pd.DataFrame, workdir: Path) -> dict:
                               plan.render_settings(cfg, "random"), views=views)
                 folders[role].append(folder)
     design = steps.claim_design(study, geometry, None, rl_config.claim_settings(cfg), steps_,
-                                pilots=claim_rows(folders["pilots"]))
+                                pilots=steps.pilot_readings(claim_rows(folders["pilots"]), geometry, steps_))
     return {"random_claim_geometry": geometry, **design, "rows": claim_rows(folders["tested"]), "geometry": geometry,
             "margins": design["random_claim_margins"], "design": design["random_claim_design"], "steps": steps_}
 

@@ -265,6 +265,29 @@ def test_the_design_reads_no_tested_seed(tile_study):
     pd.testing.assert_frame_equal(cut["random_claims"], tables["random_claims"])
 
 
+def test_registered_pilot_readings_give_the_design_their_tiles_give(tile_study, tmp_path):
+    """The pilots' readings written as rule claim_pilots writes them and read back as a registered file
+    (claims.registered_pilots) plan the same design, to the bit, as the tiles they came from."""
+    from roughlight.atomic import write_frame
+    from roughlight.study import pilots as P
+
+    claims = {"alpha": 0.05, "max_seeds": 12, "tested": [["random_pyramids", 1.0, 0.5, 2]]}
+    steps_ = (10.0, 2.0)
+    study = tile_study[tile_study["seed"] < 1000]
+    tiles = tile_study[tile_study["seed"] > 1000]
+    geometry = steps.claim_discs(study, {"shininess": 64.0, "specular_model": "phong"})["random_claim_geometry"]
+    read = steps.pilot_readings(tiles, geometry, steps_, keys={("random_pyramids", 1.0, 0.5, 30.0): "0123abcd"})
+    assert list(read.columns) == P.COLUMNS and set(read["key"]) == {"0123abcd"}
+    assert {"back_contrast", "back_contrast_se", "seeds", "hot_spot_flatness"} <= set(read["reading"])
+    write_frame(read, tmp_path / "pilots.csv")
+    back = P.read_readings(tmp_path / "pilots.csv")
+    pd.testing.assert_frame_equal(back, read, check_exact=True)
+    design = steps.claim_design(study, geometry, None, claims, steps_, pilots=read)["random_claim_design"]
+    again = steps.claim_design(study, geometry, None, claims, steps_, pilots=back)["random_claim_design"]
+    pd.testing.assert_frame_equal(again, design, check_exact=True)
+    assert design["pilot_mean"].notna().any()
+
+
 def test_the_claims_own_pilots_plan_it_and_the_studys_tiles_do_not(tile_study):
     """Given the claim's own pilot tiles (rule claim_sweeps' pilots), the design plans from them alone: the study's
     random tiles may hold any number without moving it, and the plan is the pilots' own."""
@@ -273,19 +296,21 @@ def test_the_claims_own_pilots_plan_it_and_the_studys_tiles_do_not(tile_study):
     study = tile_study[tile_study["seed"] < 1000]
     pilots = tile_study[tile_study["seed"] > 1000]
     geometry = steps.claim_discs(study, {"shininess": 64.0, "specular_model": "phong"})["random_claim_geometry"]
-    design = steps.claim_design(study, geometry, None, claims, steps_, pilots=pilots)["random_claim_design"]
+    read = steps.pilot_readings(pilots, geometry, steps_)
+    design = steps.claim_design(study, geometry, None, claims, steps_, pilots=read)["random_claim_design"]
     scrambled = study.copy()
     random = scrambled["kind"].astype(str) != "pyramids"
     for column in ("rough", "rough_unrounded", "rough_unshadowed"):
         scrambled.loc[random, column] *= np.random.default_rng(3).uniform(0.5, 1.5, int(random.sum()))
-    moved = steps.claim_design(scrambled, geometry, None, claims, steps_, pilots=pilots)["random_claim_design"]
+    moved = steps.claim_design(scrambled, geometry, None, claims, steps_, pilots=read)["random_claim_design"]
     pd.testing.assert_frame_equal(moved, design)
     own = R.pooled_readings(C.seed_stacks_of(pilots, steps_)[("random_pyramids", 1.0, 0.5, 30.0)],
                             R.lobe_centres((1.0, 0.5, 30.0)), C.discs(geometry, (1.0, 0.5, 30.0)))
     row = design.set_index("test").loc["back_contrast"]
     assert row["pilot_mean"] == pytest.approx(own["back_contrast"]) and row["pilot_seeds"] == own["seeds"]
     study_tiles = steps.claim_design(study, geometry, None, claims, steps_,
-                                     pilots=study[random.to_numpy()])["random_claim_design"]
+                                     pilots=steps.pilot_readings(study[random.to_numpy()], geometry,
+                                                                 steps_))["random_claim_design"]
     assert not np.allclose(study_tiles["pilot_mean"].astype(float), design["pilot_mean"].astype(float),
                            equal_nan=True)
 

@@ -143,8 +143,9 @@ def test_the_codes_defaults_are_the_schemas():
 def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_and_kinds():
     """config/config.yaml writes most defaults out for its readers: each equals the schema's. Only the study's own
     choices differ: its grid (the thesis's, with sqrt(3)/2), its surfaces (the random kinds and their seeds), its
-    claim design's pilot seeds (none by default, so that a small user grid renders no more than it asks for) and the
-    surface it exports (none by default, for the same reason)."""
+    claim design's tested seeds and its registered pilots (config/claim_pilots.csv: none by default, where a config
+    of one's own renders its pilots) and the surface it exports (none by default, so that a small user grid renders
+    no more than it asks for)."""
     defaults = rl_config.validate_config({}, SCHEMA)
     differ = []
     for path, value in _leaves(default_config()):
@@ -154,7 +155,9 @@ def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_an
         if here != value:
             differ.append(path)
     assert {path[0] for path in differ if path[:2] not in (("claims", "seeds"), ("claims", "max_seeds"),
-                                                           ("export", "surfaces"))} <= {"grid", "surface"}, differ
+                                                           ("claims", "registered_pilots"), ("export", "surfaces"))
+            } <= {"grid", "surface"}, differ
+    assert defaults["claims"]["registered_pilots"] is None
     # the study exports one surface; a user's config exports none unless it names one
     assert defaults["export"]["surfaces"] == [] and default_config()["export"]["surfaces"] == [[1.0, 1.0]]
 

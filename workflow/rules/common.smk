@@ -5,6 +5,7 @@ try:
     from roughlight.study import config as rl_config
     from roughlight.study import runs as rl_runs
     from roughlight.study import plan as rl_plan
+    from roughlight.study import pilots as rl_pilots
     from roughlight.study import sweep_store as rl_sweep_store
     from roughlight.study import tables as rl_tables
     from roughlight.report import registry as rl_registry
@@ -232,8 +233,22 @@ def claim_ensemble_files(wildcards):
 
 def claim_ensemble_folders(role):
     """The folders of the claim_sweeps jobs in role (pilots or tested): a random kind's claim ensemble at a random
-    grid point and incidence."""
+    grid point and incidence; the pilots only of the ensembles claims.registered_pilots does not hold.
+    """
+    if role == "pilots":
+        return rl_pilots.rendered_folders(config)
     return rl_plan.ensemble_folders(config, role)
+
+
+def registered_pilots_file(wildcards):
+    """claims.registered_pilots, the pilots' registered readings (none: [])."""
+    path = rl_config.claims(config).get("registered_pilots")
+    return [path] if path else []
+
+
+def pilot_keys(wildcards):
+    """Every claim ensemble's pilots with the digest of their settings (roughlight.study.pilots.pilot_key)."""
+    return rl_pilots.pilot_keys(config)
 
 
 def random_surface_settings(wildcards):

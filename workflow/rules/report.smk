@@ -210,13 +210,39 @@ rule claim_discs:
         "../scripts/claim_discs.py"
 
 
+# what the claim's design reads of its pilots, each ensemble's pooled readings: from its pilot tiles (rule
+# claim_sweeps), or registered (claims.registered_pilots, written by `make claim-pilots`) where the ensemble's
+# pilots were measured with its own settings (roughlight.study.pilots)
+rule claim_pilots:
+    input:
+        pilots=claim_ensemble_folders("pilots"),
+        geometry="results/analysis/random_claim_geometry.csv",
+        registered=registered_pilots_file,
+    output:
+        random_claim_pilots="results/analysis/random_claim_pilots.csv",
+    log:
+        "results/logs/report/claim_pilots.log",
+    benchmark:
+        "results/logs/report/claim_pilots.benchmark.tsv"
+    conda:
+        "../../envs/study.yaml"
+    threads: 1
+    resources:
+        mem_mb=1024,
+    params:
+        ensembles=pilot_keys,
+        sweep=sweep_params,
+    script:
+        "../scripts/claim_pilots.py"
+
+
 # the claim's design: margins, the family and the seeds each test needs, from the regular surfaces, the exact
-# reference and the pilots (rule claim_sweeps' pilot tiles) alone (roughlight.analysis.steps.claim_design): it
+# reference and the pilots' readings (rule claim_pilots) alone (roughlight.analysis.steps.claim_design): it
 # reads no tested tile
 rule claim_design:
     input:
         study="results/study.parquet",
-        pilots=claim_ensemble_folders("pilots"),
+        pilots="results/analysis/random_claim_pilots.csv",
         geometry="results/analysis/random_claim_geometry.csv",
         claim_grid=claim_grid_file,
     output:

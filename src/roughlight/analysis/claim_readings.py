@@ -33,7 +33,7 @@ from .hot_spot import hot_spot_reading, shadow_hiding
 from .lobe_shape import lobe_reading, measured_field
 
 __all__ = ["LOBES", "READINGS", "STATISTICS", "SeedStack", "seed_stacks", "surface_readings", "pooled_readings",
-           "jackknife", "lobe_centres", "mirrored_half", "mirrored_halves"]
+           "jackknife", "lobe_centres", "mirrored_half", "mirrored_halves", "readings_table", "table_readings"]
 
 #: The claim's lobes: the component (or field) each is read from.
 LOBES = {"back": "specular", "hot_spot": "shadow hiding (diffuse)"}
@@ -192,6 +192,29 @@ def pooled_readings(stack: SeedStack, centres: dict, radii: dict, reading: str =
                 for k in range(len(stack))]
     for name in STATISTICS:
         out[f"{name}_se"] = jackknife([r[name] for r in left_out])
+    return out
+
+
+def readings_table(readings: dict, keys: dict | None = None) -> pd.DataFrame:
+    """Ensembles' readings (``(kind, truncation, aspect, incidence)`` -> :func:`pooled_readings`) as a long table
+    (:data:`roughlight.study.pilots.COLUMNS`): kind, truncation, aspect, incidence, key (``keys``' value for the
+    ensemble, "" without), reading (its name), value (float64), an ensemble's numbers in their own order (the
+    notes of why a lobe's shape is not read, ``{lobe}_why``, are left out)."""
+    rows = [(kind, float(t), float(a), float(i), (keys or {}).get((kind, t, a, i), ""), name, float(value))
+            for (kind, t, a, i), reading in readings.items() for name, value in reading.items()
+            if not isinstance(value, str)]
+    return pd.DataFrame(rows, columns=["kind", "truncation", "aspect", "incidence", "key", "reading", "value"])
+
+
+def table_readings(table: pd.DataFrame) -> dict:
+    """:func:`readings_table`'s inverse: ``(kind, truncation, aspect, incidence)`` -> {reading: value}, the seeds
+    an int."""
+    out = {}
+    for (kind, t, a, i), rows in table.groupby(["kind", "truncation", "aspect", "incidence"], sort=False):
+        reading = dict(zip(rows["reading"], rows["value"].astype(float)))
+        if "seeds" in reading:
+            reading["seeds"] = int(reading["seeds"])
+        out[(kind, float(t), float(a), float(i))] = reading
     return out
 
 

@@ -16,7 +16,7 @@ from ..study.tables import study_summary
 from . import claims as C
 from .areas import reflecting_areas
 from .claim_instrument import grid_table, instrument_errors, reference_stacks
-from .claim_readings import READINGS, lobe_centres, pooled_readings
+from .claim_readings import READINGS, lobe_centres, pooled_readings, readings_table, table_readings
 from .diffuse import diffuse_levels, diffuse_three_part
 from .glm import grid_glms
 from .lobes import arc_lobes, hemisphere_lobes
@@ -33,7 +33,7 @@ from .thesis import (
 from .timings import render_timings
 
 __all__ = ["analysis_tables", "analysis_glm", "analysis_models", "analysis_random", "claim_discs", "claim_design",
-           "claim_verdict", "claim_tables"]
+           "pilot_readings", "claim_verdict", "claim_tables"]
 
 
 def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=print) -> tuple[dict, dict]:
@@ -148,10 +148,30 @@ def claim_discs(study: pd.DataFrame, lighting: dict) -> dict:
     return {"random_claim_geometry": C.claim_geometry(list(C.regular_stacks(study).values()), lighting)}
 
 
+def pilot_readings(pilots: pd.DataFrame, geometry: pd.DataFrame, steps: tuple[float, float] = (5.0, 1.0),
+                   keys: dict | None = None) -> pd.DataFrame:
+    """What the claim's design reads of its pilots (rule ``claim_pilots``): each pilot ensemble's
+    :func:`roughlight.analysis.claim_readings.pooled_readings` (unrounded) at its search discs, as
+    :func:`roughlight.analysis.claim_readings.readings_table` lays them out.
+
+    Parameters
+    ----------
+    pilots : the pilot tiles' rows (rule ``claim_sweeps``' pilots, ``claims.pilots`` at ``claims.cells``, as
+        :func:`roughlight.study.tables.claim_rows` gives them)
+    geometry : rule ``claim_discs``' table
+    steps : the study's azimuth and elevation steps, degrees
+    keys : (kind, truncation, aspect, incidence) -> the ensemble's :func:`roughlight.study.pilots.pilot_key`
+    """
+    stacks = C.seed_stacks_of(pilots, steps)
+    readings = {key: pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]))
+                for key, stack in stacks.items()}
+    return readings_table(readings, keys)
+
+
 def claim_design(study: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame | None, claims: dict,
                  steps: tuple[float, float] = (5.0, 1.0), *, pilots: pd.DataFrame) -> dict:
-    """The claim's design (rule ``claim_design``), from the regular surfaces, the exact reference and the pilots:
-    no tested seed (``claims.seeds``) is read.
+    """The claim's design (rule ``claim_design``), from the regular surfaces, the exact reference and the pilots'
+    readings: no tested seed (``claims.seeds``) is read.
 
     Parameters
     ----------
@@ -162,8 +182,7 @@ def claim_design(study: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame
         view grid's effect)
     claims : :func:`roughlight.study.config.claim_settings` (``alpha``, ``max_seeds``, ``tested``)
     steps : the study's azimuth and elevation steps, degrees
-    pilots : the pilot tiles' rows (rule ``claim_sweeps``' pilots, ``claims.pilots`` at ``claims.cells``, as
-        :func:`roughlight.study.tables.claim_rows` gives them)
+    pilots : the pilots' readings (rule ``claim_pilots``' table, :func:`pilot_readings`; registered or rendered)
 
     Returns
     -------
@@ -171,13 +190,11 @@ def claim_design(study: pd.DataFrame, geometry: pd.DataFrame, grid: pd.DataFrame
     ``random_claim_grid``, ``random_claim_errors`` (:mod:`roughlight.analysis.claim_instrument`).
     """
     regular = C.regular_stacks(study)
-    pilots = C.seed_stacks_of(pilots, steps)
+    readings = table_readings(pilots)
     ref = reference_stacks(grid, steps[1]) if grid is not None and len(grid) else {}
     errors = instrument_errors(ref, geometry)
-    kinds = sorted({kind for kind, *_ in claims.get("tested", [])} | {k[0] for k in pilots})
+    kinds = sorted({kind for kind, *_ in claims.get("tested", [])} | {k[0] for k in readings})
     margin_table = C.margins(regular, geometry, kinds, errors)
-    readings = {key: pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]))
-                for key, stack in pilots.items()}
     configured = {(kind, float(t), float(a)): int(n) for kind, t, a, n in claims.get("tested", [])}
     design = C.claim_design(margin_table, readings, claims, configured)
     return {"random_claim_margins": margin_table, "random_claim_design": design, "random_claim_errors": errors,
@@ -199,7 +216,7 @@ def claim_tables(study: pd.DataFrame, claim_rows: pd.DataFrame, grid: pd.DataFra
     """Every table of the claim at once, in the workflow's order (rules ``claim_discs``, ``claim_design`` and the
     verdict of ``analysis_random``): the ``pilots``' rows plan, the claim's tested tiles (``claim_rows``) decide."""
     geometry = claim_discs(study, lighting)["random_claim_geometry"]
-    design = claim_design(study, geometry, grid, claims, steps, pilots=pilots)
+    design = claim_design(study, geometry, grid, claims, steps, pilots=pilot_readings(pilots, geometry, steps))
     verdict = claim_verdict(claim_rows, geometry, design["random_claim_margins"], design["random_claim_design"],
                             steps)
     return {"random_claim_geometry": geometry, **design, "random_claims": verdict}

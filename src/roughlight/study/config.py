@@ -243,6 +243,18 @@ def _pilot_problems(config: dict) -> list[str]:
             problems.append(f"config: claims.seeds{'.' + name if name else ''} takes the claim's pilot seeds "
                             f"{shared[0]}..{shared[-1]} (claims.pilots: seeds {pilots[0]}..{pilots[-1]}): a pilot "
                             "plans the test and is never tested; give fewer or other seeds")
+    registered = claims(config).get("registered_pilots")
+    if registered:
+        from .pilots import read_readings
+
+        if not Path(registered).is_file():
+            problems.append(f"config: claims.registered_pilots: {registered} does not exist (`make claim-pilots` "
+                            "writes it; null renders every ensemble's pilots)")
+        else:
+            try:
+                read_readings(registered)
+            except (ValueError, OSError) as exc:
+                problems.append(f"config: claims.registered_pilots: {exc}")
     return problems + _follower_problems(config)
 
 
@@ -468,9 +480,11 @@ def random_surface_settings(config: dict) -> dict:
 
 def page_surface_settings(config: dict) -> dict:
     """How the study's random tiles are built (:func:`random_surface_settings`) and the claim's tiles' size and
-    pilots (``claim_cells``, ``claim_pilots``), for the page's text."""
+    pilots (``claim_cells``, ``claim_pilots``, ``claim_registered_pilots``: the registered readings' file or ""), for
+    the page's text."""
     claim = claims(config)
-    return {**random_surface_settings(config), "claim_cells": int(claim["cells"]), "claim_pilots": int(claim["pilots"])}
+    return {**random_surface_settings(config), "claim_cells": int(claim["cells"]), "claim_pilots": int(claim["pilots"]),
+            "claim_registered_pilots": claim.get("registered_pilots") or ""}
 
 
 def report_settings(config: dict) -> dict:
@@ -490,6 +504,8 @@ def claim_settings(config: dict) -> dict:
     settings["tested"] = [[k, t, a, len(claim_seeds(config, k, (t, a)))]
                           for k in random_kinds(config) for t, a in random_points(config)]
     settings["pilots"], settings["cells"] = int(settings["pilots"]), int(settings["cells"])
+    # where the pilots' readings come from is not the design: the readings themselves are rule claim_design's input
+    settings.pop("registered_pilots", None)
     return settings
 
 
