@@ -19,8 +19,8 @@ import shapely
 from ...surfaces.geometry import facet_polygons, period_triangles
 from ...surfaces.surface import Surface
 
-__all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "overlay", "visible_regions", "to_oblique",
-           "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
+__all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "area_parts_each", "affine_each", "overlay",
+           "visible_regions", "to_oblique", "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
 
 #: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
 MIN_OVERLAP = 1e-13
@@ -107,8 +107,10 @@ def lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
 
 
 def _polygonal(geometry, grid_size):
-    """The polygonal part of a geometry (or of each in an array), snapped to ``grid_size``: a
-    snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
+    """The polygonal part of a geometry (or of each in an array, any shape; None stays None), snapped to
+    ``grid_size``: a snap-rounded overlay can leave collapsed slivers as lines or points, which carry no area."""
+    if geometry is None:
+        return None
     if isinstance(geometry, np.ndarray):
         return np.array([_polygonal(g, grid_size) for g in geometry], dtype=object)
     # lines and points first: set_precision on a mixed collection can drop its polygons too
@@ -121,24 +123,44 @@ def area_parts(geometry):
     of an array of geometries, each one's, made valid in one GEOS call."""
     if isinstance(geometry, np.ndarray):
         valid = np.array(shapely.make_valid(geometry), dtype=object, ndmin=1)
-        for i in np.flatnonzero(~np.isin(shapely.get_type_id(valid), (shapely.GeometryType.POLYGON,
-                                                                       shapely.GeometryType.MULTIPOLYGON))):
+        for i in np.flatnonzero(~_is_polygonal(valid)):
             valid[i] = area_parts(valid[i])
         return valid
     geometry = shapely.make_valid(geometry)
     if geometry.geom_type in ("Polygon", "MultiPolygon"):
         return geometry
+    return _polygons_of(geometry)
+
+
+def area_parts_each(geometries) -> np.ndarray:
+    """:func:`area_parts` of each geometry of an array, one by one (what a loop of its scalar calls gives, to the
+    bit), made valid in one GEOS call: each non-polygonal result is reduced to its polygons without being made
+    valid again."""
+    valid = np.array(shapely.make_valid(geometries), dtype=object, ndmin=1)
+    for i in np.flatnonzero(~_is_polygonal(valid)):
+        valid[i] = _polygons_of(valid[i])
+    return valid
+
+
+def _is_polygonal(geometries) -> np.ndarray:
+    """(n,) bool: which geometries are a Polygon or a MultiPolygon."""
+    return np.isin(shapely.get_type_id(geometries), (shapely.GeometryType.POLYGON, shapely.GeometryType.MULTIPOLYGON))
+
+
+def _polygons_of(geometry):
+    """The union of a valid geometry's polygonal parts (an empty polygon if it has none)."""
     parts = [p for p in shapely.get_parts(geometry) if p.geom_type in ("Polygon", "MultiPolygon")]
     return shapely.union_all(parts) if parts else shapely.Polygon()
 
 
-def overlay(operation, *geometries, grid_size=None):
+def overlay(operation, *geometries, grid_size=None, **options):
     """A GEOS overlay: in double precision, or snap-rounded to ``grid_size`` (robust; see
-    :data:`roughlight.render.exact.reference.SNAP_GRID`)."""
+    :data:`roughlight.render.exact.reference.SNAP_GRID`). ``options`` go to ``operation`` (``axis`` of
+    ``shapely.union_all``)."""
     if grid_size is None:
-        return operation(*geometries)
+        return operation(*geometries, **options)
     snapped = [_polygonal(g, grid_size) for g in geometries]
-    return _polygonal(operation(*snapped, grid_size=grid_size), grid_size)
+    return _polygonal(operation(*snapped, grid_size=grid_size, **options), grid_size)
 
 
 def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
@@ -148,7 +170,7 @@ def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
     light) with ``Dz > 0``. Coordinates are the oblique ones
     ``(x - z dx, y - z dy)``; a point is in front when its ``z`` is larger.
     A facet's visible region is its projection minus the overlaps with the
-    projections of the facet copies in front of it (:func:`_visible_part`).
+    projections of the facet copies in front of it (:func:`_visible_parts`).
 
     Returns
     -------
@@ -165,8 +187,9 @@ def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
     offsets = lattice_offsets(surf.height, d)
     copies = projected_copies(surf, front, d, offsets)
     homes = np.arange(len(front)) * len(offsets)
-    for f, home, idx in zip(front, homes, may_overlap(copies, homes)):
-        out[f] = _visible_part(surf, f, det, copies, home, idx, grid_size)
+    for f, region in zip(front, _visible_parts(surf, front, det, copies, homes, may_overlap(copies, homes),
+                                                grid_size)):
+        out[f] = region
     return out, det
 
 
@@ -214,50 +237,55 @@ def projected_copies(surf: Facets, front, d, offsets) -> _Copies:
                    np.repeat(normal, n_off, axis=0))
 
 
-def _visible_part(surf: Facets, f: int, det, copies: _Copies, home: int, idx, grid_size=None):
-    """Facet ``f``'s visible region: its period-0 projection (``copies`` row ``home``) minus its overlaps, of
-    more than :data:`MIN_OVERLAP`, with the copies ``idx`` (those it may overlap) in front of it there
-    (:func:`_in_front`)."""
-    pf = copies.geoms[home]
-    if len(idx) == 0:
-        return pf
-    inter = overlay(shapely.intersection, pf, copies.geoms[idx], grid_size=grid_size)
-    area = shapely.area(inter)
-    ok = area > MIN_OVERLAP
-    idx, inter = idx[ok], inter[ok]
-    if len(idx) == 0:
-        return pf
-    occ = inter[_in_front(surf, f, det, inter, copies.owner[idx], copies.offs[idx])]
-    if len(occ) == 0:
-        return pf
-    return overlay(shapely.difference, pf, overlay(shapely.union_all, occ, grid_size=grid_size), grid_size=grid_size)
+def _visible_parts(surf: Facets, front, det, copies: _Copies, homes, near, grid_size=None) -> np.ndarray:
+    """Each facet ``front[j]``'s visible region: its period-0 projection (``copies`` row ``homes[j]``) minus the
+    union of its overlaps, of more than :data:`MIN_OVERLAP`, with the copies ``near[j]`` (those it may overlap,
+    :func:`may_overlap`) in front of it there (:func:`_in_front`); the projection itself where none is.
 
-
-#: Most (home, copy) pairs :func:`may_overlap` tests at once.
-PAIRS_AT_ONCE = 4_000_000
+    Every facet's overlaps are clipped in one GEOS call, their unions in one (a row of occluders a facet, in the
+    order of ``near[j]``) and the differences in one: each facet's overlays are those of a loop over the facets."""
+    whole = copies.geoms[homes]
+    out = whole.copy()
+    count = np.array([len(idx) for idx in near], int)
+    if count.sum() == 0:
+        return out
+    row, other = np.repeat(np.arange(len(front)), count), np.concatenate(near)
+    inter = overlay(shapely.intersection, copies.geoms[homes[row]], copies.geoms[other], grid_size=grid_size)
+    ok = shapely.area(inter) > MIN_OVERLAP
+    row, other, inter = row[ok], other[ok], inter[ok]
+    ahead = _in_front(surf, front[row], det, inter, copies.owner[other], copies.offs[other])
+    row, occ = row[ahead], inter[ahead]
+    if len(row) == 0:
+        return out
+    hidden, first, n_occ = np.unique(row, return_index=True, return_counts=True)
+    table = np.full((len(hidden), n_occ.max()), None, dtype=object)  # each hidden facet's occluders, in order
+    table[np.repeat(np.arange(len(hidden)), n_occ), np.arange(len(row)) - np.repeat(first, n_occ)] = occ
+    union = overlay(shapely.union_all, table, grid_size=grid_size, axis=1)
+    out[hidden] = overlay(shapely.difference, whole[hidden], union, grid_size=grid_size)
+    return out
 
 
 def may_overlap(copies: _Copies, homes) -> list:
     """For each row of ``homes`` ((H,) rows of ``copies``), the rows whose projection may overlap it in some
-    area: bounding boxes overlapping by more than 1e-12 (periods) both ways, then no edge normal of either
-    separating them (facets are convex, :func:`roughlight.surfaces.geometry.facet_polygons`, so a separating
-    axis means they touch at most). GEOS need not intersect the others: their overlap would be dropped as
-    under :data:`MIN_OVERLAP`. The home row itself is left out."""
-    out = []
-    block = max(1, PAIRS_AT_ONCE // len(copies.bbox))
-    for first in range(0, len(homes), block):
-        rows = homes[first:first + block]
-        home_box, box = copies.bbox[rows][:, None, :], copies.bbox[None, :, :]
-        tol = 1e-12
-        near = ((box[..., 0] < home_box[..., 2] - tol) & (box[..., 2] > home_box[..., 0] + tol)
-                & (box[..., 1] < home_box[..., 3] - tol) & (box[..., 3] > home_box[..., 1] + tol))
-        near[np.arange(len(rows)), rows] = False
-        which, other = np.nonzero(near)
-        keep = ~_separated(copies, rows[which], other)
-        which, other = which[keep], other[keep]
-        split = np.searchsorted(which, np.arange(1, len(rows)))
-        out.extend(np.split(other, split))
-    return out
+    area, in ascending order: bounding boxes overlapping by more than 1e-12 (periods) both ways, then no edge
+    normal of either separating them (facets are convex, :func:`roughlight.surfaces.geometry.facet_polygons`, so
+    a separating axis means they touch at most). GEOS need not intersect the others: their overlap would be
+    dropped as under :data:`MIN_OVERLAP`. The home row itself is left out.
+
+    The candidates are those whose bounding boxes meet at all (a GEOS STRtree of the copies), the boxes' margins
+    then tested exactly."""
+    homes = np.asarray(homes, int)
+    which, other = shapely.STRtree(copies.geoms).query(copies.geoms[homes])
+    home_box, box = copies.bbox[homes[which]], copies.bbox[other]
+    tol = 1e-12
+    near = ((box[:, 0] < home_box[:, 2] - tol) & (box[:, 2] > home_box[:, 0] + tol)
+            & (box[:, 1] < home_box[:, 3] - tol) & (box[:, 3] > home_box[:, 1] + tol) & (other != homes[which]))
+    which, other = which[near], other[near]
+    keep = ~_separated(copies, homes[which], other)
+    which, other = which[keep], other[keep]
+    order = np.lexsort((other, which))
+    which, other = which[order], other[order]
+    return np.split(other, np.searchsorted(which, np.arange(1, len(homes))))
 
 
 def _separated(copies: _Copies, a, b) -> np.ndarray:
@@ -272,10 +300,10 @@ def _separated(copies: _Copies, a, b) -> np.ndarray:
     return apart
 
 
-def _in_front(surf: Facets, f: int, det, inter, owner, offs) -> np.ndarray:
+def _in_front(surf: Facets, f, det, inter, owner, offs) -> np.ndarray:
     """(k,) bool: where the copy of facet ``owner`` at lattice offset ``offs`` ((k,) and (k, 2)) is higher than
-    facet ``f`` of period 0 at the centroid of their overlap ``inter`` (oblique coordinates): there it is in
-    front throughout (facets meet only at edges)."""
+    facet ``f`` of period 0 (one, or (k,) of them) at the centroid of their overlap ``inter`` (oblique
+    coordinates): there it is in front throughout (facets meet only at edges)."""
     c = shapely.get_coordinates(shapely.centroid(inter))  # (k, 2)
     z_g = (surf.alpha[owner] * (c[:, 0] - offs[:, 0]) + surf.beta[owner] * (c[:, 1] - offs[:, 1])
            + surf.gamma[owner]) / det[owner]
@@ -283,17 +311,33 @@ def _in_front(surf: Facets, f: int, det, inter, owner, offs) -> np.ndarray:
     return z_g > z_f
 
 
-def to_oblique(surf: Facets, f: int, d) -> list:
-    """Affine map (shapely's 6-list) from plan ``(x, y)`` on facet ``f``'s plane to oblique coords."""
+def to_oblique(surf: Facets, f, d) -> list:
+    """Affine map (shapely's 6-list) from plan ``(x, y)`` on facet ``f``'s plane to oblique coords (for an array
+    of facets, each entry an array of theirs)."""
     al, be, ga = surf.alpha[f], surf.beta[f], surf.gamma[f]
     dx, dy = d
     # s = x - dx z, u = y - dy z, z = al x + be y + ga
     return [1.0 - dx * al, -dx * be, -dy * al, 1.0 - dy * be, -dx * ga, -dy * ga]
 
 
-def from_oblique(surf: Facets, f: int, d) -> list:
-    """Inverse of :func:`to_oblique` (the facet must not be edge-on)."""
+def from_oblique(surf: Facets, f, d) -> list:
+    """Inverse of :func:`to_oblique` (the facet must not be edge-on; an array of facets as there)."""
     a, b, c, e, xo, yo = to_oblique(surf, f, d)
     det = a * e - b * c
     ia, ib, ic, ie = e / det, -b / det, -c / det, a / det
     return [ia, ib, ic, ie, -(ia * xo + ib * yo), -(ic * xo + ie * yo)]
+
+
+def affine_each(geometries, matrix) -> np.ndarray:
+    """Each 2D geometry of an array mapped by its own affine map: ``matrix`` is shapely's 6-list
+    ``[a, b, d, e, xoff, yoff]`` with an (n,) array of each entry, one a geometry (:func:`from_oblique` of n
+    facets). The arithmetic of ``shapely.affinity.affine_transform``, coordinate by coordinate, to the bit, in one
+    pass over all the coordinates."""
+    per_point = np.repeat(np.arange(len(geometries)), shapely.get_num_coordinates(geometries))
+    a, b, d, e, xoff, yoff = (np.asarray(m, float)[per_point] for m in matrix)
+
+    def mapped(coords):
+        x, y = coords.T
+        return np.stack([a * x + b * y + xoff, d * x + e * y + yoff]).T
+
+    return shapely.transform(geometries, mapped)

@@ -84,7 +84,19 @@ from .. import sweep
 from ..shading import EXTRAS, Lighting, check_incidence, check_light_azimuth, facet_sums, light_direction, view_direction
 from ..sweep import sweep_views
 from ..views import is_grazing
-from .clipping import EDGE_ON, MIN_OVERLAP, Facets, area_parts, from_oblique, overlay, period_facets, to_oblique, visible_regions
+from .clipping import (
+    EDGE_ON,
+    MIN_OVERLAP,
+    Facets,
+    affine_each,
+    area_parts,
+    area_parts_each,
+    from_oblique,
+    overlay,
+    period_facets,
+    to_oblique,
+    visible_regions,
+)
 from .settings import ReferenceSettings
 
 __all__ = [
@@ -189,17 +201,34 @@ def _lit_regions_at(surf: Facets, incidence: float, shadows: bool, light_azimuth
         return [shapely.Polygon() for _ in surf.footprints]
     d = np.array([L[0] / L[2], L[1] / L[2]])
     regions, det = visible_regions(surf, d, grid_size)
-    _check_sum(float(sum(shapely.area(r) for r in regions)), f"light view (incidence {incidence})", grid_size)
-    out = []
-    for f, region in enumerate(regions):
-        if det[f] <= EDGE_ON or ndotl[f] <= 0 or region.is_empty:
-            out.append(shapely.Polygon())
-            continue
-        out.append(_lit_footprint(surf, f, region, det[f], d, grid_size))
+    regions = np.array(regions, dtype=object)
+    _check_sum(float(sum(shapely.area(regions))), f"light view (incidence {incidence})", grid_size)
+    out = np.array([shapely.Polygon() for _ in regions], dtype=object)
+    lit = np.flatnonzero((det > EDGE_ON) & (ndotl > 0) & ~shapely.is_empty(regions))
+    out[lit] = _lit_footprints(surf, lit, regions[lit], det[lit], d, grid_size)
     # mapped back onto their facets, the lit parts still fill the light's view (areas scale by det)
-    _check_sum(float(sum(r.area * dt for r, dt in zip(out, det) if dt > EDGE_ON)),
-               f"lit footprints (incidence {incidence})", grid_size)
-    return out
+    front = det > EDGE_ON
+    _check_sum(float(sum(shapely.area(out[front]) * det[front])), f"lit footprints (incidence {incidence})",
+               grid_size)
+    return list(out)
+
+
+def _lit_footprints(surf: Facets, facets, regions, det, d, grid_size=None) -> np.ndarray:
+    """:func:`_lit_footprint` of each of ``facets`` ((n,), their visible ``regions`` and area ratios ``det``), in
+    double precision in whole-array GEOS calls; a facet whose footprint does not pass there (or all of them, if
+    GEOS raises) goes through :func:`_lit_footprint` alone."""
+    done = np.zeros(len(facets), bool)
+    lit = np.empty(len(facets), dtype=object)
+    if grid_size is None:
+        plan = affine_each(regions, from_oblique(surf, facets, d))
+        try:
+            lit = area_parts_each(shapely.intersection(plan, np.array(surf.footprints, dtype=object)[facets]))
+            done = np.abs(shapely.area(lit) * det - shapely.area(regions)) <= AREA_TOLERANCE
+        except shapely.errors.GEOSException:  # which facet raised is not known: each one alone
+            pass
+    for i in np.flatnonzero(~done):
+        lit[i] = _lit_footprint(surf, facets[i], regions[i], det[i], d, grid_size)
+    return lit
 
 
 def _lit_footprint(surf: Facets, f: int, region, det: float, d, grid_size=None):
@@ -234,6 +263,16 @@ def _without_slivers(region):
     return area_parts(shapely.union_all(parts)) if parts else shapely.Polygon()
 
 
+def _without_slivers_each(regions) -> list:
+    """:func:`_without_slivers` of each of a list of regions: those with a part of no area alone, the others
+    found in one GEOS call and kept as they are."""
+    regions = list(regions)
+    parts, owner = shapely.get_parts(np.array(regions, dtype=object), return_index=True)
+    for f in np.unique(owner[shapely.area(parts) <= MIN_OVERLAP]):
+        regions[f] = _without_slivers(regions[f])
+    return regions
+
+
 class LitScene:
     """Everything of a sweep that does not depend on the view."""
 
@@ -243,11 +282,10 @@ class LitScene:
         self.light_azimuth = check_light_azimuth(light_azimuth)
         #: unit vector toward the light
         self.light = light_direction(self.incidence, self.light_azimuth)
-        self.lit = [_without_slivers(region)
-                    for region in _lit_regions(self.surf, self.incidence, bool(shadows), self.light_azimuth)]
-        fp_area = np.array([fp.area for fp in self.surf.footprints])
+        self.lit = _without_slivers_each(_lit_regions(self.surf, self.incidence, bool(shadows), self.light_azimuth))
+        fp_area = shapely.area(np.array(self.surf.footprints, dtype=object))
         self.fp_area = fp_area
-        lit_area = np.array([r.area for r in self.lit])
+        lit_area = shapely.area(np.array(self.lit, dtype=object))
         self.all_lit = np.abs(lit_area - fp_area) <= 1e-15 * np.maximum(fp_area, 1.0)
         self.none_lit = lit_area <= 0.0
 
