@@ -120,32 +120,53 @@ def _kept_regions(surface, incidence: float, shadows: bool, light_azimuth: float
 
 def _facet_regions(surface, incidence: float, shadows: bool, light_azimuth: float) -> Regions:
     import shapely
-    from shapely.geometry.polygon import orient
 
-    from ..exact.clipping import area_parts
+    from ..exact.clipping import area_parts_each
     from ..exact.reference import lit_scene
 
     scene = lit_scene(surface, incidence, shadows, light_azimuth)
     surf = scene.surf
-    facet, lit_flag, rings = [], [], []
-    for f in range(len(surf.names)):
-        footprint, lit = surf.footprints[f], scene.lit[f]
-        shadowed = footprint if lit.is_empty else area_parts(shapely.difference(footprint, lit))
-        for flag, region in ((True, lit), (False, shadowed)):
-            region_rings = []
-            for polygon in shapely.get_parts(region):
-                if polygon.is_empty or polygon.area <= 0.0:
-                    continue
-                polygon = orient(polygon, 1.0)
-                for ring in (polygon.exterior, *polygon.interiors):
-                    xy = np.asarray(ring.coords, float)[:-1, :2]
-                    z = surf.alpha[f] * xy[:, 0] + surf.beta[f] * xy[:, 1] + surf.gamma[f]
-                    region_rings.append(np.column_stack([xy, z]))
-            facet.append(f)
-            lit_flag.append(flag)
-            rings.append(region_rings)
-    return Regions(np.asarray(facet, int), np.asarray(lit_flag, bool), rings, np.asarray(surf.normals, float),
+    n_facets = len(surf.names)
+    lit = np.array(scene.lit, dtype=object)
+    shadowed = np.array(surf.footprints, dtype=object)
+    cut = np.flatnonzero(~shapely.is_empty(lit))
+    shadowed[cut] = area_parts_each(shapely.difference(shadowed[cut], lit[cut]))
+    facet = np.repeat(np.arange(n_facets), 2)  # each facet's lit part, then its shadowed part
+    region = np.empty(2 * n_facets, dtype=object)
+    region[0::2], region[1::2] = lit, shadowed
+    rings = _region_rings(region, surf.alpha[facet], surf.beta[facet], surf.gamma[facet])
+    return Regions(facet, np.tile([True, False], n_facets), rings, np.asarray(surf.normals, float),
                    np.asarray(surf.alpha, float), np.asarray(surf.beta, float))
+
+
+def _region_rings(regions, alpha, beta, gamma) -> list:
+    """Each region's boundary rings with their heights, for :class:`Regions`: (n, 3) arrays, each polygon of
+    positive area oriented (its exterior counter-clockwise, then its holes clockwise), its closing corner left out.
+
+    Parameters
+    ----------
+    regions : (R,) object array
+        Shapely polygons or multipolygons in plan coordinates.
+    alpha, beta, gamma : (R,) arrays
+        The plane ``z = alpha x + beta y + gamma`` of each region's facet.
+    """
+    import shapely
+
+    parts, owner = shapely.get_parts(regions, return_index=True)
+    kept = ~shapely.is_empty(parts) & (shapely.area(parts) > 0.0)
+    parts, owner = shapely.orient_polygons(parts[kept], exterior_cw=False), owner[kept]
+    rings, ring_polygon = shapely.get_rings(parts, return_index=True)
+    xy, ring_of = shapely.get_coordinates(rings, return_index=True)
+    corner = np.ones(len(xy), bool)
+    corner[np.cumsum(shapely.get_num_coordinates(rings)) - 1] = False  # each ring's closing corner
+    xy, ring_of = xy[corner], ring_of[corner]
+    r = owner[ring_polygon][ring_of]
+    corners = np.column_stack([xy, alpha[r] * xy[:, 0] + beta[r] * xy[:, 1] + gamma[r]])
+    out = [[] for _ in range(len(regions))]
+    ring_owner = owner[ring_polygon]
+    for k, ring in enumerate(np.split(corners, np.cumsum(np.bincount(ring_of, minlength=len(rings)))[:-1])):
+        out[ring_owner[k]].append(ring)
+    return out
 
 
 def adaptive_regions(surface, incidence: float, shadows: bool, light_azimuth: float = 0.0) -> Regions:
@@ -233,7 +254,8 @@ def all_facing(regions: Regions, shear) -> np.ndarray:
     its exact projected area (:func:`area_shares`, :func:`projected_areas`), with no rendering.
     """
     shear = np.atleast_2d(np.asarray(shear, float))
-    return np.all(front_facing(regions, np.arange(len(regions.facet)), shear), axis=1)
+    # each facet a region belongs to, once (a random tile has two regions a facet)
+    return np.all(area_ratio(regions, shear)[:, np.unique(regions.facet)] > FACING, axis=1)
 
 
 def exact_views(regions: Regions, shear, batch: int = 1024) -> np.ndarray:
@@ -300,7 +322,10 @@ def projected_areas(regions: Regions, plan_areas, shears) -> np.ndarray:
         Each view's plan shift ``d = (V_x / V_z, V_y / V_z)``.
     """
     det = area_ratio(regions, shears)
-    return plan_areas[None, :] * np.where(det > FACING, det, 0.0)[:, regions.facet]
+    det[~(det > FACING)] = 0.0  # where the facet does not face the view
+    out = np.take(det, regions.facet, axis=1)
+    out *= plan_areas[None, :]
+    return out
 
 
 def _facet_shares(share, regions: Regions):
@@ -546,10 +571,16 @@ def normalised_shares(visible, per_tile: int, total=None, areas=None) -> np.ndar
         as its projection holds: the ratio then gives its exact area); elsewhere, or without them, it is
         ``visible / per_tile``.
     """
-    plain = visible / per_tile
-    share = plain if total is None else np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), plain)
+    if total is None:
+        share = visible / per_tile
+    else:  # np.where(total > 0.5, areas * visible / np.maximum(total, 1.0), visible / per_tile), in one array
+        share = areas * visible
+        share /= np.maximum(total, 1.0)
+        np.divide(visible, per_tile, out=share, where=~(total > 0.5))
     sums = share.sum(axis=1, keepdims=True)
-    return np.where(sums > 0, share / np.where(sums > 0, sums, 1.0), 0.0)
+    share /= np.where(sums > 0, sums, 1.0)
+    share[~(sums[:, 0] > 0)] = 0.0
+    return share
 
 
 class AdaptivePlan(NamedTuple):
