@@ -133,8 +133,9 @@ def pyramid_rms_slope(truncation: float, aspect: float) -> float:
 def rms_slope(polygons) -> float:
     """Plan-area weighted RMS slope ``|grad h|`` of a set of facet polygons (``(name, (n, 3) array)``)."""
     total, weighted = 0.0, 0.0
-    for _, v in polygons:
-        normal = np.cross(v[1] - v[0], v[2] - v[0])
+    corners = np.array([v[:3] for _, v in polygons], float).reshape(-1, 3, 3)
+    normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])  # one call, not one a facet
+    for (_, v), normal in zip(polygons, normals):
         plan = 0.5 * abs(_shoelace(v[:, :2]))
         slope2 = (normal[0] ** 2 + normal[1] ** 2) / normal[2] ** 2
         total += plan

@@ -54,7 +54,10 @@ def period_facets(surface: Surface) -> Facets:
     _, tri_normals, tri_names = period_triangles(surface)
     names = [name for name, _ in polys]
     verts = [np.asarray(v, float) for _, v in polys]
-    normals = np.array([tri_normals[tri_names.index(name)] for name in names], float)
+    first = {}  # each name's first triangle
+    for k, name in enumerate(tri_names):
+        first.setdefault(name, k)
+    normals = np.array([tri_normals[first[name]] for name in names], float)
     alpha = -normals[:, 0] / normals[:, 2]
     beta = -normals[:, 1] / normals[:, 2]
     gamma = np.array([v[0, 2] - al * v[0, 0] - be * v[0, 1] for v, al, be in zip(verts, alpha, beta)])
