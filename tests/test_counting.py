@@ -7,6 +7,7 @@ import shapely
 from roughlight.render import shading
 from roughlight.render.exact import clipping, reference
 from roughlight.render.fast import counting, periodic, raster, sampling, shares
+from roughlight.render.fast.regions import facet_regions
 from roughlight.render.fast.settings import FastSettings
 from roughlight.render.shading import Lighting
 from roughlight.surfaces.roughness import RandomSurface
@@ -28,7 +29,7 @@ def test_visible_and_hidden_counts_are_the_pixel_centres_of_each_region(kind, sh
     on about 1%). The visible centres fill each view once."""
     tile = RandomSurface(kind, 1.0, 1.0, seed=1, cells=2)
     settings = FastSettings().tile_settings().for_tile(tile.cells)
-    regions = shares.facet_regions(tile, 30.0, shadows)
+    regions = facet_regions(tile, 30.0, shadows)
     views = _views([10.0, 35.0, 60.0, 150.0, 172.0], [0.0, 40.0, 95.0, 15.0, 130.0])
     shears = views[:, :2] / views[:, 2:3]
     plan = shares.region_plan_areas(regions)
@@ -115,7 +116,7 @@ def test_region_triangles_cover_each_region_exactly(kind):
     face up (counter-clockwise, so that back-face culling keeps exactly the facets facing a view) and lie on their
     facet's plane."""
     tile = RandomSurface(kind, 1.0, 1.0, seed=2, cells=4)
-    regions = shares.facet_regions(tile, 30.0, True)
+    regions = facet_regions(tile, 30.0, True)
     tris, owner = counting.region_triangles(regions)
     a, b, c = tris[:, 0], tris[:, 1], tris[:, 2]
     twice = (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
@@ -316,7 +317,7 @@ def test_views_counted_without_totals_see_what_the_counted_pass_sees():
     tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=2, cells=2)
     views = _views([3.0, 177.0, 8.0], [30.0, 120.0, 75.0])
     settings = FastSettings().tile_settings().for_tile(tile.cells)
-    regions = shares.facet_regions(tile, 30.0, True)
+    regions = facet_regions(tile, 30.0, True)
     shears = views[:, :2] / views[:, 2:3]
     both = [counting.counted_pixels(regions, shears, sampling.tile_pass(np.arange(3), settings.sampling_matrix(),
                                                                         totals))
@@ -331,9 +332,9 @@ def test_a_tiles_regions_are_computed_once_and_cannot_be_changed():
     the measurements draw one tile many times): the same tile and light give the kept regions, read-only; another
     light or shadows give their own."""
     tile = RandomSurface("random_pyramids", 1.0, 1.0, seed=4, cells=2)
-    first = shares.facet_regions(tile, 30.0, True)
-    assert shares.facet_regions(RandomSurface("random_pyramids", 1.0, 1.0, seed=4, cells=2), 30, True) is first
-    assert shares.facet_regions(tile, 30.0, False) is not first and shares.facet_regions(tile, 45.0, True) is not first
+    first = facet_regions(tile, 30.0, True)
+    assert facet_regions(RandomSurface("random_pyramids", 1.0, 1.0, seed=4, cells=2), 30, True) is first
+    assert facet_regions(tile, 30.0, False) is not first and facet_regions(tile, 45.0, True) is not first
     with pytest.raises(ValueError, match="read-only"):
         first.normals[0, 0] = 0.0
     with pytest.raises(ValueError, match="read-only"):

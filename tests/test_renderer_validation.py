@@ -8,6 +8,7 @@ import pytest
 
 from roughlight.measurements import renderer_validation as rv
 from roughlight.render import views as sweeps
+from roughlight.render.fast.regions import facet_edges, facet_regions, unique_edges
 from roughlight.render.shading import Lighting, phase_angle
 from roughlight.surfaces.surface import Surface
 
@@ -113,7 +114,7 @@ def test_pixel_centres_of_a_projected_region_are_counted_exactly():
     from roughlight.render.fast import shares
     from roughlight.render.fast.sampling import sampling_matrix
 
-    regions = shares.facet_regions(Surface(0.6, 0.8), 30.0, True)
+    regions = facet_regions(Surface(0.6, 0.8), 30.0, True)
     matrix = sampling_matrix(24, "lattice")
     shear = np.array([[0.3, -0.2], [-1.1, 0.4]])
     counts, areas = shares.counts_and_areas(regions, shear, matrix)
@@ -145,7 +146,7 @@ def test_ratio_shares_are_exact_when_every_facet_is_seen_whole():
     from roughlight.render.fast.sampling import sampling_matrix
 
     surface = Surface(0.5, 0.3)
-    regions = shares.facet_regions(surface, 40.0, True)
+    regions = facet_regions(surface, 40.0, True)
     matrix = sampling_matrix(24, "lattice")
     shear = np.array([[0.1, 0.05]])
     counts, _ = shares.counts_and_areas(regions, shear, matrix)
@@ -181,16 +182,15 @@ def test_candidate_lattices_have_the_density_asked_and_different_angles():
 def test_cell_border_edges_are_paired_with_the_next_periods_copy():
     """On the regular surface every edge has a region on both sides once the cell's border edges are paired
     with the next period's copies: each ring edge is kept once, and its second side is a real region."""
-    from roughlight.render.fast import shares
 
-    regions = shares.facet_regions(Surface(0.6, 0.8), 30.0, True)
-    start, end, sides = shares.unique_edges(regions)
+    regions = facet_regions(Surface(0.6, 0.8), 30.0, True)
+    start, end, sides = unique_edges(regions)
     assert (sides >= 0).all()
     # every ring edge is one of them (either way round, or the copy a period over), with its region on a side
     kept = {}
     for (a, b), pair in zip(zip(np.round(start, 9), np.round(end, 9)), sides):
         kept[(tuple(a), tuple(b))] = kept[(tuple(b), tuple(a))] = set(pair)
-    ring_start, ring_end, owner = shares.facet_edges(regions)
+    ring_start, ring_end, owner = facet_edges(regions)
     ring = {(tuple(a), tuple(b), r) for a, b, r in zip(np.round(ring_start, 9), np.round(ring_end, 9), owner)}
     on_border = 0
     for a, b, r in zip(ring_start, ring_end, owner):
@@ -213,8 +213,8 @@ def test_edge_steps_are_the_value_step_across_each_edge():
     from roughlight.render import shading
     from roughlight.render.fast import shares
 
-    regions = shares.facet_regions(Surface(1.0, 1.0), 30.0, True)
-    start, end, sides = shares.unique_edges(regions)
+    regions = facet_regions(Surface(1.0, 1.0), 30.0, True)
+    start, end, sides = unique_edges(regions)
     views = shading.view_direction(np.array([60.0, 20.0]), np.array([40.0, 0.0]))
     shear = views[:, :2] / views[:, 2:3]
     values = shares.region_values(regions, shading.light_direction(30.0), views, Lighting())
@@ -248,7 +248,7 @@ def test_value_discrepancy_is_close_to_a_bound_on_a_views_error():
                                                          indexing="ij"))
     views = shading.view_direction(elevation, azimuth)
     shear = views[:, :2] / views[:, 2:3]
-    regions = shares.facet_regions(surface, 30.0, True)
+    regions = facet_regions(surface, 30.0, True)
     matrices = shares.candidate_lattices(28)
     values = shares.region_values(regions, shading.light_direction(30.0), views, Lighting())
     _, score = shares.choose_lattices(regions, shear, matrices, [np.zeros(2)] * len(matrices), values)
@@ -333,7 +333,7 @@ def test_adaptive_views_where_every_facet_faces_the_detector_are_the_exact_refer
     azimuth, elevation = (g.ravel() for g in np.meshgrid(np.arange(0.0, 180.0, 25.0), [8.0, 40.0, 75.0, 90.0, 130.0],
                                                          indexing="ij"))
     view = shading.view_direction(elevation, azimuth)
-    whole = shares.all_facing(shares.facet_regions(surface, 30.0, True), view[:, :2] / view[:, 2:3])
+    whole = shares.all_facing(facet_regions(surface, 30.0, True), view[:, :2] / view[:, 2:3])
     assert whole.any() and not whole.all()
     exact = reference_sweep(surface, 30.0, azimuth, elevation)
     adaptive = fast_sweep(surface, 30.0, azimuth, elevation, settings=FastSettings(sampling="adaptive"))

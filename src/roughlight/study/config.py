@@ -245,16 +245,15 @@ def _pilot_problems(config: dict) -> list[str]:
                             "plans the test and is never tested; give fewer or other seeds")
     registered = claims(config).get("registered_pilots")
     if registered:
-        from .pilots import read_readings
-
         if not Path(registered).is_file():
             problems.append(f"config: claims.registered_pilots: {registered} does not exist (`make claim-pilots` "
                             "writes it; null renders every ensemble's pilots)")
         else:
-            try:
-                read_readings(registered)
-            except (ValueError, OSError) as exc:
-                problems.append(f"config: claims.registered_pilots: {exc}")
+            header = Path(registered).read_text().partition("\n")[0].strip().split(",")
+            missing = [column for column in PILOT_READING_COLUMNS if column not in header]
+            if missing:
+                problems.append(f"config: claims.registered_pilots: {registered} is not a table of the claim's pilot "
+                                f"readings (no column {', '.join(missing)})")
     return problems + _follower_problems(config)
 
 
@@ -404,6 +403,10 @@ CLAIM_SEED_BASE = 200
 #: The claim's pilots (``claims.pilots``, a count n) are seeds here + 1 ... + n, at the claim's tile size.
 CLAIM_PILOT_BASE = 500
 
+#: The columns of a table of the claim's pilot readings (``claims.registered_pilots``; :mod:`roughlight.study.pilots`
+#: reads and writes it): an ensemble (kind, grid point, incidence, the digest of its pilots' settings) and one of its
+#: readings a row.
+PILOT_READING_COLUMNS = ("kind", "truncation", "aspect", "incidence", "key", "reading", "value")
 #: The claim's tiles by role: the pilots plan the seeds and are never tested; the tested tiles decide.
 CLAIM_ROLES = ("pilots", "tested")
 

@@ -30,11 +30,11 @@ from . import plan
 __all__ = ["COLUMNS", "KEY_COLUMNS", "pilot_key", "pilot_keys", "registered", "registered_ensembles",
            "rendered_folders", "read_readings", "combined_readings", "register"]
 
-#: An ensemble's pilots: its kind, grid point, incidence and :func:`pilot_key`.
-KEY_COLUMNS = ["kind", "truncation", "aspect", "incidence", "key"]
 #: A readings table: an ensemble's reading a row (``reading`` names it, as
 #: :func:`roughlight.analysis.claim_readings.pooled_readings` does; ``value`` is float64).
-COLUMNS = KEY_COLUMNS + ["reading", "value"]
+COLUMNS = list(rl_config.PILOT_READING_COLUMNS)
+#: An ensemble's pilots: its kind, grid point, incidence and :func:`pilot_key`.
+KEY_COLUMNS = COLUMNS[:5]
 
 
 def pilot_key(config: dict, kind: str, truncation: float, aspect: float, incidence: float) -> str:

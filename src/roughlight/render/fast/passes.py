@@ -153,7 +153,7 @@ class Scene(NamedTuple):
     shadow_mode: int
     #: 1 / the surface's height (slightly more), mapping heights to depths in [0, 1)
     depth_scale: float
-    #: adaptive sampling's facet regions (:func:`roughlight.render.fast.shares.facet_regions`), else None
+    #: adaptive sampling's facet regions (:func:`roughlight.render.fast.regions.facet_regions`), else None
     regions: object
 
 

@@ -46,6 +46,7 @@ from .. import shading, sweep
 from ..gl.context import context, gl, release_contexts
 from . import raster, sampling, shares
 from .passes import Scene, batch_poses, begin_pass, draw, make_scene, primitive, set_lighting_uniforms, set_viewport_uniforms
+from .regions import adaptive_regions, facet_regions
 from .settings import FastSettings
 
 
@@ -115,7 +116,7 @@ def _counted_views(out, surface, light, todo, views, lighting, settings) -> None
     counted on the CPU (:func:`counted_shares`), weighted by its 8-bit values. ``light``: (incidence, light
     azimuth), degrees."""
     incidence, light_azimuth = light
-    regions = shares.adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
+    regions = adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
     lit, shadow, _ = counted_shares(surface, incidence, views, lighting, settings, regions)
     _add_from_shares(out, todo, 1.0, regions, views, lit, shadow, shading.light_direction(*light), lighting, 1.0)
 
@@ -142,7 +143,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     settings : FastSettings
         The tile's own (:meth:`FastSettings.for_surface`): its ``pixels_per_period`` is per tile.
     regions : Regions, optional
-        :func:`roughlight.render.fast.shares.facet_regions` of the tile under this light (computed when not given).
+        :func:`roughlight.render.fast.regions.facet_regions` of the tile under this light (computed when not given).
 
     Returns
     -------
@@ -152,7 +153,7 @@ def counted_shares(surface, incidence: float, views, lighting, settings, regions
     """
     from .counting import counted_views, region_triangles
 
-    regions = regions if regions is not None else shares.facet_regions(surface, incidence, lighting.shadows)
+    regions = regions if regions is not None else facet_regions(surface, incidence, lighting.shadows)
     views = np.atleast_2d(np.asarray(views, float))
     shears = views[:, :2] / views[:, 2:3]
     plan = shares.region_plan_areas(regions)
@@ -190,7 +191,7 @@ def _render_views(out, surface, light, todo, views, lighting, settings) -> None:
     light_dir = shading.light_direction(incidence, light_azimuth)
     regions = None
     if settings.sampling == "adaptive":
-        regions = shares.adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
+        regions = adaptive_regions(surface, incidence, lighting.shadows, light_azimuth)
         plan = shares.adaptive_plan(regions, views, light_dir, lighting, settings)
         _add_from_shares(out, todo[plan.exact], 1.0, regions, views[plan.exact], plan.lit, plan.shadow, light_dir,
                          lighting, 1.0)
