@@ -136,15 +136,11 @@ def rms_slope(polygons) -> float:
     corners = np.array([v[:3] for _, v in polygons], float).reshape(-1, 3, 3)
     normals = np.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])  # one call, not one a facet
     for (_, v), normal in zip(polygons, normals):
-        plan = 0.5 * abs(_shoelace(v[:, :2]))
+        plan = 0.5 * abs(twice_signed_area(v[:, 0], v[:, 1]))
         slope2 = (normal[0] ** 2 + normal[1] ** 2) / normal[2] ** 2
         total += plan
         weighted += plan * slope2
     return math.sqrt(weighted / total)
-
-
-def _shoelace(xy: np.ndarray) -> float:
-    return twice_signed_area(xy[:, 0], xy[:, 1])
 
 
 def random_generator(kind: str, truncation: float, aspect: float, seed: int) -> np.random.Generator:

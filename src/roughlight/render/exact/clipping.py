@@ -19,7 +19,7 @@ import shapely
 from ...surfaces.geometry import facet_polygons, period_triangles
 from ...surfaces.surface import Surface
 
-__all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "area_parts_each", "affine_each", "overlay",
+__all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "affine_each", "overlay",
            "visible_regions", "to_oblique", "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
 
 #: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
@@ -124,25 +124,15 @@ def _polygonal(geometry, grid_size):
 def area_parts(geometry):
     """The polygons of a geometry, valid, without the lines and points an overlay can leave (they carry no area);
     of an array of geometries, each one's, made valid in one GEOS call."""
-    if isinstance(geometry, np.ndarray):
+    if isinstance(geometry, np.ndarray):  # made valid once: make_valid keeps a valid geometry as it is
         valid = np.array(shapely.make_valid(geometry), dtype=object, ndmin=1)
         for i in np.flatnonzero(~_is_polygonal(valid)):
-            valid[i] = area_parts(valid[i])
+            valid[i] = _polygons_of(valid[i])
         return valid
     geometry = shapely.make_valid(geometry)
     if geometry.geom_type in ("Polygon", "MultiPolygon"):
         return geometry
     return _polygons_of(geometry)
-
-
-def area_parts_each(geometries) -> np.ndarray:
-    """:func:`area_parts` of each geometry of an array, one by one (what a loop of its scalar calls gives, to the
-    bit), made valid in one GEOS call: each non-polygonal result is reduced to its polygons without being made
-    valid again."""
-    valid = np.array(shapely.make_valid(geometries), dtype=object, ndmin=1)
-    for i in np.flatnonzero(~_is_polygonal(valid)):
-        valid[i] = _polygons_of(valid[i])
-    return valid
 
 
 def _is_polygonal(geometries) -> np.ndarray:

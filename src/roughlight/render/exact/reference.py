@@ -90,7 +90,6 @@ from .clipping import (
     Facets,
     affine_each,
     area_parts,
-    area_parts_each,
     from_oblique,
     overlay,
     period_facets,
@@ -222,7 +221,7 @@ def _lit_footprints(surf: Facets, facets, regions, det, d, grid_size=None) -> np
     if grid_size is None:
         plan = affine_each(regions, from_oblique(surf, facets, d))
         try:
-            lit = area_parts_each(shapely.intersection(plan, np.array(surf.footprints, dtype=object)[facets]))
+            lit = area_parts(shapely.intersection(plan, np.array(surf.footprints, dtype=object)[facets]))
             done = np.abs(shapely.area(lit) * det - shapely.area(regions)) <= AREA_TOLERANCE
         except shapely.errors.GEOSException:  # which facet raised is not known: each one alone
             pass

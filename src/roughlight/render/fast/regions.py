@@ -73,7 +73,7 @@ def _kept_regions(surface, incidence: float, shadows: bool, light_azimuth: float
 def _facet_regions(surface, incidence: float, shadows: bool, light_azimuth: float) -> Regions:
     import shapely
 
-    from ..exact.clipping import area_parts_each
+    from ..exact.clipping import area_parts
     from ..exact.reference import lit_scene
 
     scene = lit_scene(surface, incidence, shadows, light_azimuth)
@@ -82,7 +82,7 @@ def _facet_regions(surface, incidence: float, shadows: bool, light_azimuth: floa
     lit = np.array(scene.lit, dtype=object)
     shadowed = np.array(surf.footprints, dtype=object)
     cut = np.flatnonzero(~shapely.is_empty(lit))
-    shadowed[cut] = area_parts_each(shapely.difference(shadowed[cut], lit[cut]))
+    shadowed[cut] = area_parts(shapely.difference(shadowed[cut], lit[cut]))
     facet = np.repeat(np.arange(n_facets), 2)  # each facet's lit part, then its shadowed part
     region = np.empty(2 * n_facets, dtype=object)
     region[0::2], region[1::2] = lit, shadowed

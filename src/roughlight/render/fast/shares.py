@@ -93,8 +93,8 @@ def all_facing(regions: Regions, shear) -> np.ndarray:
     its exact projected area (:func:`area_shares`, :func:`projected_areas`), with no rendering.
     """
     shear = np.atleast_2d(np.asarray(shear, float))
-    # each facet a region belongs to, once (a random tile has two regions a facet)
-    return np.all(area_ratio(regions, shear)[:, np.unique(regions.facet)] > FACING, axis=1)
+    _, first = np.unique(regions.facet, return_index=True)  # a region of each facet (a random tile has two)
+    return np.all(front_facing(regions, first, shear), axis=1)
 
 
 def exact_views(regions: Regions, shear, batch: int = 1024) -> np.ndarray:
