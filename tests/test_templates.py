@@ -452,3 +452,17 @@ def test_a_changed_template_caption_or_section_changes_the_pages_code_digest(tmp
         before = registry.page_code_digest(root)
         (root / edited).write_text((root / edited).read_text() + " ")
         assert registry.page_code_digest(root) != before, edited
+
+
+def test_captions_the_page_shows_whole_lose_their_rst_literal_markup(tmp_path, monkeypatch):
+    """The page shows a caption file as plain text: an RST inline literal (two backquotes either side, what
+    Snakemake's report sets as code) reaches the page as its text alone, whichever way the page reads the file."""
+    from roughlight.report import registry
+
+    shipped = T.caption_text("random_ensembles")
+    assert "surface.seeds" in shipped and "``" not in shipped
+    assert "``surface.seeds``" in (registry.CAPTION_DIR / "random_ensembles.rst").read_text(encoding="utf-8")
+    (tmp_path / "x.rst").write_text("A ``results/a.csv`` and\n``b``.\n\n*On the page:* the ``c`` column.\n")
+    monkeypatch.setattr(registry, "CAPTION_DIR", tmp_path)
+    assert T.caption_text("x") == "A results/a.csv and\nb.\n\n*On the page:* the c column."
+    assert T.table_caption("x") == "the c column."

@@ -210,7 +210,7 @@ def figure_section(section: str, figures: dict | None = None) -> dict:
 
 def table_caption(name: str) -> str:
     """A table's caption on the page: the ``*On the page:*`` paragraph of ``captions/{name}.rst``, as one line."""
-    text = (registry.CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8")
+    text = registry.caption_source(name)
     found = re.search(r"^\*On the page:\*\s*(.+?)\s*(?=^\*|\Z)", text, re.M | re.S)
     if not found:
         raise ValueError(f"captions/{name}.rst has no *On the page:* paragraph")
@@ -224,7 +224,7 @@ def table_captions() -> dict:
 
 def caption_text(name: str) -> str:
     """A caption's whole text from ``workflow/report/{name}.rst`` (for parts the registry does not list)."""
-    return (registry.CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8").strip()
+    return registry.caption_source(name).strip()
 
 
 def existing(path) -> str | None:

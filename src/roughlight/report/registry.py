@@ -151,11 +151,22 @@ def figure(name: str) -> Figure:
     return _BY_NAME[name]
 
 
+#: An RST inline literal (its text between two pairs of backquotes): Snakemake's report sets it as code, the HTML
+#: page as its plain text.
+_LITERAL = re.compile(r"``(.+?)``", re.S)
+
+
+def caption_source(name: str) -> str:
+    """A caption file's text (``captions/{name}.rst``) as the HTML page shows it: plain text, its inline literals'
+    markup taken off (the page escapes what it shows; only Snakemake's report renders the RST)."""
+    return _LITERAL.sub(r"\1", (CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8"))
+
+
 def caption(name: str) -> dict:
     """Title and caption of a figure from its .rst file: ``{"title", "thesis", "ours"}`` (plain text)."""
     if name not in _BY_NAME:
         raise KeyError(f"no figure {name!r} in the registry")
-    text = (CAPTION_DIR / f"{name}.rst").read_text(encoding="utf-8")
+    text = caption_source(name)
     title = re.search(r"^\*\*(.+?)\.?\*\*", text, re.M)
     thesis = re.search(r"^\*Thesis:\*\s*(.+?)\s*(?=^\*Ours:\*|\Z)", text, re.M | re.S)
     ours = re.search(r"^\*Ours:\*\s*(.+?)\s*\Z", text, re.M | re.S)
