@@ -39,7 +39,7 @@ print(json.dumps(sorted(ran_on)))
 
 
 def _run(platform: str, path, extra_env=None) -> list:
-    env = {**os.environ, "PYOPENGL_PLATFORM": platform, "LP_NUM_THREADS": "1", **(extra_env or {})}
+    env = {**os.environ, "PYOPENGL_PLATFORM": platform, "LP_NUM_THREADS": "0", **(extra_env or {})}
     done = subprocess.run([sys.executable, "-c", SWEEPS, str(path)], capture_output=True, text=True, env=env,
                           timeout=600)
     assert done.returncode == 0, done.stderr[-3000:]

@@ -3,8 +3,8 @@
 Users edit ``grid`` (and the ``sweep`` steps) and rerun, leaving every other key at its default. The keys that
 depend on the grid (``surface.random_grid``, ``report.table_aspects``, ``report.table_incidence``) follow it when
 left unset; set outside the grid, they stop the run before any work. The whole report is built here for grids
-drawn by hypothesis (in one process: :mod:`tests.report_chain`), and by snakemake for the issue's own grids
-(``test_workflow_builds_a_report_for_each_users_grid``).
+drawn by hypothesis and for the issue's first grid (in one process: :mod:`tests.report_chain`), and by snakemake for
+its second (``test_workflow_builds_a_report_for_each_users_grid``).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from roughlight.study import config as rl_config
 from roughlight.surfaces.surface import aspect_label
 
 from .report_chain import SCHEMA, resolved, whole_report
-from .users_workflow import CLAIM_TILES, DEFAULT, GRIDS, MEASUREMENTS, SEEDS, grid_config, kept
+from .users_workflow import CLAIM_TILES, DEFAULT, GRIDS, ISSUE_GRIDS, MEASUREMENTS, SEEDS, grid_config, kept
 
 S32 = math.sqrt(3.0) / 2.0
 SECTIONS = ("study", "tables", "specular", "diffuse", "lobes", "glm", "models", "implicit", "export", "random",
@@ -204,10 +204,10 @@ def test_the_whole_report_draws_the_same_grids():
 @seed(DRAW_SEED)
 @WHOLE_REPORT
 @given(**user_grids)
-# the issue's first grid (t 0.3, 1 a 0.6 i 30 at 30 x 90 degrees) is built end to end by snakemake
+# the issue's first grid (tests/users_workflow.py's ISSUE_GRIDS[0]); its second is built end to end by snakemake
 # (tests/users_workflow.py, checked below)
-@example(truncation=[0.2, 0.5, 0.8, 1.0], aspect=[0.4, 0.9], incidence=[30],
-         sweep={"elevation_step": 15, "azimuth_step": 45})
+@example(truncation=ISSUE_GRIDS[0]["grid"]["truncation"], aspect=ISSUE_GRIDS[0]["grid"]["aspect"], incidence=[30],
+         sweep=ISSUE_GRIDS[0]["sweep"])
 @example(truncation=[0.5], aspect=[1.0], incidence=[45], sweep={"elevation_step": 45, "azimuth_step": 180})
 def test_any_users_grid_gives_the_whole_report(tmp_path_factory, truncation, aspect, incidence, sweep):
     user = user_config({"truncation": truncation, "aspect": aspect, "incidence": incidence}, sweep)
@@ -227,9 +227,10 @@ def test_any_users_grid_gives_the_whole_report(tmp_path_factory, truncation, asp
 
 @pytest.mark.slow
 def test_workflow_builds_a_report_for_each_users_grid(users_workflow):
-    """The issue's grids, one after the other in one directory, each edited into a user's --configfile over
-    config/config.yaml as shipped (random kinds, every report section; :data:`SEEDS` seeds a kind, the measurements
-    at :data:`MEASUREMENTS`' plan; tests/users_workflow.py runs them): each run ends with the whole report."""
+    """The issue's grid run by snakemake (tests/users_workflow.py's GRIDS, one after the other in one directory:
+    its second; the first is an example of the in-process test above), edited into a user's --configfile over
+    config/config.yaml as shipped (a random kind, every report section; :data:`SEEDS` seeds a kind, the measurements
+    at :data:`MEASUREMENTS`' plan): each run ends with the whole report."""
     for k, grid in enumerate(GRIDS):
         out = kept(users_workflow, k)
         log = (out / "snakemake.log").read_text()
@@ -242,7 +243,7 @@ def test_workflow_builds_a_report_for_each_users_grid(users_workflow):
         assert sorted(set(study.loc[study["kind"] == "pyramids", "truncation"])) == grid["grid"]["truncation"]
         tables = pd.read_csv(out / "thesis_tables.csv")
         assert set(tables.loc[tables["source"] == "ours", "aspect"]) == set(cfg["report"]["table_aspects"])
-        # the export does not follow the grid: written by the first run, the same for the second
+        # the export does not follow the grid: export.surfaces' own surface, whatever the grid
         exported = pd.read_csv(out / "export_summary.csv")
         assert set(exported["method"]) == {"implicit_table", "mitsuba_measured"} and (exported["views"] == 20).all()
         assert 'id="fig-export"' in html and "truncation 0.5, aspect 1: the share table" in html

@@ -3,8 +3,11 @@ exact reference, and what light that bounces adds to the diffuse, with its chart
 import os
 import sys
 
-os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
 sys.path.insert(0, os.path.dirname(__file__))
+
+import _gl  # noqa: E402
+
+_gl.threads(snakemake)  # Dr.Jit's threads, before Mitsuba loads
 
 import _log  # noqa: E402
 

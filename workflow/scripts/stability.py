@@ -2,12 +2,11 @@
 import os
 import sys
 
-os.environ.setdefault("LP_NUM_THREADS", str(snakemake.threads))
 sys.path.insert(0, os.path.dirname(__file__))
 
 import _gl  # noqa: E402
 
-_gl.use(snakemake)  # render.platform, before anything loads OpenGL
+_gl.use(snakemake)  # render.platform and the renderers' threads, before anything loads OpenGL
 
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
