@@ -68,7 +68,7 @@ EXPECTED_SECONDS = {
     "tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid": 1.5,  # reads what users_workflow kept
     "tests/test_user_grids.py::test_any_users_grid_gives_the_whole_report": 45,  # alone, with the drafts
     "tests/test_cluster.py::": 1.5,  # its scenario runs in the background from the start (scenario.py)
-    "tests/test_report.py::test_workflow_builds_the_report_and_lints": 25,
+    "tests/test_report.py::test_workflow_builds_the_report_and_follows_its_settings": 25,
     "tests/test_workflow.py::test_tiny_study_end_to_end": 17,
     "tests/test_random.py::test_adding_a_seed_renders_only_it": 14,
     "tests/test_workflow.py::test_unwritable_results_and_corrupt_sweeps": 11,
@@ -104,7 +104,7 @@ GROUPS = (
     ("tests/test_workflow.py::test_tiny_study_end_to_end", "tiny_run"),
     ("tests/test_workflow.py::test_unwritable_results", "tiny_run"),
     ("tests/test_workflow.py::test_broken_osmesa", "tiny_run"),
-    ("tests/test_report.py::test_workflow_builds_the_report_and_lints", "users_workflow"),
+    ("tests/test_report.py::test_workflow_builds_the_report_and_follows_its_settings", "users_workflow"),
     ("tests/test_user_grids.py::test_workflow_builds_a_report_for_each_users_grid", "users_workflow"),
     ("tests/test_report.py::test_optional_parts_follow_the_config_not_the_files", None),
     ("tests/test_report.py::", "built"),
