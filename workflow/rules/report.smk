@@ -199,6 +199,7 @@ rule claim_discs:
         "results/logs/report/claim_discs.log",
     benchmark:
         "results/logs/report/claim_discs.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
@@ -224,6 +225,7 @@ rule claim_pilots:
         "results/logs/report/claim_pilots.log",
     benchmark:
         "results/logs/report/claim_pilots.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
@@ -254,6 +256,7 @@ rule claim_design:
         "results/logs/report/claim_design.log",
     benchmark:
         "results/logs/report/claim_design.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1
@@ -305,6 +308,7 @@ rule analysis_random:
         "results/logs/report/random.log",
     benchmark:
         "results/logs/report/random.benchmark.tsv"
+    priority: PRIORITY_STUDY_CHAIN
     conda:
         "../../envs/study.yaml"
     threads: 1

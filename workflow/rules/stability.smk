@@ -17,6 +17,7 @@ rule stability_measurement:
         "results/logs/stability/{plan}/{measurement}.benchmark.tsv"
     wildcard_constraints:
         measurement=STABILITY_JOBS,
+    priority: PRIORITY_SCANS
     conda:
         "../../envs/render.yaml"
     threads: 1
@@ -44,6 +45,7 @@ rule stability:
         "results/logs/stability/{plan}/stability.log",
     benchmark:
         "results/logs/stability/{plan}/stability.benchmark.tsv"
+    priority: PRIORITY_SCANS
     conda:
         "../../envs/render.yaml"
     threads: 1
