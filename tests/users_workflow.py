@@ -2,9 +2,9 @@
 
 The grid runs in one workflow copy, a user's ``--configfile`` over config/config.yaml as shipped (every report
 section). What its report and tables say is kept in ``grids/<k>/`` (:data:`KEPT`), for ``tests/test_user_grids.py``
-to check the whole report; the copy itself ends finished, for ``tests/test_report.py`` to lint it, build Snakemake's
-own report and follow report settings from it. One run serves both: apart, each built a whole workflow of its own
-(issue 46).
+to check the whole report; the copy itself ends finished, for ``tests/test_report.py`` to check it is, build
+Snakemake's own report and follow report settings from it. One run serves both: apart, each built a whole workflow
+of its own (issue 46).
 
 Of the issue's two grids (:data:`ISSUE_GRIDS`), the second runs here: its four truncations and two aspects give the
 report a table aspect to follow to, and one random kind. The first runs no rule the second does not: it is built

@@ -45,8 +45,8 @@ OLDEST_LLVM = 16
 #: Where libLLVM is looked for (with ``LD_LIBRARY_PATH``'s folders first and ``/usr/lib/llvm-*/lib`` last).
 LIBRARY_DIRS = ("/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib64", "/usr/lib",
                 "/usr/local/lib")
-#: The environment variables that set Dr.Jit's worker threads, the first set one winning (a workflow job's
-#: ``LP_NUM_THREADS`` is its rule's ``threads``, workflow/scripts/sweep.py).
+#: The environment variables that set Dr.Jit's worker threads, the first set above 0 winning (a workflow job sets
+#: ``ROUGHLIGHT_THREADS`` to its rule's ``threads``, and ``LP_NUM_THREADS`` to 0 at one thread: workflow/scripts/_gl.py).
 THREADS_VARIABLES = ("ROUGHLIGHT_THREADS", "LP_NUM_THREADS")
 #: What to do when LLVM is missing, the end of the fallback's line.
 LLVM_HELP = "install Debian's libllvm19 (`apt-get install libllvm19`, or `make setup`, which does it)"
