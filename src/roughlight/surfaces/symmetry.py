@@ -20,7 +20,7 @@ import numpy as np
 
 from .roughness import kind_and_seed
 
-__all__ = ["SYMMETRIES", "AzimuthMap", "symmetry", "canonical_light", "canonical_directions"]
+__all__ = ["SYMMETRIES", "AzimuthMap", "symmetry", "canonical_light", "canonical_directions", "square_fold"]
 
 #: What each sort of surface repeats, by :func:`symmetry`'s name: ``isotropic``, ``square``, ``none``.
 SYMMETRIES = ("isotropic", "square", "none")
@@ -107,3 +107,26 @@ def canonical_directions(surface, light, view):
     light, view = np.atleast_2d(np.asarray(light, float)), np.atleast_2d(np.asarray(view, float))
     _, sign, offset = _folds(symmetry(surface), np.degrees(np.arctan2(light[:, 1], light[:, 0])))
     return _turned(light, offset, sign < 0), _turned(view, offset, sign < 0)
+
+
+def square_fold(direction) -> np.ndarray:
+    """The symmetry of the square's eight that takes a direction's azimuth into [0, 45] degrees, as its matrix on
+    plan vectors.
+
+    Parameters
+    ----------
+    direction : (2,) or (3,) array
+        A direction's plan part ``(x, y)`` (a ``z`` is ignored); not vertical.
+
+    Returns
+    -------
+    (2, 2) float array
+        ``M`` with entries in {-1, 0, 1} (a rotation by a multiple of 90 degrees after a mirror ``y -> -y`` or
+        not, :class:`AzimuthMap`'s), such that ``M @ direction[:2]`` has its azimuth in [0, 45]; about the lattice
+        cell's centre it maps square pyramids onto themselves. Exact: a plan point moves without rounding.
+    """
+    direction = np.asarray(direction, float)
+    _, sign, offset = _folds("square", np.degrees(np.arctan2(direction[1:2], direction[0:1])))
+    turn = np.radians(offset[0])
+    c, s = round(float(np.cos(turn))), round(float(np.sin(turn)))
+    return np.array([[c, -s * sign[0]], [s, c * sign[0]]], float)

@@ -18,6 +18,7 @@ import shapely
 
 from ...surfaces.geometry import facet_polygons, period_triangles
 from ...surfaces.surface import Surface
+from ...surfaces.symmetry import symmetry
 
 __all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "affine_each", "overlay",
            "visible_regions", "to_oblique", "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
@@ -45,6 +46,11 @@ class Facets:
     footprints: list = field(default_factory=list)  # shapely polygons in (x, y)
     corners: np.ndarray = None  # (F, n, 3) each facet's vertices, its last repeated up to the most a facet has
     sides: np.ndarray = None  # (F,) int, each facet's vertex count
+    #: what the surface repeats (:func:`roughlight.surfaces.symmetry.symmetry`): ``square`` for regular pyramids
+    symmetry: str = "none"
+    #: views clipped, and facets' images under the square's symmetries (:mod:`roughlight.render.exact.square_views`)
+    views: dict = field(default_factory=dict, repr=False)
+    facet_maps: dict = field(default_factory=dict, repr=False)
 
 
 def period_facets(surface: Surface) -> Facets:
@@ -66,7 +72,8 @@ def period_facets(surface: Surface) -> Facets:
     footprints = [shapely.Polygon(v[:, :2]) for v in verts]
     sides = np.array([len(v) for v in verts])
     corners = np.stack([v[np.minimum(np.arange(sides.max()), len(v) - 1)] for v in verts])
-    return Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints, corners, sides)
+    return Facets(names, verts, normals, alpha, beta, gamma, height, plate, footprints, corners, sides,
+                  symmetry(surface))
 
 
 def lattice_offsets(height: float, d: np.ndarray) -> np.ndarray:
