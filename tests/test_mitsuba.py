@@ -212,3 +212,27 @@ def test_a_tall_tiles_sweep_is_split_by_azimuth_into_fields_within_the_budget():
     out = methods.sweep("mitsuba", tile, 30, np.array([60.0, 60.0]), np.array([2.0, 178.0]), None,
                         MitsubaSettings(pixels_per_period=2, periods=1, samples_per_pixel=2, specular=False))
     np.testing.assert_allclose(out["coverage"], 1.0, atol=1e-3)
+
+
+def test_one_detector_is_moved_from_view_to_view_and_films_are_the_same():
+    """FieldScene builds its sensor once (far enough for its lowest view) and moves it to each view: Dr.Jit keeps
+    one kernel instead of compiling one a view, and each film is the bit-for-bit film of a sensor built for that
+    view alone."""
+    from roughlight.render.mitsuba.field import sensor_matrix, surface_height, tile_triangles, view_groups
+    from roughlight.render.mitsuba.scene import FieldScene
+
+    surface, settings = Surface(0.5, 1.0), MitsubaSettings(variant=LLVM, **SMALL)
+    views = shading.view_direction(np.array([70.0, 20.0, 45.0]), np.array([0.0, 30.0, 120.0]))
+    (rows, cells), = view_groups(len(tile_triangles(surface)), surface_height(surface), shading.light_direction(30.0),
+                                 views, settings.periods)
+    field = FieldScene(surface, 30.0, cells, shading.Lighting(), settings, lowest=float(views[:, 2].min()))
+    films, sensors = [], set()
+    for k in rows:
+        films.append(field.render(views[k], seed=int(k)))
+        sensors.add(id(field._camera[0]))
+    assert len(sensors) == 1  # the 20-degree view came second and needed no new far clip
+    for k, film in zip(rows, films):
+        matrix, far = sensor_matrix(views[k], settings.periods, field.height)
+        alone = field.mi.render(field.scene, sensor=field._new_sensor(matrix, far), seed=int(k))
+        np.testing.assert_array_equal(film, field.film(alone))
+    assert not np.array_equal(films[0], films[1])  # the views differ (the test can fail)
