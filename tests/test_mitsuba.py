@@ -229,10 +229,10 @@ def test_one_detector_is_moved_from_view_to_view_and_films_are_the_same():
     films, sensors = [], set()
     for k in rows:
         films.append(field.render(views[k], seed=int(k)))
-        sensors.add(id(field._camera[0]))
+        sensors.add(id(field.detector))
     assert len(sensors) == 1  # the 20-degree view came second and needed no new far clip
     for k, film in zip(rows, films):
         matrix, far = sensor_matrix(views[k], settings.periods, field.height)
-        alone = field.mi.render(field.scene, sensor=field._new_sensor(matrix, far), seed=int(k))
+        alone = field.mi.render(field.scene, sensor=field.new_sensor(matrix, far), seed=int(k))
         np.testing.assert_array_equal(film, field.film(alone))
     assert not np.array_equal(films[0], films[1])  # the views differ (the test can fail)

@@ -114,14 +114,21 @@ class FieldScene:
         if self.lowest is not None:
             far = max(far, sensor_matrix((0.0, 0.0, float(self.lowest)), self.settings.periods, self.height)[1])
         if self._camera is None or far > self._camera[2]:
-            sensor = self._new_sensor(matrix, far)
+            sensor = self.new_sensor(matrix, far)
             self._camera = (sensor, self.mi.traverse(sensor), far)
         sensor, params, _ = self._camera
         params["to_world"] = self.mi.Transform4f(matrix)
         params.update()
         return sensor
 
-    def _new_sensor(self, matrix, far: float):
+    @property
+    def detector(self):
+        """The sensor moved from view to view (None before the first view)."""
+        return None if self._camera is None else self._camera[0]
+
+    def new_sensor(self, matrix, far: float):
+        """An orthographic detector at ``matrix`` (:func:`roughlight.render.mitsuba.field.sensor_matrix`) with the
+        far clip ``far``, the film and sampler of the settings."""
         side = self.resolution
         return self.mi.load_dict({
             "type": "orthographic", "to_world": self.mi.ScalarTransform4f(matrix), "near_clip": 1e-3,
