@@ -19,6 +19,8 @@ os.environ.setdefault("ROUGHLIGHT_THREADS", "1")
 # tests of where the cache goes set their own environment
 os.environ.setdefault("DRJIT_CACHE_DIR", os.path.join(tempfile.gettempdir(), f"roughlight-drjit-tests-{os.getuid()}"))
 os.makedirs(os.environ["DRJIT_CACHE_DIR"], exist_ok=True)
+# share tables the implicit table model measures on demand: never the user's ~/.cache (tests of it set their own)
+os.environ.setdefault("ROUGHLIGHT_TABLE_CACHE", os.path.join(tempfile.gettempdir(), f"roughlight-tables-tests-{os.getuid()}"))
 
 from .workflow_copy import REPO, copy_workflow, once_a_session  # noqa: E402,F401 (tests import the first two here)
 

@@ -252,3 +252,82 @@ def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
     assert active - given <= (sweep_only if model == "exact" else set())
     # the table's shares are the surface: its shader reads no truncation
     assert {"aspect", "light_dir", "scene_view"} | ({"truncation"} if model != "table" else set()) <= active
+
+
+# ---------------------------------------------------------------------------
+# any light: every implicit model called as a user calls it (issue 58)
+
+#: a surface off the study's grid, lights off the lattice's axes and diagonals, and a view grid the same
+OFF_GRID = Surface(0.65, 0.8)
+LIGHTS = [(40.0, 37.0), (22.0, 200.0)]
+
+
+@pytest.mark.parametrize("incidence, light_azimuth", LIGHTS)
+def test_the_exact_form_lights_from_any_azimuth_within_a_level(incidence, light_azimuth):
+    """methods.sweep("implicit_exact", ..., light_azimuth=psi) with no settings: within a level of the exact
+    reference under the same light at every view (and its numpy form too); a light turned back to azimuth 0 would
+    not be (the test can fail)."""
+    exact = reference.reference_sweep(OFF_GRID, incidence, AZIMUTH, ELEVATION, light_azimuth=light_azimuth)
+    drawn = methods.sweep("implicit_exact", OFF_GRID, incidence, AZIMUTH, ELEVATION, light_azimuth=light_azimuth)
+    numpy_form = implicit.exact_sweep(OFF_GRID, incidence, AZIMUTH, ELEVATION, samples=4181,
+                                      light_azimuth=light_azimuth)
+    for out, mean in ((drawn, 0.1), (numpy_form, 0.25)):
+        for component, err in _errors(out, exact).items():
+            assert err.max() <= 1.0 and err.mean() <= mean, (component, err.max(), err.mean())
+    at_zero = reference.reference_sweep(OFF_GRID, incidence, AZIMUTH, ELEVATION)
+    assert np.abs(at_zero["total"] - exact["total"])[SEEN].max() > 5.0
+
+
+def test_the_correction_lights_from_any_azimuth_as_its_numpy_form():
+    """The correction's shader under a light at azimuth 37 is its numpy form's facet sum under that light."""
+    az, el = AZIMUTH[::3], ELEVATION[::3]
+    drawn = methods.sweep("implicit_correction", OFF_GRID, 40.0, az, el, light_azimuth=37.0)
+    numpy_form = implicit.correction_sweep(OFF_GRID, 40.0, az, el, light_azimuth=37.0)
+    at_zero = implicit.correction_sweep(OFF_GRID, 40.0, az, el)
+    for c in shading.COMPONENTS:
+        assert np.abs(drawn[c] - numpy_form[c]).max() < 0.1, c
+    assert np.abs(at_zero["total"] - numpy_form["total"]).max() > 5.0
+
+
+def test_the_table_model_tabulates_a_surface_the_first_time_and_keeps_it(tmp_path, monkeypatch):
+    """methods.sweep("implicit_table", ...) with no table: the surface's table is measured once at the default
+    nodes (here made small), kept in the cache under a name of the surface and the nodes, and read from there after;
+    its sweep is the sweep with that table given."""
+    from roughlight.render.implicit import load_table, tabulate
+
+    monkeypatch.setenv("ROUGHLIGHT_TABLE_CACHE", str(tmp_path))
+    monkeypatch.setattr(tabulate, "TABLE", {"incidence": [0.0, 30.0, 60.0, 90.0], "edge_on": False,
+                                            "light_azimuth": [0.0, 45.0], "elevation": [10.0, 45.0, 90.0],
+                                            "azimuth_step": 45.0})
+    az, el = AZIMUTH[::5], ELEVATION[::5]
+    first = methods.sweep("implicit_table", OFF_GRID, 35.0, az, el, light_azimuth=100.0)
+    kept = sorted(tmp_path.iterdir())
+    assert len(kept) == 1 and kept[0].name.startswith("t0.65_a0.8_shadows_") and kept[0].suffix == ".npz"
+    given = methods.sweep("implicit_table", OFF_GRID, 35.0, az, el, settings={"table": load_table(kept[0])},
+                          light_azimuth=100.0)
+    for c in shading.COMPONENTS:
+        np.testing.assert_array_equal(first[c], given[c])
+
+    def measured_again(*args, **kwargs):
+        raise AssertionError("the kept table was measured again")
+
+    monkeypatch.setattr(tabulate, "tabulate_surface", measured_again)
+    again = methods.sweep("implicit_table", OFF_GRID, 35.0, az, el, light_azimuth=100.0)
+    np.testing.assert_array_equal(again["total"], first["total"])
+    # other nodes, another surface or no shadows: another table
+    assert len({tabulate.table_key(OFF_GRID), tabulate.table_key(OFF_GRID, {"azimuth_step": 30.0}),
+                tabulate.table_key(Surface(0.65, 0.81)), tabulate.table_key(OFF_GRID, shadows=False)}) == 4
+
+
+@pytest.mark.parametrize("name", ["implicit_exact", "implicit_correction", "implicit_table"])
+def test_what_the_implicit_models_cannot_draw_is_named(name, tmp_path, monkeypatch):
+    """A random tile (no two uniforms make it) and a light below the horizon are refused with what to do."""
+    from roughlight.surfaces.roughness import make_surface
+
+    monkeypatch.setenv("ROUGHLIGHT_TABLE_CACHE", str(tmp_path))
+    tile = make_surface("random_pyramids", 0.5, 0.5, 1, cells=2)
+    with pytest.raises(ValueError, match="regular surfaces.*render.method fast"):
+        methods.sweep(name, tile, 30.0, [0.0], [30.0], light_azimuth=20.0)
+    with pytest.raises(ValueError, match=r"incidence must be within \[0, 90\]"):
+        methods.sweep(name, OFF_GRID, -5.0, [0.0], [30.0], light_azimuth=20.0)
+    assert not list(tmp_path.iterdir())  # nothing was tabulated

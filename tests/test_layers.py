@@ -67,7 +67,7 @@ def test_a_stage_imports_only_the_stages_below_it(module):
 #: numpy, the detector's orbit); each room imports only the rooms named here (and itself); the entry points
 #: (``methods``, the registry, and ``pictures``) reach every method
 RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
-                "naive": {"ground", "gl"}, "implicit": {"ground", "gl"}, "mitsuba": {"ground"}}
+                "naive": {"ground", "gl"}, "implicit": {"ground", "gl", "exact"}, "mitsuba": {"ground"}}
 RENDER_GROUND = {"render", "render.__init__", "render.shading", "render.views", "render.sweep"}
 
 

@@ -87,10 +87,10 @@ def test_random_tiles_repeat_nothing():
     assert np.abs(turned["total"] - study["total"]).max() > 0.5
 
 
-@pytest.mark.parametrize("name", ["naive", "implicit_exact", "implicit_correction"])
-def test_a_method_that_lights_from_azimuth_0_only_refuses_another(name):
-    with pytest.raises(ValueError, match="lights from azimuth 0 only.*measured by fast, reference, implicit_table, mitsuba"):
-        methods.sweep(name, Surface(0.5, 0.5), INCIDENCE, AZ, EL, light_azimuth=45.0)
+def test_a_method_that_lights_from_azimuth_0_only_refuses_another():
+    with pytest.raises(ValueError, match="lights from azimuth 0 only.*measured by fast, reference, implicit_exact, "
+                       "implicit_correction, implicit_table, mitsuba"):
+        methods.sweep("naive", Surface(0.5, 0.5), INCIDENCE, AZ, EL, light_azimuth=45.0)
 
 
 #: light azimuths off the study's: off the lattice's axes, on a diagonal, across the far side

@@ -3,10 +3,12 @@ Mitsuba 3's ``measured`` plugin loads, each checked against the exact reference 
 
 Three steps, each a function:
 
-* :func:`measure_table`: the exact reference's facet shares (:func:`roughlight.render.exact.shares_under`) at
-  every node of a :class:`~roughlight.render.implicit.table.ShareTable`: light incidences x light azimuths in
-  [0, 45] (the square pyramids' symmetry gives every other light) x view elevations x view azimuths. The
-  ``implicit_table`` method draws one quad with it (:mod:`roughlight.render.implicit.shader`).
+* :func:`measure_table` (:mod:`roughlight.render.implicit.tabulate`'s, as are :data:`TABLE`,
+  :func:`incidence_nodes` and :func:`tabulate_surface`): the exact reference's facet shares
+  (:func:`roughlight.render.exact.shares_under`) at every node of a
+  :class:`~roughlight.render.implicit.table.ShareTable`: light incidences x light azimuths in [0, 45] (the square
+  pyramids' symmetry gives every other light) x view elevations x view azimuths. The ``implicit_table`` method
+  draws one quad with it (:mod:`roughlight.render.implicit.shader`).
 * :func:`mitsuba_tables`: the BRDF the table gives (:func:`roughlight.render.implicit.table.table_values`,
   the study's lighting equation a facet) converted to BRDF units and laid out as Mitsuba's ``measured`` file
   (:mod:`roughlight.render.mitsuba.measured`: the file stores ``f_r L_z = I / (pi J)``).
@@ -29,24 +31,13 @@ from dataclasses import replace
 import numpy as np
 
 from ..render import methods, shading
-from ..render.exact import LitScene, shares_under
-from ..render.implicit import CHANNELS, SCALE, ShareTable, table_values
-from ..surfaces.geometry import FACET_NAMES
+from ..render.implicit import TABLE, ShareTable, incidence_nodes, measure_table, table_values, tabulate_surface
 from ..surfaces.surface import Surface
 from . import comparison
 
 __all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_table", "tabulate_surface", "mitsuba_nodes",
            "mitsuba_tables", "write_exports", "check_lights", "check_views", "check", "summary", "export_surface",
            "gather", "resolution_study"]
-
-#: The share table's nodes by default (``export.table``, the schema's defaults): light incidence every 5 degrees
-#: (and, with ``edge_on``, where a side facet turns edge-on to a tabulated light: :func:`incidence_nodes`), light
-#: azimuth every 15 in [0, 45], view elevations closer near the horizon, where the shares change fastest, and view
-#: azimuth every 2.5.
-TABLE = {"incidence": [float(i) for i in range(0, 91, 5)], "edge_on": True, "light_azimuth": [0.0, 15.0, 30.0, 45.0],
-         "elevation": [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0, 12.0, 14.0, 16.0, 19.0, 22.0, 25.0,
-                       28.0, 32.0, 36.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0, 90.0],
-         "azimuth_step": 2.5}
 
 #: The Mitsuba file by default (``export.mitsuba``): the detector's elevation nodes (``theta_i = 90 - elevation``;
 #: closer near the horizon), its azimuth nodes over the quarter the plugin folds views into (the square's mirrors:
@@ -60,80 +51,6 @@ CHECK = {"lights": 3, "views": 400, "seed": 2001}
 #: The Mitsuba variant of the checks' flat quad: one quad needs no vectorised kernels (``llvm_ad_rgb`` compiles
 #: for about 10 s from a cold cache, then renders the same values).
 CHECK_VARIANT = "scalar_rgb"
-
-
-def incidence_nodes(surface: Surface, incidence, light_azimuth, edge_on: bool = True) -> np.ndarray:
-    """The table's light incidence nodes: ``incidence`` and, with ``edge_on``, the incidences at which a side facet
-    turns edge-on to a light at one of the ``light_azimuth`` nodes, ``atan(2 a |cos psi|)`` (east and west) and
-    ``atan(2 a |sin psi|)`` (north and south), degrees. There a facet's lit share starts or stops (and the shadows
-    it casts with it): a kink no linear interpolation between nodes either side can follow (on the full pyramid at
-    incidence 63.1, with nodes every 5 degrees, the mean error over the views was 0.29 of a level without the node
-    at 63.4 and 0.04 with it)."""
-    nodes = {float(i) for i in incidence}
-    if edge_on and not surface.is_plate:
-        for psi in np.radians(np.asarray(light_azimuth, float)):
-            for part in (abs(math.cos(psi)), abs(math.sin(psi))):
-                edge = round(math.degrees(math.atan(2.0 * surface.aspect * part)), 6)
-                if 0.0 < edge < 90.0:
-                    nodes.add(edge)
-    return np.array(sorted(nodes))
-
-
-def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth_step: float, shadows: bool = True,
-                  log=None) -> ShareTable:
-    """The exact reference's facet shares at every node of a share table.
-
-    Parameters
-    ----------
-    surface : Surface
-        A regular surface (truncated square pyramids, or the plate).
-    incidence, light_azimuth, elevation : sequences of float
-        The nodes, degrees (:class:`~roughlight.render.implicit.table.ShareTable`).
-    azimuth_step : float
-        Degrees between view azimuth nodes; divides 360.
-    shadows : bool
-        Whether the surface casts shadows.
-    log : callable, optional
-        Takes a progress line (every tenth of the view nodes).
-
-    Returns
-    -------
-    ShareTable
-    """
-    nodes = 360.0 / float(azimuth_step)
-    if not float(azimuth_step) > 0 or abs(nodes - round(nodes)) > 1e-9:
-        raise ValueError(f"export.table.azimuth_step must divide 360 degrees, got {azimuth_step!r}")
-    incidence, light_azimuth = np.asarray(incidence, float), np.asarray(light_azimuth, float)
-    elevation = np.asarray(elevation, float)
-    # refuses bad nodes before any clipping: the table checks itself
-    ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation, int(round(nodes)),
-               np.zeros((incidence.size, light_azimuth.size, elevation.size, int(round(nodes)), CHANNELS), np.uint16))
-    log = log or (lambda message: None)
-    scenes = [LitScene(surface, float(i), bool(shadows), float(p)) for i in incidence for p in light_azimuth]
-    shares = np.zeros((incidence.size, light_azimuth.size, elevation.size, int(round(nodes)), CHANNELS))
-    # the reference names the facets a surface has (the full pyramid has no top, the plate only one): each
-    # goes to its place in FACET_NAMES' order, the table's
-    where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
-    views = [(k, a) for k in range(elevation.size) for a in range(int(round(nodes)))]
-    for n, (k, a) in enumerate(views, 1):
-        lit, shadow = shares_under(scenes, float(elevation[k]), a * float(azimuth_step))
-        shape = (incidence.size, light_azimuth.size, len(where))
-        shares[:, :, k, a, where] = lit.reshape(shape)
-        shares[:, :, k, a, [5 + f for f in where]] = shadow.reshape(shape)
-        if n % max(1, len(views) // 10) == 0:
-            log(f"share table t {surface.truncation:g}, a {surface.aspect:g}: {n}/{len(views)} view nodes")
-    stored = np.round(np.clip(shares, 0.0, 1.0) * SCALE).astype(np.uint16)
-    return ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation,
-                      int(round(nodes)), stored)
-
-
-def tabulate_surface(surface: Surface, nodes=None, shadows: bool = True, log=None) -> ShareTable:
-    """A surface's share table at the nodes ``nodes`` (``export.table``'s keys over :data:`TABLE`): the incidences
-    with their edge-on ones (:func:`incidence_nodes`), measured by :func:`measure_table`."""
-    nodes = {**TABLE, **(nodes or {})}
-    incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
-    return measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"], nodes["azimuth_step"],
-                         shadows, log)
 
 
 def _brdf_values(table: ShareTable, lighting):

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...surfaces.roughness import kind_and_seed
 from ...surfaces.surface import Surface
 from .. import shading
 from .. import views as sweeps
@@ -277,7 +278,7 @@ def _next_cell(rest, cell, t_wall, tau_in, step, dt) -> None:
 
 
 def exact_shares(surface: Surface, incidence, azimuth, elevation, samples: int = DEFAULT_SAMPLES,
-                 shadows: bool = True):
+                 shadows: bool = True, light_azimuth: float = 0.0):
     """Visible-lit and visible-shadowed share of each facet, by the exact form's pixels.
 
     Parameters
@@ -290,6 +291,8 @@ def exact_shares(surface: Surface, incidence, azimuth, elevation, samples: int =
         Pixels a view (a Fibonacci number, :data:`FIBONACCI`).
     shadows : bool
         Whether the surface casts shadows.
+    light_azimuth : float
+        The light's azimuth, degrees.
 
     Returns
     -------
@@ -303,7 +306,7 @@ def exact_shares(surface: Surface, incidence, azimuth, elevation, samples: int =
     el = np.atleast_1d(np.asarray(elevation, float))
     points = fibonacci_lattice(samples)
     m = len(points)
-    L = shading.light_direction(incidence)
+    L = shading.light_direction(incidence, shading.check_light_azimuth(light_azimuth))
     lit = np.zeros((az.size, 5))
     shadow = np.zeros((az.size, 5))
     normals = facet_normals(surface)
@@ -340,16 +343,17 @@ def _pixel_facets(surface: Surface, L, elevation, azimuth, points, shadows, faci
 
 
 def exact_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None,
-                samples: int = DEFAULT_SAMPLES) -> dict:
-    """Mean 8-bit value of each component for many views, by the exact form (numpy).
+                samples: int = DEFAULT_SAMPLES, light_azimuth: float = 0.0) -> dict:
+    """Mean 8-bit value of each component for many views, by the exact form (numpy), under the light at
+    ``incidence`` and ``light_azimuth`` (degrees).
 
     Returns the dict of :func:`roughlight.render.exact.reference.reference_sweep` plus
     ``seconds``: each pixel stores ``quantize(component)`` of its facet.
     """
     def step(out, views, incidence, lighting):
         az, el = views.azimuth[views.measured], views.elevation[views.measured]
-        lit, shadow = exact_shares(surface, incidence, az, el, samples, lighting.shadows)
-        _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting))
+        lit, shadow = exact_shares(surface, incidence, az, el, samples, lighting.shadows, light_azimuth)
+        _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting, light_azimuth))
 
     return measure(step, incidence, azimuth, elevation, lighting, gives=shading.EXTRAS)
 
@@ -360,14 +364,16 @@ def _store(out: dict, measured, values: dict) -> None:
         out[key][measured] = value
 
 
-def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, lighting) -> dict:
-    """The facet sum: 8-bit facet values weighted by their lit and shadowed shares.
+def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, lighting, light_azimuth=0.0) -> dict:
+    """The facet sum: 8-bit facet values weighted by their lit and shadowed shares, under the light at
+    ``incidence`` and ``light_azimuth`` (degrees).
 
     ``lit`` and ``shadow`` are (n_views, 5) shares; returns ``diffuse``,
     ``specular``, ``total`` and ``coverage`` as (n_views,) arrays, and each component's sum before rounding and
     with inner shadows off (:func:`roughlight.render.shading.facet_sums`).
     """
-    out = shading.facet_sums(facet_normals(surface), shading.light_direction(shading.check_incidence(incidence)),
+    light = shading.light_direction(shading.check_incidence(incidence), shading.check_light_azimuth(light_azimuth))
+    out = shading.facet_sums(facet_normals(surface), light,
                             shading.view_direction(elevation, azimuth), lit, shadow, lighting)
     out["coverage"] = (lit + shadow).sum(axis=1)
     return out
@@ -386,7 +392,8 @@ _SIDE_DIRECTIONS = np.array([[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]])
 BLEND_SCALE = 3.0
 
 
-def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: bool = True):
+def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: bool = True,
+                      light_azimuth: float = 0.0):
     """Lit and shadowed share of each facet by the first-order correction (closed form).
 
     With ``s = 2a``, top plan area ``P_t = (1 - t)^2`` and side plan area
@@ -404,7 +411,8 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
     :data:`BLEND_SCALE`. The lit part is ``share * min(1, G(x_L) / G_eff)``
     (V-groove shadowing, correlated with masking: the lit and the seen
     parts of a facet are both its upper parts), 0 when the facet faces away
-    from the light. The top is seen and lit whole: ``P_t``.
+    from the light. The top is seen and lit whole: ``P_t``. The light is at ``incidence`` and ``light_azimuth``
+    (degrees): ``L = (cos i cos psi, cos i sin psi, sin i)``.
 
     Returns
     -------
@@ -416,7 +424,7 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
     az = np.atleast_1d(np.asarray(azimuth, float))
     el = np.atleast_1d(np.asarray(elevation, float))
     n = az.size
-    L = shading.light_direction(incidence)
+    L = shading.light_direction(incidence, shading.check_light_azimuth(light_azimuth))
     lit = np.zeros((n, 5))
     shadow = np.zeros((n, 5))
     seen = ~np.asarray(sweeps.is_grazing(el))
@@ -477,21 +485,23 @@ def _side_shares(surface: Surface, side: float, V, L, shadows: bool, light_up: b
     return seen_share, np.minimum(lit_side, seen_share)
 
 
-def correction_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None) -> dict:
-    """Mean value of each component for many views by the first-order correction (numpy).
+def correction_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth=0.0) -> dict:
+    """Mean value of each component for many views by the first-order correction (numpy), under the light at
+    ``incidence`` and ``light_azimuth`` (degrees).
 
     The facet sum of :func:`correction_shares` with each facet's 8-bit value
     (what the shader's dithered pixels average to, within ``1 / M``).
     """
     def step(out, views, incidence, lighting):
         az, el = views.azimuth[views.measured], views.elevation[views.measured]
-        lit, shadow = correction_shares(surface, incidence, az, el, lighting.shadows)
-        _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting))
+        lit, shadow = correction_shares(surface, incidence, az, el, lighting.shadows, light_azimuth)
+        _store(out, views.measured, facet_sum(surface, incidence, az, el, lit, shadow, lighting, light_azimuth))
 
     return measure(step, incidence, azimuth, elevation, lighting, gives=shading.EXTRAS)
 
 
-def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samples: int | None = None) -> dict:
+def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samples: int | None = None,
+                    light_azimuth: float = 0.0) -> dict:
     """The implicit shader's uniforms for one surface, light and material: what a program using
     ``shaders/implicit.vert`` and ``implicit.frag`` sets before drawing its quad.
 
@@ -503,11 +513,13 @@ def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samp
     surface : Surface
         Truncation in [0, 1], aspect >= 0 (checked by :func:`check_uniforms`).
     incidence : float
-        Light elevation, degrees in [0, 90] (light at azimuth 0).
+        Light elevation, degrees in [0, 90].
     lighting : Lighting, optional
     samples : int, optional
         Pixels a view (sweep) or the dither period (scene), a Fibonacci number (default
         :func:`model_samples`).
+    light_azimuth : float, optional
+        The light's azimuth, degrees (``light_dir`` is ``(cos i cos psi, cos i sin psi, sin i)``).
 
     Returns
     -------
@@ -517,6 +529,9 @@ def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samp
     """
     default = model_samples(model)  # refuses an unknown model
     lighting = lighting or shading.Lighting()
+    if kind_and_seed(surface)[0] != "pyramids":
+        raise ValueError(f"the implicit models draw regular surfaces (truncated square pyramids: two uniforms, "
+                         f"truncation and aspect), not {surface!r}; measure a random tile with render.method fast")
     check_uniforms(surface.truncation, surface.aspect)
     samples = default if samples is None else int(samples)
     fibonacci_lattice(samples)  # refuses a size that is not a Fibonacci number
@@ -524,7 +539,8 @@ def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samp
         "model": MODELS.index(model),
         "truncation": float(surface.truncation),
         "aspect": float(surface.aspect),
-        **shading.material_uniforms(lighting, shading.light_direction(shading.check_incidence(incidence))),
+        **shading.material_uniforms(lighting, shading.light_direction(shading.check_incidence(incidence),
+                                                                      shading.check_light_azimuth(light_azimuth))),
         "shadows": int(bool(lighting.shadows)),
         "blend_scale": float(BLEND_SCALE),
         "samples": samples,

@@ -25,8 +25,9 @@ class ImplicitSettings:
         (:func:`roughlight.render.implicit.model.model_samples`).
     table : str, os.PathLike, ShareTable or None
         The ``table`` model's table of shares (:class:`roughlight.render.implicit.table.ShareTable`) or the file
-        that holds it (:func:`roughlight.render.implicit.table.save_table`, as rule ``export`` writes it); the
-        other models take none.
+        that holds it (:func:`roughlight.render.implicit.table.save_table`, as rule ``export`` writes it); None:
+        the surface's own at the default nodes, measured the first time and kept
+        (:func:`roughlight.render.implicit.tabulate.cached_table`). The other models take none.
     """
 
     model: str = "exact"
@@ -40,15 +41,21 @@ class ImplicitSettings:
         if self.model != "table" and self.table is not None:
             raise ValueError(f"the implicit {self.model} model takes no table")
 
-    def share_table(self):
-        """The table model's :class:`~roughlight.render.implicit.table.ShareTable` (read from its file once);
-        ``ValueError`` when it has none."""
+    def share_table(self, surface=None, shadows: bool = True):
+        """The table model's :class:`~roughlight.render.implicit.table.ShareTable` (read from its file once); with
+        no table, ``surface``'s own with or without ``shadows`` (:func:`~roughlight.render.implicit.tabulate.
+        cached_table`: measured the first time, then read); ``ValueError`` when there is neither."""
         from .table import ShareTable
 
         if self.table is None:
-            raise ValueError("the implicit table model reads its shares from a table: give its settings one "
-                             "(ImplicitSettings(model='table', table=...): a ShareTable or the file rule export writes, "
-                             "results/export/t{truncation}_a{aspect}/shares.npz)")
+            if surface is None:
+                raise ValueError("the implicit table model reads its shares from a table: give its settings one "
+                                 "(ImplicitSettings(model='table', table=...): a ShareTable or the file rule export "
+                                 "writes, results/export/t{truncation}_a{aspect}/shares.npz), or a surface to "
+                                 "tabulate")
+            from .tabulate import cached_table
+
+            return cached_table(surface, shadows=shadows)
         if isinstance(self.table, ShareTable):
             return self.table
         if not os.path.exists(self.table):

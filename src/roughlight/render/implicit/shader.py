@@ -94,8 +94,8 @@ def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=Non
         pixels a view ``samples``, a Fibonacci number (default
         :func:`roughlight.render.implicit.model.model_samples`).
     light_azimuth : float, optional
-        The light's azimuth, degrees: any with the table model (its table covers every light); the exact form and
-        the correction light from azimuth 0 only.
+        The light's azimuth, degrees, any: the exact form and the correction take the light's direction as it is;
+        the table model turns it into its table's wedge [0, 45] (:func:`table_uniforms`).
 
     Returns
     -------
@@ -104,9 +104,10 @@ def implicit_sweep(surface: Surface, incidence, azimuth, elevation, lighting=Non
     (an 8-bit framebuffer: a float target beside it cost 10-14% of the sweep; docs/conventions.md).
     """
     settings = settings or ImplicitSettings()
-    uniforms = shader_uniforms(settings.model, surface, incidence, lighting, settings.samples)  # checks every input
+    uniforms = shader_uniforms(settings.model, surface, incidence, lighting, settings.samples,  # checks every input
+                               light_azimuth)
     samples = uniforms["samples"]
-    table = _table_for(settings, surface, light_azimuth)
+    table = _table_for(settings, surface, (lighting or shading.Lighting()).shadows)
 
     def step(out, views, incidence, lighting):
         todo, directions = views.measured, views.directions()
@@ -196,16 +197,12 @@ def table_defines(table) -> dict:
     return {} if table is None else {"TABLE_SHARES": 1}
 
 
-def _table_for(settings, surface: Surface, light_azimuth: float):
-    """The table model's table, checked against the surface; None for the other models, which refuse a light
-    azimuth other than 0."""
-    light_azimuth = shading.check_light_azimuth(light_azimuth)
+def _table_for(settings, surface: Surface, shadows: bool = True):
+    """The table model's table, checked against the surface (with no table in the settings, the surface's own:
+    :meth:`ImplicitSettings.share_table`); None for the other models."""
     if settings.model != "table":
-        if light_azimuth != 0.0:
-            raise ValueError(f"the implicit {settings.model} model lights from azimuth 0 only, got light_azimuth "
-                             f"{light_azimuth!r}; the implicit table model lights from any")
         return None
-    table = settings.share_table()
+    table = settings.share_table(surface, shadows)
     if abs(table.truncation - surface.truncation) > 1e-9 or abs(table.aspect - surface.aspect) > 1e-9:
         raise ValueError(f"the share table is of the surface t {table.truncation:g}, a {table.aspect:g}, not of "
                          f"t {surface.truncation:g}, a {surface.aspect:g}: export the surface's own table")
@@ -321,7 +318,7 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     """
     uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
     if model == "table":
-        table = _table_for(ImplicitSettings("table", table=table), surface, 0.0)
+        table = _table_for(ImplicitSettings("table", table=table), surface, (lighting or shading.Lighting()).shadows)
         uniforms = _with_table(uniforms, table, incidence, 0.0, lighting)
     else:
         table = None
