@@ -4,7 +4,9 @@ model through ``methods.sweep(model, surface, incidence, azimuth, elevation, lig
 against the exact reference under the same light. Prints each model's MAE and worst view by component.
 
 Run: ``PYTHONPATH=src python tests/implicit_held_out.py`` (the table model measures each surface's table once, kept
-in ``ROUGHLIGHT_TABLE_CACHE`` or ``~/.cache/roughlight/share_tables``).
+in ``ROUGHLIGHT_TABLE_CACHE`` or ``~/.cache/roughlight/share_tables``). With ``--frames``: the frame times of the
+explicit field at N 256 and 512 against each implicit quad (512 x 512 pixels, one view, the fastest of 3 frames),
+the exact form both ways: its rays a pixel, and its shares once a frame (``render_field(frame_samples=M)``).
 """
 
 from __future__ import annotations
@@ -47,7 +49,39 @@ def trial(seed: int = 58) -> pd.DataFrame:
     return frame
 
 
+def frames(view=(60.0, 20.0), incidence: float = 30.0) -> pd.DataFrame:
+    """Frame times (ms, the fastest of 3 after one to warm up) of the explicit field at N 256 and 512 and of each
+    implicit quad, on the frame benchmark's surface (t 1, a 1), one view."""
+    from roughlight.measurements import implicit_surface
+    from roughlight.render.implicit import cached_table
+    from roughlight.render.implicit.shader import render_field
+
+    surface, (elevation, azimuth) = implicit_surface.FIELD_SURFACE, view
+    exact = methods.sweep("reference", surface, incidence, [azimuth], [elevation])["total"]
+    table = cached_table(surface)
+    quads = {"implicit_exact, rays a pixel": ("exact", {}),
+             "implicit_exact, shares once a frame (28,657 samples)": ("exact", {"frame_samples": 28657}),
+             "implicit_exact, shares once a frame (6,765 samples)": ("exact", {"frame_samples": 6765}),
+             "implicit_correction": ("correction", {}), "implicit_table": ("table", {"table": table})}
+    rows = []
+    for n in (256, 512):
+        explicit = implicit_surface._explicit_frames(surface, incidence, shading.Lighting(), n, 512, [view], 3,
+                                                     exact, None)[0]
+        rows.append({"field": n, "method": "explicit", "frame_ms": explicit["frame_ms"]})
+        for name, (model, knobs) in quads.items():
+            times = [render_field(model, surface, incidence, elevation, azimuth, n, **knobs)[1] for _ in range(4)]
+            rows.append({"field": n, "method": name, "frame_ms": 1000 * min(times[1:])})
+    out = pd.DataFrame(rows)
+    out["speedup"] = out.groupby("field")["frame_ms"].transform(lambda ms: ms.iloc[0] / ms)
+    return out
+
+
 if __name__ == "__main__":
+    import sys
+
+    if "--frames" in sys.argv:
+        print(frames().round(2).to_string(index=False))
+        raise SystemExit
     frame = trial()
     summary = frame.groupby(["model", "component"])["error"].agg(mae="mean", worst="max", views="size")
     print(summary.round(3).to_string())

@@ -331,3 +331,24 @@ def test_what_the_implicit_models_cannot_draw_is_named(name, tmp_path, monkeypat
     with pytest.raises(ValueError, match=r"incidence must be within \[0, 90\]"):
         methods.sweep(name, OFF_GRID, -5.0, [0.0], [30.0], light_azimuth=20.0)
     assert not list(tmp_path.iterdir())  # nothing was tabulated
+
+
+@pytest.mark.parametrize("elevation, azimuth", [(60.0, 20.0), (25.0, 135.0)])
+def test_the_exact_form_scene_with_shares_once_a_frame_averages_to_its_sweep(elevation, azimuth):
+    """render_field(..., frame_samples=M): the exact form's rays cast once a frame at M points of a period, each
+    pixel showing the sample its dither picks: the picture's mean is the exact form's sweep of that view at M
+    samples, and within a level of the exact reference."""
+    from roughlight.render.implicit.shader import render_field
+
+    surface, samples = Surface(0.6, 0.8), 6765
+    image, seconds = render_field("exact", surface, 30.0, elevation, azimuth, 16, 128, frame_samples=samples)
+    swept = methods.sweep("implicit_exact", surface, 30.0, [azimuth], [elevation], settings={"samples": samples})
+    exact = reference.reference_sweep(surface, 30.0, [azimuth], [elevation])
+    field = image[..., 3] == 255  # the field's pixels (below elevation 30 the picture reaches past the field)
+    assert field.mean() > 0.5 and seconds > 0
+    for channel, name in enumerate(("diffuse", "specular", "total")):
+        assert abs(image[..., channel][field].mean() - swept[name][0]) < 0.15, name
+        assert abs(image[..., channel][field].mean() - exact[name][0]) < 1.0, name
+    assert len(np.unique(image[..., 2][field])) > 2  # the pixels dither between samples
+    with pytest.raises(ValueError, match="exact form's shares once a frame"):
+        render_field("correction", surface, 30.0, elevation, azimuth, 16, 128, frame_samples=samples)

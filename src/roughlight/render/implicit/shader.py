@@ -304,18 +304,30 @@ def shader_sources(model: str) -> tuple[str, str]:
 
 
 def render_field(model: str, surface: Surface, incidence, elevation, azimuth, field_size: int,
-                 size: int = 512, span: float | None = None, lighting=None, samples: int = 46368, table=None):
+                 size: int = 512, span: float | None = None, lighting=None, samples: int = 46368, table=None,
+                 frame_samples: int | None = None):
     """One picture of an ``N x N`` field drawn as one implicit quad.
 
     ``table``: the table model's :class:`~roughlight.render.implicit.table.ShareTable` (or its file); its
     textures are uploaded before the frame's timer, once a context and table (:func:`_resident_textures`), as a
     real-time scene keeps them.
 
+    ``frame_samples`` (the exact form only; a Fibonacci number): the exact form's shares once a frame. The whole
+    picture sees the field along one view under one light, so a first pass casts the rays of ``frame_samples``
+    points of one period once, as a sweep's view (:func:`_draw_views`), and the picture's pixels each show the
+    sample their dither picks (``SCENE_SAMPLES``, implicit.frag): the exact form's sweep at that many samples a
+    view, in one pass of ``frame_samples`` ray casts and one of texture reads, both inside the frame's time.
+
     Returns
     -------
     image : (size, size, 4) uint8 array (r diffuse, g specular, b total, a coverage)
     seconds : float, the frame's time (draw and read back)
     """
+    if frame_samples is not None:
+        if model != "exact":
+            raise ValueError(f"frame_samples: the exact form's shares once a frame, not the {model} model's")
+        return _field_by_frame_samples(surface, incidence, elevation, azimuth, field_size, size, span, lighting,
+                                       int(frame_samples))
     uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
     if model == "table":
         table = _table_for(ImplicitSettings("table", table=table), surface, (lighting or shading.Lighting()).shadows)
@@ -348,4 +360,45 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
         seconds = time.perf_counter() - start
     finally:
         quad.delete()
+    return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds
+
+
+def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, field_size: int, size: int, span,
+                            lighting, samples: int):
+    """:func:`render_field` of the exact form with its shares once a frame (``frame_samples``)."""
+    uniforms = shader_uniforms("exact", surface, incidence, lighting, samples)
+    span = float(field_size) / 2.0 if span is None else float(span)
+    view = shading.view_direction(float(elevation), float(azimuth))
+    rows = -(-samples // size)
+    ctx = context(size, size, 1)
+    sweep_program = ctx.programs.get_program("implicit.vert", "implicit.frag", {})
+    program = ctx.programs.get_program("implicit.vert", "implicit.frag", {"SCENE_SAMPLES": 1})
+    quad = _quad(size=float(field_size))
+    quad._add_to_context()
+    texture = gl.glGenTextures(1)
+    try:
+        start = time.perf_counter()
+        raw = _draw_views(sweep_program, uniforms, np.asarray(view, float)[None, :], size, rows)
+        gl.glActiveTexture(gl.GL_TEXTURE0)
+        gl.glBindTexture(gl.GL_TEXTURE_2D, texture)
+        gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA8, size, rows, 0, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE, raw)
+        gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST)
+        gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST)
+        _begin(size, size)
+        program._bind()
+        program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
+        program.set_uniform("field_size", float(field_size))
+        program.set_uniform("samples", samples)
+        program.set_uniform("samples_width", size)
+        program.set_uniform("frame_samples", 0)
+        quad._bind()
+        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+        quad._unbind()
+        program._unbind()
+        gl.glFinish()
+        raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+        seconds = time.perf_counter() - start
+    finally:
+        quad.delete()
+        gl.glDeleteTextures([texture])
     return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds

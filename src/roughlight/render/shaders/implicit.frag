@@ -76,6 +76,32 @@ void main()
 }
 
 #else
+#ifdef SCENE_SAMPLES
+
+// Scene with the exact form, shares once a frame (defined SCENE_SAMPLES): one view and one light for the whole
+// picture, so a first pass casts the rays of `samples` Fibonacci points of one period once (the sweep's pass, one
+// view) into `frame_samples`; here a pixel only shows the sample its dither threshold picks, k = floor(u M).
+
+in vec2 field_pos;
+
+uniform sampler2D frame_samples;   // RGBA8: sample k's value at texel (k % samples_width, k / samples_width)
+uniform int samples_width;
+uniform int samples;               // M
+
+out vec4 frag_color;
+
+const vec2 DITHER = vec2(0.7548776662, 0.5698402910);
+
+void main()
+{
+    if (any(lessThan(field_pos, vec2(0.0))) || any(greaterThanEqual(field_pos, vec2(field_size)))) {
+        discard;
+    }
+    int k = min(int(fract(dot(gl_FragCoord.xy, DITHER)) * float(samples)), samples - 1);
+    frag_color = texelFetch(frame_samples, ivec2(k % samples_width, k / samples_width), 0);
+}
+
+#else
 
 in vec2 field_pos;
 
@@ -259,4 +285,5 @@ void main()
     frag_color = vec4(shade(facet_normal(facet, s), V, lit), 1.0);
 }
 
+#endif
 #endif
