@@ -67,7 +67,7 @@ def frames(view=(60.0, 20.0), incidence: float = 30.0) -> pd.DataFrame:
              "implicit_correction": ("correction", {}), "implicit_table": ("table", {"table": table})}
     rows = []
     for n in (256, 512):
-        explicit = implicit_surface._explicit_frames(surface, incidence, shading.Lighting(), n, 512, [view], 3,
+        explicit = implicit_surface.explicit_frames(surface, incidence, shading.Lighting(), n, 512, [view], 3,
                                                      exact, None)[0]
         rows.append({"field": n, "method": "explicit", "frame_ms": explicit["frame_ms"]})
         for name, (model, knobs) in quads.items():

@@ -31,7 +31,7 @@ from ..surfaces.geometry import period_triangles
 from ..surfaces.surface import SQRT3_2, Surface
 from . import comparison
 
-__all__ = ["PLANS", "GOAL", "MODEL_METHODS", "validation_surfaces", "validation", "frame_times", "summary",
+__all__ = ["PLANS", "GOAL", "MODEL_METHODS", "validation_surfaces", "validation", "frame_times", "explicit_frames", "summary",
            "goal", "hemisphere_maps", "load_tables", "share_table"]
 
 #: Validation incidences, degrees.
@@ -344,7 +344,7 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     pictures = {} if pictures is None else pictures
     for n in size_plan["fields"]:
         kept = pictures if n == size_plan["fields"][0] else None
-        rows += _explicit_frames(surface, incidence, lighting, n, size, views, repeats, exact, kept)
+        rows += explicit_frames(surface, incidence, lighting, n, size, views, repeats, exact, kept)
         for model in ("exact", "correction") + (("table",) if table is not None else ()):
             rows += _implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept,
                                      table)
@@ -365,7 +365,7 @@ def _fastest(render, repeats: int):
     return picture, min(times)
 
 
-def _explicit_frames(surface, incidence, lighting, n: int, size: int, views, repeats: int, exact, pictures) -> list:
+def explicit_frames(surface, incidence, lighting, n: int, size: int, views, repeats: int, exact, pictures) -> list:
     """:func:`frame_times`' rows of the explicit ``n`` x ``n`` field, one a view ((elevation, azimuth), degrees;
     ``exact`` the reference's total at each). ``pictures`` (a dict or None) receives the first view's total.
     The field's pyrender context is released after its frames."""
@@ -386,7 +386,7 @@ def _explicit_frames(surface, incidence, lighting, n: int, size: int, views, rep
 def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int, views, repeats: int, exact,
                      pictures, table=None) -> list:
     """:func:`frame_times`' rows of the ``n`` x ``n`` field drawn as one implicit quad with ``model`` (see
-    :func:`_explicit_frames`)."""
+    :func:`explicit_frames`)."""
     from ..render.implicit import render_field
 
     rows = []
