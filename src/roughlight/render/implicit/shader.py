@@ -33,6 +33,9 @@ __all__ = ["implicit_sweep", "render_field", "scene_defines", "table_defines", "
 
 #: Width of the sweep's framebuffer, pixels.
 FRAMEBUFFER_WIDTH = 2048
+#: Pixels a row of the first pass of a scene with the exact form's shares once a frame (at least the picture's).
+FRAME_SAMPLES_WIDTH = 512
+
 #: Most framebuffer rows of one pass.
 MAX_ROWS = 2048
 
@@ -369,8 +372,9 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
     uniforms = shader_uniforms("exact", surface, incidence, lighting, samples)
     span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
-    rows = -(-samples // size)
-    ctx = context(size, size, 1)
+    width = max(size, FRAME_SAMPLES_WIDTH)  # the first pass's samples, row by row: a small picture holds too few
+    rows = -(-samples // width)
+    ctx = context(width, max(size, rows), 1)
     sweep_program = ctx.programs.get_program("implicit.vert", "implicit.frag", {})
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", {"SCENE_SAMPLES": 1})
     quad = _quad(size=float(field_size))
@@ -378,10 +382,10 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
     texture = gl.glGenTextures(1)
     try:
         start = time.perf_counter()
-        raw = _draw_views(sweep_program, uniforms, np.asarray(view, float)[None, :], size, rows)
+        raw = _draw_views(sweep_program, uniforms, np.asarray(view, float)[None, :], width, rows)
         gl.glActiveTexture(gl.GL_TEXTURE0)
         gl.glBindTexture(gl.GL_TEXTURE_2D, texture)
-        gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA8, size, rows, 0, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE, raw)
+        gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA8, width, rows, 0, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE, raw)
         gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST)
         gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST)
         _begin(size, size)
@@ -389,7 +393,7 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
         program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
         program.set_uniform("field_size", float(field_size))
         program.set_uniform("samples", samples)
-        program.set_uniform("samples_width", size)
+        program.set_uniform("samples_width", width)
         program.set_uniform("frame_samples", 0)
         quad._bind()
         gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
