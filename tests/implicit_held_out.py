@@ -5,7 +5,8 @@ against the exact reference under the same light. Prints each model's MAE and wo
 
 Run: ``PYTHONPATH=src python tests/implicit_held_out.py`` (the table model measures each surface's table once, kept
 in ``ROUGHLIGHT_TABLE_CACHE`` or ``~/.cache/roughlight/share_tables``). With ``--frames``: the frame times of the
-explicit field at N 256 and 512 against each implicit quad (512 x 512 pixels, one view, the fastest of 3 frames),
+explicit field at N 256 and 512 against each implicit quad (512 x 512 pixels, one view, the fastest of 3 frames;
+whole frames, and the drawing alone without the clear and the read-back),
 the exact form both ways: its rays a pixel, and its shares once a frame (``render_field(frame_samples=M)``). With
 ``--samples``: the exact form's worst view and largest MAE against the exact reference at 4,181 to 28,657 samples a
 view, on a 3 x 10 degree view grid of six surfaces and lights.
@@ -69,12 +70,19 @@ def frames(view=(60.0, 20.0), incidence: float = 30.0) -> pd.DataFrame:
     for n in (256, 512):
         explicit = implicit_surface.explicit_frames(surface, incidence, shading.Lighting(), n, 512, [view], 3,
                                                      exact, None)[0]
-        rows.append({"field": n, "method": "explicit", "frame_ms": explicit["frame_ms"]})
+        rows.append({"field": n, "method": "explicit", "frame_ms": explicit["frame_ms"],
+                     "draw_ms": explicit["draw_ms"]})
         for name, (model, knobs) in quads.items():
-            times = [render_field(model, surface, incidence, elevation, azimuth, n, **knobs)[1] for _ in range(4)]
-            rows.append({"field": n, "method": name, "frame_ms": 1000 * min(times[1:])})
+            frames = []
+            for _ in range(4):
+                phases = {}
+                seconds = render_field(model, surface, incidence, elevation, azimuth, n, phases=phases, **knobs)[1]
+                frames.append((seconds, phases["draw"] + phases.get("first_pass", 0.0)))
+            seconds, draw = min(frames[1:])
+            rows.append({"field": n, "method": name, "frame_ms": 1000 * seconds, "draw_ms": 1000 * draw})
     out = pd.DataFrame(rows)
-    out["speedup"] = out.groupby("field")["frame_ms"].transform(lambda ms: ms.iloc[0] / ms)
+    for column, ratio in (("frame_ms", "speedup"), ("draw_ms", "draw_speedup")):
+        out[ratio] = out.groupby("field")[column].transform(lambda ms: ms.iloc[0] / ms)
     return out
 
 

@@ -167,6 +167,12 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     assert goal[once]["worst"] == goal["implicit_exact"]["worst"] and goal[once]["surfaces"] >= 1
     assert goal[once]["frame_ms"] != goal["implicit_exact"]["frame_ms"]
     assert frames.loc[frames.method == once, "error"].max() < 1.0
+    # each frame's drawing alone and its read-back, within its time (the explicit field's read-back timed again)
+    quads = frames[frames.method != "explicit"]
+    assert ((quads["draw_ms"] > 0) & (quads["read_ms"] > 0)).all()
+    assert (quads["draw_ms"] + quads["read_ms"] <= quads["frame_ms"] + 1e-9).all()
+    assert ((frames["draw_ms"] > 0) & (frames["read_ms"] > 0)).all()
+    assert all(g["draw_speedup"] > 0 for g in goal.values())
     assert all(g["meets"] == (g["accurate"] and g["fast"]) for g in goal.values())
     assert (frames.loc[frames.method != "explicit", "triangles"] == 2).all()
     assert frames.loc[frames.method == "implicit_exact", "error"].max() < 1.0
@@ -346,7 +352,11 @@ def test_the_exact_form_scene_with_shares_once_a_frame_averages_to_its_sweep(ele
     from roughlight.render.implicit.shader import render_field
 
     surface, samples = Surface(0.6, 0.8), 6765
-    image, seconds = render_field("exact", surface, 30.0, elevation, azimuth, 16, 128, frame_samples=samples)
+    phases = {}
+    image, seconds = render_field("exact", surface, 30.0, elevation, azimuth, 16, 128, frame_samples=samples,
+                                  phases=phases)
+    assert set(phases) == {"first_pass", "clear", "draw", "read"}
+    assert sum(phases.values()) == pytest.approx(seconds, rel=1e-6)
     swept = methods.sweep("implicit_exact", surface, 30.0, [azimuth], [elevation], settings={"samples": samples})
     exact = reference.reference_sweep(surface, 30.0, [azimuth], [elevation])
     field = image[..., 3] == 255  # the field's pixels (below elevation 30 the picture reaches past the field)

@@ -240,24 +240,31 @@ def goal(validation, frames) -> list[dict]:
     -------
     list of dict, one a model validated and one a frame drawing of :data:`FRAME_DRAWINGS` timed (with its model's
     validation): ``method``, ``surfaces``, ``max_mae``, ``worst``, ``memory_bytes``,
-    ``field``, ``frame_ms``, ``speedup``, ``accurate`` (both error goals), ``fast`` (the speed goal) and ``meets``.
+    ``field``, ``frame_ms``, ``speedup``, ``draw_ms`` and ``draw_speedup`` (the drawing alone, without clear and
+    read-back, :func:`frame_times`), ``accurate`` (both error goals), ``fast`` (the speed goal, on whole frames) and
+    ``meets``.
     """
     out = []
     total = validation[validation["component"] == "total"]
     largest = int(frames["field"].max())
     at = frames[frames["field"] == largest].groupby("method")["frame_ms"].mean()
+    drawn = (frames[frames["field"] == largest].groupby("method")["draw_ms"].mean() if "draw_ms" in frames
+             else {})
     for method in MODEL_METHODS + tuple(FRAME_DRAWINGS):
         rows = total[total["method"] == FRAME_DRAWINGS.get(method, method)]
         if rows.empty or (method in FRAME_DRAWINGS and method not in at):
             continue
         frame = float(at.get(method, math.nan))
         speedup = float(at.get("explicit", math.nan)) / frame if frame > 0 else math.nan
+        draw = float(drawn.get(method, math.nan))
+        draw_speedup = float(drawn.get("explicit", math.nan)) / draw if draw > 0 else math.nan
         accurate = bool(rows["mae"].max() <= GOAL["max_mae"] and rows["worst"].max() <= GOAL["worst"])
         fast = bool(speedup >= GOAL["speedup"])
         memory = rows["memory_bytes"].max() if "memory_bytes" in rows else math.nan
         out.append({"method": method, "surfaces": int(len(rows)), "max_mae": float(rows["mae"].max()),
                     "worst": float(rows["worst"].max()), "memory_bytes": float(memory), "field": largest,
-                    "frame_ms": frame, "speedup": speedup, "accurate": accurate, "fast": fast,
+                    "frame_ms": frame, "speedup": speedup, "draw_ms": draw, "draw_speedup": draw_speedup,
+                    "accurate": accurate, "fast": fast,
                     "meets": accurate and fast})
     return out
 
@@ -297,7 +304,10 @@ class _Field:
         self.renderer._renderer._program_cache = CompiledShaders()
         self.triangles = int(field_size * field_size * len(period_triangles(surface)[0]))
 
-    def render(self, view):
+    def render(self, view, phases: dict | None = None):
+        """The frame along ``view``: its picture and seconds; ``phases`` (a dict) receives ``read``, pyrender's
+        read-back of the picture (its multisample blit and colour and depth read, timed again right after the
+        frame), and ``draw``, the rest (shadow pass and draw)."""
         pyrender = self.scene.pyrender
         from ..render.naive import up_vector
 
@@ -306,7 +316,27 @@ class _Field:
         flags = pyrender.RenderFlags.SHADOWS_DIRECTIONAL if self.scene.shadows else pyrender.RenderFlags.NONE
         start = time.perf_counter()
         color, _ = self.renderer.render(self.scene.scene, flags=flags)
-        return color, time.perf_counter() - start
+        seconds = time.perf_counter() - start
+        if phases is not None:
+            phases["read"] = self._read_again(flags)
+            phases["draw"] = seconds - phases["read"]
+        return color, seconds
+
+    def _read_again(self, flags) -> float:
+        """Seconds of pyrender's read-back of the frame just drawn, done again as its offscreen renderer does it:
+        from its framebuffer object where the platform has them (EGL), else colour and depth from the default one
+        (OSMesa)."""
+        platform, renderer = self.renderer._platform, self.renderer._renderer
+        platform.make_current()
+        start = time.perf_counter()
+        if platform.supports_framebuffers():
+            renderer._read_main_framebuffer(self.scene.scene, flags | self.scene.pyrender.RenderFlags.OFFSCREEN)
+        else:
+            renderer.read_depth_buf()
+            renderer.read_color_buf()
+        seconds = time.perf_counter() - start
+        platform.make_uncurrent()
+        return seconds
 
     def delete(self):
         self.renderer.delete()
@@ -332,7 +362,9 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     ``tables`` (as :func:`validation` takes them) holds the surface's: its textures are uploaded before the timer,
     as a scene keeps them),
     ``triangles``, ``elevation``, ``azimuth``, ``frame_ms`` (fastest of the
-    plan's repeats), ``fps``, ``mean_total``, ``exact_total``, ``error``.
+    plan's repeats), ``fps``, ``draw_ms`` (that frame's drawing alone: the passes that draw, without the clear and
+    the picture's read-back; the explicit field's without pyrender's read-back), ``read_ms`` (its read-back),
+    ``mean_total``, ``exact_total``, ``error``.
     ``pictures``, when a dict is given, receives the pictures (total, 8-bit,
     (size, size)) of the smallest field at the first view, by method: the
     thesis's own test, "if it looks good, it is good".
@@ -365,14 +397,16 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
 
 
 def _fastest(render, repeats: int):
-    """Call ``render()`` (-> picture, seconds) once to warm up, then ``repeats`` times: the last picture and the
-    fastest time (seconds)."""
-    render()  # warm up
-    times, picture = [], None
+    """Call ``render(phases=...)`` (-> picture, seconds) once to warm up, then ``repeats`` times: the last picture,
+    the fastest time (seconds) and that frame's phases (a dict of seconds, :func:`render_field`'s)."""
+    render(phases={})  # warm up
+    best, picture, fastest = math.inf, None, {}
     for _ in range(repeats):
-        picture, seconds = render()
-        times.append(seconds)
-    return picture, min(times)
+        phases = {}
+        picture, seconds = render(phases=phases)
+        if seconds < best:
+            best, fastest = seconds, phases
+    return picture, best, fastest
 
 
 def explicit_frames(surface, incidence, lighting, n: int, size: int, views, repeats: int, exact, pictures) -> list:
@@ -384,8 +418,8 @@ def explicit_frames(surface, incidence, lighting, n: int, size: int, views, repe
     field = _Field(surface, incidence, lighting, n, size, n / 2.0)
     rows = []
     for k, (e, phi) in enumerate(views):
-        color, seconds = _fastest(partial(field.render, shading.view_direction(e, phi)), repeats)
-        rows.append(_frame_row(n, "explicit", field.triangles, e, phi, seconds, color[..., 2], exact[k]))
+        color, seconds, phases = _fastest(partial(field.render, shading.view_direction(e, phi)), repeats)
+        rows.append(_frame_row(n, "explicit", field.triangles, e, phi, seconds, color[..., 2], exact[k], phases))
         if pictures is not None and k == 0:
             pictures["explicit"] = color[..., 2].copy()
     field.delete()
@@ -405,18 +439,20 @@ def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int
     for k, (e, phi) in enumerate(views):
         draw = partial(render_field, model, surface, incidence, e, phi, n, size, n / 2.0, lighting,
                        table=table if model == "table" else None, frame_samples=frame_samples)
-        image, seconds = _fastest(draw, repeats)
-        rows.append(_frame_row(n, method, 2, e, phi, seconds, image[..., 2], exact[k]))
+        image, seconds, phases = _fastest(draw, repeats)
+        rows.append(_frame_row(n, method, 2, e, phi, seconds, image[..., 2], exact[k], phases))
         if pictures is not None and k == 0:
             pictures[method] = image[..., 2].copy()
     return rows
 
 
-def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact):
+def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact, phases):
     mean = float(np.asarray(channel, float).mean())
     return {"field": int(n), "method": method, "triangles": int(triangles), "elevation": float(elevation),
             "azimuth": float(azimuth), "frame_ms": 1000.0 * seconds, "fps": 1.0 / seconds if seconds > 0 else math.inf,
-            "mean_total": mean, "exact_total": float(exact), "error": abs(mean - float(exact))}
+            "draw_ms": 1000.0 * (phases["draw"] + phases.get("first_pass", 0.0)),
+            "read_ms": 1000.0 * phases["read"], "mean_total": mean, "exact_total": float(exact),
+            "error": abs(mean - float(exact))}
 
 
 #: Telling surfaces of the hemisphere maps: the thesis's full pyramid and its 30-degree facets, at incidence 30.

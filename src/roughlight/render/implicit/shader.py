@@ -308,7 +308,7 @@ def shader_sources(model: str) -> tuple[str, str]:
 
 def render_field(model: str, surface: Surface, incidence, elevation, azimuth, field_size: int,
                  size: int = 512, span: float | None = None, lighting=None, samples: int = 46368, table=None,
-                 frame_samples: int | None = None):
+                 frame_samples: int | None = None, phases: dict | None = None):
     """One picture of an ``N x N`` field drawn as one implicit quad.
 
     ``table``: the table model's :class:`~roughlight.render.implicit.table.ShareTable` (or its file); its
@@ -321,16 +321,20 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     sample their dither picks (``SCENE_SAMPLES``, implicit.frag): the exact form's sweep at that many samples a
     view, in one pass of ``frame_samples`` ray casts and one of texture reads, both inside the frame's time.
 
+    ``phases``, when a dict is given, receives the frame's time by phase, seconds, each ended by ``glFinish``:
+    ``clear``, ``draw`` (the uniforms set and the quad drawn), ``read`` (the picture read back) and, once a frame,
+    ``first_pass`` (the samples' rays cast, read back and uploaded).
+
     Returns
     -------
     image : (size, size, 4) uint8 array (r diffuse, g specular, b total, a coverage)
-    seconds : float, the frame's time (draw and read back)
+    seconds : float, the frame's time (clear, draw and read back)
     """
     if frame_samples is not None:
         if model != "exact":
             raise ValueError(f"frame_samples: the exact form's shares once a frame, not the {model} model's")
         return _field_by_frame_samples(surface, incidence, elevation, azimuth, field_size, size, span, lighting,
-                                       int(frame_samples))
+                                       int(frame_samples), phases)
     uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
     if model == "table":
         table = _table_for(ImplicitSettings("table", table=table), surface, (lighting or shading.Lighting()).shadows)
@@ -344,9 +348,10 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     quad = _quad(size=float(field_size))  # uploaded before the frame's timer: a real-time scene keeps its buffers
     quad._add_to_context()
     _resident_textures(ctx, table)  # a real-time scene keeps its textures resident, as its buffers
+    clock = _Phases(phases)
     try:
-        start = time.perf_counter()
         _begin(size, size)
+        clock.end("clear")
         program._bind()
         set_uniforms(program, uniforms)
         _set_table_uniforms(program, table)
@@ -358,16 +363,33 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
         gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
         quad._unbind()
         program._unbind()
-        gl.glFinish()
+        clock.end("draw")
         raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-        seconds = time.perf_counter() - start
+        seconds = clock.end("read")
     finally:
         quad.delete()
     return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds
 
 
+class _Phases:
+    """A frame's clock: :meth:`end` finishes the GL work so far (``glFinish``) and records the phase's seconds in
+    ``phases`` (a dict, or None to keep none); it returns the seconds since the clock started."""
+
+    def __init__(self, phases: dict | None):
+        self.phases = phases
+        self.start = self.last = time.perf_counter()
+
+    def end(self, phase: str) -> float:
+        gl.glFinish()
+        now = time.perf_counter()
+        if self.phases is not None:
+            self.phases[phase] = now - self.last
+        self.last = now
+        return now - self.start
+
+
 def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, field_size: int, size: int, span,
-                            lighting, samples: int):
+                            lighting, samples: int, phases: dict | None = None):
     """:func:`render_field` of the exact form with its shares once a frame (``frame_samples``)."""
     uniforms = shader_uniforms("exact", surface, incidence, lighting, samples)
     span = float(field_size) / 2.0 if span is None else float(span)
@@ -380,15 +402,17 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
     quad = _quad(size=float(field_size))
     quad._add_to_context()
     texture = gl.glGenTextures(1)
+    clock = _Phases(phases)
     try:
-        start = time.perf_counter()
         raw = _draw_views(sweep_program, uniforms, np.asarray(view, float)[None, :], width, rows)
         gl.glActiveTexture(gl.GL_TEXTURE0)
         gl.glBindTexture(gl.GL_TEXTURE_2D, texture)
         gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA8, width, rows, 0, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE, raw)
         gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST)
         gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST)
+        clock.end("first_pass")
         _begin(size, size)
+        clock.end("clear")
         program._bind()
         program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
         program.set_uniform("field_size", float(field_size))
@@ -399,9 +423,9 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
         gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
         quad._unbind()
         program._unbind()
-        gl.glFinish()
+        clock.end("draw")
         raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-        seconds = time.perf_counter() - start
+        seconds = clock.end("read")
     finally:
         quad.delete()
         gl.glDeleteTextures([texture])
