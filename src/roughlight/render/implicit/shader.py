@@ -335,12 +335,7 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
             raise ValueError(f"frame_samples: the exact form's shares once a frame, not the {model} model's")
         return _field_by_frame_samples(surface, incidence, elevation, azimuth, field_size, size, span, lighting,
                                        int(frame_samples), phases)
-    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
-    if model == "table":
-        table = _table_for(ImplicitSettings("table", table=table), surface, (lighting or shading.Lighting()).shadows)
-        uniforms = _with_table(uniforms, table, incidence, 0.0, lighting)
-    else:
-        table = None
+    uniforms, table = _scene_uniforms(model, surface, incidence, lighting, samples, table)
     span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
     ctx = context(size, size, 1)
@@ -369,6 +364,16 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     finally:
         quad.delete()
     return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds
+
+
+def _scene_uniforms(model: str, surface: Surface, incidence, lighting, samples: int, table):
+    """A scene's uniforms (:func:`shader_uniforms`, with the table's for the table model) and its table (None for
+    the other models)."""
+    uniforms = shader_uniforms(model, surface, incidence, lighting, samples)
+    if model != "table":
+        return uniforms, None
+    table = _table_for(ImplicitSettings("table", table=table), surface, (lighting or shading.Lighting()).shadows)
+    return _with_table(uniforms, table, incidence, 0.0, lighting), table
 
 
 class _Phases:
