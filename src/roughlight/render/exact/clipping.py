@@ -21,7 +21,7 @@ from ...surfaces.surface import Surface
 from ...surfaces.symmetry import symmetry
 
 __all__ = ["Facets", "period_facets", "lattice_offsets", "area_parts", "affine_each", "overlay",
-           "visible_regions", "to_oblique", "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
+           "visible_regions", "projection_ratios", "to_oblique", "from_oblique", "MIN_OVERLAP", "EDGE_ON", "MAX_COPIES"]
 
 #: Overlaps of smaller area (period^2) are floating-point slivers: ignored.
 MIN_OVERLAP = 1e-13
@@ -163,6 +163,12 @@ def overlay(operation, *geometries, grid_size=None, **options):
     return _polygonal(operation(*snapped, grid_size=grid_size, **options), grid_size)
 
 
+def projection_ratios(surf: Facets, d) -> np.ndarray:
+    """(F,) each facet's area ratio of its projection along the direction with plan shift ``d`` (oblique area over
+    plan area, ``1 - alpha dx - beta dy``): at most :data:`EDGE_ON` where the facet faces away or is edge-on."""
+    return 1.0 - surf.alpha * d[0] - surf.beta * d[1]
+
+
 def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
     """Visible region of each facet of period 0 along the direction with plan shift ``d``.
 
@@ -178,7 +184,7 @@ def visible_regions(surf: Facets, d, grid_size=None) -> tuple[list, np.ndarray]:
     one per facet, and the per-facet area ratio ``det`` of the projection.
     """
     d = np.asarray(d, float)
-    det = 1.0 - surf.alpha * d[0] - surf.beta * d[1]
+    det = projection_ratios(surf, d)
     front = np.flatnonzero(det > EDGE_ON)
     empty = shapely.Polygon()
     out = [empty] * len(surf.names)

@@ -96,6 +96,7 @@ from .clipping import (
     from_oblique,
     overlay,
     period_facets,
+    projection_ratios,
     to_oblique,
     visible_regions,
 )
@@ -337,7 +338,7 @@ def _visible_at(surf: Facets, elevation: float, azimuth: float, grid_size=None):
     if surf.symmetry == "square" and grid_size is None:
         # clipped once for the views the square's symmetry joins, turned for the others (square_views); a view
         # whose checks fail is clipped again here, snap-rounded (with_fallback)
-        regions, det = square_visible_regions(surf, d), 1.0 - surf.alpha * d[0] - surf.beta * d[1]
+        regions, det = square_visible_regions(surf, d), projection_ratios(surf, d)
     else:
         regions, det = visible_regions(surf, d, grid_size)
     vis = np.array([r.area for r in regions])

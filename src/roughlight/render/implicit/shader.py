@@ -18,6 +18,7 @@ The numpy forms of both models are in :mod:`roughlight.render.implicit.model`.
 
 from __future__ import annotations
 
+import contextlib
 import time
 
 import numpy as np
@@ -72,10 +73,16 @@ def _views_texture(views: np.ndarray, width: int) -> int:
     rows = -(-len(views) // width)
     data = np.zeros((rows * width, 4), np.float32)
     data[: len(views), :3] = views
+    return _unit0_texture(width, rows, gl.GL_RGBA32F, gl.GL_FLOAT, data)
+
+
+def _unit0_texture(width: int, rows: int, internal_format, pixel_type, data) -> int:
+    """A new RGBA 2-D texture of ``width`` x ``rows`` texels from ``data``, on unit 0, read texel by texel
+    (nearest); returns its name."""
     tex = gl.glGenTextures(1)
     gl.glActiveTexture(gl.GL_TEXTURE0)
     gl.glBindTexture(gl.GL_TEXTURE_2D, tex)
-    gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA32F, width, rows, 0, gl.GL_RGBA, gl.GL_FLOAT, data)
+    gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, internal_format, width, rows, 0, gl.GL_RGBA, pixel_type, data)
     gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST)
     gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST)
     return tex
@@ -336,34 +343,13 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
         return _field_by_frame_samples(surface, incidence, elevation, azimuth, field_size, size, span, lighting,
                                        int(frame_samples), phases)
     uniforms, table = _scene_uniforms(model, surface, incidence, lighting, samples, table)
-    span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
     ctx = context(size, size, 1)
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines(model))
-    quad = _quad(size=float(field_size))  # uploaded before the frame's timer: a real-time scene keeps its buffers
-    quad._add_to_context()
     _resident_textures(ctx, table)  # a real-time scene keeps its textures resident, as its buffers
-    clock = _Phases(phases)
-    try:
-        _begin(size, size)
-        clock.end("clear")
-        program._bind()
-        set_uniforms(program, uniforms)
-        _set_table_uniforms(program, table)
-        program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
-        program.set_uniform("field_size", float(field_size))
-        program.set_uniform("scene_view", np.asarray(view, np.float32))
-        program.set_uniform("fb_width", size)
-        quad._bind()
-        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
-        quad._unbind()
-        program._unbind()
-        clock.end("draw")
-        raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-        seconds = clock.end("read")
-    finally:
-        quad.delete()
-    return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds
+    uniforms = {**uniforms, "scene_view": np.asarray(view, np.float32), "fb_width": size}
+    with _field_quad(field_size) as quad:
+        return _picture(program, uniforms, quad, view, field_size, size, span, _Phases(phases), table)
 
 
 def _scene_uniforms(model: str, surface: Surface, incidence, lighting, samples: int, table):
@@ -393,45 +379,58 @@ class _Phases:
         return now - self.start
 
 
+@contextlib.contextmanager
+def _field_quad(field_size: int):
+    """The field's quad, ``[0, N]^2`` of the base plane, uploaded (before a frame's clock starts, as a real-time
+    scene keeps its buffers) and deleted after."""
+    quad = _quad(size=float(field_size))
+    quad._add_to_context()
+    try:
+        yield quad
+    finally:
+        quad.delete()
+
+
+def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, span, clock, table=None):
+    """A scene's picture pass: the ``size`` x ``size`` picture cleared, then the field's ``quad``
+    (:func:`_field_quad`; ``span`` periods across the picture, default half the field's ``field_size``) drawn by
+    ``program`` with ``uniforms`` and the camera along ``view``, and read back; ``clock`` (:class:`_Phases`) times
+    its ``clear``, ``draw`` and ``read``. Returns :func:`render_field`'s picture and seconds."""
+    span = float(field_size) / 2.0 if span is None else float(span)
+    _begin(size, size)
+    clock.end("clear")
+    program._bind()
+    set_uniforms(program, uniforms)
+    _set_table_uniforms(program, table)
+    program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
+    program.set_uniform("field_size", float(field_size))
+    quad._bind()
+    gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+    quad._unbind()
+    program._unbind()
+    clock.end("draw")
+    raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+    seconds = clock.end("read")
+    return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds
+
+
 def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, field_size: int, size: int, span,
                             lighting, samples: int, phases: dict | None = None):
     """:func:`render_field` of the exact form with its shares once a frame (``frame_samples``)."""
     uniforms = shader_uniforms("exact", surface, incidence, lighting, samples)
-    span = float(field_size) / 2.0 if span is None else float(span)
     view = shading.view_direction(float(elevation), float(azimuth))
     width = max(size, FRAME_SAMPLES_WIDTH)  # the first pass's samples, row by row: a small picture holds too few
     rows = -(-samples // width)
     ctx = context(width, max(size, rows), 1)
     sweep_program = ctx.programs.get_program("implicit.vert", "implicit.frag", {})
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", {"SCENE_SAMPLES": 1})
-    quad = _quad(size=float(field_size))
-    quad._add_to_context()
-    texture = gl.glGenTextures(1)
-    clock = _Phases(phases)
-    try:
+    with _field_quad(field_size) as quad:
+        clock = _Phases(phases)
         raw = _draw_views(sweep_program, uniforms, np.asarray(view, float)[None, :], width, rows)
-        gl.glActiveTexture(gl.GL_TEXTURE0)
-        gl.glBindTexture(gl.GL_TEXTURE_2D, texture)
-        gl.glTexImage2D(gl.GL_TEXTURE_2D, 0, gl.GL_RGBA8, width, rows, 0, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE, raw)
-        gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MIN_FILTER, gl.GL_NEAREST)
-        gl.glTexParameteri(gl.GL_TEXTURE_2D, gl.GL_TEXTURE_MAG_FILTER, gl.GL_NEAREST)
-        clock.end("first_pass")
-        _begin(size, size)
-        clock.end("clear")
-        program._bind()
-        program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
-        program.set_uniform("field_size", float(field_size))
-        program.set_uniform("samples", samples)
-        program.set_uniform("samples_width", width)
-        program.set_uniform("frame_samples", 0)
-        quad._bind()
-        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
-        quad._unbind()
-        program._unbind()
-        clock.end("draw")
-        raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
-        seconds = clock.end("read")
-    finally:
-        quad.delete()
-        gl.glDeleteTextures([texture])
-    return np.frombuffer(raw, np.uint8).reshape(size, size, 4)[::-1].copy(), seconds
+        texture = _unit0_texture(width, rows, gl.GL_RGBA8, gl.GL_UNSIGNED_BYTE, raw)
+        try:
+            clock.end("first_pass")
+            return _picture(program, {"samples": samples, "samples_width": width, "frame_samples": 0}, quad, view,
+                            field_size, size, span, clock)
+        finally:
+            gl.glDeleteTextures([texture])
