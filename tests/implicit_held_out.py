@@ -60,29 +60,20 @@ def frames(view=(60.0, 20.0), incidence: float = 30.0) -> pd.DataFrame:
     implicit quad, on the frame benchmark's surface (t 1, a 1), one view."""
     from roughlight.measurements import implicit_surface
     from roughlight.render.implicit import cached_table
-    from roughlight.render.implicit.shader import render_field
 
     surface, (elevation, azimuth) = implicit_surface.FIELD_SURFACE, view
     exact = methods.sweep("reference", surface, incidence, [azimuth], [elevation])["total"]
     table = cached_table(surface)
-    quads = {"implicit_exact, rays a pixel": ("exact", {}),
-             "implicit_exact, shares once a frame (28,657 samples)": ("exact", {"frame_samples": 28657}),
-             "implicit_exact, shares once a frame (6,765 samples)": ("exact", {"frame_samples": 6765}),
-             "implicit_correction": ("correction", {}), "implicit_table": ("table", {"table": table})}
-    rows = []
+    quads = {"implicit_exact, rays a pixel": ("exact", None), "implicit_correction": ("correction", None),
+             "implicit_exact, shares once a frame (28,657 samples)": ("exact", 28657),
+             "implicit_exact, shares once a frame (6,765 samples)": ("exact", 6765), "implicit_table": ("table", None)}
+    lighting, rows = shading.Lighting(), []
     for n in (256, 512):
-        explicit = implicit_surface.explicit_frames(surface, incidence, shading.Lighting(), n, 512, [view], 3,
-                                                     exact, None)[0]
-        rows.append({"field": n, "method": "explicit", "frame_ms": explicit["frame_ms"],
-                     "draw_ms": explicit["draw_ms"]})
-        for name, (model, knobs) in quads.items():
-            frames = []
-            for _ in range(4):
-                phases = {}
-                seconds = render_field(model, surface, incidence, elevation, azimuth, n, phases=phases, **knobs)[1]
-                frames.append((seconds, phases["draw"] + phases.get("first_pass", 0.0)))
-            seconds, draw = min(frames[1:])
-            rows.append({"field": n, "method": name, "frame_ms": 1000 * seconds, "draw_ms": 1000 * draw})
+        rows += implicit_surface.explicit_frames(surface, incidence, lighting, n, 512, [view], 3, exact, None)
+        for name, (model, frame_samples) in quads.items():
+            rows += implicit_surface.implicit_frames(model, surface, incidence, lighting, n, 512, [view], 3, exact,
+                                                     None, table, frame_samples, name)
+    rows = [{key: row[key] for key in ("field", "method", "frame_ms", "draw_ms")} for row in rows]
     out = pd.DataFrame(rows)
     for column, ratio in (("frame_ms", "speedup"), ("draw_ms", "draw_speedup")):
         out[ratio] = out.groupby("field")[column].transform(lambda ms: ms.iloc[0] / ms)

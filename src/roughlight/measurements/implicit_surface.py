@@ -32,7 +32,7 @@ from ..surfaces.surface import SQRT3_2, Surface
 from . import comparison
 
 __all__ = ["PLANS", "GOAL", "MODEL_METHODS", "EXACT_ONCE_A_FRAME", "FRAME_DRAWINGS", "validation_surfaces",
-           "validation", "frame_times", "explicit_frames", "summary", "goal", "hemisphere_maps", "load_tables",
+           "validation", "frame_times", "explicit_frames", "implicit_frames", "summary", "goal", "hemisphere_maps", "load_tables",
            "share_table"]
 
 #: Validation incidences, degrees.
@@ -386,9 +386,9 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
         kept = pictures if n == size_plan["fields"][0] else None
         rows += explicit_frames(surface, incidence, lighting, n, size, views, repeats, exact, kept)
         for model in ("exact", "correction") + (("table",) if table is not None else ()):
-            rows += _implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept,
+            rows += implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept,
                                      table)
-        rows += _implicit_frames("exact", surface, incidence, lighting, n, size, views, repeats, exact, None,
+        rows += implicit_frames("exact", surface, incidence, lighting, n, size, views, repeats, exact, None,
                                  frame_samples=methods.settings("implicit_exact").pixels, method=EXACT_ONCE_A_FRAME)
         last = [r for r in rows if r["field"] == n]
         log(f"N={n}: explicit {np.mean([r['frame_ms'] for r in last if r['method'] == 'explicit']):.1f} ms, "
@@ -427,7 +427,7 @@ def explicit_frames(surface, incidence, lighting, n: int, size: int, views, repe
     return rows
 
 
-def _implicit_frames(model: str, surface, incidence, lighting, n: int, size: int, views, repeats: int, exact,
+def implicit_frames(model: str, surface, incidence, lighting, n: int, size: int, views, repeats: int, exact,
                      pictures, table=None, frame_samples=None, method=None) -> list:
     """:func:`frame_times`' rows of the ``n`` x ``n`` field drawn as one implicit quad with ``model`` (see
     :func:`explicit_frames`), named ``method`` (default ``implicit_{model}``); ``frame_samples``: the exact form's
