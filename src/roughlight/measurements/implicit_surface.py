@@ -306,8 +306,8 @@ class _Field:
 
     def render(self, view, phases: dict | None = None):
         """The frame along ``view``: its picture and seconds; ``phases`` (a dict) receives ``read``, pyrender's
-        read-back of the picture (its multisample blit and colour and depth read, timed again right after the
-        frame), and ``draw``, the rest (shadow pass and draw)."""
+        read-back of the picture (its colour and depth read, with its blit where it draws into a framebuffer object;
+        timed again right after the frame), and ``draw``, the rest (shadow pass and draw)."""
         pyrender = self.scene.pyrender
         from ..render.naive import up_vector
 
