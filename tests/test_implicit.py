@@ -143,15 +143,26 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     from roughlight.report import page as report
 
     tiny = {"grid": ((1.0, 1.0),), "incidences": (30.0,), "random": 1, "steps": (15.0, 60.0), "fields": (4,),
-            "frame_views": ((60.0, 20.0),), "repeats": 1}
+            "frame_views": ((60.0, 20.0),), "repeats": 1, "held_out": {"lights": 1, "views": 6}}
     from roughlight.measurements.brdf_export import measure_table
 
     monkeypatch.setitem(implicit_bench.PLANS, "tiny", tiny)
     # the table model on the surface a (small) table holds, as rule export's tables reach the validation
     tables = {(1.0, 1.0): measure_table(Surface(1.0, 1.0), [0, 30, 60, 90], [0, 45], [5, 30, 60, 90], 30)}
     table = implicit_bench.validation("tiny", tables=tables)
-    assert set(table["method"]) == set(implicit_bench.VALIDATED) and set(table["kind"]) == {"grid", "random"}
-    assert set(table.loc[table["method"] == "implicit_table", "kind"]) == {"grid"}  # the random surface has none
+    assert set(table["method"]) == set(implicit_bench.VALIDATED)
+    assert set(table["kind"]) == {"grid", "random", implicit_bench.HELD_OUT}
+    # the random surface has no table; the table's surface has one under its held-out light too
+    assert set(table.loc[table["method"] == "implicit_table", "kind"]) == {"grid", implicit_bench.HELD_OUT}
+    held = table[table["kind"] == implicit_bench.HELD_OUT]
+    assert len(held.groupby(["truncation", "aspect"])) == 2 and (held["light_azimuth"] != 0).all()
+    assert "v_cavity" not in set(held["method"])  # it lights from azimuth 0 only
+    assert (held["n_views"] == 6).all()
+    assert (table.loc[table["kind"] != implicit_bench.HELD_OUT, "light_azimuth"] == 0).all()
+    bands = implicit_bench.summary(table)
+    held_band = bands[bands["band"] == implicit_bench.HELD_OUT_BAND]  # its "surfaces": the lights checked
+    assert dict(zip(held_band["method"], held_band["surfaces"])) == {**dict.fromkeys(implicit_bench.SWEPT, 2),
+                                                                     "implicit_table": 1}
     assert (table.loc[table["method"] == "implicit_table", "memory_bytes"] == tables[(1.0, 1.0)].nbytes).all()
     exact = table[(table.method == "implicit_exact") & (table.component == "diffuse")]
     fast = table[(table.method == "fast") & (table.component == "diffuse")]
@@ -211,10 +222,10 @@ def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
 
     real = ref_module.reference_sweep
 
-    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None):
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0):
         if np.any(np.asarray(elevation) > 170):
             raise RuntimeError("reference clipping failed")
-        return real(surface, incidence, azimuth, elevation, lighting, settings)
+        return real(surface, incidence, azimuth, elevation, lighting, settings, light_azimuth)
 
     monkeypatch.setattr(ref_module, "reference_sweep", refusing)
     az, el = sweeps.view_grid(30.0, 90.0)
@@ -224,6 +235,41 @@ def test_views_the_reference_refuses_are_left_out_and_counted(monkeypatch):
     # each view once: the zenith, on both half great circles (azimuths 0 and 90), counts once
     assert all(r["n_views"] == int((~sweeps.is_grazing(el) & (el <= 170)).sum()) - 1 for r in rows)
     assert all(np.isfinite(r["mae"]) for r in rows)
+
+
+def test_held_out_lights_are_seeded_and_off_every_node():
+    """Issue 58: the validation draws its own lights (incidence 5-85, any azimuth) and views, the same each run, on
+    every validation surface, none on the study's nodes."""
+    first = implicit_bench.held_out_lights("full")
+    again = implicit_bench.held_out_lights("full")
+    assert [(s, i, p) for s, i, p, *_ in first] == [(s, i, p) for s, i, p, *_ in again]
+    assert all(np.array_equal(a[3], b[3]) and np.array_equal(a[4], b[4]) for a, b in zip(first, again))
+    surfaces = {s for s, *_ in implicit_bench.validation_surfaces("full")}
+    assert {s for s, *_ in first} == surfaces and len(first) == 3 * len(surfaces)
+    incidence = np.array([i for _, i, *_ in first])
+    light_azimuth = np.array([p for _, _, p, *_ in first])
+    assert ((incidence >= 5) & (incidence <= 85)).all() and light_azimuth.max() > 270 and light_azimuth.min() < 90
+    views = np.concatenate([np.column_stack(v[3:]) for v in first])
+    assert len(views) == 40 * len(first) and ((views[:, 1] > 1) & (views[:, 1] < 179)).all()
+    assert not np.isclose(views % 1.0, 0.0).any()  # off the study's whole-degree nodes
+
+
+def test_a_held_out_light_reaches_the_reference_and_every_model():
+    """validate_surface under a light from azimuth 123.4: each row is the method's error against the reference under
+    that light (not the light at azimuth 0), and the V-cavity model, which lights from azimuth 0 only, has none."""
+    surface, incidence, psi = Surface(1.0, 0.7), 40.0, 123.4
+    azimuth, elevation = np.array([10.0, 77.7, 201.3, 300.0]), np.array([25.0, 61.2, 140.5, 88.0])
+    rows = implicit_bench.validate_surface(surface, incidence, implicit_bench.HELD_OUT, azimuth, elevation,
+                                           light_azimuth=psi)
+    assert {r["method"] for r in rows} == set(implicit_bench.SWEPT)
+    exact = methods.sweep("reference", surface, incidence, azimuth, elevation, light_azimuth=psi)
+    for method in implicit_bench.SWEPT:
+        out = methods.sweep(method, surface, incidence, azimuth, elevation, light_azimuth=psi)
+        row = next(r for r in rows if r["method"] == method and r["component"] == "total")
+        assert row["mae"] == pytest.approx(np.abs(out["total"] - exact["total"]).mean(), abs=1e-9)
+        assert row["light_azimuth"] == psi
+    at_zero = methods.sweep("reference", surface, incidence, azimuth, elevation)
+    assert np.abs(at_zero["total"] - exact["total"]).max() > 10  # the light's azimuth changes what is measured
 
 
 @pytest.mark.parametrize("model", implicit.MODELS)

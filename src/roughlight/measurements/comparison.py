@@ -35,7 +35,7 @@ REFERENCE_CACHE_SIZE = 512
 _REFERENCES: dict = {}
 
 
-def reference(surface, incidence, azimuth, elevation, lighting=None, settings=None) -> dict:
+def reference(surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0) -> dict:
     """The exact reference's sweep of a surface under a light, computed once per views and lighting in a process.
 
     Parameters
@@ -48,6 +48,8 @@ def reference(surface, incidence, azimuth, elevation, lighting=None, settings=No
     lighting : Lighting, optional
     settings : ReferenceSettings, optional
         Default: the reference's defaults (quantized to 8-bit levels, as the study's).
+    light_azimuth : float
+        The light's azimuth, degrees (0: the light in the plane of the sweep's azimuth 0).
 
     Returns
     -------
@@ -56,11 +58,13 @@ def reference(surface, incidence, azimuth, elevation, lighting=None, settings=No
         computation). Shared between callers: read it, do not change it.
     """
     azimuth, elevation = np.asarray(azimuth, float), np.asarray(elevation, float)
-    key = (surface, float(incidence), azimuth.shape, azimuth.tobytes(), elevation.tobytes(), lighting, settings)
+    key = (surface, float(incidence), azimuth.shape, azimuth.tobytes(), elevation.tobytes(), lighting, settings,
+           float(light_azimuth))
     if key not in _REFERENCES:
         if len(_REFERENCES) > REFERENCE_CACHE_SIZE:
             _REFERENCES.clear()
-        _REFERENCES[key] = methods.sweep("reference", surface, incidence, azimuth, elevation, lighting, settings)
+        _REFERENCES[key] = methods.sweep("reference", surface, incidence, azimuth, elevation, lighting, settings,
+                                         light_azimuth=light_azimuth)
     return _REFERENCES[key]
 
 

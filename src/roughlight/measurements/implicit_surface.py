@@ -32,7 +32,7 @@ from ..surfaces.surface import SQRT3_2, Surface
 from . import comparison
 
 __all__ = ["PLANS", "GOAL", "MODEL_METHODS", "EXACT_ONCE_A_FRAME", "FRAME_DRAWINGS", "validation_surfaces",
-           "validation", "frame_times", "explicit_frames", "implicit_frames", "summary", "goal", "hemisphere_maps", "load_tables",
+           "held_out_lights", "validation", "frame_times", "explicit_frames", "implicit_frames", "summary", "goal", "hemisphere_maps", "load_tables",
            "share_table"]
 
 #: Validation incidences, degrees.
@@ -51,16 +51,41 @@ SWEPT = ("implicit_exact", "implicit_correction", "fast")
 PLANS = {
     "full": {"grid": GRID_SURFACES, "incidences": INCIDENCES, "random": 20, "steps": (1.0, 5.0),
              "fields": (16, 64, 256), "frame_views": ((30.0, 0.0), (60.0, 20.0), (90.0, 45.0), (120.0, 0.0)),
-             "repeats": 3},
+             "repeats": 3, "held_out": {"lights": 3, "views": 40}},
     "quick": {"grid": ((1.0, 1.0), (0.5, 0.5)), "incidences": (30.0,), "random": 1, "steps": (6.0, 30.0),
-              "fields": (16, 64), "frame_views": ((60.0, 20.0),), "repeats": 1},
+              "fields": (16, 64), "frame_views": ((60.0, 20.0),), "repeats": 1,
+              "held_out": {"lights": 2, "views": 40}},
     # a check that a config builds the whole report, in seconds (its numbers are not for reading)
     "smoke": {"grid": ((1.0, 1.0),), "incidences": (30.0,), "random": 1, "steps": (15.0, 45.0),
-              "fields": (16,), "frame_views": ((60.0, 20.0),), "repeats": 1},
+              "fields": (16,), "frame_views": ((60.0, 20.0),), "repeats": 1,
+              "held_out": {"lights": 1, "views": 10}},
 }
 
 #: Seed of the random (truncation, aspect, incidence) triples.
 RANDOM_SEED = 20011
+
+#: Seed of the held-out lights and views (:func:`held_out_lights`).
+HELD_OUT_SEED = 58
+#: The held-out lights' incidences and the views' elevations, degrees: any light the goal names (issue 58:
+#: incidence 5-85, any azimuth) and any view above the horizon but the last degree at either end, where no method
+#: but the reference shows the surface (grazing views).
+HELD_OUT_INCIDENCE = (5.0, 85.0)
+HELD_OUT_ELEVATION = (1.0, 179.0)
+#: The ``kind`` of the held-out rows of :func:`validation`, and their band in :func:`summary`.
+HELD_OUT = "held out"
+HELD_OUT_BAND = "held-out lights and views"
+
+
+def held_out_counts(validation) -> dict:
+    """How the validation was drawn: ``surfaces`` (surface and incidence pairs on the plan's view grid),
+    ``views`` (each one's distinct views), ``lights`` (held-out lights) and ``light_views`` (the most distinct views
+    a held-out light was checked at)."""
+    held = validation["kind"] == HELD_OUT if "kind" in validation else np.zeros(len(validation), bool)
+    grid, off = validation[~held], validation[held]
+    return {"surfaces": grid.groupby(["truncation", "aspect", "incidence"]).ngroups,
+            "views": int(grid["n_views"].iloc[0]) if len(grid) else 0,
+            "lights": off.groupby(["truncation", "aspect", "incidence", "light_azimuth"]).ngroups if len(off) else 0,
+            "light_views": int(off["n_views"].max()) if len(off) else 0}
 
 
 def validation_surfaces(plan: str = "full") -> list[tuple[Surface, float, str]]:
@@ -81,6 +106,30 @@ def validation_surfaces(plan: str = "full") -> list[tuple[Surface, float, str]]:
     return out
 
 
+def held_out_lights(plan: str = "full") -> list[tuple[Surface, float, float, np.ndarray, np.ndarray]]:
+    """The validation's lights and views off every node: on each surface of :func:`validation_surfaces`, the
+    plan's ``held_out["lights"]`` lights drawn at random (incidence uniform in :data:`HELD_OUT_INCIDENCE`, azimuth
+    uniform in [0, 360)), each seen from ``held_out["views"]`` random views (azimuth uniform in [0, 360), elevation
+    uniform in :data:`HELD_OUT_ELEVATION`), all drawn with :data:`HELD_OUT_SEED` before any model is measured.
+
+    Returns
+    -------
+    list of (surface, incidence, light_azimuth, azimuth, elevation): degrees; ``azimuth`` and ``elevation`` are
+    (views,) arrays of the study's view convention (:func:`roughlight.render.shading.view_direction`).
+    """
+    size = comparison.plan_size(PLANS, plan, "implicit benchmark")["held_out"]
+    rng = np.random.default_rng(HELD_OUT_SEED)
+    surfaces = list(dict.fromkeys(surface for surface, *_ in validation_surfaces(plan)))
+    out = []
+    for surface in surfaces:
+        for _ in range(size["lights"]):
+            incidence, light_azimuth = round(rng.uniform(*HELD_OUT_INCIDENCE), 2), round(rng.uniform(0.0, 360.0), 2)
+            azimuth = rng.uniform(0.0, 360.0, size["views"])
+            elevation = rng.uniform(*HELD_OUT_ELEVATION, size["views"])
+            out.append((surface, float(incidence), float(light_azimuth), azimuth, elevation))
+    return out
+
+
 def _band(surface: Surface) -> str:
     if surface.truncation > 0.5 and surface.aspect > 0.5:
         return "t > 0.5, aspect > 0.5"
@@ -94,10 +143,14 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
     file), for ``implicit_table``'s rows: the surfaces that have one (rule ``export``'s, ``export.surfaces``); with
     the ``full`` plan every other validation surface's is measured here (:func:`share_table`).
 
+    Then the lights and views off every node (:func:`held_out_lights`): each surface under random lights from any
+    azimuth, seen from random views, one row a light, method and component (``kind`` :data:`HELD_OUT`). The
+    V-cavity model lights from azimuth 0 only and has no held-out rows.
+
     Returns
     -------
-    pandas.DataFrame, one row per surface x method x component: ``truncation``,
-    ``aspect``, ``incidence``, ``kind`` (grid | random), ``band``, ``method``
+    pandas.DataFrame, one row per surface (or held-out light) x method x component: ``truncation``,
+    ``aspect``, ``incidence``, ``light_azimuth`` (degrees), ``kind`` (grid | random | held out), ``band``, ``method``
     (:data:`VALIDATED`), ``component``, ``n_views`` (views with surface,
     0 < e < 180, that the reference could compute, each once: the zenith
     once, not once per azimuth), ``mae``, ``p99``,
@@ -122,6 +175,14 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
         worst = {m: max(r["worst"] for r in new if r["method"] == m) for m in ("implicit_exact", "fast")}
         log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
             f"worst view exact form {worst['implicit_exact']:.2f}, fast {worst['fast']:.2f}")
+    held_out = held_out_lights(plan)
+    for surface, incidence, light_azimuth, azimuth, elevation in held_out:
+        rows += validate_surface(surface, incidence, HELD_OUT, azimuth, elevation, lighting,
+                                 tables.get(_key(surface)), light_azimuth)
+    exact_worst = max([r["worst"] for r in rows if r["kind"] == HELD_OUT and r["method"] == "implicit_exact"],
+                      default=math.nan)
+    log(f"{len(held_out)} held-out lights from any azimuth, {PLANS[plan]['held_out']['views']} random views each: "
+        f"worst view exact form {exact_worst:.2f}")
     return pd.DataFrame(rows)
 
 
@@ -159,62 +220,75 @@ def share_table(surface: Surface, lighting=None, log=None):
 _SWEEPS: dict = {}
 
 
-def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, lighting, table=None) -> dict:
+def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, lighting, table=None,
+           light_azimuth: float = 0.0) -> dict:
     """``methods.sweep(method, ...)``, computed once per surface, light, views and lighting in a process: the
     validation and the hemisphere maps share their surfaces' sweeps where their plan's views are the same (the
     quick plan's full pyramid at incidence 30). The reference through :func:`roughlight.measurements.comparison.
     reference`'s cache. Shared between callers: read it, do not change it."""
     if method == "reference":
-        return comparison.reference(surface, incidence, azimuth, elevation, lighting)
+        return comparison.reference(surface, incidence, azimuth, elevation, lighting, light_azimuth=light_azimuth)
     azimuth, elevation = np.asarray(azimuth, float), np.asarray(elevation, float)
     key = (method, surface, float(incidence), azimuth.shape, azimuth.tobytes(), elevation.tobytes(), lighting,
-           id(table))
+           id(table), float(light_azimuth))
     if key not in _SWEEPS:
         if len(_SWEEPS) >= comparison.REFERENCE_CACHE_SIZE:
             _SWEEPS.clear()
         settings = {"table": table} if method == "implicit_table" else None
-        _SWEEPS[key] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings)
+        _SWEEPS[key] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings,
+                                     light_azimuth=light_azimuth)
     return _SWEEPS[key]
 
 
 def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, elevation, lighting=None,
-                     table=None) -> list:
-    """The validation's rows (dicts, columns of :func:`validation`) of one surface on the given views
-    (``implicit_table``'s with the surface's share ``table``, when given)."""
-    from ..analysis.surface_models import facet_model
+                     table=None, light_azimuth: float = 0.0) -> list:
+    """The validation's rows (dicts, columns of :func:`validation`) of one surface under the light at ``incidence``
+    and ``light_azimuth`` (degrees) on the given views (``implicit_table``'s with the surface's share ``table``, when
+    given; the V-cavity model's only for a light from azimuth 0, the only one it lights from)."""
     from ..render.exact import reference_views
 
     lighting = lighting or shading.Lighting()
     seen = sweeps.distinct_views(azimuth, elevation)  # rendered, each once: the zenith once, not once per azimuth
     # a view the reference's own checks refuse is left out of the comparison and counted
     try:
-        exact = _sweep("reference", surface, incidence, azimuth, elevation, lighting)
+        exact = _sweep("reference", surface, incidence, azimuth, elevation, lighting, light_azimuth=light_azimuth)
         failed = np.zeros(np.size(azimuth), bool)
     except RuntimeError:
-        exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting)
+        exact, failed = reference_views(surface, incidence, azimuth, elevation, lighting, light_azimuth)
     seen &= ~failed
     results = {}
     for method in SWEPT:
-        results[method] = _sweep(method, surface, incidence, azimuth, elevation, lighting)
+        results[method] = _sweep(method, surface, incidence, azimuth, elevation, lighting, light_azimuth=light_azimuth)
     if table is not None:
-        results["implicit_table"] = _sweep("implicit_table", surface, incidence, azimuth, elevation, lighting, table)
+        results["implicit_table"] = _sweep("implicit_table", surface, incidence, azimuth, elevation, lighting, table,
+                                           light_azimuth)
+    if light_azimuth == 0.0:
+        results["v_cavity"] = _v_cavity(surface, incidence, azimuth, elevation, lighting)
+    rows = []
+    for method, out in results.items():
+        memory = table.nbytes if method == "implicit_table" else 0 if method in MODEL_METHODS else math.nan
+        for component, err in comparison.absolute_errors(out, exact, seen).items():
+            rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
+                         "light_azimuth": float(light_azimuth), "kind": kind, "band": _band(surface),
+                         "method": method, "component": component,
+                         "n_views": int(seen.sum()), **comparison.error_statistics(err),
+                         "seconds": float(out["seconds"]), "reference_failures": int(failed.sum()),
+                         "memory_bytes": memory})
+    return rows
+
+
+def _v_cavity(surface: Surface, incidence: float, azimuth, elevation, lighting) -> dict:
+    """The V-cavity facet model's sweep (:func:`roughlight.analysis.surface_models.facet_model`, the light at
+    azimuth 0), with its ``total`` and ``seconds``."""
+    from ..analysis.surface_models import facet_model
+
     start = time.perf_counter()
     model = facet_model(surface.truncation, surface.aspect, incidence, elevation, azimuth, lighting.light,
                         lighting.shininess, lighting.diffuse_reflectance, lighting.specular_reflectance,
                         lighting.ambient, lighting.ambient_reflectance)
     model["total"] = model["diffuse"] + model["specular"]
     model["seconds"] = time.perf_counter() - start
-    results["v_cavity"] = model
-    rows = []
-    for method, out in results.items():
-        memory = table.nbytes if method == "implicit_table" else 0 if method in MODEL_METHODS else math.nan
-        for component, err in comparison.absolute_errors(out, exact, seen).items():
-            rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
-                         "kind": kind, "band": _band(surface), "method": method, "component": component,
-                         "n_views": int(seen.sum()), **comparison.error_statistics(err),
-                         "seconds": float(out["seconds"]), "reference_failures": int(failed.sum()),
-                         "memory_bytes": memory})
-    return rows
+    return model
 
 
 #: The implicit models, by their methods' names.
@@ -272,12 +346,16 @@ def goal(validation, frames) -> list[dict]:
 def summary(table):
     """Per method and component: median and largest surface MAE, largest p99 and the worst view.
 
-    Also per band (``t > 0.5, aspect > 0.5`` and the rest). Returns a DataFrame.
+    Also per band (``t > 0.5, aspect > 0.5`` and the rest) and over the held-out lights and views alone
+    (:data:`HELD_OUT_BAND`; ``surfaces`` there counts lights). Returns a DataFrame.
     """
     import pandas as pd
 
     parts = []
-    for band, rows in [("all", table)] + list(table.groupby("band")):
+    groups = [("all", table)] + list(table.groupby("band"))
+    if "kind" in table and (table["kind"] == HELD_OUT).any():
+        groups.append((HELD_OUT_BAND, table[table["kind"] == HELD_OUT]))
+    for band, rows in groups:
         g = rows.groupby(["method", "component"], sort=False)
         part = g.agg(median_mae=("mae", "median"), max_mae=("mae", "max"), max_p99=("p99", "max"),
                      worst=("worst", "max"), surfaces=("mae", "size")).reset_index()

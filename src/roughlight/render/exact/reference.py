@@ -562,7 +562,7 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
     return sweep.measure(step, incidence, azimuth, elevation, lighting, gives=EXTRAS)
 
 
-def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None):
+def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth=0.0):
     """The exact reference on many views, leaving out the views it refuses instead of failing all of them.
 
     :func:`reference_sweep` raises ``RuntimeError`` when a view's clipping fails its own checks (seen on random
@@ -579,7 +579,7 @@ def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=No
     azimuth = np.atleast_1d(np.asarray(azimuth, float))
     elevation = np.atleast_1d(np.asarray(elevation, float))
     try:
-        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting)
+        exact = reference_sweep(surface, incidence, azimuth, elevation, lighting, light_azimuth=light_azimuth)
         return {c: np.asarray(exact[c], float) for c in COMPONENTS}, np.zeros(azimuth.size, bool)
     except RuntimeError:
         pass
@@ -587,7 +587,8 @@ def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=No
     refused = np.zeros(azimuth.size, bool)
     for k in range(azimuth.size):
         try:
-            one = reference_sweep(surface, incidence, azimuth[k:k + 1], elevation[k:k + 1], lighting)
+            one = reference_sweep(surface, incidence, azimuth[k:k + 1], elevation[k:k + 1], lighting,
+                                  light_azimuth=light_azimuth)
         except RuntimeError:
             refused[k] = True
             continue

@@ -36,7 +36,7 @@ def fig_implicit(validation, frames, pictures=None):
     axes[0].set(yscale="log", xlabel="", title="Error against the exact reference, diffuse, per surface")
     axes[0].axhline(0.1, color="grey", lw=0.8, ls=":")
     axes[0].tick_params(axis="x", labelrotation=15)
-    legend_below(axes[0], ncol=2, below=62.0, title="kind", fontsize=8, title_fontsize=8)  # under the slanted names
+    legend_below(axes[0], ncol=3, below=62.0, title="kind", fontsize=8, title_fontsize=8)  # under the slanted names
     f = frames.groupby(["field", "method"], as_index=False)["frame_ms"].mean()
     sns.lineplot(data=f, x="field", y="frame_ms", hue="method", marker="o", ax=axes[1])
     axes[1].set(xscale="log", yscale="log", xlabel="field side N (periods)", ylabel="frame time (ms)",

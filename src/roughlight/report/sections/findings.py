@@ -309,8 +309,11 @@ def implicit(validation: pd.DataFrame | None, shown: bool, frames: pd.DataFrame 
     from ...measurements.implicit_surface import goal
 
     met = goal(validation, frames) if _has_rows(frames) else []
-    return {"n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
-            "n_views": int(validation["n_views"].iloc[0]), "exact": forms["implicit_exact"],
+    from ...measurements.implicit_surface import held_out_counts
+
+    drawn = held_out_counts(validation)
+    return {"n_surfaces": drawn["surfaces"], "n_views": drawn["views"], "held_out": drawn,
+            "exact": forms["implicit_exact"],
             "correction": forms["implicit_correction"], "target": "implicit-validation", "goal": met,
             "meets": [g["method"] for g in met if g["meets"]]}
 

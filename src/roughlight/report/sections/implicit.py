@@ -13,7 +13,7 @@ def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_fram
                   implicit_png=None, implicit_maps_png=None, plan: str = "full") -> dict | None:
     """"An implicit rough surface: the thesis's goal": the validation against the exact reference and the frame
     times (rule ``implicit_surface``), with their charts; None: switched off."""
-    from ...measurements.implicit_surface import GOAL, goal, summary
+    from ...measurements.implicit_surface import GOAL, goal, held_out_counts, summary
 
     validation, frames = implicit_validation, implicit_frames
     if validation is None or frames is None:
@@ -23,8 +23,9 @@ def implicit_data(implicit_validation: pd.DataFrame | None = None, implicit_fram
     explicit = f[f["method"] == "explicit"].set_index("field")["frame_ms"]
     f["speedup_vs_explicit"] = f["frame_ms"].rdiv(f["field"].map(explicit))
     png, maps_png = existing(implicit_png), existing(implicit_maps_png)
-    return {"plan": plan, "n_surfaces": validation.groupby(["truncation", "aspect", "incidence"]).ngroups,
-            "n_views": int(validation["n_views"].iloc[0]), "summary": summary(validation),
+    drawn = held_out_counts(validation)
+    return {"plan": plan, "n_surfaces": drawn["surfaces"], "n_views": drawn["views"], "held_out": drawn,
+            "summary": summary(validation),
             "png": png, "caption": caption_text("implicit") if png else None,
             "maps_png": maps_png, "maps_caption": caption_text("implicit_maps") if maps_png else None, "frames": f,
             "goal": goal(validation, frames), "targets": GOAL}
