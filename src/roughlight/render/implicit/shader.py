@@ -57,16 +57,19 @@ def _draw_quad(primitive) -> None:
         primitive.delete()
 
 
-def _begin(width: int, height: int) -> None:
-    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+def _begin(width: int, height: int, framebuffer: int = 0, clear: bool = True) -> None:
+    """Draw into ``framebuffer`` (0: the context's own) over ``width`` x ``height`` pixels, no depth test, culling,
+    blending or clip planes; cleared to 0 unless ``clear`` is False (a pass that writes every pixel)."""
+    gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, framebuffer)
     gl.glViewport(0, 0, width, height)
     gl.glDisable(gl.GL_DEPTH_TEST)
     gl.glDisable(gl.GL_CULL_FACE)
     gl.glDisable(gl.GL_BLEND)
     for plane in range(4):
         gl.glDisable(gl.GL_CLIP_DISTANCE0 + plane)
-    gl.glClearColor(0.0, 0.0, 0.0, 0.0)
-    gl.glClear(gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+    if clear:
+        gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+        gl.glClear(gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
 
 
 def _views_texture(views: np.ndarray, width: int) -> int:
@@ -144,6 +147,16 @@ def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: in
     """One pass of a sweep: the quad over a ``width`` x ``rows`` framebuffer, the (n, 3) unit ``views`` each
     owning ``uniforms["samples"]`` consecutive pixels; returns the framebuffer's RGBA bytes."""
     _begin(width, rows)
+    tex = _sweep_pass(program, uniforms, views, width, table)
+    gl.glFinish()
+    gl.glDeleteTextures([tex])
+    return gl.glReadPixels(0, 0, width, rows, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+
+
+def _sweep_pass(program, uniforms: dict, views: np.ndarray, width: int, table=None, quad=None) -> int:
+    """The sweep's draw into the bound framebuffer (``width`` pixels a row, :func:`_begin`): ``views`` uploaded
+    to a texture on unit 0, whose name is returned for the caller to delete, and the full-viewport quad drawn
+    (``quad``, a resident one, or a new one uploaded and deleted)."""
     program._bind()
     set_uniforms(program, uniforms)
     _set_table_uniforms(program, table)
@@ -155,11 +168,14 @@ def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: in
     program.set_uniform("views_width", views_width)
     tex = _views_texture(views, views_width)
     program.set_uniform("views", 0)
-    _draw_quad(_quad(ndc=True))
+    if quad is None:
+        _draw_quad(_quad(ndc=True))
+    else:
+        quad._bind()
+        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+        quad._unbind()
     program._unbind()
-    gl.glFinish()
-    gl.glDeleteTextures([tex])
-    return gl.glReadPixels(0, 0, width, rows, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
+    return tex
 
 
 def _store_view_means(out: dict, target: np.ndarray, raw: bytes, samples: int) -> None:
@@ -324,13 +340,14 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
 
     ``frame_samples`` (the exact form only; a Fibonacci number): the exact form's shares once a frame. The whole
     picture sees the field along one view under one light, so a first pass casts the rays of ``frame_samples``
-    points of one period once, as a sweep's view (:func:`_draw_views`), and the picture's pixels each show the
-    sample their dither picks (``SCENE_SAMPLES``, implicit.frag): the exact form's sweep at that many samples a
-    view, in one pass of ``frame_samples`` ray casts and one of texture reads, both inside the frame's time.
+    points of one period once, as a sweep's view (:func:`_sweep_pass`), into a texture that stays on the GPU, and
+    the picture's pixels each show the sample their dither picks (``SCENE_SAMPLES``, implicit.frag): the exact
+    form's sweep at that many samples a view, in one pass of ``frame_samples`` ray casts and one of texture reads,
+    both inside the frame's time.
 
     ``phases``, when a dict is given, receives the frame's time by phase, seconds, each ended by ``glFinish``:
     ``clear``, ``draw`` (the uniforms set and the quad drawn), ``read`` (the picture read back) and, once a frame,
-    ``first_pass`` (the samples' rays cast, read back and uploaded).
+    ``first_pass`` (the samples' rays cast into their texture).
 
     Returns
     -------
@@ -380,10 +397,10 @@ class _Phases:
 
 
 @contextlib.contextmanager
-def _field_quad(field_size: int):
-    """The field's quad, ``[0, N]^2`` of the base plane, uploaded (before a frame's clock starts, as a real-time
-    scene keeps its buffers) and deleted after."""
-    quad = _quad(size=float(field_size))
+def _field_quad(field_size: int | None):
+    """The field's quad, ``[0, N]^2`` of the base plane (``field_size`` None: the full-viewport quad of a sweep's
+    pass), uploaded (before a frame's clock starts, as a real-time scene keeps its buffers) and deleted after."""
+    quad = _quad(ndc=True) if field_size is None else _quad(size=float(field_size))
     quad._add_to_context()
     try:
         yield quad
@@ -416,21 +433,47 @@ def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, sp
 
 def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, field_size: int, size: int, span,
                             lighting, samples: int, phases: dict | None = None):
-    """:func:`render_field` of the exact form with its shares once a frame (``frame_samples``)."""
+    """:func:`render_field` of the exact form with its shares once a frame (``frame_samples``): the first pass draws
+    the samples into a texture (:func:`_samples_target`), which the picture reads; no read-back between them."""
     uniforms = shader_uniforms("exact", surface, incidence, lighting, samples)
     view = shading.view_direction(float(elevation), float(azimuth))
     width = max(size, FRAME_SAMPLES_WIDTH)  # the first pass's samples, row by row: a small picture holds too few
     rows = -(-samples // width)
-    ctx = context(width, max(size, rows), 1)
+    ctx = context(size, size, 1)
     sweep_program = ctx.programs.get_program("implicit.vert", "implicit.frag", {})
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", {"SCENE_SAMPLES": 1})
-    with _field_quad(field_size) as quad:
+    with _field_quad(field_size) as quad, _field_quad(None) as pass_quad, _samples_target(width, rows) as target:
+        framebuffer, texture = target
         clock = _Phases(phases)
-        raw = _draw_views(sweep_program, uniforms, np.asarray(view, float)[None, :], width, rows)
-        texture = _unit0_texture(width, rows, gl.GL_RGBA8, gl.GL_UNSIGNED_BYTE, raw)
+        _begin(width, rows, framebuffer, clear=False)  # the pass writes every texel
+        views = _sweep_pass(sweep_program, uniforms, np.asarray(view, float)[None, :], width, quad=pass_quad)
         try:
             clock.end("first_pass")
+            gl.glActiveTexture(gl.GL_TEXTURE0)
+            gl.glBindTexture(gl.GL_TEXTURE_2D, texture)
             return _picture(program, {"samples": samples, "samples_width": width, "frame_samples": 0}, quad, view,
                             field_size, size, span, clock)
         finally:
-            gl.glDeleteTextures([texture])
+            gl.glDeleteTextures([views])
+
+
+@contextlib.contextmanager
+def _samples_target(width: int, rows: int):
+    """A ``width`` x ``rows`` RGBA8 texture (nearest) as the colour of a framebuffer object of its own, made
+    before a frame's clock starts (as a real-time scene keeps its render targets) and deleted after: yields
+    (framebuffer, texture)."""
+    texture = _unit0_texture(width, rows, gl.GL_RGBA8, gl.GL_UNSIGNED_BYTE, None)
+    framebuffer = gl.glGenFramebuffers(1)
+    try:
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, framebuffer)
+        gl.glFramebufferTexture2D(gl.GL_FRAMEBUFFER, gl.GL_COLOR_ATTACHMENT0, gl.GL_TEXTURE_2D, texture, 0)
+        status = gl.glCheckFramebufferStatus(gl.GL_FRAMEBUFFER)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+        if status != gl.GL_FRAMEBUFFER_COMPLETE:
+            raise RuntimeError(f"the exact form's samples texture ({width} x {rows}) is no complete framebuffer: "
+                               f"status {status:#x}")
+        yield framebuffer, texture
+    finally:
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, 0)
+        gl.glDeleteFramebuffers(1, [framebuffer])
+        gl.glDeleteTextures([texture])
