@@ -12,7 +12,8 @@ the exact form both ways: its rays a pixel, and its shares once a frame (``rende
 view, on a 3 x 10 degree view grid of six surfaces and lights. With ``--grazing``: how fast the exact facet shares
 move with the view's azimuth near the horizon, where the table model's worst view lies (the held-out trial's: t 1,
 a 0.7, light at incidence 63.39 and azimuth 205.2), and what linear interpolation between nodes 2.5 degrees apart
-misses there.
+misses there. With ``--phases``: where the correction's and the exact form's once-a-frame frames go (first pass,
+clear, draw, read-back) at 28,657 to 233 samples, N 512.
 """
 
 from __future__ import annotations
@@ -80,6 +81,25 @@ def frames(view=(60.0, 20.0), incidence: float = 30.0) -> pd.DataFrame:
     return out
 
 
+def phases(counts=(28657, 6765, 1597, 233), field: int = 512, view=(60.0, 20.0), repeats: int = 15) -> pd.DataFrame:
+    """Where a quad's frame goes (ms, the fastest of ``repeats`` frames after one to warm up, each phase ended by
+    ``glFinish``): the correction's and the exact form's once a frame at ``counts`` samples, on the frame
+    benchmark's surface (t 1, a 1), an N ``field`` field, 512 x 512 pixels, one view."""
+    from roughlight.measurements import implicit_surface
+    from roughlight.render.implicit import render_field
+
+    lighting, rows = shading.Lighting(), []
+    for name, kwargs in [("correction", {}), *((f"exact form, {m:,} samples", {"frame_samples": m}) for m in counts)]:
+        def draw(phases, kwargs=kwargs, name=name):
+            return render_field("correction" if name == "correction" else "exact", implicit_surface.FIELD_SURFACE,
+                                30.0, view[0], view[1], field, 512, field / 2.0, lighting, phases=phases, **kwargs)
+
+        draw({})
+        best = min((draw(p := {})[1], p) for _ in range(repeats))
+        rows.append({"quad": name, "frame_ms": 1000.0 * best[0], **{f"{k}_ms": 1000.0 * v for k, v in best[1].items()}})
+    return pd.DataFrame(rows)
+
+
 def samples_needed(counts=(4181, 6765, 10946, 28657)) -> pd.DataFrame:
     """The exact form's sweep at ``counts`` samples a view against the exact reference: its worst view and largest
     MAE (any component) over six surfaces and lights on a 3 x 10 degree view grid (1,062 views above the plane)."""
@@ -135,6 +155,9 @@ if __name__ == "__main__":
         raise SystemExit
     if "--frames" in sys.argv:
         print(frames().round(2).to_string(index=False))
+        raise SystemExit
+    if "--phases" in sys.argv:
+        print(phases().round(2).to_string(index=False))
         raise SystemExit
     frame = trial()
     summary = frame.groupby(["model", "component"])["error"].agg(mae="mean", worst="max", views="size")
