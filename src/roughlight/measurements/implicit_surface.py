@@ -31,9 +31,9 @@ from ..surfaces.geometry import period_triangles
 from ..surfaces.surface import SQRT3_2, Surface
 from . import comparison
 
-__all__ = ["PLANS", "GOAL", "MODEL_METHODS", "EXACT_ONCE_A_FRAME", "FRAME_DRAWINGS", "validation_surfaces",
-           "held_out_lights", "validation", "frame_times", "explicit_frames", "implicit_frames", "summary", "goal", "hemisphere_maps", "load_tables",
-           "share_table"]
+__all__ = ["PLANS", "GOAL", "MODEL_METHODS", "EXACT_ONCE_A_FRAME", "FRAME_DRAWINGS", "HELD_OUT", "HELD_OUT_BAND",
+           "validation_surfaces", "held_out_lights", "held_out_counts", "validation", "frame_times", "explicit_frames",
+           "implicit_frames", "summary", "goal", "hemisphere_maps", "load_tables", "share_table"]
 
 #: Validation incidences, degrees.
 INCIDENCES = (10.0, 30.0, 50.0, 70.0)
