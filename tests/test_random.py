@@ -468,10 +468,10 @@ def test_random_accuracy_leaves_out_and_counts_the_views_the_reference_refuses(m
 
     real = reference.reference_sweep
 
-    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None):
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0):
         if np.any((np.asarray(elevation) > 140) & (np.asarray(elevation) < 170)):
             raise RuntimeError("reference clipping failed")
-        return real(surface, incidence, azimuth, elevation, lighting, settings)
+        return real(surface, incidence, azimuth, elevation, lighting, settings, light_azimuth)
 
     monkeypatch.setattr(reference, "reference_sweep", refusing)
     monkeypatch.setitem(B.PLANS, "tiny", {**B.PLANS["quick"], "accuracy_views": (30.0, 60.0)})
@@ -568,10 +568,10 @@ def test_every_view_errors_compare_each_view_of_a_sweep_and_name_the_worst(monke
     sweep.loc[off, "value"] += 2.0
     real = reference.reference_sweep
 
-    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None):
+    def refusing(surface, incidence, azimuth, elevation, lighting=None, settings=None, light_azimuth=0.0):
         if np.any(np.asarray(elevation) == 150):
             raise RuntimeError("reference clipping failed")
-        return real(surface, incidence, azimuth, elevation, lighting, settings)
+        return real(surface, incidence, azimuth, elevation, lighting, settings, light_azimuth)
 
     monkeypatch.setattr(reference, "reference_sweep", refusing)
     errors = B.every_view_errors(sweep, surface, 30.0, Lighting())
