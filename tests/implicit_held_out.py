@@ -147,18 +147,11 @@ def grazing(elevations=(1.79, 5.0, 15.0), step: float = 0.25, node_step: float =
 if __name__ == "__main__":
     import sys
 
-    if "--grazing" in sys.argv:
-        print(grazing().round(4).to_string(index=False))
-        raise SystemExit
-    if "--samples" in sys.argv:
-        print(samples_needed().round(3).to_string(index=False))
-        raise SystemExit
-    if "--frames" in sys.argv:
-        print(frames().round(2).to_string(index=False))
-        raise SystemExit
-    if "--phases" in sys.argv:
-        print(phases().round(2).to_string(index=False))
-        raise SystemExit
+    modes = {"--grazing": (grazing, 4), "--samples": (samples_needed, 3), "--frames": (frames, 2), "--phases": (phases, 2)}
+    for flag, (measure, decimals) in modes.items():
+        if flag in sys.argv:
+            print(measure().round(decimals).to_string(index=False))
+            raise SystemExit
     frame = trial()
     summary = frame.groupby(["model", "component"])["error"].agg(mae="mean", worst="max", views="size")
     print(summary.round(3).to_string())

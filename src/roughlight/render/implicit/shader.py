@@ -34,7 +34,7 @@ __all__ = ["implicit_sweep", "render_field", "scene_defines", "table_defines", "
 
 #: Width of the sweep's framebuffer, pixels.
 FRAMEBUFFER_WIDTH = 2048
-#: Pixels a row of the first pass of a scene with the exact form's shares once a frame (at least the picture's).
+#: Texels a row of the samples' texture of a scene with the exact form's shares once a frame.
 FRAME_SAMPLES_WIDTH = 512
 
 #: Most framebuffer rows of one pass.
@@ -47,14 +47,11 @@ def _quad(z: float = 0.0, size: float = 1.0, ndc: bool = False):
     return Primitive(positions=corners, mode=GLTF.TRIANGLES)
 
 
-def _draw_quad(primitive) -> None:
-    primitive._add_to_context()
-    try:
-        primitive._bind()
-        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
-        primitive._unbind()
-    finally:
-        primitive.delete()
+def _draw_quad(quad) -> None:
+    """Draw an uploaded quad (:func:`_field_quad`): its two triangles."""
+    quad._bind()
+    gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
+    quad._unbind()
 
 
 def _begin(width: int, height: int, framebuffer: int = 0, clear: bool = True) -> None:
@@ -147,16 +144,17 @@ def _draw_views(program, uniforms: dict, views: np.ndarray, width: int, rows: in
     """One pass of a sweep: the quad over a ``width`` x ``rows`` framebuffer, the (n, 3) unit ``views`` each
     owning ``uniforms["samples"]`` consecutive pixels; returns the framebuffer's RGBA bytes."""
     _begin(width, rows)
-    tex = _sweep_pass(program, uniforms, views, width, table)
+    with _field_quad(None) as quad:
+        tex = _sweep_pass(program, uniforms, views, width, quad, table)
     gl.glFinish()
     gl.glDeleteTextures([tex])
     return gl.glReadPixels(0, 0, width, rows, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
 
 
-def _sweep_pass(program, uniforms: dict, views: np.ndarray, width: int, table=None, quad=None) -> int:
+def _sweep_pass(program, uniforms: dict, views: np.ndarray, width: int, quad, table=None) -> int:
     """The sweep's draw into the bound framebuffer (``width`` pixels a row, :func:`_begin`): ``views`` uploaded
-    to a texture on unit 0, whose name is returned for the caller to delete, and the full-viewport quad drawn
-    (``quad``, a resident one, or a new one uploaded and deleted)."""
+    to a texture on unit 0, whose name is returned for the caller to delete, and the full-viewport ``quad``
+    (``_field_quad(None)``) drawn."""
     program._bind()
     set_uniforms(program, uniforms)
     _set_table_uniforms(program, table)
@@ -168,12 +166,7 @@ def _sweep_pass(program, uniforms: dict, views: np.ndarray, width: int, table=No
     program.set_uniform("views_width", views_width)
     tex = _views_texture(views, views_width)
     program.set_uniform("views", 0)
-    if quad is None:
-        _draw_quad(_quad(ndc=True))
-    else:
-        quad._bind()
-        gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
-        quad._unbind()
+    _draw_quad(quad)
     program._unbind()
     return tex
 
@@ -421,9 +414,7 @@ def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, sp
     _set_table_uniforms(program, table)
     program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
     program.set_uniform("field_size", float(field_size))
-    quad._bind()
-    gl.glDrawArrays(gl.GL_TRIANGLES, 0, 6)
-    quad._unbind()
+    _draw_quad(quad)
     program._unbind()
     clock.end("draw")
     raw = gl.glReadPixels(0, 0, size, size, gl.GL_RGBA, gl.GL_UNSIGNED_BYTE)
@@ -437,7 +428,7 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
     the samples into a texture (:func:`_samples_target`), which the picture reads; no read-back between them."""
     uniforms = shader_uniforms("exact", surface, incidence, lighting, samples)
     view = shading.view_direction(float(elevation), float(azimuth))
-    width = max(size, FRAME_SAMPLES_WIDTH)  # the first pass's samples, row by row: a small picture holds too few
+    width = FRAME_SAMPLES_WIDTH  # the samples' texture, row by row, whatever the picture's size
     rows = -(-samples // width)
     ctx = context(size, size, 1)
     sweep_program = ctx.programs.get_program("implicit.vert", "implicit.frag", {})
@@ -446,7 +437,7 @@ def _field_by_frame_samples(surface: Surface, incidence, elevation, azimuth, fie
         framebuffer, texture = target
         clock = _Phases(phases)
         _begin(width, rows, framebuffer, clear=False)  # the pass writes every texel
-        views = _sweep_pass(sweep_program, uniforms, np.asarray(view, float)[None, :], width, quad=pass_quad)
+        views = _sweep_pass(sweep_program, uniforms, np.asarray(view, float)[None, :], width, pass_quad)
         try:
             clock.end("first_pass")
             gl.glActiveTexture(gl.GL_TEXTURE0)
