@@ -181,7 +181,7 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
                                  tables.get(_key(surface)), light_azimuth)
     exact_worst = max([r["worst"] for r in rows if r["kind"] == HELD_OUT and r["method"] == "implicit_exact"],
                       default=math.nan)
-    log(f"{len(held_out)} held-out lights from any azimuth, {PLANS[plan]['held_out']['views']} random views each: "
+    log(f"{len(held_out)} held-out lights from any azimuth, {size['held_out']['views']} random views each: "
         f"worst view exact form {exact_worst:.2f}")
     return pd.DataFrame(rows)
 

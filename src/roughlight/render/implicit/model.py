@@ -277,6 +277,12 @@ def _next_cell(rest, cell, t_wall, tau_in, step, dt) -> None:
     t_wall[rest, axis] += dt[rest, axis]
 
 
+def _light(incidence, light_azimuth=0.0) -> np.ndarray:
+    """(3,) unit vector toward the light at ``incidence`` and ``light_azimuth`` (degrees), each checked
+    (:func:`roughlight.render.shading.check_incidence`, :func:`~roughlight.render.shading.check_light_azimuth`)."""
+    return shading.light_direction(shading.check_incidence(incidence), shading.check_light_azimuth(light_azimuth))
+
+
 def exact_shares(surface: Surface, incidence, azimuth, elevation, samples: int = DEFAULT_SAMPLES,
                  shadows: bool = True, light_azimuth: float = 0.0):
     """Visible-lit and visible-shadowed share of each facet, by the exact form's pixels.
@@ -306,7 +312,7 @@ def exact_shares(surface: Surface, incidence, azimuth, elevation, samples: int =
     el = np.atleast_1d(np.asarray(elevation, float))
     points = fibonacci_lattice(samples)
     m = len(points)
-    L = shading.light_direction(incidence, shading.check_light_azimuth(light_azimuth))
+    L = _light(incidence, light_azimuth)
     lit = np.zeros((az.size, 5))
     shadow = np.zeros((az.size, 5))
     normals = facet_normals(surface)
@@ -372,7 +378,7 @@ def facet_sum(surface: Surface, incidence, azimuth, elevation, lit, shadow, ligh
     ``specular``, ``total`` and ``coverage`` as (n_views,) arrays, and each component's sum before rounding and
     with inner shadows off (:func:`roughlight.render.shading.facet_sums`).
     """
-    light = shading.light_direction(shading.check_incidence(incidence), shading.check_light_azimuth(light_azimuth))
+    light = _light(incidence, light_azimuth)
     out = shading.facet_sums(facet_normals(surface), light,
                             shading.view_direction(elevation, azimuth), lit, shadow, lighting)
     out["coverage"] = (lit + shadow).sum(axis=1)
@@ -424,7 +430,7 @@ def correction_shares(surface: Surface, incidence, azimuth, elevation, shadows: 
     az = np.atleast_1d(np.asarray(azimuth, float))
     el = np.atleast_1d(np.asarray(elevation, float))
     n = az.size
-    L = shading.light_direction(incidence, shading.check_light_azimuth(light_azimuth))
+    L = _light(incidence, light_azimuth)
     lit = np.zeros((n, 5))
     shadow = np.zeros((n, 5))
     seen = ~np.asarray(sweeps.is_grazing(el))
@@ -539,8 +545,7 @@ def shader_uniforms(model: str, surface: Surface, incidence, lighting=None, samp
         "model": MODELS.index(model),
         "truncation": float(surface.truncation),
         "aspect": float(surface.aspect),
-        **shading.material_uniforms(lighting, shading.light_direction(shading.check_incidence(incidence),
-                                                                      shading.check_light_azimuth(light_azimuth))),
+        **shading.material_uniforms(lighting, _light(incidence, light_azimuth)),
         "shadows": int(bool(lighting.shadows)),
         "blend_scale": float(BLEND_SCALE),
         "samples": samples,
