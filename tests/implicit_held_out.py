@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import os
 import time
+from functools import partial
 
 os.environ.setdefault("PYOPENGL_PLATFORM", "osmesa")
 
@@ -90,13 +91,10 @@ def phases(counts=(28657, 6765, 1597, 233), field: int = 512, view=(60.0, 20.0),
 
     lighting, rows = shading.Lighting(), []
     for name, kwargs in [("correction", {}), *((f"exact form, {m:,} samples", {"frame_samples": m}) for m in counts)]:
-        def draw(phases, kwargs=kwargs, name=name):
-            return render_field("correction" if name == "correction" else "exact", implicit_surface.FIELD_SURFACE,
-                                30.0, view[0], view[1], field, 512, field / 2.0, lighting, phases=phases, **kwargs)
-
-        draw({})
-        best = min((draw(p := {})[1], p) for _ in range(repeats))
-        rows.append({"quad": name, "frame_ms": 1000.0 * best[0], **{f"{k}_ms": 1000.0 * v for k, v in best[1].items()}})
+        draw = partial(render_field, "correction" if name == "correction" else "exact", implicit_surface.FIELD_SURFACE,
+                       30.0, view[0], view[1], field, 512, field / 2.0, lighting, **kwargs)
+        _, seconds, phased = implicit_surface.fastest_frame(draw, repeats)
+        rows.append({"quad": name, "frame_ms": 1000.0 * seconds, **{f"{k}_ms": 1000.0 * v for k, v in phased.items()}})
     return pd.DataFrame(rows)
 
 

@@ -33,7 +33,7 @@ from . import comparison
 
 __all__ = ["PLANS", "GOAL", "MODEL_METHODS", "EXACT_ONCE_A_FRAME", "FRAME_DRAWINGS", "HELD_OUT", "HELD_OUT_BAND",
            "validation_surfaces", "held_out_lights", "held_out_counts", "validation", "frame_times", "explicit_frames",
-           "implicit_frames", "summary", "goal", "hemisphere_maps", "load_tables", "share_table"]
+           "implicit_frames", "fastest_frame", "summary", "goal", "hemisphere_maps", "load_tables", "share_table"]
 
 #: Validation incidences, degrees.
 INCIDENCES = (10.0, 30.0, 50.0, 70.0)
@@ -474,7 +474,7 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     return pd.DataFrame(rows)
 
 
-def _fastest(render, repeats: int):
+def fastest_frame(render, repeats: int):
     """Call ``render(phases=...)`` (-> picture, seconds) once to warm up, then ``repeats`` times: the last picture,
     the fastest time (seconds) and that frame's phases (a dict of seconds, :func:`render_field`'s)."""
     render(phases={})  # warm up
@@ -496,7 +496,7 @@ def explicit_frames(surface, incidence, lighting, n: int, size: int, views, repe
     field = _Field(surface, incidence, lighting, n, size, n / 2.0)
     rows = []
     for k, (e, phi) in enumerate(views):
-        color, seconds, phases = _fastest(partial(field.render, shading.view_direction(e, phi)), repeats)
+        color, seconds, phases = fastest_frame(partial(field.render, shading.view_direction(e, phi)), repeats)
         rows.append(_frame_row(n, "explicit", field.triangles, e, phi, seconds, color[..., 2], exact[k], phases))
         if pictures is not None and k == 0:
             pictures["explicit"] = color[..., 2].copy()
@@ -517,7 +517,7 @@ def implicit_frames(model: str, surface, incidence, lighting, n: int, size: int,
     for k, (e, phi) in enumerate(views):
         draw = partial(render_field, model, surface, incidence, e, phi, n, size, n / 2.0, lighting,
                        table=table if model == "table" else None, frame_samples=frame_samples)
-        image, seconds, phases = _fastest(draw, repeats)
+        image, seconds, phases = fastest_frame(draw, repeats)
         rows.append(_frame_row(n, method, 2, e, phi, seconds, image[..., 2], exact[k], phases))
         if pictures is not None and k == 0:
             pictures[method] = image[..., 2].copy()
