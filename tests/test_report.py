@@ -347,6 +347,9 @@ def test_workflow_builds_the_report_and_follows_its_settings(workflow_dir, users
     # every setting reaches every consumer: another table aspect, figure incidences and lights
     sweeps = sorted((workflow_dir / "results" / "sweeps").rglob("*.parquet"))
     stamps = [p.stat().st_mtime_ns for p in sweeps]
+    # and the analyses that read none of them run not again (rules analysis_models, analysis_random)
+    unread = [workflow_dir / "results" / "analysis" / name for name in ("model_fits.parquet", "random_statistics.parquet")]
+    unread_stamps = [p.stat().st_mtime_ns for p in unread]
     other = next(a for a in GRIDS[last]["grid"]["aspect"] if a not in table_aspects)  # a grid aspect not shown yet
     follow = {"report": {"table_aspects": [other], "figure_incidences": [30, 60], "figure_lights": [127]}}
     (workflow_dir / "follow.yaml").write_text(json.dumps(follow))
@@ -354,6 +357,7 @@ def test_workflow_builds_the_report_and_follows_its_settings(workflow_dir, users
                          timeout=600)
     assert res.returncode == 0, res.stderr[-4000:]
     assert [p.stat().st_mtime_ns for p in sweeps] == stamps  # report settings render no sweep again
+    assert [p.stat().st_mtime_ns for p in unread] == unread_stamps
     html = (workflow_dir / "reports" / "roughlight_report.html").read_text(encoding="utf-8")
     shown = {t["data-aspect"] for t in _parse(html).tables if t.get("class") == "thesis-table"}
     assert shown == {aspect_label(other)} and html.count('class="thesis-table"') == 2

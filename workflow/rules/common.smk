@@ -451,6 +451,17 @@ def report_settings(wildcards):
     return rl_config.report_settings(config)
 
 
+def report_keys(*keys):
+    """A rule's params: the `report:` settings `keys` alone, so that a change of any other report setting (a
+    figure's incidences, the table aspects) does not rerun a rule that never reads it."""
+
+    def settings(wildcards):
+        full = rl_config.report_settings(config)
+        return {key: full[key] for key in keys}
+
+    return settings
+
+
 def claim_settings(wildcards):
     """The random-roughness claim's design (`claims:`) and each ensemble's tested seeds, as plain types."""
     return rl_config.claim_settings(config)

@@ -55,7 +55,7 @@ rule analysis_tables:
     resources:
         mem_mb=4096,
     params:
-        settings=report_settings,
+        settings=report_keys("table_aspects", "table_incidence", "lobe_halfwidth", "exact_check"),
         lighting=lighting_params,
     script:
         "../scripts/analysis_tables.py"
@@ -97,7 +97,7 @@ rule analysis_glm:
     resources:
         mem_mb=1024,
     params:
-        settings=report_settings,
+        settings=report_keys("collinearity_limit"),
         lighting=lighting_params,
     script:
         "../scripts/analysis_glm.py"
@@ -125,7 +125,7 @@ rule analysis_models:
     resources:
         mem_mb=4096,
     params:
-        settings=report_settings,
+        settings=report_keys("hapke_max_phase"),
         lighting=lighting_params,
     script:
         "../scripts/analysis_models.py"
@@ -315,7 +315,7 @@ rule analysis_random:
     resources:
         mem_mb=4096,
     params:
-        settings=report_settings,
+        settings=report_keys("lobe_halfwidth", "hapke_max_phase"),
         lighting=lighting_params,
         claims=claim_settings,
         sweep=sweep_params,

@@ -42,7 +42,8 @@ def analysis_tables(study: pd.DataFrame, settings: dict, lighting: dict, log=pri
     Parameters
     ----------
     study : the regular surface's rows of ``results/study.parquet``
-    settings : the ``report:`` section (:func:`roughlight.study.config.report_settings`)
+    settings : the ``report:`` section's ``table_aspects``, ``table_incidence``, ``lobe_halfwidth`` and
+        ``exact_check`` (:func:`roughlight.study.config.report_settings`)
     lighting : :class:`roughlight.render.shading.Lighting` fields
 
     Returns
