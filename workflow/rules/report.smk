@@ -55,7 +55,9 @@ rule analysis_tables:
     resources:
         mem_mb=4096,
     params:
-        settings=report_keys("table_aspects", "table_incidence", "lobe_halfwidth", "exact_check"),
+        settings=report_keys(
+            "table_aspects", "table_incidence", "lobe_halfwidth", "exact_check"
+        ),
         lighting=lighting_params,
     script:
         "../scripts/analysis_tables.py"
@@ -158,7 +160,7 @@ rule figures:
     resources:
         mem_mb=4096,
     params:
-        settings=report_settings,
+        settings=report_keys("table_aspects", "table_incidence", "hapke_max_phase"),
     script:
         "../scripts/figures.py"
 

@@ -154,7 +154,8 @@ def drawn_figures(tables, settings: dict):
     ----------
     tables : mapping name -> DataFrame (the figures rule's inputs: ``study``, ``lobes``, ``sine``, ...); a name it
         lacks leaves that parameter at its default
-    settings : the ``report:`` section (:func:`roughlight.study.config.report_settings`)
+    settings : the ``report:`` section's ``table_aspects``, ``table_incidence`` and ``hapke_max_phase``
+        (:func:`roughlight.study.config.report_settings`)
 
     Yields
     ------
