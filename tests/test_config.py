@@ -186,7 +186,8 @@ def test_bad_export_settings_name_the_key(export, message):
 
 
 def test_the_export_settings_reach_the_jobs_as_plain_values():
-    """export.surfaces names the jobs (each pair once, in order); the nodes and checks reach rule export whole."""
+    """export.surfaces names the jobs (each pair once, in order); the nodes and checks reach rules share_table and
+    export whole."""
     from roughlight.study import plan as rl_plan
 
     cfg = default_config()
@@ -196,7 +197,8 @@ def test_the_export_settings_reach_the_jobs_as_plain_values():
     settings = rl_config.export_settings(cfg)
     assert settings["table"]["azimuth_step"] == 5.0 and settings["table"]["edge_on"] is True
     assert settings["mitsuba"]["resolution"] == 32 and settings["check"] == {"lights": 3, "views": 400, "seed": 2001}
-    assert rl_plan.export_files(cfg)[:2] == ["results/export/t0.5_a1/shares.npz", "results/export/t0.5_a1/brdf.bsdf"]
+    assert rl_plan.export_files(cfg)[:3] == ["results/export/t0.5_a1/shares.npz", "results/export/t0.5_a1/table.json",
+                                             "results/export/t0.5_a1/brdf.bsdf"]
     cfg["export"]["surfaces"] = []
     assert rl_plan.export_files(cfg) == []
 

@@ -141,17 +141,18 @@ def test_the_edge_on_incidences_join_the_nodes():
 
 
 def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp_path):
-    """export_surface: the table and the Mitsuba file written, lights and views drawn off every node, the summary
+    """build_table and export_surface: the table and the Mitsuba file written, lights and views drawn off every node, the summary
     per method and component; the Mitsuba file's values are the table's BRDF (f_r L_z = I / (pi J))."""
     pytest.importorskip("mitsuba")
     from roughlight.render.mitsuba import evaluate, read_measured
 
     paths = {"shares": tmp_path / "shares.npz", "mitsuba": tmp_path / "brdf.bsdf"}
     mitsuba = {"elevation": [5.0, 20.0, 45.0, 90.0], "phi_nodes": 4, "resolution": 16}
-    out = brdf_export.export_surface(SURFACE, paths, NODES | {"edge_on": False}, mitsuba,
-                                     {"lights": 2, "views": 40, "seed": 5})
-    assert paths["shares"].exists() and paths["mitsuba"].exists()
-    assert np.array_equal(load_table(paths["shares"]).shares, out["table"].shares)
+    built = brdf_export.build_table(SURFACE, paths["shares"], NODES | {"edge_on": False})
+    assert np.array_equal(load_table(paths["shares"]).shares, built["table"].shares) and built["seconds"] > 0
+    out = brdf_export.export_surface(built["table"], paths, mitsuba, {"lights": 2, "views": 40, "seed": 5},
+                                     table_seconds=built["seconds"])
+    assert paths["mitsuba"].exists() and (out["summary"]["table_seconds"] == built["seconds"]).all()
     fields = read_measured(paths["mitsuba"])
     assert fields["rgb"].shape == (4, 4, 3, 16, 16)
     checked = out["check"]
@@ -172,7 +173,7 @@ def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp
     light = reflect(np.broadcast_to(view, wm.shape), wm)
     light /= np.linalg.norm(light, axis=1, keepdims=True)
     k = int(np.argmax(light[:, 2] > 0.5))  # a light well above the horizon
-    expected = table_values(out["table"], light[k:k + 1], view, shading.Lighting(ambient=0.0))["total"][0]
+    expected = table_values(built["table"], light[k:k + 1], view, shading.Lighting(ambient=0.0))["total"][0]
     stored = evaluate(paths["mitsuba"], light[k:k + 1], view, variant="scalar_rgb")[0, 0]
     assert expected > 10 and abs(stored * np.pi * 127 - expected) < 0.01 * expected
 
@@ -207,14 +208,15 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     from .browser import read_page
 
     paths = {"shares": tmp_path / "shares.npz", "mitsuba": tmp_path / "brdf.bsdf"}
-    out = brdf_export.export_surface(SURFACE, paths, NODES | {"edge_on": False},
+    built = brdf_export.build_table(SURFACE, paths["shares"], NODES | {"edge_on": False})
+    out = brdf_export.export_surface(built["table"], paths,
                                      {"elevation": [5.0, 20.0, 45.0, 90.0], "phi_nodes": 4, "resolution": 16},
-                                     {"lights": 1, "views": 30, "seed": 5})
+                                     {"lights": 1, "views": 30, "seed": 5}, table_seconds=built["seconds"])
     out["summary"].to_csv(tmp_path / "summary.csv", index=False)
     out["check"].to_parquet(tmp_path / "check.parquet")
     summary, checked = brdf_export.gather([tmp_path / "summary.csv"], [tmp_path / "check.parquet"])
-    chart = F.make("export", tmp_path / "export.png", tables=[out["table"]], check=checked)
-    validation, frames = _validation_and_frames(out["table"].nbytes)
+    chart = F.make("export", tmp_path / "export.png", tables=[built["table"]], check=checked)
+    validation, frames = _validation_and_frames(built["table"].nbytes)
     html = R.build_report({"export_summary": summary, "export_png": chart, "implicit_validation": validation,
                            "implicit_frames": frames}, {})
     seen = read_page(html, tmp_path, """(() => { const s = document.getElementById('export');

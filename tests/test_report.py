@@ -367,6 +367,16 @@ def test_workflow_builds_the_report_and_follows_its_settings(workflow_dir, users
     assert set(tables.loc[tables["source"] == "ours", "aspect"]) == {other}
     arcs = pd.read_parquet(workflow_dir / "results" / "benchmarks" / MEASUREMENTS["plan"] / "arc_smoothness.parquet")
     assert set(arcs["aspect"]) <= {other}  # the renderer validation's arc curves follow the table aspects
+    # each setting reruns only what reads it: the figure lights the plate's figures (rule render_figures), not the
+    # figures drawn from the analysis; the export's checks its export, not its share table nor the implicit
+    # measurement that reads the table
+    follow["report"]["figure_lights"] = [255]
+    (workflow_dir / "follow.yaml").write_text(json.dumps(follow))
+    (workflow_dir / "checks.yaml").write_text(json.dumps({"export": {"check": {"views": 21}}}))
+    res = subprocess.run(snakemake + [str(workflow_dir / "follow.yaml"), str(workflow_dir / "checks.yaml"), "--dry-run",
+                                      "--quiet", "rules"], capture_output=True, text=True, env=env, timeout=300)
+    planned = dict(re.findall(r"^(\w+)\s+(\d+)$", res.stdout.split("Job stats:")[-1], re.M))
+    assert set(planned) - {"total", "all"} == {"render_figures", "export", "export_summary", "report_html"}, res.stdout
 
 
 def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
@@ -398,12 +408,12 @@ def test_optional_parts_follow_the_config_not_the_files(workflow_dir):
     assert jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "off.yaml")) == off
     full = jobs("--config", "measurements={plan: full}")
     assert "speed_accuracy" in full and "stability_measurement" in full and "implicit_surface" in full
-    # the export: none unless export.surfaces names a surface, then one job a surface and the summary
+    # the export: none unless export.surfaces names a surface, then its table and its export a surface, and the summary
     assert "export" not in default
     (workflow_dir / "export.yaml").write_text(json.dumps({"export": {"surfaces": [[1.0, 1.0], [0.5, 1.0]]}}))
     exported = jobs("--configfile", str(workflow_dir / "config" / "config.yaml"), str(workflow_dir / "export.yaml"))
-    counts = dict(re.findall(r"^(export\w*)\s+(\d+)$", exported, re.M))
-    assert counts == {"export": "2", "export_summary": "1"}, exported
+    counts = dict(re.findall(r"^(export\w*|share_table)\s+(\d+)$", exported, re.M))
+    assert counts == {"share_table": "2", "export": "2", "export_summary": "1"}, exported
 
 
 def test_regressions_on_a_plate_only_grid_are_reported_not_crashed():

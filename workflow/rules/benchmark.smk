@@ -60,7 +60,7 @@ rule renderer_validation:
 
 
 # The implicit rough surface (one flat quad through shaders/implicit.frag): its exact form, first-order
-# correction and table (on the surfaces rule export tabulated) against the exact reference on every view of the
+# correction and table (on the surfaces rule share_table tabulated) against the exact reference on every view of the
 # validation surfaces, beside the fast renderer and the V-cavity facet model; and frame times of an N x N field
 # drawn explicitly against one implicit quad.
 rule implicit_surface:

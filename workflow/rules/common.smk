@@ -398,8 +398,8 @@ def light_transport_albedo(wildcards):
 
 
 def export_files():
-    """Every file rule export writes for export.surfaces, and export_summary's table and picture ([] when none is
-    exported)."""
+    """Every file rules share_table and export write for export.surfaces, and export_summary's table and picture
+    ([] when none is exported)."""
     files = rl_plan.export_files(config)
     return (
         files + ["results/export/summary.csv", "results/export/export.png"]
@@ -419,8 +419,14 @@ def export_check_files(wildcards):
 
 
 def export_share_files(wildcards):
-    """Every exported surface's share table (rule export)."""
+    """Every exported surface's share table (rule share_table)."""
     return rl_plan.export_files(config, ["shares"])
+
+
+def table_shadows_param(wildcards):
+    """Whether the study's surfaces cast shadows: the one lighting setting a share table depends on (its shares
+    are geometry; the facets' values come from the lighting where the table is read)."""
+    return bool(rl_plan.lighting(config)["shadows"])
 
 
 def export_surface_param(wildcards):
@@ -441,9 +447,15 @@ def exported_surfaces(wildcards):
     return [[t, a] for t, a in rl_config.export_surfaces(config)]
 
 
+def export_table_params(wildcards):
+    """export.table (defaults filled), as plain types: the share table's nodes (rule share_table)."""
+    return rl_config.export_settings(config)["table"]
+
+
 def export_params(wildcards):
-    """export.table, export.mitsuba and export.check (defaults filled), as plain types."""
-    return rl_config.export_settings(config)
+    """export.mitsuba and export.check (defaults filled), as plain types (rule export)."""
+    settings = rl_config.export_settings(config)
+    return {"mitsuba": settings["mitsuba"], "check": settings["check"]}
 
 
 def report_settings(wildcards):
@@ -453,7 +465,8 @@ def report_settings(wildcards):
 
 def report_keys(*keys):
     """A rule's params: the `report:` settings `keys` alone, so that a change of any other report setting (a
-    figure's incidences, the table aspects) does not rerun a rule that never reads it."""
+    figure's incidences, the table aspects) does not rerun a rule that never reads it.
+    """
 
     def settings(wildcards):
         full = rl_config.report_settings(config)

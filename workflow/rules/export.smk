@@ -1,9 +1,35 @@
-# The measured BRDF exported for a light from any direction (export.surfaces; docs/export.md): one surface a job,
-# its table of facet shares (render.method implicit_table draws it on one quad) and a file Mitsuba 3's own
-# measured plugin loads, each checked against the exact reference at lights and views off its nodes.
-rule export:
+# The measured BRDF exported for a light from any direction (export.surfaces; docs/export.md), one surface a job: its
+# table of facet shares (render.method implicit_table draws it on one quad), measured by the exact reference at the
+# table's nodes (export.table) ...
+rule share_table:
     output:
         shares="results/export/t{truncation}_a{aspect}/shares.npz",
+        table="results/export/t{truncation}_a{aspect}/table.json",
+    log:
+        "results/logs/export/t{truncation}_a{aspect}_table.log",
+    benchmark:
+        "results/logs/export/t{truncation}_a{aspect}_table.benchmark.tsv"
+    priority: PRIORITY_EXPORT
+    conda:
+        "../../envs/render.yaml"
+    threads: 1
+    resources:
+        mem_mb=2048,
+    params:
+        surface=export_surface_param,
+        nodes=export_table_params,
+        shadows=table_shadows_param,
+    script:
+        "../scripts/share_table.py"
+
+
+# ... and from the table a file Mitsuba 3's own measured plugin loads, each checked against the exact reference at
+# lights and views off its nodes (export.mitsuba, export.check: a change of either measures no table again).
+rule export:
+    input:
+        shares="results/export/t{truncation}_a{aspect}/shares.npz",
+        table="results/export/t{truncation}_a{aspect}/table.json",
+    output:
         mitsuba="results/export/t{truncation}_a{aspect}/brdf.bsdf",
         check="results/export/t{truncation}_a{aspect}/check.parquet",
         summary="results/export/t{truncation}_a{aspect}/summary.csv",
@@ -18,7 +44,6 @@ rule export:
     resources:
         mem_mb=2048,
     params:
-        surface=export_surface_param,
         export=export_params,
         gl=gl_params,
         lighting=lighting_params,

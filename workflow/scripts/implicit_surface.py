@@ -18,7 +18,7 @@ from roughlight.report import figures  # noqa: E402
 log = _log.setup(snakemake)
 lighting = shading.Lighting(**snakemake.params.lighting)
 plan = snakemake.wildcards.plan
-# the exported surfaces' share tables (rule export), for implicit_table's rows
+# the exported surfaces' share tables (rule share_table), for implicit_table's rows
 tables = implicit_bench.load_tables({tuple(pair): path for pair, path in zip(snakemake.params.exported,
                                                                             snakemake.input.tables)})
 validation = implicit_bench.validation(plan, lighting=lighting, log=log, tables=tables)

@@ -8,7 +8,9 @@ Three steps, each a function:
   (:func:`roughlight.render.exact.shares_under`) at every node of a
   :class:`~roughlight.render.implicit.table.ShareTable`: light incidences x light azimuths in [0, 45] (the square
   pyramids' symmetry gives every other light) x view elevations x view azimuths. The ``implicit_table`` method
-  draws one quad with it (:mod:`roughlight.render.implicit.shader`).
+  draws one quad with it (:mod:`roughlight.render.implicit.shader`). :func:`build_table` measures and writes it
+  (rule ``share_table``), :func:`export_surface` takes it from there (rule ``export``): the Mitsuba file's nodes
+  and the checks' size measure no table again.
 * :func:`mitsuba_tables`: the BRDF the table gives (:func:`roughlight.render.implicit.table.table_values`,
   the study's lighting equation a facet) converted to BRDF units and laid out as Mitsuba's ``measured`` file
   (:mod:`roughlight.render.mitsuba.measured`: the file stores ``f_r L_z = I / (pi J)``).
@@ -36,8 +38,8 @@ from ..surfaces.surface import Surface
 from . import comparison
 
 __all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_table", "tabulate_surface", "mitsuba_nodes",
-           "mitsuba_tables", "write_exports", "check_lights", "check_views", "check", "summary", "export_surface",
-           "gather", "resolution_study"]
+           "mitsuba_tables", "build_table", "write_mitsuba", "check_lights", "check_views", "check", "summary",
+           "export_surface", "gather", "resolution_study"]
 
 #: The Mitsuba file by default (``export.mitsuba``): the detector's elevation nodes (``theta_i = 90 - elevation``;
 #: closer near the horizon), its azimuth nodes over the quarter the plugin folds views into (the square's mirrors:
@@ -100,23 +102,40 @@ def description(table: ShareTable, lighting) -> str:
             f"{'on' if table.shadows else 'off'}; stored f_r cos(theta_light) = I / (pi J), 1/sr; docs/export.md")
 
 
-def write_exports(table: ShareTable, shares_path, mitsuba_path, lighting=None, mitsuba=None) -> dict:
-    """Write the share table (``shares_path``, ``.npz``) and the Mitsuba file (``mitsuba_path``), each atomically.
+def build_table(surface: Surface, path, table_nodes=None, shadows: bool = True, log=None) -> dict:
+    """Measure a surface's share table (:func:`tabulate_surface`) and write it to ``path`` (``.npz``, atomically):
+    rule ``share_table``, apart from the Mitsuba file and the checks, so that neither's settings measure it again.
 
     Returns
     -------
-    dict: ``shares_bytes``, ``mitsuba_bytes`` (file sizes) and ``seconds`` (to tabulate the Mitsuba file)
+    dict: ``table`` (the ShareTable), ``seconds`` (to measure it)
     """
     from ..render.implicit import save_table
+
+    log = log or (lambda message: None)
+    start = time.perf_counter()
+    table = tabulate_surface(surface, table_nodes, shadows, log)
+    seconds = time.perf_counter() - start
+    log(f"share table: {table.incidence.size} incidences x {table.light_azimuth.size} light azimuths x "
+        f"{table.elevation.size} elevations x {table.azimuth_nodes} azimuths in {seconds:.1f} s")
+    save_table(path, table)
+    return {"table": table, "seconds": seconds}
+
+
+def write_mitsuba(table: ShareTable, path, lighting=None, mitsuba=None) -> dict:
+    """Write the Mitsuba file of ``table``'s BRDF (:func:`mitsuba_tables`) to ``path``, atomically.
+
+    Returns
+    -------
+    dict: ``bytes`` (the file's size) and ``seconds`` (to tabulate and write it)
+    """
     from ..render.mitsuba import write_measured
 
     lighting = lighting or shading.Lighting()
-    save_table(shares_path, table)
     start = time.perf_counter()
     theta, phi, rgb = mitsuba_tables(table, lighting, **(mitsuba or {}))
-    write_measured(mitsuba_path, theta, phi, rgb, description(table, lighting))
-    return {"shares_bytes": os.path.getsize(shares_path), "mitsuba_bytes": os.path.getsize(mitsuba_path),
-            "seconds": time.perf_counter() - start}
+    write_measured(path, theta, phi, rgb, description(table, lighting))
+    return {"bytes": os.path.getsize(path), "seconds": time.perf_counter() - start}
 
 
 def _off(value: float, nodes) -> bool:
@@ -218,47 +237,42 @@ def summary(checked, sizes: dict | None = None):
     return pd.DataFrame(rows)
 
 
-def export_surface(surface: Surface, paths: dict, table_nodes=None, mitsuba=None, checks=None, lighting=None,
-                   log=None) -> dict:
-    """Export one surface: measure its share table, write it and the Mitsuba file, check both off their nodes.
+def export_surface(table: ShareTable, paths: dict, mitsuba=None, checks=None, lighting=None,
+                   table_seconds: float = math.nan) -> dict:
+    """Export one surface's measured share table (:func:`build_table`): write its Mitsuba file, check both off
+    their nodes (rule ``export``).
 
     Parameters
     ----------
-    surface : Surface
+    table : ShareTable
     paths : dict
-        ``shares`` (the table, ``.npz``), ``mitsuba`` (the Mitsuba file).
-    table_nodes, mitsuba, checks : dict, optional
-        ``export.table``, ``export.mitsuba`` and ``export.check`` (defaults :data:`TABLE`, :data:`MITSUBA`,
-        :data:`CHECK`).
+        ``shares`` (the table's ``.npz``, as written: its size is reported), ``mitsuba`` (the file to write).
+    mitsuba, checks : dict, optional
+        ``export.mitsuba`` and ``export.check`` (defaults :data:`MITSUBA`, :data:`CHECK`).
     lighting : Lighting, optional
-    log : callable, optional
+    table_seconds : float
+        What measuring the table took (:func:`build_table`), reported beside the other steps.
 
     Returns
     -------
-    dict: ``table`` (the ShareTable), ``check`` (:func:`check`'s frame), ``summary`` (:func:`summary`'s, with the
-    surface, the files' sizes and the seconds of each step)
+    dict: ``check`` (:func:`check`'s frame), ``summary`` (:func:`summary`'s, with the surface, the files' sizes
+    and the seconds of each step)
     """
     lighting = lighting or shading.Lighting()
-    log = log or (lambda message: None)
     mitsuba, checks = {**MITSUBA, **(mitsuba or {})}, {**CHECK, **(checks or {})}
-    start = time.perf_counter()
-    table = tabulate_surface(surface, table_nodes, lighting.shadows, log)
-    seconds = {"table_seconds": time.perf_counter() - start}
-    log(f"share table: {table.incidence.size} incidences x {table.light_azimuth.size} light azimuths x "
-        f"{table.elevation.size} elevations x {table.azimuth_nodes} azimuths in {seconds['table_seconds']:.1f} s")
-    written = write_exports(table, paths["shares"], paths["mitsuba"], lighting, mitsuba)
-    seconds["mitsuba_seconds"] = written["seconds"]
+    written = write_mitsuba(table, paths["mitsuba"], lighting, mitsuba)
+    seconds = {"table_seconds": float(table_seconds), "mitsuba_seconds": written["seconds"]}
     start = time.perf_counter()
     checked = check(table, paths["mitsuba"], lighting, checks["lights"], checks["views"], checks["seed"], mitsuba)
     seconds["check_seconds"] = time.perf_counter() - start
-    out = summary(checked, {"implicit_table": table.nbytes, "mitsuba_measured": written["mitsuba_bytes"]})
-    out.insert(0, "aspect", surface.aspect)
-    out.insert(0, "truncation", surface.truncation)
-    out["file_megabytes"] = out["method"].map({"implicit_table": written["shares_bytes"],
-                                               "mitsuba_measured": written["mitsuba_bytes"]}) / 1e6
+    out = summary(checked, {"implicit_table": table.nbytes, "mitsuba_measured": written["bytes"]})
+    out.insert(0, "aspect", table.aspect)
+    out.insert(0, "truncation", table.truncation)
+    out["file_megabytes"] = out["method"].map({"implicit_table": os.path.getsize(paths["shares"]),
+                                               "mitsuba_measured": written["bytes"]}) / 1e6
     for key, value in seconds.items():
         out[key] = value
-    return {"table": table, "check": checked, "summary": out}
+    return {"check": checked, "summary": out}
 
 
 def gather(summaries, checks):

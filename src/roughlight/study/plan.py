@@ -207,8 +207,10 @@ def every_view_files(config: dict) -> list[str]:
             ".parquet" for kind, t, a, seed in rl_config.every_view_surfaces(config)]
 
 
-#: What rule export writes for one surface, by name, in ``results/export/t{truncation}_a{aspect}/``.
-EXPORT_OUTPUTS = {"shares": "shares.npz", "mitsuba": "brdf.bsdf", "check": "check.parquet", "summary": "summary.csv"}
+#: What rules share_table (``shares``, ``table``: its measuring time) and export write for one surface, by name, in
+#: ``results/export/t{truncation}_a{aspect}/``.
+EXPORT_OUTPUTS = {"shares": "shares.npz", "table": "table.json", "mitsuba": "brdf.bsdf", "check": "check.parquet",
+                  "summary": "summary.csv"}
 
 
 def export_folder(truncation: float, aspect: float) -> str:
@@ -217,7 +219,7 @@ def export_folder(truncation: float, aspect: float) -> str:
 
 
 def export_files(config: dict, outputs=tuple(EXPORT_OUTPUTS)) -> list[str]:
-    """The files rule export writes for each surface of ``export.surfaces``: its ``outputs``, named as in
+    """The files rules share_table and export write for each surface of ``export.surfaces``: its ``outputs``, named as in
     :data:`EXPORT_OUTPUTS` (all of them by default)."""
     return [f"{export_folder(t, a)}/{EXPORT_OUTPUTS[name]}" for t, a in rl_config.export_surfaces(config)
             for name in outputs]

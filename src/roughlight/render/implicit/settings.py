@@ -50,7 +50,7 @@ class ImplicitSettings:
         if self.table is None:
             if surface is None:
                 raise ValueError("the implicit table model reads its shares from a table: give its settings one "
-                                 "(ImplicitSettings(model='table', table=...): a ShareTable or the file rule export "
+                                 "(ImplicitSettings(model='table', table=...): a ShareTable or the file rule share_table "
                                  "writes, results/export/t{truncation}_a{aspect}/shares.npz), or a surface to "
                                  "tabulate")
             from .tabulate import cached_table

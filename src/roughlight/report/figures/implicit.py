@@ -83,7 +83,7 @@ def fig_implicit_maps(maps, component: str = "total"):
     each drawn from the measured views only (:func:`.common.hemisphere_map`)."""
     theme()
     surfaces = maps[["truncation", "aspect", "incidence"]].drop_duplicates().to_numpy()
-    # the table model where a surface has a table (rule export's), beside the two closed forms
+    # the table model where a surface has a table (rule share_table's), beside the two closed forms
     columns = [m for m in ("reference", "implicit_exact", "implicit_correction", "implicit_table")
                if m in set(maps["method"])]
     fig, axes = plt.subplots(len(surfaces), len(columns), figsize=(3.7 * len(columns), 3.6 * len(surfaces)),
