@@ -115,6 +115,7 @@ rule light_transport:
         "results/logs/benchmarks/{plan}/light_transport.log",
     benchmark:
         "results/logs/benchmarks/{plan}/light_transport.benchmark.tsv"
+    priority: PRIORITY_SCANS
     conda:
         "../../envs/render.yaml"
     threads: 1

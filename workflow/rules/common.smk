@@ -36,14 +36,17 @@ wildcard_constraints:
 # Among the sweeps the random tiles' go first: the longest sweep jobs (a heightfield ensemble's seven seeds took
 # 9-17 s in two default runs, a truncation's row of regular sweeps 3-7 s; issue 46),
 # so that the short regular sweeps even out the two cores at the end instead of one tile sweep running alone.
-# The export and the implicit surface's check of its tables (a chain of about 35 s, needing no sweep) go with the
+# The share table and the implicit surface's check of it (a chain of about 40 s, needing no sweep) go with the
 # regular sweeps: at priority 0, with no input, the greedy scheduler (the largest inputs first) left them to run
-# alone at the end of the default run, one core idle for half a minute (issue 46).
+# alone at the end of the default run, one core idle for half a minute (issue 46); the export's Mitsuba file and
+# checks (rule export, 7 s) fill a gap.
 # The claim's chain from the study table (its discs, tested tiles, pilots' readings, design and analysis_random) is the
 # study chain's too: at priority 0 its discs waited 41 s behind the figures and the benchmarks, and its last job ran
 # next to the end (issue 57). The stability scans, a chain of two jobs that needs nothing, start first among the
 # jobs no sweep waits for: at priority 0 (no input: the greedy scheduler's last choice) they ran alone at the end
-# of the default run, one core idle for 16 s (issue 57).
+# of the default run, one core idle for 16 s (issue 57). So does light transport, the longest job nothing but the
+# page waits for (about 20 s): at priority 0 it started last, beside the page's last figures, and ran alone for 20 s
+# in both default runs after the share table became a job of its own (issue 58).
 PRIORITY_SWEEPS = 1
 PRIORITY_TILE_SWEEPS = 2
 PRIORITY_STUDY_CHAIN = 2

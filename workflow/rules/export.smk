@@ -24,7 +24,9 @@ rule share_table:
 
 
 # ... and from the table a file Mitsuba 3's own measured plugin loads, each checked against the exact reference at
-# lights and views off its nodes (export.mitsuba, export.check: a change of either measures no table again).
+# lights and views off its nodes (export.mitsuba, export.check: a change of either measures no table again). At
+# priority 0, a job that fills a gap: at the table's priority it ran beside implicit_surface as soon as the table
+# was done, both cores away from the regular sweeps that the study chain waits for.
 rule export:
     input:
         shares="results/export/t{truncation}_a{aspect}/shares.npz",
@@ -37,7 +39,6 @@ rule export:
         "results/logs/export/t{truncation}_a{aspect}.log",
     benchmark:
         "results/logs/export/t{truncation}_a{aspect}.benchmark.tsv"
-    priority: PRIORITY_EXPORT
     conda:
         "../../envs/render.yaml"
     threads: 1
