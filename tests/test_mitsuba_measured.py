@@ -137,3 +137,42 @@ def test_a_light_below_the_horizon_and_wrong_shapes_are_named(tmp_path):
         (tmp_path / "junk.bsdf").write_bytes(b"hello, world, not a tensor")
         measured.read_measured(tmp_path / "junk.bsdf")
     assert not (tmp_path / "x.bsdf").exists()
+
+
+def test_the_file_renders_on_a_sphere_as_its_closed_form_at_each_normal(plate_file):
+    """The file on an object other than a quad (docs/export-mitsuba.md's sphere scene): a unit sphere seen from
+    above by an orthographic detector, lit by the study's directional light; each pixel inside the disc is the
+    plugin's value at the sphere's normal there, in the sphere's tangent frame, and so the plate's closed form within
+    the table's error (in the median). The picture turned upside down is not."""
+    from roughlight.render.mitsuba import runtime
+    from roughlight.render.shading import facet_components
+
+    path = plate_file[0]
+    mi, _ = runtime.load("scalar_rgb")
+    n, half = 48, 1.05
+    light = light_direction(INCIDENCE, LIGHT_AZIMUTH)
+    scene = mi.load_dict({
+        "type": "scene", "integrator": {"type": "direct"},
+        "light": {"type": "directional", "direction": (-light).tolist(), "irradiance": {"type": "rgb", "value": np.pi}},
+        "ball": {"type": "sphere", "bsdf": {"type": "measured", "filename": str(path)}},
+        "camera": {"type": "orthographic",
+                   "to_world": mi.ScalarTransform4f().look_at(origin=[0, 0, 3], target=[0, 0, 0], up=[0, 1, 0])
+                   @ mi.ScalarTransform4f().scale([half, half, 1]),
+                   "film": {"type": "hdrfilm", "width": n, "height": n, "pixel_format": "rgb"}}})
+    total = LIGHTING.light * np.asarray(mi.render(scene, spp=32))[..., 2]  # the file's blue: the total
+    centres = (np.arange(n) + 0.5) / n * 2 * half - half
+    x, y = np.meshgrid(centres, centres[::-1])  # the film's rows run down the image, y up the scene
+    inside = x ** 2 + y ** 2 < 0.85 ** 2
+    normals = np.stack([x[inside], y[inside], np.sqrt(1 - x[inside] ** 2 - y[inside] ** 2)], axis=-1)
+    up = np.array([0.0, 0.0, 1.0])
+    expected = np.array([facet_components(normal, light, up, Lighting(ambient=0.0))[2] for normal in normals])
+    # what the plugin itself gives at each normal, in the sphere's frame (x along dp/du, around the z axis)
+    tangent = np.stack([-normals[:, 1], normals[:, 0], np.zeros(len(normals))], axis=-1)
+    tangent /= np.linalg.norm(tangent, axis=1, keepdims=True)
+    frames = np.stack([tangent, np.cross(normals, tangent), normals], axis=1)  # rows: the local x, y, z
+    stored = np.pi * LIGHTING.light * measured.evaluate(path, frames @ light, frames @ up, variant="scalar_rgb")[:, 2]
+    # each pixel the plugin's value at its centre's normal (the pixel's area spreads it only where it changes fast)
+    assert np.median(np.abs(total[inside] - stored)) < 0.25
+    # and the closed form within the small table's own error (its values against the closed form: the test above)
+    assert np.median(np.abs(total[inside] - expected)) < DIFFUSE_TOLERANCE
+    assert np.median(np.abs(np.flipud(total)[inside] - expected)) > 5.0  # the picture turned over is not
