@@ -4,6 +4,8 @@ any azimuth, and written for Mitsuba."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -232,6 +234,10 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     assert seen["img"] and seen["table"] and seen["toc"] and seen["wide"] == []
     assert "truncation 0.5, aspect 0.8: the share table" in seen["text"]
     assert "the Mitsuba file" in seen["text"] and "Measured and checked in" in seen["text"]
+    # where each file's worst view lies, the Mitsuba file's too (its own view, or the table's)
+    mitsuba = seen["text"].split("the Mitsuba file", 1)[1].split(". ", 1)[0]
+    assert re.search(r"worst view [0-9.]+ off \((the same view|a view \d+° above the plane, the light at incidence "
+                     r"\d+°)\)", mitsuba), mitsuba
     # the goal: 2.5 ms against 160 ms at N 64 is 64x, short of 100x; the exact form is accurate, the others not
     assert "implicit_table" in seen["goal"] and "64" in seen["goal"]
     # and the drawing alone: 1.7 ms against 159.2 ms is 94x; the exact form once a frame, accurate, 16x
