@@ -1,0 +1,117 @@
+"""A trial of the share table with light azimuth nodes that differ by incidence (docs/export.md, "Resolution"):
+close where the light is low, as ``tests/table_light_spacing.py`` says they must be, and the default's above. The
+table's format holds one list of azimuth nodes for every incidence, so the trial measures and reads its own, in
+numpy, and checks it at the export's own lights and views.
+
+    python tests/table_light_nodes_trial.py results/export/t1_a1     # a finished run's export of t 1, a 1
+
+Takes the export's ``shares.npz`` (its incidence and view nodes) and ``check.parquet`` (the 1,200 lights and views
+drawn off every node, with the exact reference's values); measures the exact reference's shares at the trial's
+nodes (:func:`roughlight.render.exact.shares_under`; about a minute); reads each checked pair multilinearly as
+``table_values`` does, but between the azimuth nodes of each incidence row; prints the default table's errors
+(the check's own) beside the trial's, and the trial's size and time.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from roughlight.render import shading
+from roughlight.render.exact.reference import LitScene, shares_under
+from roughlight.render.implicit import load_table
+from roughlight.render.implicit import table as T
+from roughlight.render.implicit.model import facet_normals
+from roughlight.surfaces.geometry import FACET_NAMES
+from roughlight.surfaces.symmetry import canonical_directions
+
+#: The trial's light azimuth spacing by incidence, degrees: (below this incidence, spacing); the default's above.
+SPACING = ((35.0, 1.5), (50.0 + 1e-9, 5.0))
+
+
+def azimuth_nodes(incidence: float) -> np.ndarray:
+    """The trial's light azimuth nodes at one incidence node, degrees over [0, 45]."""
+    step = next((s for below, s in SPACING if incidence < below), 15.0)
+    return np.arange(0.0, 45.0 + 1e-9, step)
+
+
+def measure(surface, incidence, elevation, azimuth_nodes_: int, azimuth_step: float, log=print):
+    """The exact reference's shares at every (incidence row, its azimuth node) light and every view node:
+    ``(lights, E, A, 10)`` float32, and each row's nodes."""
+    rows = [azimuth_nodes(i) for i in incidence]
+    scenes = [LitScene(surface, float(i), True, float(p)) for i, nodes in zip(incidence, rows) for p in nodes]
+    where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
+    shares = np.zeros((len(scenes), elevation.size, azimuth_nodes_, 10), np.float32)
+    for k, e in enumerate(elevation):
+        for a in range(azimuth_nodes_):
+            lit, shadow = shares_under(scenes, float(e), a * azimuth_step)
+            node = shares[:, k, a, :]
+            node[:, where] = lit
+            node[:, [5 + f for f in where]] = shadow
+        log(f"elevation node {k + 1}/{elevation.size}")
+    return shares, rows
+
+
+def read(shares, rows, incidence, elevation, azimuth_nodes_: int, azimuth_step: float, light, view) -> np.ndarray:
+    """Each pair's shares, (n, 10): multilinear in incidence, in the azimuth nodes of each incidence row, and in the
+    view's elevation and azimuth (the pairs turned to the table's azimuths first)."""
+    offsets = np.cumsum([0] + [len(r) for r in rows])
+    incidence_, psi, e, phi = T._angles(light, view)
+    i0, wi = T.node_weights(incidence, incidence_)
+    e0, we = T.node_weights(elevation, e)
+    a0 = np.floor(phi / azimuth_step).astype(int) % azimuth_nodes_
+    wa = phi / azimuth_step - np.floor(phi / azimuth_step)
+    out = np.zeros((len(light), 10))
+    for k in range(len(light)):
+        for di, fi in ((0, 1.0 - wi[k]), (1, wi[k])):
+            row = min(i0[k] + di, incidence.size - 1)
+            p0, wp = T.node_weights(rows[row], [psi[k]])
+            for dp, fp in ((0, 1.0 - wp[0]), (1, wp[0])):
+                at = offsets[row] + min(p0[0] + dp, rows[row].size - 1)
+                for de, fe in ((0, 1.0 - we[k]), (1, we[k])):
+                    for da, fa in ((0, 1.0 - wa[k]), (1, wa[k])):
+                        out[k] += fi * fp * fe * fa * shares[at, min(e0[k] + de, elevation.size - 1),
+                                                             (a0[k] + da) % azimuth_nodes_]
+    return out
+
+
+def errors_line(name: str, error: np.ndarray, rows: pd.DataFrame) -> str:
+    k = int(np.argmax(error))
+    return (f"{name}: MAE {error.mean():.3f}, p99 {np.percentile(error, 99):.2f}, worst {error.max():.2f} (light at "
+            f"incidence {rows['incidence'][k]:.2f}, azimuth {rows['light_azimuth'][k]:.2f}; view at elevation "
+            f"{rows['elevation'][k]:.2f}), views over a level {(error > 1.0).sum()} of {len(error)}")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("export", type=Path, help="a finished export's folder (shares.npz, check.parquet)")
+    args = parser.parse_args(argv)
+    table = load_table(args.export / "shares.npz")
+    checked = pd.read_parquet(args.export / "check.parquet")
+    rows = checked[(checked["method"] == "implicit_table") & (checked["component"] == "total")].reset_index(drop=True)
+    start = time.perf_counter()
+    shares, nodes = measure(table.surface, table.incidence, table.elevation, table.azimuth_nodes, table.azimuth_step,
+                            log=lambda message: None)
+    seconds = time.perf_counter() - start
+    light = np.stack([shading.light_direction(i, p) for i, p in zip(rows["incidence"], rows["light_azimuth"])])
+    view = np.stack([shading.view_direction(e, a) for e, a in zip(rows["elevation"], rows["azimuth"])])
+    light_c, view_c = canonical_directions(table.surface, light, view)
+    got = read(shares, nodes, table.incidence, table.elevation, table.azimuth_nodes, table.azimuth_step, light_c,
+               view_c)
+    on, off = shading.facet_values(facet_normals(table.surface), light_c[:, None, :], view_c, shading.Lighting(), True)
+    total = np.where(view[:, 2] > 0.0, (on[2] * got[:, :5]).sum(axis=1) + (off[2] * got[:, 5:]).sum(axis=1), 0.0)
+    reference = rows["reference"].to_numpy(float)
+    print(errors_line(f"the export's table ({table.incidence.size * table.light_azimuth.size} lights)",
+                      np.abs(rows["value"].to_numpy(float) - reference), rows))
+    print(errors_line(f"the trial ({len(shares)} lights)", np.abs(total - reference), rows))
+    print(f"the trial's table: {shares.size * 2 / 1e6:.1f} MB as 16-bit shares, measured in {seconds:.1f} s "
+          f"(the export's: {table.nbytes / 1e6:.1f} MB)")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
