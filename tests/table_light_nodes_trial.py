@@ -4,12 +4,15 @@ table's format holds one list of azimuth nodes for every incidence, so the trial
 numpy, and checks it at the export's own lights and views.
 
     python tests/table_light_nodes_trial.py results/export/t1_a1     # a finished run's export of t 1, a 1
+    python tests/table_light_nodes_trial.py results/export/t1_a1 --spacing 35:5 50:5   # 5-degree nodes below 50
+    python tests/table_light_nodes_trial.py results/export/t1_a1 --lights 40 --views 30  # its own lights and views
 
 Takes the export's ``shares.npz`` (its incidence and view nodes) and ``check.parquet`` (the 1,200 lights and views
-drawn off every node, with the exact reference's values); measures the exact reference's shares at the trial's
-nodes (:func:`roughlight.render.exact.shares_under`; about a minute); reads each checked pair multilinearly as
-``table_values`` does, but between the azimuth nodes of each incidence row; prints the default table's errors
-(the check's own) beside the trial's, and the trial's size and time.
+drawn off every node, with the exact reference's values), or, with ``--lights``, draws its own as the check draws
+them (``brdf_export.check_lights`` and ``check_views``, seeded, off every node) and takes the exact reference's
+values; measures the exact reference's shares at the trial's nodes (:func:`roughlight.render.exact.shares_under`;
+under a minute); reads each pair multilinearly as ``table_values`` does, but between the azimuth nodes of each
+incidence row; prints the default table's errors beside the trial's, and the trial's size and time.
 """
 
 from __future__ import annotations
@@ -29,20 +32,23 @@ from roughlight.render.implicit.model import facet_normals
 from roughlight.surfaces.geometry import FACET_NAMES
 from roughlight.surfaces.symmetry import canonical_directions
 
-#: The trial's light azimuth spacing by incidence, degrees: (below this incidence, spacing); the default's above.
-SPACING = ((35.0, 1.5), (50.0 + 1e-9, 5.0))
+#: The trial's light azimuth spacing by incidence, degrees: (up to this incidence, spacing), the first that holds;
+#: the default's 15 above the last.
+SPACING = ((35.0, 1.5), (50.0, 5.0))
 
 
-def azimuth_nodes(incidence: float) -> np.ndarray:
-    """The trial's light azimuth nodes at one incidence node, degrees over [0, 45]."""
-    step = next((s for below, s in SPACING if incidence < below), 15.0)
+def azimuth_nodes(incidence: float, spacing=SPACING) -> np.ndarray:
+    """The trial's light azimuth nodes at one incidence node, degrees over [0, 45]: 1.5 apart below incidence 35,
+    5 up to 50 (both ends), 15 above (:data:`SPACING`)."""
+    step = next((s for up_to, s in spacing if incidence < up_to or (incidence == up_to and up_to == spacing[-1][0])),
+                15.0)
     return np.arange(0.0, 45.0 + 1e-9, step)
 
 
-def measure(surface, incidence, elevation, azimuth_nodes_: int, azimuth_step: float, log=print):
+def measure(surface, incidence, elevation, azimuth_nodes_: int, azimuth_step: float, spacing=SPACING, log=print):
     """The exact reference's shares at every (incidence row, its azimuth node) light and every view node:
     ``(lights, E, A, 10)`` float32, and each row's nodes."""
-    rows = [azimuth_nodes(i) for i in incidence]
+    rows = [azimuth_nodes(i, spacing) for i in incidence]
     scenes = [LitScene(surface, float(i), True, float(p)) for i, nodes in zip(incidence, rows) for p in nodes]
     where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
     shares = np.zeros((len(scenes), elevation.size, azimuth_nodes_, 10), np.float32)
@@ -79,6 +85,24 @@ def read(shares, rows, incidence, elevation, azimuth_nodes_: int, azimuth_step: 
     return out
 
 
+def drawn_pairs(table, lights: int, views: int, seed: int) -> pd.DataFrame:
+    """``lights`` x ``views`` pairs drawn off every node as the export's check draws them, each with the exact
+    reference's total (:func:`roughlight.measurements.comparison.reference`) and the default table's
+    (``table_values``), as the check's rows hold them (``value``, ``reference``)."""
+    from roughlight.measurements import brdf_export, comparison
+
+    lighting, parts = shading.Lighting(), []
+    azimuth, elevation = brdf_export.check_views(table, views, seed)
+    for incidence, psi in brdf_export.check_lights(table, lights, seed):
+        reference = comparison.reference(table.surface, incidence, azimuth, elevation, lighting, light_azimuth=psi)
+        light = np.broadcast_to(shading.light_direction(incidence, psi), (views, 3))
+        view = np.stack([shading.view_direction(e, a) for e, a in zip(elevation, azimuth)])
+        value = T.table_values(table, light, view, lighting)["total"]
+        parts.append(pd.DataFrame({"incidence": incidence, "light_azimuth": psi, "elevation": elevation,
+                                   "azimuth": azimuth, "value": value, "reference": reference["total"]}))
+    return pd.concat(parts, ignore_index=True)
+
+
 def errors_line(name: str, error: np.ndarray, rows: pd.DataFrame) -> str:
     k = int(np.argmax(error))
     return (f"{name}: MAE {error.mean():.3f}, p99 {np.percentile(error, 99):.2f}, worst {error.max():.2f} (light at "
@@ -89,13 +113,26 @@ def errors_line(name: str, error: np.ndarray, rows: pd.DataFrame) -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("export", type=Path, help="a finished export's folder (shares.npz, check.parquet)")
+    parser.add_argument("--lights", type=int, default=0, help="draw this many lights (0: the export's check)")
+    parser.add_argument("--views", type=int, default=30, help="views a drawn light")
+    parser.add_argument("--seed", type=int, default=58, help="the drawn lights' and views' seed")
+    parser.add_argument("--spacing", nargs="+", default=[f"{i:g}:{s:g}" for i, s in SPACING],
+                        help="INCIDENCE:STEP pairs, ascending: azimuth nodes STEP degrees apart below INCIDENCE (the "
+                             "last up to it), 15 above; STEP divides 45")
     args = parser.parse_args(argv)
+    spacing = tuple((float(i), float(s)) for i, s in (pair.split(":") for pair in args.spacing))
+    if any(abs(45.0 / s - round(45.0 / s)) > 1e-9 for _, s in spacing):
+        parser.error(f"--spacing {args.spacing}: every STEP must divide 45 degrees")
     table = load_table(args.export / "shares.npz")
-    checked = pd.read_parquet(args.export / "check.parquet")
-    rows = checked[(checked["method"] == "implicit_table") & (checked["component"] == "total")].reset_index(drop=True)
+    if args.lights:
+        rows = drawn_pairs(table, args.lights, args.views, args.seed)
+    else:
+        checked = pd.read_parquet(args.export / "check.parquet")
+        rows = checked[(checked["method"] == "implicit_table")
+                       & (checked["component"] == "total")].reset_index(drop=True)
     start = time.perf_counter()
     shares, nodes = measure(table.surface, table.incidence, table.elevation, table.azimuth_nodes, table.azimuth_step,
-                            log=lambda message: None)
+                            spacing, log=lambda message: None)
     seconds = time.perf_counter() - start
     light = np.stack([shading.light_direction(i, p) for i, p in zip(rows["incidence"], rows["light_azimuth"])])
     view = np.stack([shading.view_direction(e, a) for e, a in zip(rows["elevation"], rows["azimuth"])])
@@ -107,7 +144,8 @@ def main(argv=None) -> int:
     reference = rows["reference"].to_numpy(float)
     print(errors_line(f"the export's table ({table.incidence.size * table.light_azimuth.size} lights)",
                       np.abs(rows["value"].to_numpy(float) - reference), rows))
-    print(errors_line(f"the trial ({len(shares)} lights)", np.abs(total - reference), rows))
+    print(errors_line(f"the trial ({len(shares)} lights, spacing {' '.join(args.spacing)})", np.abs(total - reference),
+                      rows))
     print(f"the trial's table: {shares.size * 2 / 1e6:.1f} MB as 16-bit shares, measured in {seconds:.1f} s "
           f"(the export's: {table.nbytes / 1e6:.1f} MB)")
     return 0
