@@ -66,7 +66,7 @@ def read(shares, rows, incidence, elevation, azimuth_nodes_: int, azimuth_step: 
     """Each pair's shares, (n, 10): multilinear in incidence, in the azimuth nodes of each incidence row, and in the
     view's elevation and azimuth (the pairs turned to the table's azimuths first)."""
     offsets = np.cumsum([0] + [len(r) for r in rows])
-    incidence_, psi, e, phi = T._angles(light, view)
+    incidence_, psi, e, phi = T.table_angles(light, view)
     i0, wi = T.node_weights(incidence, incidence_)
     e0, we = T.node_weights(elevation, e)
     a0 = np.floor(phi / azimuth_step).astype(int) % azimuth_nodes_

@@ -34,7 +34,7 @@ from ...surfaces.symmetry import canonical_directions
 from .. import shading
 
 __all__ = ["SCALE", "CHANNELS", "ShareTable", "save_table", "load_table", "node_weights", "table_shares",
-           "table_values", "light_corners"]
+           "table_values", "table_angles", "light_corners"]
 
 #: A share of 1 as stored (16-bit unsigned: a share's rounding is at most 7.6e-6, 0.001 of a level at J = 127).
 SCALE = 65535
@@ -137,8 +137,9 @@ def node_weights(nodes, x):
     return lower, np.clip(weight, 0.0, 1.0)
 
 
-def _angles(light, view):
-    """Incidence, light azimuth, view elevation and view azimuth (degrees) of unit vectors (n, 3)."""
+def table_angles(light, view):
+    """The table's four axes of (light, view) pairs: incidence, light azimuth, view elevation and view azimuth,
+    degrees, each (n,), of unit vectors (n, 3) (the light above the plane; azimuths in [0, 360))."""
     incidence = np.degrees(np.arcsin(np.clip(light[:, 2], -1.0, 1.0)))
     psi = np.mod(np.degrees(np.arctan2(light[:, 1], light[:, 0])), 360.0)
     elevation = np.degrees(np.arcsin(np.clip(view[:, 2], -1.0, 1.0)))
@@ -164,7 +165,7 @@ def table_shares(table: ShareTable, light, view):
         The pairs turned to the table's light azimuths (:func:`roughlight.surfaces.symmetry.canonical_directions`).
     """
     light_c, view_c = canonical_directions(table.surface, light, view)
-    incidence, psi, elevation, phi = _angles(light_c, view_c)
+    incidence, psi, elevation, phi = table_angles(light_c, view_c)
     i0, wi = node_weights(table.incidence, incidence)
     p0, wp = node_weights(table.light_azimuth, psi)
     e0, we = node_weights(table.elevation, elevation)
@@ -228,7 +229,7 @@ def light_corners(table: ShareTable, incidence: float, light_azimuth: float):
     eye = np.eye(3)
     light_c, turned = canonical_directions(table.surface, np.vstack([light, light, light]), eye)
     turn = np.column_stack(turned)  # images of the basis vectors: the map's matrix
-    _, psi, _, _ = _angles(light_c[:1], eye[:1])
+    _, psi, _, _ = table_angles(light_c[:1], eye[:1])
     i0, wi = node_weights(table.incidence, [incidence])
     p0, wp = node_weights(table.light_azimuth, psi)
     last_i, last_p = table.incidence.size - 1, table.light_azimuth.size - 1
