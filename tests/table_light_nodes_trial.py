@@ -25,11 +25,10 @@ import numpy as np
 import pandas as pd
 
 from roughlight.render import shading
-from roughlight.render.exact.reference import LitScene, shares_under
-from roughlight.render.implicit import load_table
+from roughlight.render.exact.reference import LitScene
+from roughlight.render.implicit import channel_shares, load_table
 from roughlight.render.implicit import table as T
 from roughlight.render.implicit.model import facet_normals
-from roughlight.surfaces.geometry import FACET_NAMES
 from roughlight.surfaces.symmetry import canonical_directions
 
 #: The trial's light azimuth spacing by incidence, degrees: (up to this incidence, spacing), the first that holds;
@@ -50,14 +49,10 @@ def measure(surface, incidence, elevation, azimuth_nodes_: int, azimuth_step: fl
     ``(lights, E, A, 10)`` float32, and each row's nodes."""
     rows = [azimuth_nodes(i, spacing) for i in incidence]
     scenes = [LitScene(surface, float(i), True, float(p)) for i, nodes in zip(incidence, rows) for p in nodes]
-    where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
     shares = np.zeros((len(scenes), elevation.size, azimuth_nodes_, 10), np.float32)
     for k, e in enumerate(elevation):
         for a in range(azimuth_nodes_):
-            lit, shadow = shares_under(scenes, float(e), a * azimuth_step)
-            node = shares[:, k, a, :]
-            node[:, where] = lit
-            node[:, [5 + f for f in where]] = shadow
+            shares[:, k, a] = channel_shares(scenes, e, a * azimuth_step)
         log(f"elevation node {k + 1}/{elevation.size}")
     return shares, rows
 
@@ -139,8 +134,9 @@ def main(argv=None) -> int:
     light_c, view_c = canonical_directions(table.surface, light, view)
     got = read(shares, nodes, table.incidence, table.elevation, table.azimuth_nodes, table.azimuth_step, light_c,
                view_c)
-    on, off = shading.facet_values(facet_normals(table.surface), light_c[:, None, :], view_c, shading.Lighting(), True)
-    total = np.where(view[:, 2] > 0.0, (on[2] * got[:, :5]).sum(axis=1) + (off[2] * got[:, 5:]).sum(axis=1), 0.0)
+    total = shading.facet_sum(facet_normals(table.surface), light_c[:, None, :], view_c, got[:, :5], got[:, 5:],
+                              shading.Lighting())["total"]
+    total = np.where(view[:, 2] > 0.0, total, 0.0)
     reference = rows["reference"].to_numpy(float)
     print(errors_line(f"the export's table ({table.incidence.size * table.light_azimuth.size} lights)",
                       np.abs(rows["value"].to_numpy(float) - reference), rows))

@@ -19,9 +19,9 @@ import time
 import numpy as np
 
 from roughlight.render import shading
-from roughlight.render.exact.reference import LitScene, shares_under
+from roughlight.render.exact.reference import LitScene
+from roughlight.render.implicit import channel_shares
 from roughlight.render.implicit.model import facet_normals
-from roughlight.surfaces.geometry import FACET_NAMES
 from roughlight.surfaces.surface import Surface
 
 #: The lights' azimuths, degrees: every half degree over the table's [0, 45] (every spacing's nodes are among them).
@@ -29,26 +29,18 @@ FINE = np.arange(0.0, 45.0 + 1e-9, 0.5)
 
 
 def exact_shares(surface: Surface, incidence: float, views) -> np.ndarray:
-    """(views, lights, 10): each facet's lit then shadowed share, FACET_NAMES' order, at every light of FINE."""
+    """(views, lights, 10): each facet's lit then shadowed share (a table node's channels) at every light of FINE."""
     scenes = [LitScene(surface, incidence, True, float(p)) for p in FINE]
-    where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
-    out = np.zeros((len(views), FINE.size, 10))
-    for k, (elevation, azimuth) in enumerate(views):
-        lit, shadow = shares_under(scenes, elevation, azimuth)
-        out[k][:, where] = lit
-        out[k][:, [5 + f for f in where]] = shadow
-    return out
+    return np.stack([channel_shares(scenes, elevation, azimuth) for elevation, azimuth in views])
 
 
 def totals(surface: Surface, incidence: float, views, shares: np.ndarray, lighting) -> np.ndarray:
     """(views, lights): the facet sum's total of ``shares`` under each light of FINE."""
     light = np.stack([shading.light_direction(incidence, p) for p in FINE])
-    out = np.zeros(shares.shape[:2])
-    for k, (elevation, azimuth) in enumerate(views):
-        view = np.broadcast_to(shading.view_direction(elevation, azimuth), light.shape)
-        on, off = shading.facet_values(facet_normals(surface), light[:, None, :], view, lighting, True)
-        out[k] = (on[2] * shares[k][:, :5]).sum(axis=1) + (off[2] * shares[k][:, 5:]).sum(axis=1)
-    return out
+    return np.stack([shading.facet_sum(facet_normals(surface), light[:, None, :],
+                                       np.broadcast_to(shading.view_direction(elevation, azimuth), light.shape),
+                                       node[:, :5], node[:, 5:], lighting)["total"]
+                     for (elevation, azimuth), node in zip(views, shares)])
 
 
 def read_between(shares: np.ndarray, step: float) -> np.ndarray:

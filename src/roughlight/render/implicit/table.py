@@ -207,10 +207,10 @@ def table_values(table: ShareTable, light, view, lighting=None, quantized: bool 
     lighting = lighting or shading.Lighting()
     light, view = np.atleast_2d(np.asarray(light, float)), np.atleast_2d(np.asarray(view, float))
     lit, shadow, light_c, view_c = table_shares(table, light, view)
-    on, off = shading.facet_values(facet_normals(table.surface), light_c[:, None, :], view_c, lighting, quantized)
+    values = shading.facet_sum(facet_normals(table.surface), light_c[:, None, :], view_c, lit, shadow, lighting,
+                               quantized)
     seen = view[:, 2] > 0.0
-    return {name: np.where(seen, (v_on * lit).sum(axis=1) + (v_off * shadow).sum(axis=1), 0.0)
-            for name, v_on, v_off in zip(shading.COMPONENTS, on, off)}
+    return {name: np.where(seen, value, 0.0) for name, value in values.items()}
 
 
 def light_corners(table: ShareTable, incidence: float, light_azimuth: float):

@@ -26,7 +26,8 @@ from ...surfaces.surface import Surface
 from ..exact.reference import LitScene, shares_under
 from .table import CHANNELS, SCALE, ShareTable, load_table, save_table
 
-__all__ = ["TABLE", "incidence_nodes", "measure_table", "tabulate_surface", "cache_dir", "table_key", "cached_table"]
+__all__ = ["TABLE", "incidence_nodes", "channel_shares", "measure_table", "tabulate_surface", "cache_dir", "table_key",
+           "cached_table"]
 
 LOG = logging.getLogger("roughlight.implicit")
 
@@ -54,6 +55,19 @@ def incidence_nodes(surface: Surface, incidence, light_azimuth, edge_on: bool = 
                 if 0.0 < edge < 90.0:
                     nodes.add(edge)
     return np.array(sorted(nodes))
+
+
+def channel_shares(scenes, elevation: float, azimuth: float) -> np.ndarray:
+    """The exact reference's shares of one view under each of several lights of one surface
+    (:func:`roughlight.render.exact.shares_under`), as a table's node holds them: ``(len(scenes), CHANNELS)``, each
+    facet's lit share then its shadowed share, in :data:`roughlight.surfaces.geometry.FACET_NAMES`' order (a facet
+    the surface lacks, 0: the full pyramid has no top, the plate only one)."""
+    lit, shadow = shares_under(scenes, float(elevation), float(azimuth))
+    where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
+    out = np.zeros((len(scenes), CHANNELS))
+    out[:, where] = lit
+    out[:, [5 + f for f in where]] = shadow
+    return out
 
 
 def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth_step: float, shadows: bool = True,
@@ -88,15 +102,10 @@ def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth
     log = log or (lambda message: None)
     scenes = [LitScene(surface, float(i), bool(shadows), float(p)) for i in incidence for p in light_azimuth]
     shares = np.zeros((incidence.size, light_azimuth.size, elevation.size, int(round(nodes)), CHANNELS))
-    # the reference names the facets a surface has (the full pyramid has no top, the plate only one): each
-    # goes to its place in FACET_NAMES' order, the table's
-    where = [FACET_NAMES.index(name) for name in scenes[0].surf.names]
     views = [(k, a) for k in range(elevation.size) for a in range(int(round(nodes)))]
     for n, (k, a) in enumerate(views, 1):
-        lit, shadow = shares_under(scenes, float(elevation[k]), a * float(azimuth_step))
-        shape = (incidence.size, light_azimuth.size, len(where))
-        shares[:, :, k, a, where] = lit.reshape(shape)
-        shares[:, :, k, a, [5 + f for f in where]] = shadow.reshape(shape)
+        node = channel_shares(scenes, elevation[k], a * float(azimuth_step))
+        shares[:, :, k, a] = node.reshape(incidence.size, light_azimuth.size, CHANNELS)
         if n % max(1, len(views) // 10) == 0:
             log(f"share table t {surface.truncation:g}, a {surface.aspect:g}: {n}/{len(views)} view nodes")
     stored = np.round(np.clip(shares, 0.0, 1.0) * SCALE).astype(np.uint16)
