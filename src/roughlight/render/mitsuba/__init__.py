@@ -3,7 +3,8 @@ light alone by default (a check of the exact reference), light that bounces on r
 leaves out). The scene and the sweep (:mod:`.scene`), the field and the detector in numpy (:mod:`.field`), the
 study's material as a BSDF (:mod:`.bsdf`), Mitsuba's and Dr.Jit's environment and variant (:mod:`.runtime`), the
 settings (:mod:`.settings`); docs/mitsuba.md. A surface's BRDF as a file Mitsuba's own ``measured`` plugin loads, and a
-flat quad rendered with it (:mod:`.measured`; docs/export-mitsuba.md)."""
+flat quad rendered with it (:mod:`.measured`; docs/export-mitsuba.md), and whether light that bounces off it stays
+unbiased (:mod:`.bounces`)."""
 
 from .. import public_face
 

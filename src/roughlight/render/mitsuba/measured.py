@@ -227,7 +227,7 @@ def _write_tensor_file(path: Path, fields: dict, align: int = 8) -> None:
             stream.write(value.tobytes())
 
 
-def write_measured(path, theta_nodes, phi_nodes, rgb, description: str) -> Path:
+def write_measured(path, theta_nodes, phi_nodes, rgb, description: str, luminance=None) -> Path:
     """Write a table as a file Mitsuba's ``measured`` plugin loads (atomically: a temporary name in the same
     folder, then ``os.replace``).
 
@@ -238,6 +238,10 @@ def write_measured(path, theta_nodes, phi_nodes, rgb, description: str) -> Path:
         ``2 pi / r`` for ``r`` in :data:`REDUCTIONS`
     rgb : (n_phi, n_theta, 3, n_u, n_u) array, ``f_r L_z`` (:func:`tabulate`), stored as float32
     description : str, the material's description (the plugin logs it)
+    luminance : (n_phi, n_theta, n_u, n_u) array, optional: the density the plugin draws ``wo`` from when light
+        bounces (its ``sample``; :mod:`.bounces` checks it). Default: the mean of ``rgb``'s channels floored at
+        :data:`LUMINANCE_FLOOR` of each slice's peak, nowhere 0, so that every direction with a value can be drawn.
+        One given is stored as it is (non-negative, finite): where it is 0 and ``rgb`` is not, bounced light is lost.
 
     Returns
     -------
@@ -265,9 +269,7 @@ def write_measured(path, theta_nodes, phi_nodes, rgb, description: str) -> Path:
                          f"{table.shape}")
     if not np.all(np.isfinite(table)) or np.any(table < 0):
         raise ValueError("rgb must be finite and non-negative")
-    luminance = table.mean(axis=2)
-    peak = luminance.max(axis=(2, 3), keepdims=True)
-    luminance = np.maximum(luminance, np.where(peak > 0, LUMINANCE_FLOOR * peak, 1.0)).astype(np.float32)
+    luminance = _luminance(table, luminance)
     ones = np.ones((2, 2), np.float32)
     fields = {
         "description": np.frombuffer(str(description).encode("utf8"), np.uint8),
@@ -283,6 +285,22 @@ def write_measured(path, theta_nodes, phi_nodes, rgb, description: str) -> Path:
     path = Path(path)
     _write_tensor_file(path, fields)
     return path
+
+
+def _luminance(table: np.ndarray, luminance=None) -> np.ndarray:
+    """:func:`write_measured`'s ``luminance`` field: the one given, checked, or the mean of ``table``'s channels
+    floored at :data:`LUMINANCE_FLOOR` of each slice's peak."""
+    if luminance is None:
+        luminance = table.mean(axis=2)
+        peak = luminance.max(axis=(2, 3), keepdims=True)
+        luminance = np.maximum(luminance, np.where(peak > 0, LUMINANCE_FLOOR * peak, 1.0))
+    luminance = np.asarray(luminance, np.float32)
+    if luminance.shape != table.shape[:2] + table.shape[3:]:
+        raise ValueError(f"luminance must have shape (n_phi, n_theta, n_u, n_u) = "
+                         f"{table.shape[:2] + table.shape[3:]}, got {luminance.shape}")
+    if not np.all(np.isfinite(luminance)) or np.any(luminance < 0) or np.any(luminance.sum(axis=(2, 3)) <= 0):
+        raise ValueError("luminance must be finite, non-negative and positive somewhere in every slice")
+    return luminance
 
 
 def read_measured(path) -> dict:
