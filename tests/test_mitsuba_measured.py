@@ -206,3 +206,47 @@ def test_light_that_bounces_sees_the_file_as_its_eval_does(plate_file, tmp_path)
     assert (sampled["sigmas"] < -10).all(), lost.to_string()
     with pytest.raises(ValueError, match="luminance must have shape"):
         measured.write_measured(tmp_path / "bad.bsdf", theta, phi, rgb, "bad", luminance=luminance[..., :-1])
+
+
+def test_the_warp_puts_each_node_where_the_plugin_reads_it(tmp_path):
+    """Issue 59's warp: a table tabulated through the file's ``vndf`` (``tabulate(..., vndf=...)``, the density from
+    the values' curvature, ``warp_density``) is read back by the plugin at its own nodes: at each node's wi and wo
+    the plugin's eval is the stored value. Without the warp field in the file (the identity) those nodes read
+    other values; and a warp of the wrong shape is refused."""
+    n_theta, n_phi, reduction, n_u = SMALL
+    theta, phi = measured.table_nodes(n_theta, n_phi, reduction)
+    values = measured.plate_values(LIGHTING)
+    regular = measured.tabulate(values, theta, phi, n_u, LIGHTING, channels="components")
+    from roughlight.render.mitsuba import warp as mitsuba_warp
+
+    vndf = mitsuba_warp.warp_density(regular)
+    assert vndf.shape == (n_phi, n_theta, n_u, n_u) and (vndf > 0).all()
+    assert vndf.max() / vndf.min() > 3  # the curvature concentrates the nodes (the specular lobe near the normal)
+    warped = measured.tabulate(values, theta, phi, n_u, LIGHTING, channels="components", vndf=vndf)
+    path = measured.write_measured(tmp_path / "warped.bsdf", theta, phi, warped, "warped", vndf=vndf)
+    plain = measured.write_measured(tmp_path / "plain.bsdf", theta, phi, warped, "no warp field")
+    np.testing.assert_array_equal(measured.read_measured(path)["vndf"], vndf)
+    from roughlight.render.mitsuba import runtime
+
+    mi, _ = runtime.load("scalar_rgb")
+    warp = mi.MarginalContinuous2D2(vndf, [phi.tolist(), theta.tolist()])
+    for a, b in ((1, 3), (6, 7), (9, 1)):  # slices: their wi at the nodes
+        t, p = float(theta[b]), float(phi[a])
+        wi = np.array([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)])
+        grid = np.linspace(0.0, 1.0, n_u)[1:-1:3]  # inner sample nodes (the azimuth wraps at the ends)
+        u = np.array([list(warp.sample(mi.ScalarPoint2f(s0, s1), mi.ScalarPoint2f(p, t))[0]) for s1 in grid
+                      for s0 in grid])
+        theta_m, phi_m = u[:, 0] ** 2 * np.pi / 2, (2 * u[:, 1] - 1) * np.pi
+        wm = np.stack([np.sin(theta_m) * np.cos(phi_m), np.sin(theta_m) * np.sin(phi_m), np.cos(theta_m)], axis=-1)
+        wo = measured.reflect(wi, wm)
+        up = wo[:, 2] > 0.05
+        wo = wo[up] / np.linalg.norm(wo[up], axis=1, keepdims=True)
+        stored = warped[a, b][:, 1:-1:3, 1:-1:3].reshape(3, -1).T[up]
+        got = measured.evaluate(path, wo, np.broadcast_to(wi, wo.shape), variant="scalar_rgb")
+        np.testing.assert_allclose(got, stored, rtol=2e-3, atol=2e-5)
+        unwarped = measured.evaluate(plain, wo, np.broadcast_to(wi, wo.shape), variant="scalar_rgb")
+        assert np.abs(unwarped - stored).max() > 20 * np.abs(got - stored).max()
+    with pytest.raises(ValueError, match="vndf must be"):
+        measured.write_measured(tmp_path / "bad.bsdf", theta, phi, warped, "bad", vndf=vndf[:, :-1])
+    with pytest.raises(ValueError, match="vndf must be"):
+        measured.tabulate(values, theta, phi, n_u, LIGHTING, vndf=vndf[..., :-1, :-1])

@@ -43,9 +43,10 @@ __all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_t
 
 #: The Mitsuba file by default (``export.mitsuba``): the detector's elevation nodes (``theta_i = 90 - elevation``;
 #: closer near the horizon), its azimuth nodes over the quarter the plugin folds views into (the square's mirrors:
-#: reduction 4) and the half-vector grid's side.
+#: reduction 4), the half-vector grid's side, and whether the plugin's warp places the half-vector nodes where the
+#: values curve (:func:`roughlight.render.mitsuba.measured.warp_density`; else the identity warp).
 MITSUBA = {"elevation": [1.5, 3.0, 4.5, 6.0, 8.0, 10.0, 13.0, 16.0, 20.0, 25.0, 30.0, 37.0, 45.0, 53.0, 62.0, 72.0,
-                         81.0, 90.0], "phi_nodes": 19, "resolution": 32}
+                         81.0, 90.0], "phi_nodes": 19, "resolution": 32, "warp": True}
 
 #: The checks by default (``export.check``): lights and views drawn off the nodes, and the random seed.
 CHECK = {"lights": 3, "views": 400, "seed": 2001}
@@ -78,20 +79,30 @@ def mitsuba_nodes(elevation, phi_nodes: int):
 
 def mitsuba_tables(table: ShareTable, lighting=None, elevation=MITSUBA["elevation"],
                    phi_nodes: int = MITSUBA["phi_nodes"], resolution: int = MITSUBA["resolution"],
-                   channels: str = "total"):
-    """The Mitsuba ``measured`` file's nodes and ``rgb`` table of the share table's BRDF.
+                   warp: bool = MITSUBA["warp"], channels: str = "total"):
+    """The Mitsuba ``measured`` file's nodes, ``rgb`` table and warp of the share table's BRDF.
+
+    With ``warp`` the table is tabulated twice: on the regular half-vector grid, whose curvature gives the warp
+    (:func:`roughlight.render.mitsuba.measured.warp_density`), then at the nodes that warp places (the same warp
+    whatever ``channels``: it follows the total).
 
     Returns
     -------
     theta, phi : float32 arrays, radians (:func:`mitsuba_nodes`)
     rgb : (phi, theta, 3, resolution, resolution) float32, ``f_r L_z`` (``channels`` as
         :func:`roughlight.render.mitsuba.measured.tabulate`)
+    vndf : (phi, theta, resolution, resolution) float32, or None without ``warp`` (the identity)
     """
-    from ..render.mitsuba import tabulate
+    from ..render.mitsuba import tabulate, warp_density
 
     lighting = lighting or shading.Lighting()
     theta, phi = mitsuba_nodes(elevation, phi_nodes)
-    return theta, phi, tabulate(_brdf_values(table, lighting), theta, phi, int(resolution), lighting, channels)
+    values = _brdf_values(table, lighting)
+    regular = tabulate(values, theta, phi, int(resolution), lighting, "components" if warp else channels)
+    if not warp:
+        return theta, phi, regular, None
+    vndf = warp_density(regular)
+    return theta, phi, tabulate(values, theta, phi, int(resolution), lighting, channels, vndf=vndf), vndf
 
 
 def description(table: ShareTable, lighting) -> str:
@@ -123,19 +134,22 @@ def build_table(surface: Surface, path, table_nodes=None, shadows: bool = True, 
 
 
 def write_mitsuba(table: ShareTable, path, lighting=None, mitsuba=None) -> dict:
-    """Write the Mitsuba file of ``table``'s BRDF (:func:`mitsuba_tables`) to ``path``, atomically.
+    """Write the Mitsuba file of ``table``'s BRDF (:func:`mitsuba_tables`) to ``path``, atomically: the total in
+    its three channels, the file for users.
 
     Returns
     -------
-    dict: ``bytes`` (the file's size) and ``seconds`` (to tabulate and write it)
+    dict: ``bytes`` (the file's size), ``seconds`` (to tabulate and write it) and ``tables`` (:func:`mitsuba_tables`
+    with the components in R, G, B: what :func:`check` renders, the same nodes and warp)
     """
     from ..render.mitsuba import write_measured
 
     lighting = lighting or shading.Lighting()
     start = time.perf_counter()
-    theta, phi, rgb = mitsuba_tables(table, lighting, **(mitsuba or {}))
-    write_measured(path, theta, phi, rgb, description(table, lighting))
-    return {"bytes": os.path.getsize(path), "seconds": time.perf_counter() - start}
+    tables = mitsuba_tables(table, lighting, channels="components", **(mitsuba or {}))
+    theta, phi, rgb, vndf = tables
+    write_measured(path, theta, phi, rgb[:, :, [2, 2, 2]], description(table, lighting), vndf=vndf)
+    return {"bytes": os.path.getsize(path), "seconds": time.perf_counter() - start, "tables": tables}
 
 
 def _off(value: float, nodes) -> bool:
@@ -171,15 +185,17 @@ def check_views(table: ShareTable, count: int, seed: int):
 
 
 def check(table: ShareTable, mitsuba_path, lighting=None, lights: int = CHECK["lights"],
-          views: int = CHECK["views"], seed: int = CHECK["seed"], mitsuba=None, variant: str = CHECK_VARIANT):
+          views: int = CHECK["views"], seed: int = CHECK["seed"], mitsuba=None, variant: str = CHECK_VARIANT,
+          tables=None):
     """Both exports against the exact reference at lights and views off their nodes.
 
     ``implicit_table``: the shader's sweep with the table (:mod:`roughlight.render.implicit.shader`).
     ``mitsuba_measured``: a flat quad with the Mitsuba file's BRDF, rendered by Mitsuba
     (:func:`roughlight.render.mitsuba.measured.render_flat`); for the components a file of the same nodes with the
     diffuse, specular and total in its three channels is written beside ``mitsuba_path``'s folder's temporary
-    space and removed (the exported file holds the total alone). The reference's value and both exports leave out
-    the ambient term (the Mitsuba file is a BRDF: ``light.ambient`` is 0 in the study).
+    space and removed (the exported file holds the total alone); ``tables`` (:func:`write_mitsuba`'s) are its
+    nodes, values and warp, else tabulated here. The reference's value and both exports leave out the ambient term
+    (the Mitsuba file is a BRDF: ``light.ambient`` is 0 in the study).
 
     Returns
     -------
@@ -196,8 +212,8 @@ def check(table: ShareTable, mitsuba_path, lighting=None, lights: int = CHECK["l
     folder = os.path.dirname(os.path.abspath(mitsuba_path))
     with tempfile.TemporaryDirectory(dir=folder) as scratch:
         components = os.path.join(scratch, "components.bsdf")
-        theta, phi, rgb = mitsuba_tables(table, lighting, channels="components", **(mitsuba or {}))
-        write_measured(components, theta, phi, rgb, "components: diffuse, specular, total in R, G, B")
+        theta, phi, rgb, vndf = tables or mitsuba_tables(table, lighting, channels="components", **(mitsuba or {}))
+        write_measured(components, theta, phi, rgb, "components: diffuse, specular, total in R, G, B", vndf=vndf)
         rows = []
         for incidence, psi in check_lights(table, lights, seed):
             exact = methods.sweep("reference", table.surface, incidence, azimuth, elevation, lighting,
@@ -263,7 +279,8 @@ def export_surface(table: ShareTable, paths: dict, mitsuba=None, checks=None, li
     written = write_mitsuba(table, paths["mitsuba"], lighting, mitsuba)
     seconds = {"table_seconds": float(table_seconds), "mitsuba_seconds": written["seconds"]}
     start = time.perf_counter()
-    checked = check(table, paths["mitsuba"], lighting, checks["lights"], checks["views"], checks["seed"], mitsuba)
+    checked = check(table, paths["mitsuba"], lighting, checks["lights"], checks["views"], checks["seed"], mitsuba,
+                    tables=written["tables"])
     seconds["check_seconds"] = time.perf_counter() - start
     out = summary(checked, {"implicit_table": table.nbytes, "mitsuba_measured": written["bytes"]})
     out.insert(0, "aspect", table.aspect)

@@ -13,5 +13,6 @@ from .. import public_face
 FACE = {"mitsuba_sweep": "scene", "MitsubaSettings": "settings", "VARIANTS": "settings", "identity": "runtime",
         "check_mitsuba": "runtime", "MitsubaUnavailable": "runtime", "variant_in_use": "runtime",
         "table_nodes": "measured", "half_vectors": "measured", "reflect": "measured", "tabulate": "measured",
+        "warp_density": "warp", "node_half_vectors": "warp",
         "write_measured": "measured", "read_measured": "measured", "evaluate": "measured", "render_flat": "measured"}
 __getattr__, __all__ = public_face(__name__, FACE)

@@ -50,6 +50,7 @@ import numpy as np
 from ...atomic import atomic_path
 from ..shading import Lighting, check_incidence, facet_components, light_direction, view_direction
 from .field import sensor_matrix
+from .warp import node_half_vectors
 
 __all__ = ["REDUCTIONS", "CHANNELS", "table_nodes", "half_vectors", "reflect", "plate_values", "tabulate",
            "write_measured", "read_measured", "file_size", "evaluate", "render_flat"]
@@ -151,7 +152,7 @@ def _check_values(out, n: int, light_z) -> dict:
 
 
 def tabulate(values, theta_nodes, phi_nodes, n_u: int, lighting: Lighting | None = None,
-             channels: str = "total") -> np.ndarray:
+             channels: str = "total", vndf=None) -> np.ndarray:
     """The file's ``rgb`` table: ``f_r L_z`` at every node.
 
     For every ``(phi_i, theta_i)`` node, the detector's direction ``wi = V``, and every half vector ``wm`` of the
@@ -170,6 +171,10 @@ def tabulate(values, theta_nodes, phi_nodes, n_u: int, lighting: Lighting | None
     lighting : Lighting, its ``light`` is ``J`` (default: the study's 127)
     channels : ``"total"`` (the total in R, G and B: the file for users) or ``"components"`` (diffuse, specular,
         total in R, G, B)
+    vndf : (n_phi, n_theta, n_u, n_u) array, optional: the plugin's warp (:func:`warp_density`). Without it the
+        nodes are the half vectors of the regular ``u`` grid (the identity warp); with it, the half vectors the
+        plugin's own warp (Mitsuba's ``MarginalContinuous2D2``, what ``measured.cpp`` builds from the field) takes
+        the regular grid of its sample space to, slice by slice: where the plugin reads them back.
 
     Returns
     -------
@@ -187,11 +192,16 @@ def tabulate(values, theta_nodes, phi_nodes, n_u: int, lighting: Lighting | None
     j = float(lighting.light)
     if not j > 0:
         raise ValueError(f"lighting.light (J) must be positive, got {j}")
-    wm = half_vectors(n_u).reshape(-1, 3)
+    if vndf is None:
+        regular = half_vectors(int(n_u)).reshape(-1, 3)
+        nodes = lambda a, b: regular  # noqa: E731
+    else:
+        nodes = node_half_vectors(vndf, theta, phi, int(n_u))
     out = np.zeros((len(phi), len(theta), 3, int(n_u), int(n_u)), np.float32)
     for a, p in enumerate(phi):
         for b, t in enumerate(theta):
             wi = np.array([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)])
+            wm = nodes(a, b)
             light = reflect(wi, wm)
             light /= np.linalg.norm(light, axis=-1, keepdims=True)
             view = np.broadcast_to(wi, light.shape)
@@ -227,7 +237,21 @@ def _write_tensor_file(path: Path, fields: dict, align: int = 8) -> None:
             stream.write(value.tobytes())
 
 
-def write_measured(path, theta_nodes, phi_nodes, rgb, description: str, luminance=None) -> Path:
+def _check_nodes(theta: np.ndarray, phi: np.ndarray) -> None:
+    """:func:`write_measured`'s ``theta_i`` and ``phi_i`` nodes: 1-D, increasing, ``phi`` a fold the plugin knows."""
+    if theta.ndim != 1 or phi.ndim != 1 or len(theta) < 2 or len(phi) < 3:
+        raise ValueError(f"theta_nodes and phi_nodes must be 1-D with at least 2 and 3 nodes, got shapes "
+                         f"{theta.shape} and {phi.shape}")
+    if np.any(np.diff(theta) <= 0) or np.any(np.diff(phi) <= 0):
+        raise ValueError("theta_nodes and phi_nodes must increase")
+    span = float(phi[-1]) - float(phi[0])
+    reduction = int(np.rint(2 * np.pi / span))
+    if reduction not in REDUCTIONS or abs(span - 2 * np.pi / reduction) > 1e-4 or abs(float(phi[0]) + np.pi) > 1e-4:
+        raise ValueError(f"phi_nodes must run from -pi to -pi + 2 pi / r, r in {REDUCTIONS} (the plugin folds wi "
+                         f"there), got [{phi[0]:.6g}, {phi[-1]:.6g}]")
+
+
+def write_measured(path, theta_nodes, phi_nodes, rgb, description: str, luminance=None, vndf=None) -> Path:
     """Write a table as a file Mitsuba's ``measured`` plugin loads (atomically: a temporary name in the same
     folder, then ``os.replace``).
 
@@ -242,27 +266,20 @@ def write_measured(path, theta_nodes, phi_nodes, rgb, description: str, luminanc
         bounces (its ``sample``; :mod:`.bounces` checks it). Default: the mean of ``rgb``'s channels floored at
         :data:`LUMINANCE_FLOOR` of each slice's peak, nowhere 0, so that every direction with a value can be drawn.
         One given is stored as it is (non-negative, finite): where it is 0 and ``rgb`` is not, bounced light is lost.
+    vndf : (n_phi, n_theta, n_u, n_u) array, optional: the warp ``rgb`` was tabulated through (:func:`tabulate`'s;
+        default the identity, ``n_phi x n_theta x 2 x 2`` ones)
 
     Returns
     -------
-    Path written. Fields: ``theta_i``, ``phi_i`` (float32), ``ndf``, ``sigma`` (2 x 2 ones), ``vndf``
-    (``n_phi x n_theta x 2 x 2`` ones: the identity warp), ``luminance`` (``n_phi x n_theta x n_u x n_u``, the mean
+    Path written. Fields: ``theta_i``, ``phi_i`` (float32), ``ndf``, ``sigma`` (2 x 2 ones), ``vndf`` (the warp
+    given, else ``n_phi x n_theta x 2 x 2`` ones: the identity), ``luminance`` (``n_phi x n_theta x n_u x n_u``, the mean
     of the channels floored at :data:`LUMINANCE_FLOOR` of each slice's peak: what the plugin samples ``wo`` by when
     light bounces), ``rgb``, ``description`` (uint8), ``jacobian`` (uint8 ``[0]``).
     """
     theta = np.asarray(theta_nodes, np.float32)
     phi = np.asarray(phi_nodes, np.float32)
     table = np.asarray(rgb, np.float32)
-    if theta.ndim != 1 or phi.ndim != 1 or len(theta) < 2 or len(phi) < 3:
-        raise ValueError(f"theta_nodes and phi_nodes must be 1-D with at least 2 and 3 nodes, got shapes "
-                         f"{theta.shape} and {phi.shape}")
-    if np.any(np.diff(theta) <= 0) or np.any(np.diff(phi) <= 0):
-        raise ValueError("theta_nodes and phi_nodes must increase")
-    span = float(phi[-1]) - float(phi[0])
-    reduction = int(np.rint(2 * np.pi / span))
-    if reduction not in REDUCTIONS or abs(span - 2 * np.pi / reduction) > 1e-4 or abs(float(phi[0]) + np.pi) > 1e-4:
-        raise ValueError(f"phi_nodes must run from -pi to -pi + 2 pi / r, r in {REDUCTIONS} (the plugin folds wi "
-                         f"there), got [{phi[0]:.6g}, {phi[-1]:.6g}]")
+    _check_nodes(theta, phi)
     expected = (len(phi), len(theta), 3)
     if table.ndim != 5 or table.shape[:3] != expected or table.shape[3] != table.shape[4] or table.shape[3] < 2:
         raise ValueError(f"rgb must have shape (n_phi, n_theta, 3, n_u, n_u) = {expected} + (n_u, n_u), got "
@@ -270,6 +287,9 @@ def write_measured(path, theta_nodes, phi_nodes, rgb, description: str, luminanc
     if not np.all(np.isfinite(table)) or np.any(table < 0):
         raise ValueError("rgb must be finite and non-negative")
     luminance = _luminance(table, luminance)
+    if vndf is not None and (np.shape(vndf)[:2] != expected[:2] or np.ndim(vndf) != 4
+                             or not np.all(np.asarray(vndf) > 0)):
+        raise ValueError(f"vndf must be a positive (n_phi, n_theta, n, n) array, got shape {np.shape(vndf)}")
     ones = np.ones((2, 2), np.float32)
     fields = {
         "description": np.frombuffer(str(description).encode("utf8"), np.uint8),
@@ -278,7 +298,7 @@ def write_measured(path, theta_nodes, phi_nodes, rgb, description: str, luminanc
         "phi_i": phi,
         "ndf": ones,
         "sigma": ones,
-        "vndf": np.ones((len(phi), len(theta), 2, 2), np.float32),
+        "vndf": np.ones((len(phi), len(theta), 2, 2), np.float32) if vndf is None else np.asarray(vndf, np.float32),
         "luminance": luminance,
         "rgb": table,
     }
