@@ -38,7 +38,7 @@ from ..surfaces.surface import Surface
 from . import comparison
 
 __all__ = ["TABLE", "MITSUBA", "CHECK", "LAYOUTS", "incidence_nodes", "measure_table", "tabulate_surface", "mitsuba_nodes",
-           "mitsuba_tables", "build_table", "write_mitsuba", "check_lights", "check_views", "check", "summary",
+           "brdf_values", "mitsuba_tables", "build_table", "write_mitsuba", "check_lights", "check_views", "check", "summary",
            "export_surface", "gather", "resolution_study"]
 
 #: The Mitsuba file by default (``export.mitsuba``): the detector's elevation nodes (``theta_i = 90 - elevation``;
@@ -56,7 +56,7 @@ CHECK = {"lights": 3, "views": 400, "seed": 2001}
 CHECK_VARIANT = "scalar_rgb"
 
 
-def _brdf_values(table: ShareTable, lighting):
+def brdf_values(table: ShareTable, lighting):
     """``values(L, V)`` of :func:`roughlight.render.mitsuba.measured.tabulate`: the table's facet sum on the 0-255
     scale, the study's 8-bit facet values, without the ambient term (no BRDF: it does not depend on the light)."""
     lighting = replace(lighting, ambient=0.0)
@@ -97,7 +97,7 @@ def mitsuba_tables(table: ShareTable, lighting=None, elevation=MITSUBA["elevatio
 
     lighting = lighting or shading.Lighting()
     theta, phi = mitsuba_nodes(elevation, phi_nodes)
-    values = _brdf_values(table, lighting)
+    values = brdf_values(table, lighting)
     regular = tabulate(values, theta, phi, int(resolution), lighting, "components" if warp else channels)
     if not warp:
         return theta, phi, regular, None
