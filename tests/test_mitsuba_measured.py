@@ -220,7 +220,8 @@ def test_the_warp_puts_each_node_where_the_plugin_reads_it(tmp_path):
     from roughlight.render.mitsuba import warp as mitsuba_warp
 
     vndf = mitsuba_warp.warp_density(regular)
-    assert vndf.shape == (n_phi, n_theta, n_u, n_u) and (vndf > 0).all()
+    assert vndf.shape == (n_phi, n_theta, mitsuba_warp.WARP_SIDE, mitsuba_warp.WARP_SIDE) and (vndf > 0).all()
+    assert mitsuba_warp.warp_density(regular, side=None).shape == (n_phi, n_theta, n_u, n_u)
     assert vndf.max() / vndf.min() > 3  # the curvature concentrates the nodes (the specular lobe near the normal)
     warped = measured.tabulate(values, theta, phi, n_u, LIGHTING, channels="components", vndf=vndf)
     path = measured.write_measured(tmp_path / "warped.bsdf", theta, phi, warped, "warped", vndf=vndf)
@@ -249,4 +250,4 @@ def test_the_warp_puts_each_node_where_the_plugin_reads_it(tmp_path):
     with pytest.raises(ValueError, match="vndf must be"):
         measured.write_measured(tmp_path / "bad.bsdf", theta, phi, warped, "bad", vndf=vndf[:, :-1])
     with pytest.raises(ValueError, match="vndf must be"):
-        measured.tabulate(values, theta, phi, n_u, LIGHTING, vndf=vndf[..., :-1, :-1])
+        measured.tabulate(values, theta, phi, n_u, LIGHTING, vndf=vndf[:, :-1])

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["WARP_FLOOR", "WARP_POWER", "WARP_OWN", "warp_density", "node_half_vectors"]
+__all__ = ["WARP_FLOOR", "WARP_POWER", "WARP_OWN", "WARP_SIDE", "warp_density", "node_half_vectors"]
 
 #: The warp's share of nodes spread evenly (:func:`warp_density`): the rest follow the values' curvature.
 WARP_FLOOR = 0.3
@@ -22,20 +22,25 @@ WARP_POWER = 0.75
 #: How much of each slice's own density the warp keeps (the rest is the mean over the slices): neighbouring slices
 #: with one warp put a feature at one sample point, and the plugin interpolates between slices there.
 WARP_OWN = 0.5
+#: The warp's own grid, nodes a side: as good as the values' 32 at the design pairs, a quarter of the bytes.
+WARP_SIDE = 16
 
 
-def warp_density(rgb, floor: float = WARP_FLOOR, power: float = WARP_POWER, own: float = WARP_OWN) -> np.ndarray:
+def warp_density(rgb, floor: float = WARP_FLOOR, power: float = WARP_POWER, own: float = WARP_OWN,
+                 side: int | None = WARP_SIDE) -> np.ndarray:
     """The file's ``vndf`` field from a table on the regular grid (``tabulate`` without a warp): where the plugin's
     bilinear lookup needs nodes.
 
     Each slice's need is its total's (channel 2: the total in either layout) curvature on the ``u`` grid,
     ``(|f_00| + |f_11| + 2 |f_01|) ** power`` (second differences), over its mean; the density is ``floor`` of even
     spread plus ``1 - floor`` of that need, and each slice keeps ``own`` of its density and takes the rest from
-    the mean over all slices.
+    the mean over all slices. With ``side`` it is read at ``side x side`` nodes of the ``u`` square (bilinearly):
+    the plugin's warp has a grid of its own, and a coarser one is a smaller file.
 
     Returns
     -------
-    (n_phi, n_theta, n_u, n_u) float32, positive: the density over the ``u`` square (``[u_1, u_0]``, as ``rgb``)
+    (n_phi, n_theta, side, side) float32 (``side`` None: ``n_u``), positive: the density over the ``u`` square
+    (``[u_1, u_0]``, as ``rgb``)
     """
     total = np.asarray(rgb, float)[:, :, 2]
     d00 = np.abs(np.gradient(np.gradient(total, axis=3), axis=3))
@@ -45,7 +50,17 @@ def warp_density(rgb, floor: float = WARP_FLOOR, power: float = WARP_POWER, own:
     mean = need.mean(axis=(2, 3), keepdims=True)
     need = np.where(mean > 0, need / np.where(mean > 0, mean, 1.0), 1.0)
     density = (1.0 - float(floor)) * need + float(floor)
-    return (float(own) * density + (1.0 - float(own)) * density.mean(axis=(0, 1))).astype(np.float32)
+    density = float(own) * density + (1.0 - float(own)) * density.mean(axis=(0, 1))
+    n_u = density.shape[-1]
+    if side is not None and int(side) != n_u:
+        if int(side) < 2:
+            raise ValueError(f"side must be at least 2, got {side!r}")
+        at = np.linspace(0.0, n_u - 1.0, int(side))
+        low = np.minimum(np.floor(at).astype(int), n_u - 2)
+        w = at - low
+        density = density[..., low, :] * (1 - w)[:, None] + density[..., low + 1, :] * w[:, None]
+        density = density[..., low] * (1 - w) + density[..., low + 1] * w
+    return density.astype(np.float32)
 
 
 def node_half_vectors(vndf, theta, phi, n_u: int):
@@ -53,7 +68,7 @@ def node_half_vectors(vndf, theta, phi, n_u: int):
 
     Parameters
     ----------
-    vndf : (n_phi, n_theta, n_u, n_u) positive array, the warp's density (:func:`warp_density`)
+    vndf : (n_phi, n_theta, k, k) positive array (any ``k`` >= 2), the warp's density (:func:`warp_density`)
     theta, phi : the file's ``theta_i`` and ``phi_i`` nodes, radians
     n_u : int, the grid's side
 
@@ -64,9 +79,10 @@ def node_half_vectors(vndf, theta, phi, n_u: int):
     class ``measured.cpp`` builds from the field) at that slice's node
     """
     density = np.ascontiguousarray(vndf, np.float32)
-    if density.shape != (len(phi), len(theta), n_u, n_u) or not np.all(density > 0):
-        raise ValueError(f"vndf must be a positive (n_phi, n_theta, n_u, n_u) = {(len(phi), len(theta), n_u, n_u)} "
-                         f"array, got {density.shape}")
+    if (density.ndim != 4 or density.shape[:2] != (len(phi), len(theta)) or density.shape[2] != density.shape[3]
+            or density.shape[2] < 2 or not np.all(density > 0)):
+        raise ValueError(f"vndf must be a positive (n_phi, n_theta, k, k) = {(len(phi), len(theta))} + (k, k) array, "
+                         f"got {density.shape}")
     from . import runtime
 
     mi, _ = runtime.load("scalar_rgb")
