@@ -95,7 +95,7 @@ claim-pilots: setup
 # the full-size speed/accuracy benchmark and stability scans (results/benchmarks/full/, results/stability/full/),
 # and the report built with them
 bench: setup
-	$(BIN)/snakemake --cores $(CORES) --config 'measurements={plan: full}'
+	$(BIN)/snakemake --cores $(CORES) --config 'measurements={plan: full}' --configfile config/export_fine.yaml
 
 # every view of the study's random sweeps (both kinds, two seeds, the random grid's lowest and highest corner)
 # against the exact reference: results/benchmarks/every_view/summary.csv (most of its time is the reference)
