@@ -244,3 +244,31 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     assert "drawing alone" in seen["goal"] and "1.70" in seen["goal"] and "94" in seen["goal"]
     assert "implicit_exact, shares once a frame" in seen["goal"]
     assert "no implicit model meets it" in seen["finding"] and "#implicit-goal" in seen["links"]
+
+
+def test_the_hot_spot_is_read_with_the_view_turned_with_the_light(table):
+    """Near V = L the shadowed part of each facet is read with the view turned with the light (each light node at
+    its own hot spot): at V = L, off every node, the table sees a fifth of the shadow the lattice's reading alone
+    sees and gives the reference within a level, numpy and the shader alike; 30 degrees off, the turned reading has
+    no weight."""
+    from roughlight.render.implicit import hot_spot_weight
+
+    incidence, psi = 27.0, 11.0  # between the light nodes (20, 35) and (0, 22.5)
+    light = shading.light_direction(incidence, psi)
+    elevation = np.array([incidence, incidence + 4.0, incidence - 5.0, incidence + 30.0])  # V = L, then off it
+    azimuth = np.full(elevation.size, psi)
+    lights, views = _pairs(incidence, psi, azimuth, elevation)
+    assert np.allclose(views[0], light)
+    weight = hot_spot_weight(*canonical_directions(SURFACE, lights, views))
+    assert weight[0] == pytest.approx(1.0) and 0 < weight[1] < 1 and 0 < weight[2] < 1 and weight[3] == 0
+    lit, shadow, *_ = table_shares(table, lights, views)
+    _, lattice, *_ = table_shares(table, lights, views, hot_spot_blend=0.0)
+    assert shadow[0].sum() < 0.2 * lattice[0].sum() and np.allclose(shadow[3], lattice[3])
+    assert np.allclose((lit + shadow).sum(axis=1), 1.0, atol=1e-4)
+    exact = methods.sweep("reference", SURFACE, incidence, azimuth, elevation, light_azimuth=psi)
+    got = table_values(table, lights, views)
+    assert abs(got["total"][0] - exact["total"][0]) < 1.0
+    drawn = methods.sweep("implicit_table", SURFACE, incidence, azimuth, elevation, settings={"table": table},
+                          light_azimuth=psi)
+    for component in shading.COMPONENTS:
+        assert np.abs(drawn[component] - got[component]).max() < 0.35, component

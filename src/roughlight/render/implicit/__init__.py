@@ -7,6 +7,7 @@ from .. import public_face
 #: The room's face: what the rest of the package takes from it, by the module that holds it (imported on first use).
 FACE = {"implicit_sweep": "shader", "render_field": "shader", "ImplicitSettings": "settings", "ShareTable": "table",
         "save_table": "table", "load_table": "table", "table_shares": "table", "table_values": "table",
+        "hot_spot_weight": "table", "HOT_SPOT_BLEND": "table",
         "CHANNELS": "table", "SCALE": "table", "TABLE": "tabulate", "incidence_nodes": "tabulate",
         "channel_shares": "tabulate", "measure_table": "tabulate", "tabulate_surface": "tabulate", "cached_table": "tabulate"}
 __getattr__, __all__ = public_face(__name__, FACE)

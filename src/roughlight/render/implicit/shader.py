@@ -231,14 +231,19 @@ def _table_for(settings, surface: Surface, shadows: bool = True):
 def table_uniforms(table, incidence: float, light_azimuth: float, lighting=None) -> dict:
     """The table model's uniforms for one light: the light turned to the table's light azimuths (``light_dir``
     and the material's terms), the turn of the views (``view_turn``), the light's four nodes (``table_slices``,
-    ``table_weights``) and the texture's extent (:func:`roughlight.render.implicit.table.light_corners`). The
+    ``table_weights``, and ``table_turns`` and ``table_rises``, each node's azimuth and incidence less the light's,
+    with ``hot_spot_blend``: the hot spot's reading, :func:`roughlight.render.implicit.table.table_shares`) and the texture's extent (:func:`roughlight.render.implicit.table.light_corners`). The
     node elevations are an array uniform, set by :func:`_set_table_uniforms`."""
-    from .table import light_corners
+    from .table import HOT_SPOT_BLEND, light_corners
 
     slices, weights, light_c, turn = light_corners(table, incidence, light_azimuth)
+    psi = np.degrees(np.arctan2(light_c[1], light_c[0])) % 360.0
     return {
         **shading.material_uniforms(lighting or shading.Lighting(), light_c),
         "view_turn": turn.astype(np.float32),
+        "table_turns": (table.light_azimuth[slices % table.light_azimuth.size] - psi).astype(np.float32),
+        "table_rises": (table.incidence[slices // table.light_azimuth.size] - float(incidence)).astype(np.float32),
+        "hot_spot_blend": float(HOT_SPOT_BLEND),
         "table_slices": slices.astype(np.int32),
         "table_weights": weights.astype(np.float32),
         "table_depth": int(table.incidence.size * table.light_azimuth.size),

@@ -33,8 +33,8 @@ from ...surfaces.surface import Surface
 from ...surfaces.symmetry import canonical_directions
 from .. import shading
 
-__all__ = ["SCALE", "CHANNELS", "ShareTable", "save_table", "load_table", "node_weights", "table_shares",
-           "table_values", "table_angles", "light_corners"]
+__all__ = ["SCALE", "CHANNELS", "HOT_SPOT_BLEND", "ShareTable", "save_table", "load_table", "node_weights",
+           "hot_spot_weight", "table_shares", "table_values", "table_angles", "light_corners"]
 
 #: A share of 1 as stored (16-bit unsigned: a share's rounding is at most 7.6e-6, 0.001 of a level at J = 127).
 SCALE = 65535
@@ -147,8 +147,52 @@ def table_angles(light, view):
     return incidence, psi, elevation, phi
 
 
-def table_shares(table: ShareTable, light, view):
+#: Within this phase angle of the light (degrees) the shadowed part of what each facet shows is read with the view
+#: turned with the light (:func:`table_shares`), fully at ``V = L`` and less with the angle, none beyond it.
+HOT_SPOT_BLEND = 15.0
+
+
+def _read_nodes(table: ShareTable, corners, elevation, phi, turned_from=None) -> np.ndarray:
+    """The shares at views (``elevation``, ``phi``: (n,) degrees) read multilinearly between the four light nodes
+    ``corners`` (``i0``, ``wi``, ``p0``, ``wp``) and the view nodes: (n, CHANNELS) fractions. With ``turned_from``
+    (the lights' incidence and azimuth, (n,) each) each light node reads the view turned with the light: its
+    azimuth and elevation moved by the node's less the light's, so that ``V = L`` reads every node's own hot spot."""
+    i0, wi, p0, wp = corners
+    step = table.azimuth_step
+    shares = np.zeros((len(elevation), CHANNELS))
+    for di, fi in ((0, 1.0 - wi), (1, wi)):
+        i = np.minimum(i0 + di, table.incidence.size - 1)
+        at_e = elevation if turned_from is None else np.clip(elevation + table.incidence[i] - turned_from[0], 0.0, 90.0)
+        e0, we = node_weights(table.elevation, at_e)
+        for dp, fp in ((0, 1.0 - wp), (1, wp)):
+            p = np.minimum(p0 + dp, table.light_azimuth.size - 1)
+            at = phi if turned_from is None else np.mod(phi + table.light_azimuth[p] - turned_from[1], 360.0)
+            a0 = np.floor(at / step).astype(int) % table.azimuth_nodes
+            wa = at / step - np.floor(at / step)
+            for de, fe in ((0, 1.0 - we), (1, we)):
+                for da, fa in ((0, 1.0 - wa), (1, wa)):
+                    node = table.shares[i, p, np.minimum(e0 + de, table.elevation.size - 1),
+                                        (a0 + da) % table.azimuth_nodes]
+                    shares += (fi * fp * fe * fa)[:, None] * node
+    return shares / SCALE
+
+
+def hot_spot_weight(light, view, blend: float = HOT_SPOT_BLEND) -> np.ndarray:
+    """How much of the shadowed part is read with the view turned with the light: ``1 - g / blend`` clipped to
+    [0, 1], ``g`` the phase angle between ``light`` and ``view`` ((n, 3) unit vectors), degrees."""
+    phase = np.degrees(np.arccos(np.clip(np.sum(light * view, axis=1), -1.0, 1.0)))
+    return np.clip(1.0 - phase / float(blend), 0.0, 1.0)
+
+
+def table_shares(table: ShareTable, light, view, hot_spot_blend: float = HOT_SPOT_BLEND):
     """Each facet's lit and shadowed share at many (light, view) pairs, read from ``table`` between its nodes.
+
+    Each facet's share of the image (lit and shadowed together) is read at the view's azimuth in the lattice's
+    frame, between the four light nodes around the light and the view nodes around the view. Near the hot spot
+    (``V = L``, where no shadow is seen and the shares have a cusp that light nodes 15 degrees apart smear) the
+    part of it in shadow is read as well with the view turned with the light: at each light node the view's
+    azimuth and elevation relative to the light are kept, so that every node reads its own hot spot; the two
+    readings of that part are blended by :func:`hot_spot_weight` (docs/export.md, "Resolution").
 
     Parameters
     ----------
@@ -156,6 +200,9 @@ def table_shares(table: ShareTable, light, view):
     light, view : (n, 3) arrays
         Unit vectors toward the light (incidence in [0, 90]) and toward the detector (above the plane), a pair a
         row, in the surface's frame (the study's: azimuth 0 along the lattice's x axis).
+    hot_spot_blend : float
+        The phase angle, degrees, within which the hot spot's reading enters (0: never; the shader's is
+        :data:`HOT_SPOT_BLEND`).
 
     Returns
     -------
@@ -166,25 +213,19 @@ def table_shares(table: ShareTable, light, view):
     """
     light_c, view_c = canonical_directions(table.surface, light, view)
     incidence, psi, elevation, phi = table_angles(light_c, view_c)
-    i0, wi = node_weights(table.incidence, incidence)
-    p0, wp = node_weights(table.light_azimuth, psi)
-    e0, we = node_weights(table.elevation, elevation)
-    step = table.azimuth_step
-    a0 = np.floor(phi / step).astype(int) % table.azimuth_nodes
-    wa = phi / step - np.floor(phi / step)
-    shares = np.zeros((len(light_c), CHANNELS))
-    for di, fi in ((0, 1.0 - wi), (1, wi)):
-        for dp, fp in ((0, 1.0 - wp), (1, wp)):
-            for de, fe in ((0, 1.0 - we), (1, we)):
-                for da, fa in ((0, 1.0 - wa), (1, wa)):
-                    weight = fi * fp * fe * fa
-                    node = table.shares[np.minimum(i0 + di, table.incidence.size - 1),
-                                        np.minimum(p0 + dp, table.light_azimuth.size - 1),
-                                        np.minimum(e0 + de, table.elevation.size - 1),
-                                        (a0 + da) % table.azimuth_nodes]
-                    shares += weight[:, None] * node
-    shares /= SCALE
-    return shares[:, :5], shares[:, 5:], light_c, view_c
+    corners = node_weights(table.incidence, incidence) + node_weights(table.light_azimuth, psi)
+    lattice = _read_nodes(table, corners, elevation, phi)
+    seen = lattice[:, :5] + lattice[:, 5:]
+    shadow = lattice[:, 5:]
+    near = hot_spot_weight(light_c, view_c, hot_spot_blend) if hot_spot_blend > 0 else np.zeros(len(light_c))
+    if np.any(near > 0):
+        turned = _read_nodes(table, corners, elevation, phi, turned_from=(incidence, psi))
+        turned_seen = turned[:, :5] + turned[:, 5:]
+        fraction = np.where(seen > 0, shadow / np.where(seen > 0, seen, 1.0), 0.0)
+        turned_fraction = np.where(turned_seen > 1e-9, turned[:, 5:] / np.where(turned_seen > 1e-9, turned_seen, 1.0),
+                                   fraction)
+        shadow = seen * (near[:, None] * turned_fraction + (1.0 - near[:, None]) * fraction)
+    return seen - shadow, shadow, light_c, view_c
 
 
 def table_values(table: ShareTable, light, view, lighting=None, quantized: bool = True) -> dict:

@@ -129,6 +129,9 @@ uniform int table_azimuths;
 uniform int table_elevations;
 uniform float table_elevation[MAX_TABLE_ELEVATIONS];
 uniform mat3 view_turn;
+uniform vec4 table_turns;          // each light node's azimuth less the light's, degrees (the view turned with it)
+uniform vec4 table_rises;          // each light node's incidence less the light's, degrees
+uniform float hot_spot_blend;      // the phase angle, degrees, within which the shadowed part is read turned
 
 // The view's elevation in node units of table_elevation (clamped to the end nodes).
 float elevation_node(float e)
@@ -143,32 +146,54 @@ float elevation_node(float e)
     return float(k) + (e - table_elevation[k]) / (table_elevation[k + 1] - table_elevation[k]);
 }
 
+// The four light nodes' shares at view azimuth fractions x and elevation rows y, a node k at (x[k], y[k]).
+void table_fetch(vec4 x, vec4 y, out vec4 a, out vec4 b, out vec4 c)
+{
+    a = vec4(0.0);
+    b = vec4(0.0);
+    c = vec4(0.0);
+    for (int k = 0; k < 4; ++k) {
+        vec3 at = vec3(x[k], y[k], (float(table_slices[k]) + 0.5) / float(table_depth));
+        a += table_weights[k] * texture(table_lit, at);
+        b += table_weights[k] * texture(table_mixed, at);
+        c += table_weights[k] * texture(table_shadow, at);
+    }
+}
+
+// Each facet's share of the image read in the lattice's frame; near the hot spot (V = L: no shadow seen, a cusp
+// the light nodes smear) the part of it in shadow also read with the view turned with the light (each node k at
+// its own hot spot: the view's azimuth plus table_turns[k], its elevation plus table_rises[k]), the two blended by
+// 1 - phase / hot_spot_blend (roughlight.render.implicit.table.table_shares, the same in numpy).
 void table_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
 {
     float e = degrees(asin(clamp(V.z, -1.0, 1.0)));
     float phi = degrees(atan(V.y, V.x));
     phi = phi < 0.0 ? phi + 360.0 : phi;
-    float x = (phi / 360.0) + 0.5 / float(table_azimuths);
-    float y = (elevation_node(e) + 0.5) / float(table_elevations);
-    vec4 a = vec4(0.0);
-    vec4 b = vec4(0.0);
-    vec4 c = vec4(0.0);
-    for (int k = 0; k < 4; ++k) {
-        vec3 at = vec3(x, y, (float(table_slices[k]) + 0.5) / float(table_depth));
-        a += table_weights[k] * texture(table_lit, at);
-        b += table_weights[k] * texture(table_mixed, at);
-        c += table_weights[k] * texture(table_shadow, at);
+    float half_node = 0.5 / float(table_azimuths);
+    float rows = float(table_elevations);
+    vec4 a, b, c;
+    table_fetch(vec4(phi / 360.0 + half_node), vec4((elevation_node(e) + 0.5) / rows), a, b, c);
+    float seen[5] = float[5](a.x + b.y, a.y + b.z, a.z + b.w, a.w + c.x, b.x + c.y);
+    float shadow[5] = float[5](b.y, b.z, b.w, c.x, c.y);
+    float phase = degrees(acos(clamp(dot(light_dir, V), -1.0, 1.0)));
+    float near = clamp(1.0 - phase / hot_spot_blend, 0.0, 1.0);
+    if (near > 0.0) {
+        vec4 ta, tb, tc;
+        vec4 y;
+        for (int k = 0; k < 4; ++k) y[k] = (elevation_node(clamp(e + table_rises[k], 0.0, 90.0)) + 0.5) / rows;
+        table_fetch((vec4(phi) + table_turns) / 360.0 + half_node, y, ta, tb, tc);
+        float turned_seen[5] = float[5](ta.x + tb.y, ta.y + tb.z, ta.z + tb.w, ta.w + tc.x, tb.x + tc.y);
+        float turned_shadow[5] = float[5](tb.y, tb.z, tb.w, tc.x, tc.y);
+        for (int f = 0; f < 5; ++f) {
+            float fraction = seen[f] > 0.0 ? shadow[f] / seen[f] : 0.0;
+            float turned_fraction = turned_seen[f] > 1e-9 ? turned_shadow[f] / turned_seen[f] : fraction;
+            shadow[f] = seen[f] * (near * turned_fraction + (1.0 - near) * fraction);
+        }
     }
-    lit_share[0] = a.x;
-    lit_share[1] = a.y;
-    lit_share[2] = a.z;
-    lit_share[3] = a.w;
-    lit_share[4] = b.x;
-    shadow_share[0] = b.y;
-    shadow_share[1] = b.z;
-    shadow_share[2] = b.w;
-    shadow_share[3] = c.x;
-    shadow_share[4] = c.y;
+    for (int f = 0; f < 5; ++f) {
+        lit_share[f] = seen[f] - shadow[f];
+        shadow_share[f] = shadow[f];
+    }
 }
 
 vec3 model_view(vec3 V) { return view_turn * V; }
