@@ -1,14 +1,19 @@
-"""Two other ways to read the share table between its light azimuth nodes, tried against the table's own
-(docs/export.md, "Resolution": the light's azimuth at low incidence holds the table off a level):
+"""Ways to read the share table between its light azimuth nodes, tried against each other (docs/export.md,
+"Resolution": the light's azimuth at low incidence holds the table off a level):
 
+* ``linear``: multilinear between the nodes, the view in the lattice's frame (the table's reading before the hot
+  spot's);
 * ``turned``: each light node's shares read at the view turned with the light (the view's azimuth relative to the
   light kept, not to the lattice), so that a hot spot or a shadow's direction stays where the light puts it;
 * ``cubic``: a Catmull-Rom cubic through four light azimuth nodes (the ends mirrored: the shares are even about
-  0 and 45 degrees), in place of the line through two.
+  0 and 45 degrees), in place of the line through two;
+* ``hot spot``: the table's own (``table_shares``): linear, with the shadowed part read turned near ``V = L``
+  (``--blend``: within how many degrees of it).
 
     python tests/table_light_reading.py results/export/t1_a1             # 8 low lights (8-35 degrees) x 200 views
     python tests/table_light_reading.py results/export/t1_a1 --seed 11   # other lights and views
     python tests/table_light_reading.py results/export/t1_a1 --check     # the export's own 1,200 lights and views
+    python tests/table_light_reading.py results/export/t1_a1 --blend 30  # the hot spot's reading 30 degrees wide
 
 Reads the export's ``shares.npz`` (and, with ``--check``, its ``check.parquet``, whose reference values it takes);
 else draws the lights (incidence uniform in [8, 35], any azimuth) and views (``brdf_export.check_views``) with the
@@ -75,6 +80,13 @@ def read(table, light, view, lighting, reading: str) -> np.ndarray:
                              shares[:, 5:], lighting, True)["total"]
 
 
+def hot_spot(table, light, view, lighting, blend: float) -> np.ndarray:
+    """The table's own reading (``table_shares``) at a hot spot's width ``blend``: the total."""
+    lit, shadow, light_c, view_c = T.table_shares(table, light, view, hot_spot_blend=blend)
+    return shading.facet_sum(facet_normals(table.surface), light_c[:, None, :], view_c, lit, shadow, lighting,
+                             True)["total"]
+
+
 def pairs(table, export: Path, check: bool, seed: int, lighting):
     """(light, view, reference total) of the check's pairs or of low lights of one's own."""
     if check:
@@ -101,13 +113,16 @@ def main(argv=None) -> None:
     parser.add_argument("export", type=Path, help="a finished run's export folder (shares.npz, check.parquet)")
     parser.add_argument("--seed", type=int, default=7)
     parser.add_argument("--check", action="store_true", help="the export's own checked lights and views")
+    parser.add_argument("--blend", type=float, default=T.HOT_SPOT_BLEND, help="the hot spot's reading's width, degrees")
     args = parser.parse_args(argv)
     table = load_table(args.export / "shares.npz")
     lighting = replace(shading.Lighting(), ambient=0.0)
     light, view, reference = pairs(table, args.export, args.check, args.seed, lighting)
     print("| reading | MAE | p99 | worst | views over a level |\n|---|---|---|---|---|")
-    for reading in ("linear", "turned", "cubic"):
-        error = np.abs(read(table, light, view, lighting, reading) - reference)
+    for reading in ("linear", "turned", "cubic", "hot spot"):
+        values = (hot_spot(table, light, view, lighting, args.blend) if reading == "hot spot"
+                  else read(table, light, view, lighting, reading))
+        error = np.abs(values - reference)
         print(f"| {reading} | {error.mean():.3f} | {np.quantile(error, 0.99):.2f} | {error.max():.2f} | "
               f"{int((error > 1).sum())} of {len(error)} |")
 

@@ -231,9 +231,10 @@ def _table_for(settings, surface: Surface, shadows: bool = True):
 def table_uniforms(table, incidence: float, light_azimuth: float, lighting=None) -> dict:
     """The table model's uniforms for one light: the light turned to the table's light azimuths (``light_dir``
     and the material's terms), the turn of the views (``view_turn``), the light's four nodes (``table_slices``,
-    ``table_weights``, and ``table_turns`` and ``table_rises``, each node's azimuth and incidence less the light's,
-    with ``hot_spot_blend``: the hot spot's reading, :func:`roughlight.render.implicit.table.table_shares`) and the texture's extent (:func:`roughlight.render.implicit.table.light_corners`). The
-    node elevations are an array uniform, set by :func:`_set_table_uniforms`."""
+    ``table_weights``; :func:`roughlight.render.implicit.table.light_corners`), each node's azimuth and incidence
+    less the light's (``table_turns``, ``table_rises``) with ``hot_spot_blend`` (the hot spot's reading,
+    :func:`roughlight.render.implicit.table.table_shares`), and the texture's extent. The node elevations are an
+    array uniform, set by :func:`_set_table_uniforms`."""
     from .table import HOT_SPOT_BLEND, light_corners
 
     slices, weights, light_c, turn = light_corners(table, incidence, light_azimuth)

@@ -218,13 +218,17 @@ def table_shares(table: ShareTable, light, view, hot_spot_blend: float = HOT_SPO
     seen = lattice[:, :5] + lattice[:, 5:]
     shadow = lattice[:, 5:]
     near = hot_spot_weight(light_c, view_c, hot_spot_blend) if hot_spot_blend > 0 else np.zeros(len(light_c))
-    if np.any(near > 0):
-        turned = _read_nodes(table, corners, elevation, phi, turned_from=(incidence, psi))
+    rows = np.flatnonzero(near > 0)  # the turned reading only where it enters
+    if rows.size:
+        turned = _read_nodes(table, tuple(part[rows] for part in corners), elevation[rows], phi[rows],
+                             turned_from=(incidence[rows], psi[rows]))
         turned_seen = turned[:, :5] + turned[:, 5:]
-        fraction = np.where(seen > 0, shadow / np.where(seen > 0, seen, 1.0), 0.0)
+        fraction = np.where(seen[rows] > 0, shadow[rows] / np.where(seen[rows] > 0, seen[rows], 1.0), 0.0)
         turned_fraction = np.where(turned_seen > 1e-9, turned[:, 5:] / np.where(turned_seen > 1e-9, turned_seen, 1.0),
                                    fraction)
-        shadow = seen * (near[:, None] * turned_fraction + (1.0 - near[:, None]) * fraction)
+        weight = near[rows, None]
+        shadow = shadow.copy()
+        shadow[rows] = seen[rows] * (weight * turned_fraction + (1.0 - weight) * fraction)
     return seen - shadow, shadow, light_c, view_c
 
 
