@@ -196,6 +196,7 @@ def test_the_export_settings_reach_the_jobs_as_plain_values():
     assert rl_config.export_surfaces(cfg) == [(0.5, 1.0), (1.0, 1.0)]
     settings = rl_config.export_settings(cfg)
     assert settings["table"]["azimuth_step"] == 5.0 and settings["table"]["edge_on"] is True
+    assert settings["table"]["hot_spot_views"] is True and settings["mitsuba"]["warp"] is True
     assert settings["mitsuba"]["resolution"] == 32 and settings["check"] == {"lights": 3, "views": 400, "seed": 2001}
     assert rl_plan.export_files(cfg)[:3] == ["results/export/t0.5_a1/shares.npz", "results/export/t0.5_a1/table.json",
                                              "results/export/t0.5_a1/brdf.bsdf"]

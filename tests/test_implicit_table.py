@@ -272,3 +272,22 @@ def test_the_hot_spot_is_read_with_the_view_turned_with_the_light(table):
                           light_azimuth=psi)
     for component in shading.COMPONENTS:
         assert np.abs(drawn[component] - got[component]).max() < 0.35, component
+
+
+def test_every_tabulated_lights_hot_spot_is_a_view_node():
+    """export.table.hot_spot_views: the incidence nodes join the view elevation nodes, so that a tabulated light's
+    hot spot (V = L, a cusp of the shares) is read at a node, not between two that straddle it."""
+    from roughlight.render.implicit import elevation_nodes, tabulate_surface
+
+    assert elevation_nodes([10.0, 45.0, 90.0], [0.0, 30.0, 63.4, 90.0]).tolist() == [10.0, 30.0, 45.0, 63.4, 90.0]
+    assert elevation_nodes([10.0, 45.0, 90.0], [0.0, 30.0, 90.0], hot_spot_views=False).tolist() == [10.0, 45.0, 90.0]
+    nodes = {"incidence": [0.0, 30.0, 60.0, 90.0], "edge_on": False, "light_azimuth": [0.0, 45.0],
+             "elevation": [10.0, 20.0, 45.0, 70.0, 90.0], "azimuth_step": 15.0}
+    at_node = tabulate_surface(SURFACE, nodes | {"hot_spot_views": True})
+    between = tabulate_surface(SURFACE, nodes | {"hot_spot_views": False})
+    assert 30.0 in at_node.elevation and 30.0 not in between.elevation
+    light, view = _pairs(30.0, 0.0, [0.0], [30.0])  # V = L under a tabulated light
+    exact = methods.sweep("reference", SURFACE, 30.0, [0.0], [30.0])["total"][0]
+    near = abs(table_values(at_node, light, view)["total"][0] - exact)
+    far = abs(table_values(between, light, view)["total"][0] - exact)
+    assert near < 0.05 and far > 10 * near

@@ -8,6 +8,6 @@ from .. import public_face
 FACE = {"implicit_sweep": "shader", "render_field": "shader", "ImplicitSettings": "settings", "ShareTable": "table",
         "save_table": "table", "load_table": "table", "table_shares": "table", "table_values": "table",
         "hot_spot_weight": "table", "HOT_SPOT_BLEND": "table",
-        "CHANNELS": "table", "SCALE": "table", "TABLE": "tabulate", "incidence_nodes": "tabulate",
+        "CHANNELS": "table", "SCALE": "table", "TABLE": "tabulate", "incidence_nodes": "tabulate", "elevation_nodes": "tabulate",
         "channel_shares": "tabulate", "measure_table": "tabulate", "tabulate_surface": "tabulate", "cached_table": "tabulate"}
 __getattr__, __all__ = public_face(__name__, FACE)

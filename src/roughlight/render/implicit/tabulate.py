@@ -26,16 +26,17 @@ from ...surfaces.surface import Surface
 from ..exact.reference import LitScene, shares_under
 from .table import CHANNELS, SCALE, ShareTable, load_table, save_table
 
-__all__ = ["TABLE", "incidence_nodes", "channel_shares", "measure_table", "tabulate_surface", "cache_dir", "table_key",
-           "cached_table"]
+__all__ = ["TABLE", "incidence_nodes", "elevation_nodes", "channel_shares", "measure_table", "tabulate_surface",
+           "cache_dir", "table_key", "cached_table"]
 
 LOG = logging.getLogger("roughlight.implicit")
 
 #: The share table's nodes by default (``export.table``, the schema's defaults): light incidence every 5 degrees
 #: (and, with ``edge_on``, where a side facet turns edge-on to a tabulated light: :func:`incidence_nodes`), light
-#: azimuth every 15 in [0, 45], view elevations closer near the horizon, where the shares change fastest, and view
-#: azimuth every 2.5.
-TABLE = {"incidence": [float(i) for i in range(0, 91, 5)], "edge_on": True, "light_azimuth": [0.0, 15.0, 30.0, 45.0],
+#: azimuth every 15 in [0, 45], view elevations closer near the horizon, where the shares change fastest (and, with
+#: ``hot_spot_views``, at every incidence node: :func:`elevation_nodes`), and view azimuth every 2.5.
+TABLE = {"incidence": [float(i) for i in range(0, 91, 5)], "edge_on": True, "hot_spot_views": True,
+         "light_azimuth": [0.0, 15.0, 30.0, 45.0],
          "elevation": [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0, 12.0, 14.0, 16.0, 19.0, 22.0, 25.0,
                        28.0, 32.0, 36.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0, 90.0],
          "azimuth_step": 2.5}
@@ -54,6 +55,20 @@ def incidence_nodes(surface: Surface, incidence, light_azimuth, edge_on: bool = 
                 edge = round(math.degrees(math.atan(2.0 * surface.aspect * part)), 6)
                 if 0.0 < edge < 90.0:
                     nodes.add(edge)
+    return np.array(sorted(nodes))
+
+
+def elevation_nodes(elevation, incidence, hot_spot_views: bool = True) -> np.ndarray:
+    """The table's view elevation nodes: ``elevation`` and, with ``hot_spot_views``, every light incidence node in
+    (0, 90] (``incidence``, :func:`incidence_nodes`' with the edge-on ones), so that each tabulated light's hot
+    spot ``V = L`` (the view at the light's elevation and azimuth, a cusp of the shares: no shadow is seen there)
+    lies on a view node, and between light nodes the table's turned reading of the hot spot
+    (:func:`roughlight.render.implicit.table.table_shares`) reads every node's own there. On t 1, a 1 at the
+    study's light (incidence 30, on the nodes), the worst of its 6,444 views went from 3.05 levels at the hot spot to
+    1.13 elsewhere (docs/export.md, "Resolution"), for 8 nodes more (39), 22% more time and 2.1 MB more texture."""
+    nodes = {float(e) for e in elevation}
+    if hot_spot_views:
+        nodes |= {float(i) for i in incidence if 0.0 < float(i) <= 90.0}
     return np.array(sorted(nodes))
 
 
@@ -115,11 +130,13 @@ def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth
 
 def tabulate_surface(surface: Surface, nodes=None, shadows: bool = True, log=None) -> ShareTable:
     """A surface's share table at the nodes ``nodes`` (``export.table``'s keys over :data:`TABLE`): the incidences
-    with their edge-on ones (:func:`incidence_nodes`), measured by :func:`measure_table`."""
+    with their edge-on ones (:func:`incidence_nodes`), the elevations with the incidences (:func:`elevation_nodes`,
+    ``hot_spot_views``; a ``nodes`` without the key, as one that replaces :data:`TABLE` whole, has none), measured
+    by :func:`measure_table`."""
     nodes = {**TABLE, **(nodes or {})}
     incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
-    return measure_table(surface, incidence, nodes["light_azimuth"], nodes["elevation"], nodes["azimuth_step"],
-                         shadows, log)
+    elevation = elevation_nodes(nodes["elevation"], incidence, nodes.get("hot_spot_views", False))
+    return measure_table(surface, incidence, nodes["light_azimuth"], elevation, nodes["azimuth_step"], shadows, log)
 
 
 
