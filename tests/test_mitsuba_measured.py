@@ -237,8 +237,7 @@ def test_the_warp_puts_each_node_where_the_plugin_reads_it(tmp_path):
         grid = np.linspace(0.0, 1.0, n_u)[1:-1:3]  # inner sample nodes (the azimuth wraps at the ends)
         u = np.array([list(warp.sample(mi.ScalarPoint2f(s0, s1), mi.ScalarPoint2f(p, t))[0]) for s1 in grid
                       for s0 in grid])
-        theta_m, phi_m = u[:, 0] ** 2 * np.pi / 2, (2 * u[:, 1] - 1) * np.pi
-        wm = np.stack([np.sin(theta_m) * np.cos(phi_m), np.sin(theta_m) * np.sin(phi_m), np.cos(theta_m)], axis=-1)
+        wm = mitsuba_warp.half_vector(u)
         wo = measured.reflect(wi, wm)
         up = wo[:, 2] > 0.05
         wo = wo[up] / np.linalg.norm(wo[up], axis=1, keepdims=True)

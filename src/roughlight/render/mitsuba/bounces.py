@@ -27,8 +27,7 @@ import numpy as np
 
 from ..shading import view_direction
 from . import runtime
-from .field import sensor_matrix
-from .measured import QUAD_HALF_SIDE, WINDOW
+from .measured import QUAD_HALF_SIDE, quad_sensor
 
 __all__ = ["INTEGRATORS", "REFERENCE", "albedo_estimates", "bounce_check", "random_views"]
 
@@ -54,8 +53,13 @@ def _sky_scene(mi, path, integrator: dict):
     })
 
 
+def _sky_scenes(mi, path) -> dict:
+    """:func:`_sky_scene` for each of :data:`INTEGRATORS`, by name."""
+    return {name: _sky_scene(mi, path, integrator) for name, integrator in INTEGRATORS.items()}
+
+
 def albedo_estimates(path, elevation: float, azimuth: float, spp: int = 256, side: int = 16,
-                     variant: str = "llvm_ad_rgb", seed: int = 0) -> dict:
+                     variant: str = "llvm_ad_rgb", seed: int = 0, scenes=None) -> dict:
     """The file's directional albedo toward one view, estimated by each of :data:`INTEGRATORS`.
 
     Parameters
@@ -67,6 +71,8 @@ def albedo_estimates(path, elevation: float, azimuth: float, spp: int = 256, sid
         ``1 / (side sqrt(spp))``)
     variant : Mitsuba variant (:func:`roughlight.render.mitsuba.runtime.load`)
     seed : the sampler's seed, the same for every integrator
+    scenes : dict by integrator name, optional: the scenes of ``path`` already loaded (:func:`bounce_check` loads
+        them once for all its views)
 
     Returns
     -------
@@ -75,18 +81,11 @@ def albedo_estimates(path, elevation: float, azimuth: float, spp: int = 256, sid
     if not 0.0 < float(elevation) < 180.0:
         raise ValueError(f"elevation must be within (0, 180) degrees (a view above the plane), got {elevation!r}")
     mi, _ = runtime.load(variant)
-    view = view_direction(float(elevation), float(azimuth))
-    matrix, far = sensor_matrix(view, WINDOW, 0.0)
-    sensor = mi.load_dict({
-        "type": "orthographic", "to_world": mi.ScalarTransform4f(matrix), "near_clip": 1e-3, "far_clip": far,
-        "film": {"type": "hdrfilm", "width": int(side), "height": int(side), "rfilter": {"type": "box"},
-                 "pixel_format": "rgb", "component_format": "float32"},
-        "sampler": {"type": "independent", "sample_count": int(spp)},
-    })
+    scenes = scenes or _sky_scenes(mi, path)
+    sensor = quad_sensor(mi, view_direction(float(elevation), float(azimuth)), side, spp)
     out = {}
-    for name, integrator in INTEGRATORS.items():
-        pixels = np.asarray(mi.render(_sky_scene(mi, path, integrator), sensor=sensor, seed=int(seed)),
-                            np.float64)[..., 0].ravel()
+    for name in INTEGRATORS:
+        pixels = np.asarray(mi.render(scenes[name], sensor=sensor, seed=int(seed)), np.float64)[..., 0].ravel()
         out[name] = (float(pixels.mean()), float(pixels.std(ddof=1) / np.sqrt(pixels.size)))
     return out
 
@@ -110,9 +109,11 @@ def bounce_check(path, elevation, azimuth, spp: int = 256, side: int = 16, varia
 
     elevation, azimuth = np.broadcast_arrays(np.atleast_1d(np.asarray(elevation, float)),
                                              np.atleast_1d(np.asarray(azimuth, float)))
+    mi, _ = runtime.load(variant)
+    scenes = _sky_scenes(mi, path)
     rows = []
     for k, (e, phi) in enumerate(zip(elevation.ravel(), azimuth.ravel())):
-        estimates = albedo_estimates(path, e, phi, spp, side, variant, seed=k)
+        estimates = albedo_estimates(path, e, phi, spp, side, variant, seed=k, scenes=scenes)
         ref, ref_se = estimates[REFERENCE]
         for name, (mean, se) in estimates.items():
             difference = mean - ref

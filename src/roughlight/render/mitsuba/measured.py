@@ -50,7 +50,7 @@ import numpy as np
 from ...atomic import atomic_path
 from ..shading import Lighting, check_incidence, facet_components, light_direction, view_direction
 from .field import sensor_matrix
-from .warp import node_half_vectors
+from .warp import half_vector, node_half_vectors
 
 __all__ = ["REDUCTIONS", "CHANNELS", "table_nodes", "half_vectors", "reflect", "plate_values", "tabulate",
            "write_measured", "read_measured", "file_size", "evaluate", "render_flat"]
@@ -105,11 +105,8 @@ def half_vectors(n_u: int) -> np.ndarray:
     last two axes): ``theta_m = u_0^2 pi / 2``, ``phi_m = (2 u_1 - 1) pi``, ``u = k / (n_u - 1)``."""
     if int(n_u) < 2:
         raise ValueError(f"n_u must be at least 2, got {n_u!r}")
-    u = np.linspace(0.0, 1.0, int(n_u))
-    theta_m = u[None, :] ** 2 * (np.pi / 2.0)
-    phi_m = (2.0 * u[:, None] - 1.0) * np.pi
-    return np.stack(np.broadcast_arrays(np.sin(theta_m) * np.cos(phi_m), np.sin(theta_m) * np.sin(phi_m),
-                                        np.cos(theta_m)), axis=-1)
+    u_1, u_0 = np.meshgrid(np.linspace(0.0, 1.0, int(n_u)), np.linspace(0.0, 1.0, int(n_u)), indexing="ij")
+    return half_vector(np.stack([u_0, u_1], axis=-1))
 
 
 def reflect(wi, wm) -> np.ndarray:
@@ -426,6 +423,18 @@ def _flat_scene(mi, bsdf, light):
     })
 
 
+def quad_sensor(mi, view, side: int, spp: int):
+    """The orthographic detector along ``-view`` whose ``side x side`` film sees the flat quad alone
+    (:func:`roughlight.render.mitsuba.field.sensor_matrix`, :data:`WINDOW` periods), ``spp`` samples a pixel."""
+    matrix, far = sensor_matrix(view, WINDOW, 0.0)
+    return mi.load_dict({
+        "type": "orthographic", "to_world": mi.ScalarTransform4f(matrix), "near_clip": 1e-3, "far_clip": far,
+        "film": {"type": "hdrfilm", "width": int(side), "height": int(side), "rfilter": {"type": "box"},
+                 "pixel_format": "rgb", "component_format": "float32"},
+        "sampler": {"type": "independent", "sample_count": int(spp)},
+    })
+
+
 def render_flat(path, incidence: float, light_azimuth: float, azimuth, elevation, lighting: Lighting | None = None,
                 variant: str = "llvm_ad_rgb", spp: int = 1, side: int = 4) -> np.ndarray:
     """Render a flat quad with the file's BRDF, as the Mitsuba method renders the plate, one view at a time.
@@ -468,14 +477,8 @@ def render_flat(path, incidence: float, light_azimuth: float, azimuth, elevation
     j = float(lighting.light)
     out = np.zeros((len(views), 3))
     for k, view in enumerate(views):
-        matrix, far = sensor_matrix(view, WINDOW, 0.0)
-        sensor = mi.load_dict({
-            "type": "orthographic", "to_world": mi.ScalarTransform4f(matrix), "near_clip": 1e-3, "far_clip": far,
-            "film": {"type": "hdrfilm", "width": int(side), "height": int(side), "rfilter": {"type": "box"},
-                     "pixel_format": "rgb", "component_format": "float32"},
-            "sampler": {"type": "independent", "sample_count": int(spp)},
-        })
-        image = np.asarray(mi.render(scene, sensor=sensor, seed=k), dtype=np.float64).reshape(-1, 3)
+        image = np.asarray(mi.render(scene, sensor=quad_sensor(mi, view, side, spp), seed=k),
+                           dtype=np.float64).reshape(-1, 3)
         out[k] = j * image.mean(axis=0)
     return out
 

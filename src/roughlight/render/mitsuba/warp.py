@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["WARP_FLOOR", "WARP_POWER", "WARP_OWN", "WARP_SIDE", "warp_density", "node_half_vectors"]
+__all__ = ["WARP_FLOOR", "WARP_POWER", "WARP_OWN", "WARP_SIDE", "half_vector", "warp_density", "node_half_vectors"]
 
 #: The warp's share of nodes spread evenly (:func:`warp_density`): the rest follow the values' curvature.
 WARP_FLOOR = 0.3
@@ -63,6 +63,14 @@ def warp_density(rgb, floor: float = WARP_FLOOR, power: float = WARP_POWER, own:
     return density.astype(np.float32)
 
 
+def half_vector(u) -> np.ndarray:
+    """The half vector of points of the plugin's ``u`` square, ``(..., 2)`` as ``(u_0, u_1)``: ``theta_m = u_0^2 pi /
+    2`` from the normal, ``phi_m = (2 u_1 - 1) pi``; ``(..., 3)`` unit vectors."""
+    u = np.asarray(u, float)
+    theta_m, phi_m = u[..., 0] ** 2 * (np.pi / 2.0), (2.0 * u[..., 1] - 1.0) * np.pi
+    return np.stack([np.sin(theta_m) * np.cos(phi_m), np.sin(theta_m) * np.sin(phi_m), np.cos(theta_m)], axis=-1)
+
+
 def node_half_vectors(vndf, theta, phi, n_u: int):
     """Where the plugin's warp takes the regular grid of its sample space, slice by slice.
 
@@ -93,8 +101,7 @@ def node_half_vectors(vndf, theta, phi, n_u: int):
         param = mi.ScalarPoint2f(float(phi[a]), float(theta[b]))
         u = np.array([[list(warp.sample(mi.ScalarPoint2f(float(s0), float(s1)), param)[0]) for s0 in grid]
                       for s1 in grid]).reshape(-1, 2)
-        theta_m, phi_m = u[:, 0] ** 2 * (np.pi / 2.0), (2.0 * u[:, 1] - 1.0) * np.pi
-        return np.stack([np.sin(theta_m) * np.cos(phi_m), np.sin(theta_m) * np.sin(phi_m), np.cos(theta_m)], axis=-1)
+        return half_vector(u)
 
     return nodes
 
