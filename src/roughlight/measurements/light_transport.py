@@ -38,29 +38,32 @@ LEVEL = 1.0
 #: Each plan: the grid's surfaces (truncation, aspect) light bounces on, the surfaces checked against the exact
 #: reference (``check``, with the control plate and the random ``tiles``: kind, truncation, aspect, seed), the views
 #: (the arc's elevation step; the hemisphere's elevation and azimuth steps), Mitsuba's sampling (pixels a period,
-#: samples a pixel) of the check and where light bounces, and the variant light bounces in. ``quick`` is the default
-#: run's (a report section's worth): its small films the scalar variant renders in milliseconds, where the llvm
-#: variant spends about a second compiling its kernels for each new scene (measured: 28 views of one surface, 0.1 s
-#: scalar against 1.6 s llvm with its compile); the check stays in the configured variant, whose specular plugin the
-#: scalar variant runs in Python, a sample at a time. ``full`` is ``make bench``'s, all in the configured variant
-#: (``variant`` None).
+#: samples a pixel) of the check, of the check's random tiles (``tile_sampling``: pixels a cell, and a tile is
+#: ``cells`` periods a side, so at the regular surfaces' 32 its film held 16 times their pixels; at 16 the quick
+#: plan's two tiles took 1.2 s each against 3.0-4.4 s, their worst view 0.10 of a level off against 0.05, beside
+#: the regular surfaces' 0.08-0.20: docs/mitsuba.md) and where light bounces, and the variant light bounces in.
+#: ``quick`` is the default run's (a report section's worth): its small films the scalar variant renders in
+#: milliseconds, where the llvm variant spends about a second compiling its kernels for each new scene (measured: 28
+#: views of one surface, 0.1 s scalar against 1.6 s llvm with its compile); the check stays in the configured variant,
+#: whose specular plugin the scalar variant runs in Python, a sample at a time. ``full`` is ``make bench``'s, all in
+#: the configured variant (``variant`` None).
 PLANS = {
     "quick": {"grid": tuple((t, a) for t in (0.25, 0.5, 1.0) for a in (0.1, 0.3, 1.0)),
               "check": ((0.5, 0.3), (1.0, 1.0)),
               "tiles": (("random_pyramids", 1.0, 1.0, 1), ("random_heightfield", 1.0, 1.0, 1)),
-              "arc_step": 20.0, "hemisphere": (30.0, 45.0), "check_sampling": (32, 16), "sampling": (16, 4),
-              "variant": "scalar_rgb"},
+              "arc_step": 20.0, "hemisphere": (30.0, 45.0), "check_sampling": (32, 16), "tile_sampling": (16, 16),
+              "sampling": (16, 4), "variant": "scalar_rgb"},
     # a check that a config builds the whole report, in seconds (its numbers are not for reading)
     "smoke": {"grid": ((0.5, 0.3), (1.0, 1.0)), "check": ((1.0, 1.0),),
               "tiles": (("random_pyramids", 1.0, 1.0, 1), ("random_heightfield", 1.0, 1.0, 1)),
-              "arc_step": 45.0, "hemisphere": (45.0, 90.0), "check_sampling": (16, 4), "sampling": (8, 2),
-              "variant": "scalar_rgb"},
+              "arc_step": 45.0, "hemisphere": (45.0, 90.0), "check_sampling": (16, 4), "tile_sampling": (8, 4),
+              "sampling": (8, 2), "variant": "scalar_rgb"},
     "full": {"grid": tuple((t, a) for t in (0.25, 0.5, 0.75, 1.0) for a in (0.1, 0.25, 0.5, 0.75, SQRT3_2, 1.0)),
              "check": tuple((t, a) for t in (0.25, 0.5, 0.75, 1.0) for a in (0.1, 0.25, 0.5, 0.75, SQRT3_2, 1.0)),
              "tiles": tuple((kind, t, a, seed) for kind in ("random_pyramids", "random_heightfield")
                             for t, a in ((0.5, 0.5), (1.0, 1.0)) for seed in (1, 2)),
-             "arc_step": 5.0, "hemisphere": (10.0, 15.0), "check_sampling": (32, 16), "sampling": (32, 16),
-             "variant": None},
+             "arc_step": 5.0, "hemisphere": (10.0, 15.0), "check_sampling": (32, 16), "tile_sampling": (32, 16),
+             "sampling": (32, 16), "variant": None},
 }
 
 def plan_views(plan: str) -> dict:
@@ -84,13 +87,14 @@ def _all_views(plan: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             np.concatenate([el for _, el in views.values()]))
 
 
-def _mitsuba(plan: str, settings, bounce: bool = True, **knobs) -> dict:
-    """The mitsuba method's knobs: the plan's sampling, the variant (the plan's where light bounces and it names one,
-    else the configured one, ``settings``: ``render.mitsuba``), and ``knobs``."""
+def _mitsuba(plan: str, settings, bounce: bool = True, tile: bool = False, **knobs) -> dict:
+    """The mitsuba method's knobs: the plan's sampling (the check's, without ``bounce``; its random tiles', with
+    ``tile``), the variant (the plan's where light bounces and it names one, else the configured one, ``settings``:
+    ``render.mitsuba``), and ``knobs``."""
     p = PLANS[plan]
     configured = {"variant": settings["variant"]} if settings and "variant" in settings else {}
     variant = {"variant": p["variant"]} if bounce and p["variant"] else configured
-    pixels, samples = p["sampling"] if bounce else p["check_sampling"]
+    pixels, samples = p["sampling"] if bounce else p["tile_sampling"] if tile else p["check_sampling"]
     return {"pixels_per_period": pixels, "samples_per_pixel": samples, **variant, **knobs}
 
 
@@ -127,10 +131,11 @@ def agreement(plan: str = "quick", incidence: float = THESIS_INCIDENCE, lighting
     ``mitsuba_views_per_second``.
     """
     lighting = lighting or shading.Lighting()
-    knobs = methods.settings("mitsuba", _mitsuba(plan, settings, bounce=False, bounces=1))
     _, az, el = _all_views(plan)
     rows = []
     for surface in _surfaces(plan, check=True):
+        tile = kind_and_seed(surface)[0] != "pyramids"
+        knobs = methods.settings("mitsuba", _mitsuba(plan, settings, bounce=False, tile=tile, bounces=1))
         exact = methods.sweep("reference", surface, incidence, az, el, lighting)
         start = time.perf_counter()
         rendered = methods.sweep("mitsuba", surface, incidence, az, el, lighting, knobs)
