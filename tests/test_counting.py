@@ -110,6 +110,34 @@ def test_the_kernel_is_built_once_atomically_and_a_missing_compiler_is_said(tmp_
         raster.build_kernel(tmp_path / "failed")
     assert list((tmp_path / "failed").iterdir()) == []
 
+def test_the_kernels_star_discrepancy_is_numpys_to_the_bit_and_numpys_stands_in_without_a_compiler(monkeypatch):
+    """The adaptive plan's star discrepancy (the regular surfaces' lattice choice) in C is the numpy sum's to the
+    bit: segments of every slope, flat ones spanning no row, rows on a pixel centre, invalid ones. Where the kernel
+    cannot be built the numpy sum is used, with the same values."""
+    rng = np.random.default_rng(11)
+    n = 5000
+    x0, y0 = rng.uniform(-40.0, 40.0, n), rng.uniform(-40.0, 40.0, n)
+    x1, y1 = x0 + rng.normal(0.0, 12.0, n), y0 + rng.normal(0.0, 12.0, n)
+    y1[::7] = y0[::7]  # flat: no row
+    y0[::11] = np.round(y0[::11]) + 0.5  # starting on a pixel centre's row
+    valid = rng.uniform(size=n) > 0.2
+    numpy_star = shares._star_discrepancy_numpy(x0, y0, x1, y1, valid)
+    kernel_star = raster.star_discrepancy(x0, y0, x1, y1, valid)
+    assert np.array_equal(kernel_star, numpy_star)
+    assert (numpy_star[~valid] == 0).all() and (numpy_star[::7] == 0).all() and (numpy_star[valid] > 0).mean() > 0.5
+    assert np.array_equal(shares._star_discrepancy(x0, y0, x1, y1, valid), numpy_star)
+    with pytest.raises(ValueError, match="alike"):
+        raster.star_discrepancy(x0, y0, x1[:-1], y1, valid)
+
+    def no_compiler(*args):
+        raise RuntimeError("no C compiler")
+
+    monkeypatch.setattr(raster, "star_discrepancy", no_compiler)
+    monkeypatch.setattr(shares, "_KERNEL", True)
+    assert np.array_equal(shares._star_discrepancy(x0, y0, x1, y1, valid), numpy_star)
+    assert shares._KERNEL is False  # not tried again
+
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_region_triangles_cover_each_region_exactly(kind):
     """The counting pass draws the regions' triangles: they must tile each region (areas equal to its polygons'),
