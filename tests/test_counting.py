@@ -121,11 +121,11 @@ def test_the_kernels_star_discrepancy_is_numpys_to_the_bit_and_numpys_stands_in_
     y1[::7] = y0[::7]  # flat: no row
     y0[::11] = np.round(y0[::11]) + 0.5  # starting on a pixel centre's row
     valid = rng.uniform(size=n) > 0.2
-    numpy_star = shares._star_discrepancy_numpy(x0, y0, x1, y1, valid)
+    numpy_star = shares.star_discrepancy_numpy(x0, y0, x1, y1, valid)
     kernel_star = raster.star_discrepancy(x0, y0, x1, y1, valid)
     assert np.array_equal(kernel_star, numpy_star)
     assert (numpy_star[~valid] == 0).all() and (numpy_star[::7] == 0).all() and (numpy_star[valid] > 0).mean() > 0.5
-    assert np.array_equal(shares._star_discrepancy(x0, y0, x1, y1, valid), numpy_star)
+    assert np.array_equal(shares.star_discrepancy(x0, y0, x1, y1, valid), numpy_star)
     with pytest.raises(ValueError, match="alike"):
         raster.star_discrepancy(x0, y0, x1[:-1], y1, valid)
 
@@ -133,9 +133,9 @@ def test_the_kernels_star_discrepancy_is_numpys_to_the_bit_and_numpys_stands_in_
         raise RuntimeError("no C compiler")
 
     monkeypatch.setattr(raster, "star_discrepancy", no_compiler)
-    monkeypatch.setattr(shares, "_KERNEL", True)
-    assert np.array_equal(shares._star_discrepancy(x0, y0, x1, y1, valid), numpy_star)
-    assert shares._KERNEL is False  # not tried again
+    monkeypatch.setattr(shares, "STAR_KERNEL", True)
+    assert np.array_equal(shares.star_discrepancy(x0, y0, x1, y1, valid), numpy_star)
+    assert shares.STAR_KERNEL is False  # not tried again
 
 
 @pytest.mark.parametrize("kind", KINDS)

@@ -121,7 +121,7 @@ def count_views(triangles, region, n_regions: int, shears, matrix, totals: bool 
 
 def star_discrepancy(x0, y0, x1, y1, valid) -> np.ndarray:
     """(S,) each segment's star discrepancy against the pixel-centre rows, in C: what
-    :func:`roughlight.render.fast.shares._star_discrepancy_numpy` computes, to the bit (the same operations in the
+    :func:`roughlight.render.fast.shares.star_discrepancy_numpy` computes, to the bit (the same operations in the
     same order, the running sum carried from segment to segment as ``numpy.cumsum`` carries it), in a tenth of the
     time. ``x0`` ... ``y1`` (S,) floats, pixels; ``valid`` (S,) bools."""
     x0, y0, x1, y1 = (np.ascontiguousarray(v, np.float64) for v in (x0, y0, x1, y1))

@@ -44,8 +44,9 @@ from .sampling import LatticePass, candidate_lattices, lattice_passes, surface_s
 
 __all__ = ["area_ratio", "front_facing", "exact_views",
            "area_shares", "region_plan_areas", "projected_areas", "counts_and_areas", "normalised_shares",
-           "ratio_shares", "region_values", "edge_steps", "value_discrepancy", "choose_lattices", "AdaptivePlan",
-           "adaptive_plan", "candidate_lattices", "AVERAGED", "FACING"]
+           "ratio_shares", "region_values", "edge_steps", "value_discrepancy", "star_discrepancy",
+           "star_discrepancy_numpy", "choose_lattices", "AdaptivePlan", "adaptive_plan", "candidate_lattices",
+           "AVERAGED", "FACING"]
 
 #: A view whose best lattice scores at or above ``render.average_lattices_above`` is drawn on this many best
 #: lattices and their values averaged. Two were not enough: where the second best is much worse than the best,
@@ -298,7 +299,7 @@ def value_discrepancy(start, end, steps, shear, matrix, shift=(0.0, 0.0)) -> np.
     # run along rows for steep edges, along columns for flat ones
     x0, y0 = np.where(steep, a[..., 0], a[..., 1]).ravel(), np.where(steep, a[..., 1], a[..., 0]).ravel()
     x1, y1 = np.where(steep, b[..., 0], b[..., 1]).ravel(), np.where(steep, b[..., 1], b[..., 0]).ravel()
-    star = _star_discrepancy(x0, y0, x1, y1, walked.ravel())
+    star = star_discrepancy(x0, y0, x1, y1, walked.ravel())
     return (star.reshape(walked.shape) * steps).sum(axis=1) / n_pixels
 
 
@@ -326,30 +327,30 @@ def _row_crossings(x0, y0, x1, y1, valid):
     return has, start, count, x
 
 
-def _star_discrepancy(x0, y0, x1, y1, valid) -> np.ndarray:
+def star_discrepancy(x0, y0, x1, y1, valid) -> np.ndarray:
     """(S,) each segment's star discrepancy against the pixel centres: walking the rows ``r + 1/2`` it spans, the
     largest absolute running sum, from either end, of (pixel centres left of it) - (its x); 0 where not valid.
 
     Computed by the counting kernel (:func:`roughlight.render.fast.raster.star_discrepancy`, 13 times as fast on
-    200,000 segments) where the machine can build it, else by :func:`_star_discrepancy_numpy`: the same to the bit.
+    200,000 segments) where the machine can build it, else by :func:`star_discrepancy_numpy`: the same to the bit.
     """
-    global _KERNEL
-    if _KERNEL:
+    global STAR_KERNEL
+    if STAR_KERNEL:
         from . import raster
 
         try:
             return raster.star_discrepancy(x0, y0, x1, y1, valid)
         except RuntimeError:  # no C compiler: the random tiles say so; the regular surfaces need none
-            _KERNEL = False
-    return _star_discrepancy_numpy(x0, y0, x1, y1, valid)
+            STAR_KERNEL = False
+    return star_discrepancy_numpy(x0, y0, x1, y1, valid)
 
 
-#: Whether :func:`_star_discrepancy` still tries the counting kernel (False once it could not be built).
-_KERNEL = True
+#: Whether :func:`star_discrepancy` still tries the counting kernel (False once it could not be built).
+STAR_KERNEL = True
 
 
-def _star_discrepancy_numpy(x0, y0, x1, y1, valid) -> np.ndarray:
-    """:func:`_star_discrepancy` in numpy: the running sum over every segment's rows in one ``cumsum``."""
+def star_discrepancy_numpy(x0, y0, x1, y1, valid) -> np.ndarray:
+    """:func:`star_discrepancy` in numpy: the running sum over every segment's rows in one ``cumsum``."""
     star = np.zeros(len(x0))
     has, start, count, x = _row_crossings(x0, y0, x1, y1, valid)
     if has.size == 0:
