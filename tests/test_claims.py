@@ -417,3 +417,40 @@ def test_the_reference_views_cover_each_claimed_lobe_and_come_back_as_its_field(
     assert stacks.specular["unrounded"].shape == (1, 36, 181)
     seen = np.isfinite(stacks.specular["unrounded"][0])
     assert seen.sum() == len(coarse) and (stacks.coverage[seen] == 1).all() and (stacks.coverage[~seen] == 0).all()
+
+
+def test_the_third_round_plans_the_undecided_tests_alone_at_a_family_level_of_their_own(tmp_path):
+    """tests/claim_third_round.py's plan: only the tests round 2 left undecided (in the reading asked for), each
+    planned by the design's own rule (``planned_seeds``) at the level 1 - alpha / (their count); a shape test with
+    no spread to plan from gets no seeds and says why; with no benchmark files the cost is unknown, not zero."""
+    from .claim_third_round import THIRD_ROUND_BASE, plan
+
+    keys = {"kind": "random_heightfield", "truncation": 0.5, "incidence": 30.0}
+    rows = [
+        {**keys, "aspect": 0.5, "test": "back_contrast", "reading": "unrounded", "verdict": "undecided",
+         "mean": 0.285, "se": 0.159, "seeds": 6, "regular": 25.95, "margin": 1.0},
+        {**keys, "aspect": 0.5, "test": "back_squareness", "reading": "unrounded", "verdict": "undecided",
+         "mean": -0.13, "se": float("nan"), "seeds": 6, "regular": -0.179, "margin": 0.05},
+        {**keys, "aspect": 1.0, "test": "hot_spot_flatness", "reading": "unrounded", "verdict": "undecided",
+         "mean": 0.897, "se": 0.025, "seeds": 4, "regular": 0.929, "margin": 0.272},
+        {**keys, "aspect": 1.0, "test": "hot_spot_contrast", "reading": "unrounded", "verdict": "lobe",
+         "mean": 19.9, "se": 0.5, "seeds": 4, "regular": 15.3, "margin": 1.0},
+        {**keys, "aspect": 0.5, "test": "back_contrast", "reading": "8-bit", "verdict": "undecided",
+         "mean": 0.285, "se": 0.159, "seeds": 6, "regular": 25.96, "margin": 1.0},
+    ]
+    planned, level = plan(pd.DataFrame(rows), tmp_path / "logs")
+    assert level == pytest.approx(1.0 - 0.05 / 3)
+    assert list(planned["test"]) == ["back_contrast", "back_squareness", "hot_spot_flatness"]
+    for _, row in planned.iterrows():
+        role = "lobe" if row["test"].endswith("contrast") else "shape"
+        n, why = C.planned_seeds(row["mean"], row["se"], row["seeds"], next(
+            r["regular"] for r in rows if r["test"] == row["test"]), next(
+            r["margin"] for r in rows if r["test"] == row["test"]), level, role)
+        assert row["fresh"] == (n or 0) and row["why"] == why
+    assert planned.loc[planned["test"] == "back_contrast", "fresh"].item() > 6
+    assert planned.loc[planned["test"] == "back_squareness", "fresh"].item() == 0
+    assert "no spread to plan from" in planned.loc[planned["test"] == "back_squareness", "why"].item()
+    assert planned["job_seconds"].isna().all()
+    from roughlight.study.config import CLAIM_PILOT_BASE, CLAIM_SEED_BASE
+
+    assert CLAIM_SEED_BASE < THIRD_ROUND_BASE < CLAIM_PILOT_BASE  # fresh seeds between the tested and the pilots'
