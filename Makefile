@@ -15,7 +15,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots bench every-view budget style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots claim-third-round bench every-view budget style lint clean
 
 # the project's own bytecode too, at every setup (only what changed): where PYTHONDONTWRITEBYTECODE is set (as on
 # this machine) every job would otherwise compile the package's modules from source, 0.1-0.2 s a sweep job
@@ -91,6 +91,13 @@ cluster-test: setup slurm
 claim-pilots: setup
 	$(BIN)/snakemake --cores $(CORES) results/analysis/random_claim_pilots.csv --config 'claims={registered_pilots: ""}'
 	$(BIN)/python -m roughlight.study.pilots results/analysis/random_claim_pilots.csv config/claim_pilots.csv
+
+# the claim's third round (docs/random-roughness.md, "A third round"): planned from a finished run's second round,
+# its fresh tiles measured (results/claims/third, about a minute) and their readings registered in
+# config/claim_third_round.csv, which the verdict then reads (claims.registered_third_round); commit the file
+claim-third-round: setup
+	$(BIN)/snakemake --cores $(CORES) results/analysis/random_claims_round2.csv --config 'claims={registered_third_round: ""}'
+	$(BIN)/python -m roughlight.analysis.third_round results/analysis config/claim_third_round.csv
 
 # the full-size speed/accuracy benchmark and stability scans (results/benchmarks/full/, results/stability/full/),
 # and the report built with them

@@ -419,11 +419,11 @@ def test_the_reference_views_cover_each_claimed_lobe_and_come_back_as_its_field(
     assert seen.sum() == len(coarse) and (stacks.coverage[seen] == 1).all() and (stacks.coverage[~seen] == 0).all()
 
 
-def test_the_third_round_plans_the_undecided_tests_alone_at_a_family_level_of_their_own(tmp_path):
-    """tests/claim_third_round.py's plan: only the tests round 2 left undecided (in the reading asked for), each
-    planned by the design's own rule (``planned_seeds``) at the level 1 - alpha / (their count); a shape test with
-    no spread to plan from gets no seeds and says why; with no benchmark files the cost is unknown, not zero."""
-    from .claim_third_round import THIRD_ROUND_BASE, plan
+def test_the_third_round_plans_the_undecided_tests_alone_at_a_family_level_of_their_own():
+    """The third round's plan: only the tests round 2 left undecided (in the reading asked for), each planned by the
+    design's own rule (``planned_seeds``) at the level 1 - alpha / (their count); a shape test with no spread to
+    plan from gets no seeds and says why; its fresh seeds lie between the tested tiles' and the pilots'."""
+    from roughlight.analysis.third_round import THIRD_ROUND_BASE, plan, round_seeds
 
     keys = {"kind": "random_heightfield", "truncation": 0.5, "incidence": 30.0}
     rows = [
@@ -438,7 +438,7 @@ def test_the_third_round_plans_the_undecided_tests_alone_at_a_family_level_of_th
         {**keys, "aspect": 0.5, "test": "back_contrast", "reading": "8-bit", "verdict": "undecided",
          "mean": 0.285, "se": 0.159, "seeds": 6, "regular": 25.96, "margin": 1.0},
     ]
-    planned, level = plan(pd.DataFrame(rows), tmp_path / "logs")
+    planned, level = plan(pd.DataFrame(rows))
     assert level == pytest.approx(1.0 - 0.05 / 3)
     assert list(planned["test"]) == ["back_contrast", "back_squareness", "hot_spot_flatness"]
     for _, row in planned.iterrows():
@@ -450,7 +450,69 @@ def test_the_third_round_plans_the_undecided_tests_alone_at_a_family_level_of_th
     assert planned.loc[planned["test"] == "back_contrast", "fresh"].item() > 6
     assert planned.loc[planned["test"] == "back_squareness", "fresh"].item() == 0
     assert "no spread to plan from" in planned.loc[planned["test"] == "back_squareness", "why"].item()
-    assert planned["job_seconds"].isna().all()
+    assert round_seeds(3) == [THIRD_ROUND_BASE + 1, THIRD_ROUND_BASE + 2, THIRD_ROUND_BASE + 3]
     from roughlight.study.config import CLAIM_PILOT_BASE, CLAIM_SEED_BASE
 
     assert CLAIM_SEED_BASE < THIRD_ROUND_BASE < CLAIM_PILOT_BASE  # fresh seeds between the tested and the pilots'
+
+
+def _third_round_case():
+    """A second round with a back lobe undecided (and its shape tests waiting on it) beside a hot spot found, and
+    a third round's readings of the fresh tiles its plan asks for, whose back lobe lies wholly below the margin."""
+    from roughlight.analysis import third_round as T
+
+    ensemble = {"kind": "random_heightfield", "truncation": 0.5, "aspect": 0.5, "incidence": 30.0}
+    tests = ["back_contrast", "back_squareness", "hot_spot_contrast"]
+    design = pd.DataFrame([{**ensemble, "test": t, "level": 1 - 0.05 / 28} for t in tests])
+    regular = {"back_contrast": 25.95, "back_squareness": -0.179, "hot_spot_contrast": 8.7}
+    margin = {"back_contrast": 1.0, "back_squareness": 0.05, "hot_spot_contrast": 1.0}
+    margins = pd.DataFrame([{**ensemble, "test": t, "reading": r, "regular": regular[t], "margin": margin[t]}
+                            for t in tests for r in R.READINGS])
+    key = tuple(ensemble.values())
+
+    def pooled(contrast, se, seeds):
+        return {"back_contrast": contrast, "back_contrast_se": se, "back_squareness": -0.1,
+                "back_squareness_se": float("nan"), "back_why": "", "hot_spot_contrast": 5.0,
+                "hot_spot_contrast_se": 0.2, "hot_spot_why": "", "seeds": seeds}
+
+    second = C.claim_table({key + (r,): pooled(0.285, 0.159, 6) for r in R.READINGS}, design, margins)
+    measured = {"claim_surface": {"cells": 8}, "sweep": {"elevation_step": 1.0, "azimuth_step": 5.0},
+                "lighting": {"light": 127.0}, "method": "fast", "render": {}}
+    planned, level = T.plan(second)
+    fresh = int(planned["fresh"].max())  # the tiles the plan asks for
+    registered = T.register({key + (r,): pooled(0.22, 0.078, fresh) for r in R.READINGS}, planned, level, measured)
+    return second, registered, design, margins, measured
+
+
+def test_a_registered_third_round_decides_only_what_the_second_left_undecided_and_only_where_it_applies(tmp_path):
+    """The registered round (read back from its CSV) decides the undecided back lobe (no lobe, wholly below its
+    margin at the round's level) and with it the shape test that waited on it, each row saying it is round 3; the
+    hot spot the second round found stays its. Registered readings measured with other settings, or planned from
+    another second round, decide nothing."""
+    from roughlight.analysis import third_round as T
+
+    second, registered, design, margins, measured = _third_round_case()
+    assert set(second.loc[second["test"] != "hot_spot_contrast", "verdict"]) == {"undecided"}
+    path = tmp_path / "third.csv"
+    registered.to_csv(path, index=False)
+    decided = T.with_third_round(second, T.read_registered(path), design, margins, measured)
+    third = decided[decided["round"] == 3]
+    assert len(third) == 4 and set(third["test"]) == {"back_contrast", "back_squareness"}
+    fresh = int(registered["seeds"].iloc[0])
+    assert fresh > 6 and set(third["verdict"]) == {"no lobe"} and (third["seeds"] == fresh).all()
+    assert np.allclose(third["level"], 1 - 0.05 / 2)  # the round's family: the 2 tests left undecided
+    assert third["why"].str.startswith(f"round 3 ({fresh} fresh seeds at 97.50%)").all()
+    kept = decided[decided["round"] == 2]
+    assert set(kept["test"]) == {"hot_spot_contrast"} and set(kept["verdict"]) == {"lobe"}
+    other = {**measured, "lighting": {"light": 255.0}}
+    assert (T.with_third_round(second, registered, design, margins, other)["round"] == 2).all()
+    moved = second.copy()
+    moved.loc[moved["test"] == "back_contrast", "mean"] += 0.01
+    assert (T.with_third_round(moved, registered, design, margins, measured)["round"] == 2).all()
+    assert (T.with_third_round(second, T.read_registered(None), design, margins, measured)["round"] == 2).all()
+    fewer = registered.copy()
+    fewer.loc[fewer["statistic"] == "seeds", "value"] = fresh - 1  # not the tiles the plan asked for
+    assert (T.with_third_round(second, fewer, design, margins, measured)["round"] == 2).all()
+    (tmp_path / "bad.csv").write_text("a,b\n1,2\n")
+    with pytest.raises(ValueError, match="not a registered third round"):
+        T.read_registered(tmp_path / "bad.csv")

@@ -143,8 +143,9 @@ def test_the_codes_defaults_are_the_schemas():
 def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_and_kinds():
     """config/config.yaml writes most defaults out for its readers: each equals the schema's. Only the study's own
     choices differ: its grid (the thesis's, with sqrt(3)/2), its surfaces (the random kinds and their seeds), its
-    claim design's tested seeds and its registered pilots (config/claim_pilots.csv: none by default, where a config
-    of one's own renders its pilots) and the surface it exports (none by default, so that a small user grid renders
+    claim design's tested seeds, its registered pilots (config/claim_pilots.csv: none by default, where a config
+    of one's own renders its pilots) and third round (config/claim_third_round.csv: none by default) and the
+    surface it exports (none by default, so that a small user grid renders
     no more than it asks for)."""
     defaults = rl_config.validate_config({}, SCHEMA)
     differ = []
@@ -155,9 +156,11 @@ def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_an
         if here != value:
             differ.append(path)
     assert {path[0] for path in differ if path[:2] not in (("claims", "seeds"), ("claims", "max_seeds"),
-                                                           ("claims", "registered_pilots"), ("export", "surfaces"))
+                                                           ("claims", "registered_pilots"),
+                                                           ("claims", "registered_third_round"), ("export", "surfaces"))
             } <= {"grid", "surface"}, differ
     assert defaults["claims"]["registered_pilots"] is None
+    assert defaults["claims"]["registered_third_round"] is None
     # the study exports one surface; a user's config exports none unless it names one
     assert defaults["export"]["surfaces"] == [] and default_config()["export"]["surfaces"] == [[1.0, 1.0]]
 

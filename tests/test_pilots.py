@@ -92,6 +92,11 @@ def test_only_ensembles_registered_under_their_own_settings_skip_their_pilots(tm
     config["claims"]["registered_pilots"] = "config/other.csv"
     with pytest.raises(rl_config.ConfigError, match="not a table of the claim's pilot readings"):
         rl_config.validate_config(config, SCHEMA)
+    # and a missing registered third round, by name too
+    config["claims"]["registered_pilots"] = "config/pilots.csv"
+    config["claims"]["registered_third_round"] = "config/no_third.csv"
+    with pytest.raises(rl_config.ConfigError, match="claims.registered_third_round: config/no_third.csv does not exist"):
+        rl_config.validate_config(config, SCHEMA)
 
 
 def test_registering_says_which_readings_moved(tmp_path):

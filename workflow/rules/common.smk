@@ -255,6 +255,18 @@ def registered_pilots_file(wildcards):
     return [path] if path else []
 
 
+def registered_third_round_file(wildcards):
+    """claims.registered_third_round, the claim's third round as registered (none: [])."""
+    path = rl_config.claims(config).get("registered_third_round")
+    return [path] if path else []
+
+
+def claim_measurement_params(wildcards):
+    """What the claim's tiles are measured with, for the registered third round's key
+    (roughlight.study.plan.claim_measurement)."""
+    return rl_plan.claim_measurement(config)
+
+
 def pilot_keys(wildcards):
     """Every claim ensemble's pilots with the digest of their settings (roughlight.study.pilots.pilot_key)."""
     return rl_pilots.pilot_keys(config)

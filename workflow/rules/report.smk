@@ -278,6 +278,7 @@ rule analysis_random:
         geometry="results/analysis/random_claim_geometry.csv",
         design="results/analysis/random_claim_design.csv",
         margins="results/analysis/random_claim_margins.csv",
+        third_round=registered_third_round_file,
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(
@@ -288,6 +289,7 @@ rule analysis_random:
         ),
         random_seeds_needed="results/analysis/random_seeds_needed.csv",
         random_model_fits="results/analysis/random_model_fits.parquet",
+        random_claims_round2="results/analysis/random_claims_round2.csv",
         random_claims=report(
             "results/analysis/random_claims.csv",
             caption="../report/random_claims.rst",
@@ -321,6 +323,7 @@ rule analysis_random:
         lighting=lighting_params,
         claims=claim_settings,
         sweep=sweep_params,
+        measured=claim_measurement_params,
     script:
         "../scripts/analysis_random.py"
 

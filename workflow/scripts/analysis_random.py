@@ -10,6 +10,7 @@ import pandas as pd  # noqa: E402
 
 from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
+from roughlight.analysis.third_round import read_registered  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
 from roughlight.study.tables import claim_rows, read_study  # noqa: E402
@@ -19,7 +20,9 @@ out, inp = snakemake.output, snakemake.input
 study = read_study(inp.study, rows="random_points", columns=STUDY_COLUMNS["analysis_random"])
 claim = {"rows": claim_rows(inp.claims), "geometry": pd.read_csv(inp.geometry),
          "margins": pd.read_csv(inp.margins), "design": pd.read_csv(inp.design),
-         "steps": (float(snakemake.params.sweep["azimuth_step"]), float(snakemake.params.sweep["elevation_step"]))}
+         "steps": (float(snakemake.params.sweep["azimuth_step"]), float(snakemake.params.sweep["elevation_step"])),
+         "third_round": read_registered(inp.third_round[0] if inp.third_round else None),
+         "measured": snakemake.params.measured}
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims, claim)
 for name, frame in tables.items():
     write_frame(frame, out[name])
@@ -30,7 +33,7 @@ F.make("random_ensembles", out.random_ensembles_png, summary=summary)
 F.make("random_maps", out.random_maps_png, study=study)
 claims = tables["random_claims"]
 for reading, part in claims.groupby("reading", sort=False):
-    log(f"claim ({reading}): {len(part)} tests at the family level {part['level'].min():.4f}: "
+    log(f"claim ({reading}): {len(part)} tests ({int((part['round'] == 3).sum())} by the registered third round): "
         + ", ".join(f"{n} {v}" for v, n in part["verdict"].value_counts().items()))
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")

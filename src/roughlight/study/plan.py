@@ -22,6 +22,7 @@ __all__ = [
     "lighting",
     "render_settings",
     "surface_settings",
+    "claim_measurement",
     "sweeps",
     "sweep_files",
     "rough_row_files",
@@ -90,6 +91,16 @@ def surface_settings(config: dict, kind: str, truncation: float, aspect: float, 
         return {"kind": kind, "truncation": truncation, "aspect": aspect}
     built = rl_config.claim_surface_settings(config) if claim else rl_config.random_surface_settings(config)
     return {"kind": kind, "truncation": truncation, "aspect": aspect, "seed": int(seed), **built}
+
+
+def claim_measurement(config: dict) -> dict:
+    """What the claim's tiles are measured with, as rule ``claim_sweeps`` gives them: how a claim tile is built
+    (``claims.cells``, ``surface.spread``), the views' steps, the lighting, the method and its render settings
+    (the registered third round's key, :func:`roughlight.analysis.third_round.round_key`; rule ``analysis_random``
+    takes it as a param)."""
+    return {"claim_surface": rl_config.claim_surface_settings(config), "sweep": sweep_settings(config),
+            "lighting": lighting(config), "method": config["render"]["method"],
+            "render": render_settings(config, "random")}
 
 
 def rough_row_files(config: dict, folder: str = "results/sweeps") -> list[str]:

@@ -241,10 +241,14 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
             "tests": [_claim_test(name, part[part["test"] == name], TESTS[name]["unit"])
                       for name in TESTS if (part["test"] == name).any()],
             "headline": _claim_headline(part), "n_tests": len(part)}
-    first = claims.iloc[0]
+    rounds = claims["round"] if "round" in claims else pd.Series(2, index=claims.index)
+    first = claims[rounds != 3].iloc[0] if (rounds != 3).any() else claims.iloc[0]
+    third = claims[(rounds == 3) & (claims["reading"] == "unrounded")]
     return {"readings": readings, "regular": _regular_shapes(claims), "kinds": claims["kind"].nunique(),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
-            "level": float(first["level"]), "target": "random-claim"}
+            "level": float(first["level"]), "target": "random-claim",
+            "third": {"n": int((third["verdict"] != "undecided").sum()), "level": float(third["level"].iloc[0])}
+            if len(third) else None}
 
 
 # ---------------------------------------------------------------------------
