@@ -232,7 +232,10 @@ def main(argv=None) -> None:
     geometry = pd.read_csv(args.analysis / "random_claim_geometry.csv")
     sweep = rl_plan.sweep_settings(config)
     steps = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
-    readings = round_readings(claim_rows(_render(planned, config, geometry, args.work, print)), geometry, steps)
+    folders = _render(planned, config, geometry, args.work, print)
+    readings = round_readings(claim_rows(folders), geometry, steps) if folders else {}
+    if not folders:
+        print("no test the second round left undecided can be planned: nothing to measure (an empty round registered)")
     table = register(readings, planned, level, rl_plan.claim_measurement(config))
     write_text_atomic(args.registered, table.to_csv(index=False))
     decided = with_third_round(claims, table, pd.read_csv(args.analysis / "random_claim_design.csv"),
