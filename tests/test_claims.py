@@ -487,8 +487,8 @@ def _third_round_case():
 def test_a_registered_third_round_decides_only_what_the_second_left_undecided_and_only_where_it_applies(tmp_path):
     """The registered round (read back from its CSV) decides the undecided back lobe (no lobe, wholly below its
     margin at the round's level) and with it the shape test that waited on it, each row saying it is round 3; the
-    hot spot the second round found stays its. Registered readings measured with other settings, or planned from
-    another second round, decide nothing."""
+    hot spot the second round found stays its. Registered readings measured with other settings, planned from
+    another second round or of other tiles than planned decide nothing, and the run's log says which and why."""
     from roughlight.analysis import third_round as T
 
     second, registered, design, margins, measured = _third_round_case()
@@ -504,15 +504,20 @@ def test_a_registered_third_round_decides_only_what_the_second_left_undecided_an
     assert third["why"].str.startswith(f"round 3 ({fresh} fresh seeds at 97.50%)").all()
     kept = decided[decided["round"] == 2]
     assert set(kept["test"]) == {"hot_spot_contrast"} and set(kept["verdict"]) == {"lobe"}
+    assert T.stale_ensembles(second, registered, measured) == []
     other = {**measured, "lighting": {"light": 255.0}}
     assert (T.with_third_round(second, registered, design, margins, other)["round"] == 2).all()
+    assert T.stale_ensembles(second, registered, other) == [
+        "random_heightfield t 0.5, a 0.5, incidence 30: measured with other settings"]
     moved = second.copy()
     moved.loc[moved["test"] == "back_contrast", "mean"] += 0.01
     assert (T.with_third_round(moved, registered, design, margins, measured)["round"] == 2).all()
+    assert T.stale_ensembles(moved, registered, measured)[0].endswith("planned from another second round")
     assert (T.with_third_round(second, T.read_registered(None), design, margins, measured)["round"] == 2).all()
     fewer = registered.copy()
     fewer.loc[fewer["statistic"] == "seeds", "value"] = fresh - 1  # not the tiles the plan asked for
     assert (T.with_third_round(second, fewer, design, margins, measured)["round"] == 2).all()
+    assert T.stale_ensembles(second, fewer, measured)[0].endswith("not the tiles its plan asked for")
     (tmp_path / "bad.csv").write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match="not a registered third round"):
         T.read_registered(tmp_path / "bad.csv")

@@ -10,7 +10,7 @@ import pandas as pd  # noqa: E402
 
 from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
-from roughlight.analysis.third_round import read_registered  # noqa: E402
+from roughlight.analysis.third_round import read_registered, stale_ensembles  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
 from roughlight.study.tables import claim_rows, read_study  # noqa: E402
@@ -35,6 +35,8 @@ claims = tables["random_claims"]
 for reading, part in claims.groupby("reading", sort=False):
     log(f"claim ({reading}): {len(part)} tests ({int((part['round'] == 3).sum())} by the registered third round): "
         + ", ".join(f"{n} {v}" for v, n in part["verdict"].value_counts().items()))
+for line in stale_ensembles(tables["random_claims_round2"], claim["third_round"], claim["measured"]):
+    log(f"the registered third round is not taken for {line} (`make claim-third-round` measures it again)")
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
 _log.end_job()

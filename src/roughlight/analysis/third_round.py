@@ -34,7 +34,7 @@ from . import claims as C
 from .claim_readings import READINGS, lobe_centres, pooled_readings
 
 __all__ = ["THIRD_ROUND_BASE", "ALPHA", "COLUMNS", "plan", "basis", "round_seeds", "round_key", "round_readings",
-           "register", "read_registered", "with_third_round", "main"]
+           "register", "read_registered", "with_third_round", "stale_ensembles", "main"]
 
 #: The third round's seeds are this + 1, + 2, ...: above the tested tiles' (from 201) and below the pilots' (501).
 THIRD_ROUND_BASE = 300
@@ -132,21 +132,42 @@ def read_registered(path) -> pd.DataFrame:
     return table
 
 
-def _applicable(registered: pd.DataFrame, digest: str, measured: dict) -> dict:
+def _why_not(first, digest: str, measured: dict, key) -> str:
+    """Why a registered ensemble's readings do not apply today ("" where they do)."""
+    if first["basis"] != digest:
+        return "planned from another second round"
+    if first["key"] != round_key(measured, *key, int(first["seeds"])):
+        return "measured with other settings"
+    return ""
+
+
+def _applicable(registered: pd.DataFrame, digest: str, measured: dict) -> tuple[dict, list]:
     """(ensemble, reading) -> pooled readings of the registered ensembles measured with today's settings and
-    planned from today's second round; with their seeds and level."""
-    out = {}
+    planned from today's second round, with their seeds and level; and the others, each with why not."""
+    out, stale = {}, []
     for (kind, t, a, i, reading), part in registered.groupby(ENSEMBLE + ["claim_reading"], sort=False):
         first = part.iloc[0]
-        if first["basis"] != digest or first["key"] != round_key(measured, kind, t, a, i, int(first["seeds"])):
-            continue
         pooled = {s: (text if s.endswith("_why") else float(v))
                   for s, v, text in zip(part["statistic"], part["value"], part["text"])}
         pooled["seeds"] = int(pooled.get("seeds", -1))
-        if pooled["seeds"] != int(first["seeds"]):  # not the tiles the plan asked for
+        why = _why_not(first, digest, measured, (kind, t, a, i)) or (
+            "not the tiles its plan asked for" if pooled["seeds"] != int(first["seeds"]) else "")
+        if why:
+            stale.append(((kind, float(t), float(a), float(i), reading), why))
             continue
         out[(kind, float(t), float(a), float(i), reading)] = (pooled, int(first["seeds"]), float(first["level"]))
-    return out
+    return out, stale
+
+
+def stale_ensembles(claims: pd.DataFrame, registered: pd.DataFrame, measured: dict) -> list[str]:
+    """The registered ensembles a run does not take (each reading once), as lines for its log: the ensemble and
+    why (planned from another second round, measured with other settings, or not the tiles its plan asked for:
+    ``make claim-third-round`` measures the round again)."""
+    if not len(registered):
+        return []
+    planned, level = plan(claims)
+    _, stale = _applicable(registered, basis(planned, level), measured)
+    return sorted({f"{k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale})
 
 
 def with_third_round(claims: pd.DataFrame, registered: pd.DataFrame, design: pd.DataFrame, margins: pd.DataFrame,
@@ -159,7 +180,7 @@ def with_third_round(claims: pd.DataFrame, registered: pd.DataFrame, design: pd.
     out = claims.copy()
     out["round"] = 2
     planned, level = plan(claims)
-    rounds = _applicable(registered, basis(planned, level), measured) if len(registered) else {}
+    rounds = _applicable(registered, basis(planned, level), measured)[0] if len(registered) else {}
     if not rounds:
         return out
     tested = {key: pooled for key, (pooled, _, _) in rounds.items()}
