@@ -249,16 +249,20 @@ def claim_ensemble_folders(role):
     return rl_plan.ensemble_folders(config, role)
 
 
+def _registered_file(key):
+    """claims.<key>, a registered table's path as an input list (none: [])."""
+    path = rl_config.claims(config).get(key)
+    return [path] if path else []
+
+
 def registered_pilots_file(wildcards):
     """claims.registered_pilots, the pilots' registered readings (none: [])."""
-    path = rl_config.claims(config).get("registered_pilots")
-    return [path] if path else []
+    return _registered_file("registered_pilots")
 
 
 def registered_third_round_file(wildcards):
     """claims.registered_third_round, the claim's third round as registered (none: [])."""
-    path = rl_config.claims(config).get("registered_third_round")
-    return [path] if path else []
+    return _registered_file("registered_third_round")
 
 
 def claim_measurement_params(wildcards):

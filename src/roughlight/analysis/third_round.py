@@ -81,15 +81,10 @@ def round_seeds(n: int) -> list[int]:
 
 
 def round_key(measured: dict, kind: str, truncation: float, aspect: float, incidence: float, n: int) -> str:
-    """What an ensemble's ``n`` third-round tiles are measured with, as a digest, as
-    :func:`roughlight.study.pilots.pilot_key` is the pilots': their surfaces, the incidence, the views' steps, the
-    lighting, the method and its render settings (``measured``: :func:`roughlight.study.plan.claim_measurement`)."""
-    settings = {
-        "surfaces": [{"kind": kind, "truncation": float(truncation), "aspect": float(aspect), "seed": seed,
-                      **measured["claim_surface"]} for seed in round_seeds(n)],
-        "incidence": float(incidence), **{k: measured[k] for k in ("sweep", "lighting", "method", "render")},
-    }
-    return hashlib.sha256(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:16]
+    """What an ensemble's ``n`` third-round tiles are measured with, as a digest: the pilots' key
+    (:func:`roughlight.study.plan.claim_tiles_key`) of the round's seeds (``measured``:
+    :func:`roughlight.study.plan.claim_measurement`)."""
+    return rl_plan.claim_tiles_key(measured, kind, float(truncation), float(aspect), incidence, round_seeds(n))
 
 
 def _fresh(planned: pd.DataFrame) -> dict:
@@ -257,10 +252,11 @@ def main(argv=None) -> None:
     readings = round_readings(claim_rows(folders), geometry, steps) if folders else {}
     if not folders:
         print("no test the second round left undecided can be planned: nothing to measure (an empty round registered)")
-    table = register(readings, planned, level, rl_plan.claim_measurement(config))
+    measured = rl_plan.claim_measurement(config)
+    table = register(readings, planned, level, measured)
     write_text_atomic(args.registered, table.to_csv(index=False))
     decided = with_third_round(claims, table, pd.read_csv(args.analysis / "random_claim_design.csv"),
-                               pd.read_csv(args.analysis / "random_claim_margins.csv"), rl_plan.claim_measurement(config))
+                               pd.read_csv(args.analysis / "random_claim_margins.csv"), measured)
     print(decided[decided["round"] == 3][ENSEMBLE + ["test", "reading", "seeds", "mean", "low", "high", "margin",
                                                      "regular", "verdict"]].to_string(index=False))
 

@@ -16,8 +16,6 @@ Paths are relative to the workflow's directory.
 from __future__ import annotations
 
 import argparse
-import hashlib
-import json
 import sys
 from pathlib import Path
 
@@ -38,16 +36,11 @@ KEY_COLUMNS = COLUMNS[:5]
 
 
 def pilot_key(config: dict, kind: str, truncation: float, aspect: float, incidence: float) -> str:
-    """What an ensemble's pilots are measured with, as a digest: SHA-256 (hex, first 16 digits) of their surfaces
-    (the pilot seeds at ``claims.cells`` with ``surface.spread``), the incidence (degrees), the views' steps, the
-    lighting, the method and its render settings, as rule ``claim_sweeps`` gives them."""
-    settings = {
-        "surfaces": [plan.surface_settings(config, kind, truncation, aspect, seed, claim=True)
-                     for seed in rl_config.pilot_seeds(config)],
-        "incidence": float(incidence), "sweep": plan.sweep_settings(config), "lighting": plan.lighting(config),
-        "method": config["render"]["method"], "render": plan.render_settings(config, "random"),
-    }
-    return hashlib.sha256(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:16]
+    """What an ensemble's pilots are measured with, as a digest (:func:`roughlight.study.plan.claim_tiles_key` of
+    the pilot seeds at ``claims.cells`` with ``surface.spread``, the incidence, the views' steps, the lighting, the
+    method and its render settings, as rule ``claim_sweeps`` gives them)."""
+    return plan.claim_tiles_key(plan.claim_measurement(config), kind, truncation, aspect, incidence,
+                                rl_config.pilot_seeds(config))
 
 
 def pilot_keys(config: dict) -> list[list]:

@@ -9,6 +9,8 @@ defaults) and returns plain types. Paths are relative to the workflow's director
 
 from __future__ import annotations
 
+import hashlib
+import json
 from typing import NamedTuple
 
 from . import config as rl_config
@@ -23,6 +25,7 @@ __all__ = [
     "render_settings",
     "surface_settings",
     "claim_measurement",
+    "claim_tiles_key",
     "sweeps",
     "sweep_files",
     "rough_row_files",
@@ -101,6 +104,20 @@ def claim_measurement(config: dict) -> dict:
     return {"claim_surface": rl_config.claim_surface_settings(config), "sweep": sweep_settings(config),
             "lighting": lighting(config), "method": config["render"]["method"],
             "render": render_settings(config, "random")}
+
+
+def claim_tiles_key(measured: dict, kind: str, truncation: float, aspect: float, incidence: float, seeds) -> str:
+    """What a claim ensemble's tiles ``seeds`` are measured with, as a digest: SHA-256 (hex, first 16 digits) of
+    their surfaces (as :func:`surface_settings` builds a claim tile), the incidence (degrees), the views' steps, the
+    lighting, the method and its render settings (``measured``: :func:`claim_measurement`). The pilots'
+    (:func:`roughlight.study.pilots.pilot_key`) and the third round's
+    (:func:`roughlight.analysis.third_round.round_key`) registered readings are kept under it."""
+    settings = {
+        "surfaces": [{"kind": kind, "truncation": truncation, "aspect": aspect, "seed": int(seed),
+                      **measured["claim_surface"]} for seed in seeds],
+        "incidence": float(incidence), **{key: measured[key] for key in ("sweep", "lighting", "method", "render")},
+    }
+    return hashlib.sha256(json.dumps(settings, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
 def rough_row_files(config: dict, folder: str = "results/sweeps") -> list[str]:
