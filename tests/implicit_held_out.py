@@ -13,7 +13,9 @@ view, on a 3 x 10 degree view grid of six surfaces and lights. With ``--grazing`
 move with the view's azimuth near the horizon, where the table model's worst view lies (the held-out trial's: t 1,
 a 0.7, light at incidence 63.39 and azimuth 205.2), and what linear interpolation between nodes 2.5 degrees apart
 misses there. With ``--phases``: where the correction's and the exact form's once-a-frame frames go (first pass,
-clear, draw, read-back) at 28,657 to 233 samples, N 512.
+clear, draw, read-back) at 28,657 to 233 samples, N 512. With ``--clipped``: what the clipped scene's shares cost on
+the CPU (the exact reference's clipping once a frame): a light's scene and a view's shares, over four surfaces, four
+random lights each and 50 random views a light.
 """
 
 from __future__ import annotations
@@ -68,7 +70,8 @@ def frames(view=(60.0, 20.0), incidence: float = 30.0) -> pd.DataFrame:
     table = cached_table(surface)
     quads = {"implicit_exact, rays a pixel": ("exact", None), "implicit_correction": ("correction", None),
              "implicit_exact, shares once a frame (28,657 samples)": ("exact", 28657),
-             "implicit_exact, shares once a frame (6,765 samples)": ("exact", 6765), "implicit_table": ("table", None)}
+             "implicit_exact, shares once a frame (6,765 samples)": ("exact", 6765), "implicit_table": ("table", None),
+             "implicit_clipped": ("clipped", None)}
     lighting, rows = shading.Lighting(), []
     for n in (256, 512):
         rows += implicit_surface.explicit_frames(surface, incidence, lighting, n, 512, [view], 3, exact, None)
@@ -142,10 +145,37 @@ def grazing(elevations=(1.79, 5.0, 15.0), step: float = 0.25, node_step: float =
     return pd.DataFrame(rows)
 
 
+def clipped(seed: int = 58) -> pd.DataFrame:
+    """Milliseconds the clipped scene's shares take on the CPU (``render.implicit.clipped_shares``, the exact
+    reference's clipping): a light's first view, which makes the light's scene (kept while the light stays), and a
+    view's shares under it (every frame whose view moves): the median, the 90th
+    percentile and the largest, over four surfaces, four random lights each (incidence 5-85, any azimuth) and 50
+    random views a light (elevation 1-179, any azimuth)."""
+    from roughlight.render.implicit import clipped_shares
+
+    rng = np.random.default_rng(seed)
+    seconds = {"light's scene": [], "view's shares": []}
+    for surface in (Surface(1.0, 1.0), Surface(0.5, 0.5), Surface(0.2, 1.0), Surface(0.8, 0.3)):
+        for _ in range(4):
+            incidence, psi = rng.uniform(5.0, 85.0), rng.uniform(0.0, 360.0)
+            views = list(zip(rng.uniform(1.0, 179.0, 50), rng.uniform(0.0, 360.0, 50)))
+            start = time.perf_counter()
+            clipped_shares(surface, incidence, *views[0], True, psi)  # the light's scene made, then kept
+            seconds["light's scene"].append(time.perf_counter() - start)
+            for elevation, azimuth in views:
+                start = time.perf_counter()
+                clipped_shares(surface, incidence, elevation, azimuth, True, psi)
+                seconds["view's shares"].append(time.perf_counter() - start)
+    return pd.DataFrame([{"step": step, "count": len(s), "median_ms": 1e3 * np.median(s),
+                          "p90_ms": 1e3 * np.percentile(s, 90), "max_ms": 1e3 * np.max(s)}
+                         for step, s in seconds.items()])
+
+
 if __name__ == "__main__":
     import sys
 
-    modes = {"--grazing": (grazing, 4), "--samples": (samples_needed, 3), "--frames": (frames, 2), "--phases": (phases, 2)}
+    modes = {"--clipped": (clipped, 2), "--grazing": (grazing, 4), "--samples": (samples_needed, 3), "--frames": (frames, 2),
+             "--phases": (phases, 2)}
     for flag, (measure, decimals) in modes.items():
         if flag in sys.argv:
             print(measure().round(decimals).to_string(index=False))

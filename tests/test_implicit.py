@@ -8,6 +8,7 @@ from roughlight.render import methods, shading, sweep
 from roughlight.render import views as sweeps
 from roughlight.render.exact import reference
 from roughlight.render.implicit import model as implicit
+from roughlight.surfaces.geometry import FACET_NAMES
 from roughlight.surfaces.surface import SQRT3_2, Surface
 
 # a coarse sweep: elevations 0..180 by 6, azimuths 0..150 by 30 (grazing views included)
@@ -162,7 +163,7 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     bands = implicit_bench.summary(table)
     held_band = bands[bands["band"] == implicit_bench.HELD_OUT_BAND]  # its "surfaces": the lights checked
     assert dict(zip(held_band["method"], held_band["surfaces"])) == {**dict.fromkeys(implicit_bench.SWEPT, 2),
-                                                                     "implicit_table": 1}
+                                                                     "implicit_clipped": 2, "implicit_table": 1}
     assert (table.loc[table["method"] == "implicit_table", "memory_bytes"] == tables[(1.0, 1.0)].nbytes).all()
     exact = table[(table.method == "implicit_exact") & (table.component == "diffuse")]
     fast = table[(table.method == "fast") & (table.component == "diffuse")]
@@ -171,9 +172,14 @@ def test_benchmark_measures_and_reports(tmp_path, monkeypatch):
     frames = implicit_bench.frame_times("tiny", size=64, pictures=pictures, tables=tables)
     once = implicit_bench.EXACT_ONCE_A_FRAME  # the exact form's shares once a frame: timed, its picture not kept
     assert set(pictures) == set(frames["method"]) - {once} and all(p.shape == (64, 64) for p in pictures.values())
-    assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction", "implicit_table", once}
+    assert set(frames["method"]) == {"explicit", "implicit_exact", "implicit_correction", "implicit_clipped",
+                                     "implicit_table", once}
     goal = {g["method"]: g for g in implicit_bench.goal(table, frames)}
     assert set(goal) == set(implicit_bench.MODEL_METHODS) | {once} and goal["implicit_table"]["memory_bytes"] > 0
+    # the clipped scene: the exact reference's shares, drawn within a level; it holds the light's polygons
+    clipped = goal["implicit_clipped"]
+    assert clipped["worst"] < 1.0 and clipped["accurate"] and 0 < clipped["memory_bytes"] < 100_000
+    assert frames.loc[frames.method == "implicit_clipped", "error"].max() < 0.5
     # drawn once a frame at the sweep's samples, the exact form keeps its validation; its frame time is its own
     assert goal[once]["worst"] == goal["implicit_exact"]["worst"] and goal[once]["surfaces"] >= 1
     assert goal[once]["frame_ms"] != goal["implicit_exact"]["frame_ms"]
@@ -261,10 +267,13 @@ def test_a_held_out_light_reaches_the_reference_and_every_model():
     azimuth, elevation = np.array([10.0, 77.7, 201.3, 300.0]), np.array([25.0, 61.2, 140.5, 88.0])
     rows = implicit_bench.validate_surface(surface, incidence, implicit_bench.HELD_OUT, azimuth, elevation,
                                            light_azimuth=psi)
-    assert {r["method"] for r in rows} == set(implicit_bench.SWEPT)
+    assert {r["method"] for r in rows} == set(implicit_bench.SWEPT) | {"implicit_clipped"}
     exact = methods.sweep("reference", surface, incidence, azimuth, elevation, light_azimuth=psi)
-    for method in implicit_bench.SWEPT:
-        out = methods.sweep(method, surface, incidence, azimuth, elevation, light_azimuth=psi)
+    from roughlight.render.implicit import clipped_sweep
+
+    for method in implicit_bench.SWEPT + ("implicit_clipped",):
+        out = (clipped_sweep(surface, incidence, azimuth, elevation, light_azimuth=psi) if method == "implicit_clipped"
+               else methods.sweep(method, surface, incidence, azimuth, elevation, light_azimuth=psi))
         row = next(r for r in rows if r["method"] == method and r["component"] == "total")
         assert row["mae"] == pytest.approx(np.abs(out["total"] - exact["total"]).mean(), abs=1e-9)
         assert row["light_azimuth"] == psi
@@ -413,3 +422,36 @@ def test_the_exact_form_scene_with_shares_once_a_frame_averages_to_its_sweep(ele
     assert len(np.unique(image[..., 2][field])) > 2  # the pixels dither between samples
     with pytest.raises(ValueError, match="exact form's shares once a frame"):
         render_field("correction", surface, 30.0, elevation, azimuth, 16, 128, frame_samples=samples)
+
+
+def test_the_clipped_scene_draws_the_exact_shares_within_a_level_under_any_light():
+    """The clipped scene (render.implicit: each frame's facet shares clipped exactly on the CPU, one quad drawing them
+    as the correction draws its own): its shares are the exact reference's, they sum to one, and its pictures'
+    means are within a level of the reference on every view of a coarse grid, under a light from azimuth 0 and one
+    from anywhere; a frame times its shares, and a grazing view has no image to clip."""
+    from roughlight.render.implicit import clipped_shares, clipped_state_bytes, clipped_sweep, render_field
+
+    surface, incidence, psi = Surface(0.65, 0.8), 22.0, 200.0
+    scene = reference.lit_scene(surface, incidence, True, psi)
+    lit, shadow = clipped_shares(surface, incidence, 12.0, 120.0, True, psi)
+    exact_lit, exact_shadow = scene.areas(12.0, 120.0)
+    whole = exact_lit.sum() + exact_shadow.sum()
+    order = [FACET_NAMES.index(name) for name in scene.surf.names]
+    assert lit[order] == pytest.approx(exact_lit / whole) and shadow[order] == pytest.approx(exact_shadow / whole)
+    assert lit.sum() + shadow.sum() == pytest.approx(1.0)
+    assert 0 < clipped_state_bytes(surface, incidence, True, psi) < 100_000
+    azimuth, elevation = sweeps.view_grid(10.0, 45.0)
+    seen = ~sweeps.is_grazing(elevation)
+    for light_azimuth in (0.0, psi):
+        exact = reference.reference_sweep(surface, incidence, azimuth, elevation, light_azimuth=light_azimuth)
+        out = clipped_sweep(surface, incidence, azimuth, elevation, light_azimuth=light_azimuth)
+        assert (out["coverage"][seen] == 1.0).all()  # the field fills every picture, down to elevation 1
+        for name in ("diffuse", "specular", "total"):
+            error = np.abs(out[name] - exact[name])[seen]
+            assert error.max() < 0.5 and error.mean() < 0.05, (light_azimuth, name)
+    phases = {}
+    image, seconds = render_field("clipped", surface, incidence, 60.0, 20.0, 16, 128, phases=phases)
+    assert set(phases) == {"shares", "clear", "draw", "read"} and sum(phases.values()) == pytest.approx(seconds)
+    assert len(np.unique(image[..., 2])) > 2  # the pixels dither between facets
+    with pytest.raises(ValueError, match="grazing"):
+        clipped_shares(surface, incidence, 0.0, 30.0)

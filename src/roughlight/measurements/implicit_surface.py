@@ -43,7 +43,7 @@ INCIDENCES = (10.0, 30.0, 50.0, 70.0)
 GRID_SURFACES = ((0.1, 0.1), (1.0, 0.1), (0.1, 1.0), (1.0, 1.0), (0.5, 0.5), (1.0, SQRT3_2))
 
 #: Methods of the validation, in the order of its table (``implicit_table`` on the surfaces that have a table).
-VALIDATED = ("implicit_exact", "implicit_correction", "implicit_table", "fast", "v_cavity")
+VALIDATED = ("implicit_exact", "implicit_correction", "implicit_table", "implicit_clipped", "fast", "v_cavity")
 
 #: The sweeps of the validation, in its order (the V-cavity model is a closed form in numpy).
 SWEPT = ("implicit_exact", "implicit_correction", "fast")
@@ -234,6 +234,11 @@ def _sweep(method: str, surface: Surface, incidence: float, azimuth, elevation, 
     if key not in _SWEEPS:
         if len(_SWEEPS) >= comparison.REFERENCE_CACHE_SIZE:
             _SWEEPS.clear()
+        if method == "implicit_clipped":
+            from ..render.implicit import clipped_sweep
+
+            _SWEEPS[key] = clipped_sweep(surface, incidence, azimuth, elevation, lighting, light_azimuth)
+            return _SWEEPS[key]
         settings = {"table": table} if method == "implicit_table" else None
         _SWEEPS[key] = methods.sweep(method, surface, incidence, azimuth, elevation, lighting, settings,
                                      light_azimuth=light_azimuth)
@@ -262,11 +267,17 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
     if table is not None:
         results["implicit_table"] = _sweep("implicit_table", surface, incidence, azimuth, elevation, lighting, table,
                                            light_azimuth)
+    results["implicit_clipped"] = _sweep("implicit_clipped", surface, incidence, azimuth, elevation, lighting,
+                                         light_azimuth=light_azimuth)
     if light_azimuth == 0.0:
         results["v_cavity"] = _v_cavity(surface, incidence, azimuth, elevation, lighting)
     rows = []
     for method, out in results.items():
         memory = table.nbytes if method == "implicit_table" else 0 if method in MODEL_METHODS else math.nan
+        if method == "implicit_clipped":
+            from ..render.implicit import clipped_state_bytes
+
+            memory = clipped_state_bytes(surface, incidence, lighting.shadows, light_azimuth)
         for component, err in comparison.absolute_errors(out, exact, seen).items():
             rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
                          "light_azimuth": float(light_azimuth), "kind": kind, "band": _band(surface),
@@ -291,8 +302,10 @@ def _v_cavity(surface: Surface, incidence: float, azimuth, elevation, lighting) 
     return model
 
 
-#: The implicit models, by their methods' names.
-MODEL_METHODS = ("implicit_exact", "implicit_correction", "implicit_table")
+#: The implicit models, by their methods' names; ``implicit_clipped``: the facet shares clipped exactly on the CPU
+#: once a frame and drawn on one quad as the correction draws its own
+#: (:func:`roughlight.render.implicit.shader.clipped_sweep`; not a study method).
+MODEL_METHODS = ("implicit_exact", "implicit_correction", "implicit_table", "implicit_clipped")
 
 #: The frame benchmark's other ways of drawing a model's scene, each with the method whose validation it shares:
 #: the exact form with its shares once a frame (``render_field(frame_samples=...)`` at the sweep's own samples, so
@@ -463,7 +476,7 @@ def frame_times(plan: str = "full", surface: Surface = FIELD_SURFACE, incidence:
     for n in size_plan["fields"]:
         kept = pictures if n == size_plan["fields"][0] else None
         rows += explicit_frames(surface, incidence, lighting, n, size, views, repeats, exact, kept)
-        for model in ("exact", "correction") + (("table",) if table is not None else ()):
+        for model in ("exact", "correction", "clipped") + (("table",) if table is not None else ()):
             rows += implicit_frames(model, surface, incidence, lighting, n, size, views, repeats, exact, kept,
                                      table)
         rows += implicit_frames("exact", surface, incidence, lighting, n, size, views, repeats, exact, None,
@@ -528,7 +541,7 @@ def _frame_row(n, method, triangles, elevation, azimuth, seconds, channel, exact
     mean = float(np.asarray(channel, float).mean())
     return {"field": int(n), "method": method, "triangles": int(triangles), "elevation": float(elevation),
             "azimuth": float(azimuth), "frame_ms": 1000.0 * seconds, "fps": 1.0 / seconds if seconds > 0 else math.inf,
-            "draw_ms": 1000.0 * (phases["draw"] + phases.get("first_pass", 0.0)),
+            "draw_ms": 1000.0 * (phases["draw"] + phases.get("first_pass", 0.0) + phases.get("shares", 0.0)),
             "read_ms": 1000.0 * phases["read"], "mean_total": mean, "exact_total": float(exact),
             "error": abs(mean - float(exact))}
 

@@ -20,12 +20,14 @@ from __future__ import annotations
 
 import contextlib
 import time
+from functools import partial
 
 import numpy as np
 
 from ...surfaces.surface import Surface
 from .. import shading, sweep
 from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
+from .clipped import clipped_shares, forget_views
 from .model import shader_uniforms
 from .settings import ImplicitSettings
 
@@ -208,7 +210,8 @@ def scene_defines(model: str) -> dict:
     rays a pixel, as in a sweep."""
     if model == "exact":
         return {}
-    return {"SCENE_CORRECTION": 1, **({"TABLE_SHARES": 1} if model == "table" else {})}
+    extra = {"table": {"TABLE_SHARES": 1}, "clipped": {"GIVEN_SHARES": 1}}.get(model, {})
+    return {"SCENE_CORRECTION": 1, **extra}
 
 
 def table_defines(table) -> dict:
@@ -353,6 +356,9 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     image : (size, size, 4) uint8 array (r diffuse, g specular, b total, a coverage)
     seconds : float, the frame's time (clear, draw and read back)
     """
+    if model == "clipped":
+        return _field_by_clipped_shares(surface, incidence, elevation, azimuth, field_size, size, span, lighting,
+                                        samples, phases)
     if frame_samples is not None:
         if model != "exact":
             raise ValueError(f"frame_samples: the exact form's shares once a frame, not the {model} model's")
@@ -407,7 +413,85 @@ def _field_quad(field_size: int | None):
         quad.delete()
 
 
-def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, span, clock, table=None):
+def _field_by_clipped_shares(surface: Surface, incidence, elevation, azimuth, field_size: int, size: int, span,
+                             lighting, samples: int, phases: dict | None = None, light_azimuth: float = 0.0):
+    """:func:`render_field` of the clipped scene: each frame clips its view's facet shares on the CPU
+    (:func:`clipped_shares`, inside the frame's time: phase ``shares``) and the quad draws them as the correction
+    draws its own (``SCENE_CORRECTION`` with ``GIVEN_SHARES``). The light's scene is made before the frame's clock
+    and kept while the light stays, as a scene keeps its buffers."""
+    lighting = lighting or shading.Lighting()
+    uniforms = shader_uniforms("correction", surface, incidence, lighting, samples, light_azimuth)  # checks inputs
+    view = shading.view_direction(float(elevation), float(azimuth))
+    shares = partial(clipped_shares, surface, incidence, elevation, azimuth, lighting.shadows, light_azimuth)
+    shares()  # the light's scene, kept
+    forget_views(surface, incidence, lighting.shadows, light_azimuth)  # each frame clips its view anew
+    ctx = context(size, size, 1)
+    program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines("clipped"))
+    uniforms = {**uniforms, "scene_view": np.asarray(view, np.float32), "fb_width": size}
+    with _field_quad(field_size) as quad:
+        clock = _Phases(phases)
+        given = shares()
+        clock.end("shares")
+        return _picture(program, uniforms, quad, view, field_size, size, span, clock, given=given)
+
+
+#: The clipped sweep's pictures: pixels a side, and the field and the periods across each picture, so that the field
+#: fills the picture down to the lowest view a sweep measures (elevation 1: span / sin 1 degree = 458 periods deep).
+CLIPPED_SWEEP_PICTURE = {"size": 128, "field_size": 8192, "span": 8.0}
+
+
+def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth: float = 0.0) -> dict:
+    """A sweep of the clipped scene: each view drawn as a scene's frame (:func:`render_field` with ``"clipped"``:
+    the view's facet shares clipped exactly on the CPU, then one quad whose pixels each show one facet's 8-bit value,
+    picked by a dither threshold), and its picture's mean (:data:`CLIPPED_SWEEP_PICTURE`, wholly covered by the
+    field).
+
+    Parameters
+    ----------
+    surface : Surface (regular)
+    incidence : float, light elevation, degrees in [0, 90]
+    azimuth, elevation : (n_views,) arrays, degrees
+    lighting : Lighting, optional
+    light_azimuth : float, the light's azimuth, degrees
+
+    Returns
+    -------
+    dict as :func:`implicit_sweep`'s: ``diffuse``, ``specular``, ``total``, ``coverage`` (n_views,) and ``seconds``;
+    the means before rounding and without inner shadows are NaN (an 8-bit framebuffer).
+    """
+    picture = CLIPPED_SWEEP_PICTURE
+    size, field_size = picture["size"], picture["field_size"]
+    shader_uniforms("correction", surface, incidence, lighting, None, light_azimuth)  # checks every input
+
+    def step(out, views, incidence, lighting):
+        uniforms = {**shader_uniforms("correction", surface, incidence, lighting, None, light_azimuth), "fb_width": size}
+        program = context(size, size, 1).programs.get_program("implicit.vert", "implicit.frag", scene_defines("clipped"))
+        with _field_quad(field_size) as quad:
+            for k in views.measured:
+                e, phi = views.elevation[k], views.azimuth[k]
+                view = shading.view_direction(float(e), float(phi))
+                given = clipped_shares(surface, incidence, e, phi, lighting.shadows, light_azimuth)
+                image, _ = _picture(program, {**uniforms, "scene_view": np.asarray(view, np.float32)}, quad, view,
+                                    field_size, size, picture["span"], _Phases(None), given=given)
+                means = image.reshape(-1, 4).mean(axis=0, dtype=np.float64)
+                for channel, name in enumerate(("diffuse", "specular", "total")):
+                    out[name][k] = means[channel]
+                out["coverage"][k] = means[3] / 255.0
+
+    return sweep.measure(step, incidence, azimuth, elevation, lighting)
+
+
+def _set_given_shares(program, given) -> None:
+    """The bound ``program``'s ``given_lit`` and ``given_shadow`` (array uniforms pyrender does not set) from
+    ``given`` ((lit, shadowed), :func:`clipped_shares`); nothing when None."""
+    if given is None:
+        return
+    for name, shares in zip(("given_lit", "given_shadow"), given):
+        location = gl.glGetUniformLocation(program._program_id, name)
+        gl.glUniform1fv(location, len(shares), np.asarray(shares, np.float32))
+
+
+def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, span, clock, table=None, given=None):
     """A scene's picture pass: the ``size`` x ``size`` picture cleared, then the field's ``quad``
     (:func:`_field_quad`; ``span`` periods across the picture, default half the field's ``field_size``) drawn by
     ``program`` with ``uniforms`` and the camera along ``view``, and read back; ``clock`` (:class:`_Phases`) times
@@ -418,6 +502,7 @@ def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, sp
     program._bind()
     set_uniforms(program, uniforms)
     _set_table_uniforms(program, table)
+    _set_given_shares(program, given)
     program.set_uniform("camera", field_camera(view, field_size, span).astype(np.float32))
     program.set_uniform("field_size", float(field_size))
     _draw_quad(quad)

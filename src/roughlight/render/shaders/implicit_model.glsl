@@ -199,6 +199,22 @@ void table_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
 vec3 model_view(vec3 V) { return view_turn * V; }
 void model_shares(vec3 V, out float lit_share[5], out float shadow_share[5]) { table_shares(V, lit_share, shadow_share); }
 #else
+#ifdef GIVEN_SHARES
+// The clipped scene (with the scene's correction): the facets' shares of this frame's one view and
+// light, clipped exactly on the CPU (roughlight.render.implicit.shader.clipped_shares, the exact reference's areas)
+// and given as uniforms, facets in the order top, east, west, north, south.
+uniform float given_lit[5];
+uniform float given_shadow[5];
+vec3 model_view(vec3 V) { return V; }
+void model_shares(vec3 V, out float lit_share[5], out float shadow_share[5])
+{
+    for (int f = 0; f < 5; ++f) {
+        lit_share[f] = given_lit[f];
+        shadow_share[f] = given_shadow[f];
+    }
+}
+#else
 vec3 model_view(vec3 V) { return V; }
 void model_shares(vec3 V, out float lit_share[5], out float shadow_share[5]) { correction_shares(V, lit_share, shadow_share); }
+#endif
 #endif
