@@ -12,10 +12,10 @@ the exact form both ways: its rays a pixel, and its shares once a frame (``rende
 view, on a 3 x 10 degree view grid of six surfaces and lights. With ``--grazing``: how fast the exact facet shares
 move with the view's azimuth near the horizon, where the table model's worst view lies (the held-out trial's: t 1,
 a 0.7, light at incidence 63.39 and azimuth 205.2), and what linear interpolation between nodes 2.5 degrees apart
-misses there. With ``--phases``: where the correction's and the exact form's once-a-frame frames go (first pass,
-clear, draw, read-back) at 28,657 to 233 samples, N 512. With ``--clipped``: what the clipped scene's shares cost on
-the CPU (the exact reference's clipping once a frame): a light's scene and a view's shares, over four surfaces, four
-random lights each and 50 random views a light.
+misses there. With ``--phases``: where the correction's, the clipped scene's and the exact form's once-a-frame frames
+go (first pass or the CPU's shares, clear, draw, read-back) at 28,657 to 233 samples, N 512. With ``--clipped``:
+what the clipped scene's shares cost on the CPU (the exact reference's clipping once a frame): a light's scene and a
+view's shares, over four surfaces, four random lights each and 50 random views a light.
 """
 
 from __future__ import annotations
@@ -93,8 +93,9 @@ def phases(counts=(28657, 6765, 1597, 233), field: int = 512, view=(60.0, 20.0),
     from roughlight.render.implicit import render_field
 
     lighting, rows = shading.Lighting(), []
-    for name, kwargs in [("correction", {}), *((f"exact form, {m:,} samples", {"frame_samples": m}) for m in counts)]:
-        draw = partial(render_field, "correction" if name == "correction" else "exact", implicit_surface.FIELD_SURFACE,
+    quads = [("correction", {}), ("clipped", {}), *((f"exact form, {m:,} samples", {"frame_samples": m}) for m in counts)]
+    for name, kwargs in quads:
+        draw = partial(render_field, name if name in ("correction", "clipped") else "exact", implicit_surface.FIELD_SURFACE,
                        30.0, view[0], view[1], field, 512, field / 2.0, lighting, **kwargs)
         _, seconds, phased = implicit_surface.fastest_frame(draw, repeats)
         rows.append({"quad": name, "frame_ms": 1000.0 * seconds, **{f"{k}_ms": 1000.0 * v for k, v in phased.items()}})
