@@ -187,16 +187,18 @@ def _validation_and_frames(table_bytes: int):
     rows = [{"truncation": 1.0, "aspect": 1.0, "incidence": 30.0, "kind": "grid", "band": "t > 0.5, aspect > 0.5",
              "method": m, "component": c, "n_views": 100, "mae": mae, "p99": worst / 2, "worst": worst,
              "seconds": 1.0, "reference_failures": 0,
-             "memory_bytes": table_bytes if m == "implicit_table" else 0.0 if m.startswith("implicit") else np.nan}
+             "memory_bytes": {"implicit_table": table_bytes, "implicit_clipped": 930.0}.get(
+                 m, 0.0 if m.startswith("implicit") else np.nan)}
             for m, mae, worst in (("implicit_exact", 0.01, 0.2), ("implicit_correction", 0.1, 12.0),
-                                  ("implicit_table", 0.04, 3.0), ("fast", 0.02, 0.4), ("v_cavity", 0.3, 14.0))
+                                  ("implicit_table", 0.04, 3.0), ("implicit_clipped", 0.01, 0.23), ("fast", 0.02, 0.4),
+                                  ("v_cavity", 0.3, 14.0))
             for c in shading.COMPONENTS]
     frames = [{"field": n, "method": m, "triangles": 2, "elevation": 60.0, "azimuth": 20.0, "frame_ms": ms,
                "fps": 1000 / ms, "draw_ms": ms - 0.8, "read_ms": 0.4, "mean_total": 43.6, "exact_total": 43.6,
                "error": 0.01}
               for n in (16, 64) for m, ms in (("explicit", 40.0 * n / 16), ("implicit_exact", 60.0),
                                               ("implicit_correction", 2.0), ("implicit_table", 2.5),
-                                              ("implicit_exact, shares once a frame", 10.0))]
+                                              ("implicit_clipped", 4.0), ("implicit_exact, shares once a frame", 10.0))]
     return pd.DataFrame(rows), pd.DataFrame(frames)
 
 
@@ -244,6 +246,10 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     assert "drawing alone" in seen["goal"] and "1.70" in seen["goal"] and "94" in seen["goal"]
     assert "implicit_exact, shares once a frame" in seen["goal"]
     assert "no implicit model meets it" in seen["finding"] and "#implicit-goal" in seen["links"]
+    # the clipped scene: accurate, 40x, holding the light's polygons (kilobytes, not a table)
+    clipped = next(line for line in seen["goal"].splitlines() if line.startswith("implicit_clipped"))
+    assert "0.9 kB" in clipped and "0.23" in clipped and "40" in clipped
+    assert "implicit_clipped: worst view 0.23, 40× explicit, no table (0.9 kB of the light's polygons)" in seen["finding"]
 
 
 def test_the_hot_spot_is_read_with_the_view_turned_with_the_light(table):
