@@ -3,6 +3,7 @@ from seed to seed, and what a tile costs, at several tile sizes (docs/random-rou
 
     python tests/claim_tile_size.py                    # 8 pilots (seeds 501..508) at 4, 8 and 12 cells a side
     python tests/claim_tile_size.py --cells 4 8 --pilots 6
+    python tests/claim_tile_size.py --cells 8 --azimuth-step 5 2.5 1   # the claim's tiles at finer view grids
 
 Renders each random kind's pilot tiles at every random grid point of config/config.yaml, at the claim's views
 (rule ``claim_sweeps``' views, from ``results/analysis/random_claim_geometry.csv`` of a finished run), in a temporary
@@ -84,22 +85,26 @@ def main() -> None:
     parser.add_argument("--pilots", type=int, default=8)
     parser.add_argument("--max-seeds", type=int, default=400)
     parser.add_argument("--run", type=Path, default=ROOT, help="a finished run (its results/analysis/)")
+    parser.add_argument("--azimuth-step", type=float, nargs="+", default=None,
+                        help="the claim's views at these azimuth steps, degrees (default: the study's)")
     args = parser.parse_args()
     config = rl_config.validate_config(yaml.safe_load((ROOT / "config" / "config.yaml").read_text()))
     config["claims"]["pilots"] = args.pilots
     analysis = args.run / "results" / "analysis"
     geometry = pd.read_csv(analysis / "random_claim_geometry.csv")
     margins = pd.read_csv(analysis / "random_claim_margins.csv")
-    steps = (float(config["sweep"]["azimuth_step"]), float(config["sweep"]["elevation_step"]))
     table = []
-    with tempfile.TemporaryDirectory() as tmp:
-        for cells in args.cells:
-            seconds = render_pilots(config, geometry, cells, args.pilots, Path(tmp))
-            folders = sorted(str(p) for p in Path(tmp).glob(f"c{cells}/i*/*/*"))
-            for row in spread_table(claim_rows(folders), geometry, margins, steps, args.max_seeds):
-                table.append({"cells": cells, **row,
-                              "tile_s": seconds[(row["kind"], row["truncation"], row["aspect"])]})
-    frame = pd.DataFrame(table).sort_values(["kind", "truncation", "aspect", "test", "cells"])
+    for azimuth_step in args.azimuth_step or [float(config["sweep"]["azimuth_step"])]:
+        config["sweep"]["azimuth_step"] = azimuth_step
+        steps = (float(azimuth_step), float(config["sweep"]["elevation_step"]))
+        with tempfile.TemporaryDirectory() as tmp:
+            for cells in args.cells:
+                seconds = render_pilots(config, geometry, cells, args.pilots, Path(tmp))
+                folders = sorted(str(p) for p in Path(tmp).glob(f"c{cells}/i*/*/*"))
+                for row in spread_table(claim_rows(folders), geometry, margins, steps, args.max_seeds):
+                    table.append({"cells": cells, "azimuth_step": azimuth_step, **row,
+                                  "tile_s": seconds[(row["kind"], row["truncation"], row["aspect"])]})
+    frame = pd.DataFrame(table).sort_values(["kind", "truncation", "aspect", "test", "cells", "azimuth_step"])
     frame["seeds_needed"] = pd.array(frame["seeds_needed"], dtype="Int64")
     with pd.option_context("display.width", 200, "display.max_rows", 500):
         print(frame.to_string(index=False, float_format=lambda v: f"{v:.3g}"))
