@@ -340,6 +340,10 @@ def render_field(model: str, surface: Surface, incidence, elevation, azimuth, fi
     textures are uploaded before the frame's timer, once a context and table (:func:`_resident_textures`), as a
     real-time scene keeps them.
 
+    ``model`` ``"clipped"``: the clipped scene, whose frame clips its view's facet shares exactly on the CPU
+    (:func:`roughlight.render.implicit.clipped.clipped_shares`, phase ``shares`` of the frame's time) and draws them
+    as the correction draws its own.
+
     ``frame_samples`` (the exact form only; a Fibonacci number): the exact form's shares once a frame. The whole
     picture sees the field along one view under one light, so a first pass casts the rays of ``frame_samples``
     points of one period once, as a sweep's view (:func:`_sweep_pass`), into a texture that stays on the GPU, and
@@ -441,10 +445,10 @@ CLIPPED_SWEEP_PICTURE = {"size": 128, "field_size": 8192, "span": 8.0}
 
 
 def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth: float = 0.0) -> dict:
-    """A sweep of the clipped scene: each view drawn as a scene's frame (:func:`render_field` with ``"clipped"``:
-    the view's facet shares clipped exactly on the CPU, then one quad whose pixels each show one facet's 8-bit value,
-    picked by a dither threshold), and its picture's mean (:data:`CLIPPED_SWEEP_PICTURE`, wholly covered by the
-    field).
+    """A sweep of the clipped scene: each view drawn as :func:`render_field`'s ``"clipped"`` frame draws it (the
+    view's facet shares clipped exactly on the CPU, then one quad whose pixels each show one facet's 8-bit value,
+    picked by a dither threshold; one quad and program for the whole sweep, and the views the light's scene keeps
+    kept), and its picture's mean (:data:`CLIPPED_SWEEP_PICTURE`, wholly covered by the field).
 
     Parameters
     ----------
