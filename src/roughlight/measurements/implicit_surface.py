@@ -271,13 +271,14 @@ def validate_surface(surface: Surface, incidence: float, kind: str, azimuth, ele
                                          light_azimuth=light_azimuth)
     if light_azimuth == 0.0:
         results["v_cavity"] = _v_cavity(surface, incidence, azimuth, elevation, lighting)
+    from ..render.implicit import clipped_state_bytes
+
+    # what a model holds a surface: the table's shares, the clipped scene's polygons, else its uniforms alone
+    held = {"implicit_clipped": clipped_state_bytes(surface, incidence, lighting.shadows, light_azimuth),
+            **({"implicit_table": table.nbytes} if table is not None else {})}
     rows = []
     for method, out in results.items():
-        memory = table.nbytes if method == "implicit_table" else 0 if method in MODEL_METHODS else math.nan
-        if method == "implicit_clipped":
-            from ..render.implicit import clipped_state_bytes
-
-            memory = clipped_state_bytes(surface, incidence, lighting.shadows, light_azimuth)
+        memory = held.get(method, 0 if method in MODEL_METHODS else math.nan)
         for component, err in comparison.absolute_errors(out, exact, seen).items():
             rows.append({"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
                          "light_azimuth": float(light_azimuth), "kind": kind, "band": _band(surface),

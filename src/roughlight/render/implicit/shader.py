@@ -314,8 +314,13 @@ def _set_table_uniforms(program, table) -> None:
         return
     for name, unit in TABLE_UNITS.items():
         program.set_uniform(name, unit)
-    location = gl.glGetUniformLocation(program._program_id, "table_elevation")
-    gl.glUniform1fv(location, table.elevation.size, table.elevation.astype(np.float32))
+    _set_float_array(program, "table_elevation", table.elevation)
+
+
+def _set_float_array(program, name: str, values) -> None:
+    """The bound ``program``'s float array uniform ``name`` (pyrender sets no array uniform) to ``values``."""
+    values = np.asarray(values, np.float32)
+    gl.glUniform1fv(gl.glGetUniformLocation(program._program_id, name), values.size, values)
 
 
 def shader_sources(model: str) -> tuple[str, str]:
@@ -465,10 +470,11 @@ def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None
     """
     picture = CLIPPED_SWEEP_PICTURE
     size, field_size = picture["size"], picture["field_size"]
-    shader_uniforms("correction", surface, incidence, lighting, None, light_azimuth)  # checks every input
+    lighting = lighting or shading.Lighting()
+    uniforms = {**shader_uniforms("correction", surface, incidence, lighting, None, light_azimuth),  # checks inputs
+                "fb_width": size}
 
     def step(out, views, incidence, lighting):
-        uniforms = {**shader_uniforms("correction", surface, incidence, lighting, None, light_azimuth), "fb_width": size}
         program = context(size, size, 1).programs.get_program("implicit.vert", "implicit.frag", scene_defines("clipped"))
         with _field_quad(field_size) as quad:
             for k in views.measured:
@@ -491,8 +497,7 @@ def _set_given_shares(program, given) -> None:
     if given is None:
         return
     for name, shares in zip(("given_lit", "given_shadow"), given):
-        location = gl.glGetUniformLocation(program._program_id, name)
-        gl.glUniform1fv(location, len(shares), np.asarray(shares, np.float32))
+        _set_float_array(program, name, shares)
 
 
 def _picture(program, uniforms: dict, quad, view, field_size: int, size: int, span, clock, table=None, given=None):
