@@ -21,8 +21,9 @@ export PYOPENGL_PLATFORM := osmesa
 # this machine) every job would otherwise compile the package's modules from source, 0.1-0.2 s a sweep job
 setup: system-deps $(STAMP)
 	@$(BIN)/python -m compileall -q src
-	@# the random tiles' counting kernel (render/fast/raster.c) built once, not by each of the first jobs
+	@# the C kernels (render/fast/raster.c, render/exact/pyramid.c) built once, not by each of the first jobs
 	@$(BIN)/python -c "from roughlight.render.fast import raster; raster.compile_kernel()"
+	@$(BIN)/python -c "from roughlight.render.exact import pyramid; pyramid.build_kernel()"
 
 # OpenGL headless, both platforms (render.platform): OSMesa (libosmesa6) and EGL's device route (libegl1 with
 # Mesa's EGL and drivers, whose software device is llvmpipe; on GPU nodes the driver's EGL takes its place); and

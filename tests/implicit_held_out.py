@@ -147,9 +147,9 @@ def grazing(elevations=(1.79, 5.0, 15.0), step: float = 0.25, node_step: float =
 
 
 def clipped(seed: int = 58) -> pd.DataFrame:
-    """Milliseconds the clipped scene's shares take on the CPU (``render.implicit.clipped_shares``, the exact
-    reference's clipping): a light's first view, which makes the light's scene (kept while the light stays), and a
-    view's shares under it (every frame whose view moves): the median, the 90th
+    """Milliseconds the clipped scene's shares take on the CPU (``render.implicit.clipped_shares``, clipped in C by
+    ``render.exact.pyramid``): a light's first view, which makes the light's scene (kept while the light stays), and
+    a view's shares under it (every frame whose view moves): the median, the 90th
     percentile and the largest, over four surfaces, four random lights each (incidence 5-85, any azimuth) and 50
     random views a light (elevation 1-179, any azimuth)."""
     from roughlight.render.implicit import clipped_shares

@@ -106,7 +106,7 @@ def test_the_kernel_is_built_once_atomically_and_a_missing_compiler_is_said(tmp_
     with pytest.raises(RuntimeError, match="needs a C compiler, and 'no-such-compiler' is not on PATH"):
         raster.build_kernel(tmp_path / "none")
     monkeypatch.setenv("CC", "false")  # a compiler that fails
-    with pytest.raises(RuntimeError, match="false could not build the counting kernel"):
+    with pytest.raises(RuntimeError, match="false could not build the random tiles. counting kernel"):
         raster.build_kernel(tmp_path / "failed")
     assert list((tmp_path / "failed").iterdir()) == []
 

@@ -68,7 +68,7 @@ def test_a_stage_imports_only_the_stages_below_it(module):
 #: (``methods``, the registry, and ``pictures``) reach every method
 RENDER_ROOMS = {"ground": set(), "gl": {"ground"}, "exact": {"ground"}, "fast": {"ground", "gl", "exact"},
                 "naive": {"ground", "gl"}, "implicit": {"ground", "gl", "exact"}, "mitsuba": {"ground"}}
-RENDER_GROUND = {"render", "render.__init__", "render.shading", "render.views", "render.sweep"}
+RENDER_GROUND = {"render", "render.__init__", "render.shading", "render.views", "render.sweep", "render.native"}
 
 
 def render_room(module: str) -> str:

@@ -24,25 +24,16 @@ so a centre is misplaced only within rounding of an edge, where llvmpipe snaps v
 from __future__ import annotations
 
 import ctypes
-import hashlib
-import os
-import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
 
-from ...atomic import atomic_path
+from .. import native
 
-__all__ = ["torus_basis", "count_views", "star_discrepancy", "identity", "build_kernel", "compile_kernel", "SOURCE", "FLAGS"]
+__all__ = ["torus_basis", "count_views", "star_discrepancy", "identity", "build_kernel", "compile_kernel", "SOURCE"]
 
 #: The kernel's C source.
 SOURCE = Path(__file__).with_name("raster.c")
-#: How it is compiled: optimised, as a shared library, and with no fused multiply-adds or fast-math, so that every
-#: compiler gives the same counts to the bit on a machine with IEEE double arithmetic, as x86-64 and arm64 have
-#: (the environment's CFLAGS are not read).
-FLAGS = ("-O2", "-std=c99", "-ffp-contract=off", "-fno-fast-math", "-fPIC", "-shared")
-
 
 
 def torus_basis(matrix) -> tuple[int, int, int]:
@@ -141,60 +132,22 @@ def identity() -> str:
 
 
 def build_kernel(cache=None) -> Path:
-    """The kernel's shared library, built from :data:`SOURCE` with :data:`FLAGS` if it is not yet there.
-
-    It is named by a digest of the source, the flags and the compiler, in ``__pycache__`` beside this module (or,
-    where that cannot be written, in ``$XDG_CACHE_HOME/roughlight``, by default ``~/.cache/roughlight``), and
-    written under a temporary name, then renamed (:func:`roughlight.atomic.atomic_path`, which also gives it an
-    ordinary file's permissions): jobs starting together may each build it, none loads half a file.
-    The compiler is ``$CC``, else ``cc``: about 0.2 s, once a machine (``make setup`` builds it).
-
-    Parameters
-    ----------
-    cache : path-like, optional
-        The folder to keep it in, instead of the ones above.
+    """The kernel's shared library, built from :data:`SOURCE` if it is not yet there
+    (:func:`roughlight.render.native.build`: ``__pycache__/raster-<digest>.so`` beside this module, or in
+    ``$XDG_CACHE_HOME/roughlight``; ``cache``, a folder, instead). ``make setup`` builds it.
 
     Raises
     ------
     RuntimeError
         No C compiler, or the compiler failed (its message is included).
     """
-    compiler = os.environ.get("CC") or "cc"
-    if shutil.which(compiler) is None:
-        raise RuntimeError(f"the random tiles' counting kernel ({SOURCE.name}) needs a C compiler, and {compiler!r} "
-                           "is not on PATH: install one (Debian: apt-get install gcc; `make setup` does) or set CC")
-    source = SOURCE.read_bytes()
-    digest = hashlib.sha256(b"\0".join([source, " ".join(FLAGS).encode(), compiler.encode()])).hexdigest()[:16]
-    folders = [Path(cache)] if cache is not None else [SOURCE.with_name("__pycache__"), _user_cache()]
-    for folder in folders:
-        target = folder / f"raster-{digest}.so"
-        if target.is_file():
-            return target
-    for folder in folders:
-        try:
-            folder.mkdir(parents=True, exist_ok=True)
-        except OSError:
-            continue
-        if not os.access(folder, os.W_OK):
-            continue
-        target = folder / f"raster-{digest}.so"
-        with atomic_path(target) as tmp:
-            done = subprocess.run([compiler, *FLAGS, str(SOURCE), "-o", tmp, "-lm"], capture_output=True, text=True)
-            if done.returncode != 0:
-                raise RuntimeError(f"{compiler} could not build the counting kernel {SOURCE}:\n{done.stderr.strip()}")
-        return target
-    raise RuntimeError(f"no folder to keep the counting kernel in: {', '.join(map(str, folders))} cannot be written")
+    return native.build(SOURCE, "the random tiles' counting kernel", cache)
 
 
 def compile_kernel() -> None:
     """Build the counting kernel now (:func:`build_kernel`) and load it: ``make setup`` calls it once, so that the
     first jobs of a fresh clone do not each build it, and a missing compiler is said at set-up."""
     _library()
-
-
-def _user_cache() -> Path:
-    """``$XDG_CACHE_HOME/roughlight``, by default ``~/.cache/roughlight``."""
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "roughlight"
 
 
 #: The loaded kernel (:func:`_library`), one a process.

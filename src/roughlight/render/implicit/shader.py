@@ -27,7 +27,7 @@ import numpy as np
 from ...surfaces.surface import Surface
 from .. import shading, sweep
 from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
-from .clipped import clipped_shares, forget_views
+from .clipped import clipped_scene, clipped_shares
 from .model import shader_uniforms
 from .settings import ImplicitSettings
 
@@ -426,14 +426,14 @@ def _field_by_clipped_shares(surface: Surface, incidence, elevation, azimuth, fi
                              lighting, samples: int, phases: dict | None = None, light_azimuth: float = 0.0):
     """:func:`render_field` of the clipped scene: each frame clips its view's facet shares on the CPU
     (:func:`clipped_shares`, inside the frame's time: phase ``shares``) and the quad draws them as the correction
-    draws its own (``SCENE_CORRECTION`` with ``GIVEN_SHARES``). The light's scene is made before the frame's clock
-    and kept while the light stays, as a scene keeps its buffers."""
+    draws its own (``SCENE_CORRECTION`` with ``GIVEN_SHARES``). The light's scene (its facets and the light, as the
+    C clipper takes them) is made before the frame's clock and kept while the light stays, as a scene keeps its
+    buffers; every frame clips its view whole, the light's occluders too."""
     lighting = lighting or shading.Lighting()
     uniforms = shader_uniforms("correction", surface, incidence, lighting, samples, light_azimuth)  # checks inputs
     view = shading.view_direction(float(elevation), float(azimuth))
-    shares = partial(clipped_shares, surface, incidence, elevation, azimuth, lighting.shadows, light_azimuth)
-    shares()  # the light's scene, kept
-    forget_views(surface, incidence, lighting.shadows, light_azimuth)  # each frame clips its view anew
+    scene = clipped_scene(surface, float(incidence), bool(lighting.shadows), float(light_azimuth))  # kept
+    shares = partial(scene.shares, float(elevation), float(azimuth))
     ctx = context(size, size, 1)
     program = ctx.programs.get_program("implicit.vert", "implicit.frag", scene_defines("clipped"))
     uniforms = {**uniforms, "scene_view": np.asarray(view, np.float32), "fb_width": size}
@@ -452,8 +452,8 @@ CLIPPED_SWEEP_PICTURE = {"size": 128, "field_size": 8192, "span": 8.0}
 def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth: float = 0.0) -> dict:
     """A sweep of the clipped scene: each view drawn as :func:`render_field`'s ``"clipped"`` frame draws it (the
     view's facet shares clipped exactly on the CPU, then one quad whose pixels each show one facet's 8-bit value,
-    picked by a dither threshold; one quad and program for the whole sweep, and the views the light's scene keeps
-    kept), and its picture's mean (:data:`CLIPPED_SWEEP_PICTURE`, wholly covered by the field).
+    picked by a dither threshold; one quad and program for the whole sweep, every view's shares clipped in one call),
+    and its picture's mean (:data:`CLIPPED_SWEEP_PICTURE`, wholly covered by the field).
 
     Parameters
     ----------
@@ -476,11 +476,14 @@ def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None
 
     def step(out, views, incidence, lighting):
         program = context(size, size, 1).programs.get_program("implicit.vert", "implicit.frag", scene_defines("clipped"))
+        measured = np.asarray(views.measured)
+        lit, shadowed = clipped_shares(surface, incidence, views.elevation[measured], views.azimuth[measured],
+                                       lighting.shadows, light_azimuth)  # every view's shares, in one call
         with _field_quad(field_size) as quad:
-            for k in views.measured:
+            for j, k in enumerate(measured):
                 e, phi = views.elevation[k], views.azimuth[k]
                 view = shading.view_direction(float(e), float(phi))
-                given = clipped_shares(surface, incidence, e, phi, lighting.shadows, light_azimuth)
+                given = lit[j], shadowed[j]
                 image, _ = _picture(program, {**uniforms, "scene_view": np.asarray(view, np.float32)}, quad, view,
                                     field_size, size, picture["span"], _Phases(None), given=given)
                 means = image.reshape(-1, 4).mean(axis=0, dtype=np.float64)
