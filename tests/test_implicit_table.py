@@ -246,10 +246,11 @@ def test_the_export_section_and_the_goal_show_in_chromium(table, tmp_path):
     assert "drawing alone" in seen["goal"] and "1.70" in seen["goal"] and "94" in seen["goal"]
     assert "implicit_exact, shares once a frame" in seen["goal"]
     assert "no implicit model meets it" in seen["finding"] and "#implicit-goal" in seen["links"]
-    # the clipped scene: accurate, 40x, holding the light's polygons (kilobytes, not a table)
+    # the clipped scene: accurate, 40x, holding its facets and the light (kilobytes, not a table)
     clipped = next(line for line in seen["goal"].splitlines() if line.startswith("implicit_clipped"))
     assert "0.9 kB" in clipped and "0.23" in clipped and "40" in clipped
-    assert "implicit_clipped: worst view 0.23, 40× explicit, no table (0.9 kB of the light's polygons)" in seen["finding"]
+    assert "implicit_clipped: worst view 0.23, 40× explicit, no table (0.9 kB: its facets and the light)" in seen["finding"]
+    assert "on the largest field timed, N 64)" in seen["finding"]
 
 
 def test_the_hot_spot_is_read_with_the_view_turned_with_the_light(table):

@@ -70,6 +70,10 @@ assert raster.build_kernel().is_relative_to(Path({where!r})), raster.build_kerne
 square = np.array([[[0, 0, 0], [1, 0, 0], [1, 1, 0]], [[0, 0, 0], [1, 1, 0], [0, 1, 0]]])  # the period, flat
 visible, total, per_tile = raster.count_views(square, np.array([0, 0]), 1, np.zeros((1, 2)), np.eye(2, dtype=int) * 4)
 assert visible.sum() == total.sum() == per_tile == 16, (visible, total)
+from roughlight.render.exact import pyramid                      # the clipper, built from the wheel's pyramid.c
+assert pyramid.build_kernel().is_relative_to(Path({where!r})), pyramid.build_kernel()
+lit, shadowed = pyramid.pyramid_shares(Surface(0.5, 1.0), 30.0, 60.0, 20.0)
+assert abs(lit.sum() + shadowed.sum() - 1.0) < 1e-12, (lit, shadowed)
 from roughlight.report import page
 html = page.build_report({{}}, {{}})                                # the page's templates
 assert "<html" in html

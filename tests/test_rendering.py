@@ -314,6 +314,9 @@ def test_each_method_records_how_it_sampled(tmp_path):
                                  "shadow_map_size": [0]}
     assert seen["implicit_table"] == {"method": ["implicit_table"], "pixels_per_period": [65], "sampling": ["table"],
                                       "shadow_map_size": [0]}
+    # the clipped scene: 128-pixel pictures over 8 periods
+    assert seen["implicit_clipped"] == {"method": ["implicit_clipped"], "pixels_per_period": [16],
+                                        "sampling": ["clipped"], "shadow_map_size": [0]}
     with pytest.raises(ValueError, match="render.method"):
         methods.recorded("raytrace")
 

@@ -15,6 +15,9 @@ imported on first use, so a job imports only what its method needs: the exact re
 - ``implicit_table``: the same with ``model`` ``table``: the facet shares read from a table of them
   (:mod:`roughlight.render.implicit.table`; its settings' ``table``: a share table or the file rule ``export``
   writes);
+- ``implicit_clipped``: :func:`roughlight.render.implicit.shader.clipped_sweep`, the same settings with ``model``
+  ``clipped``: the clipped scene, each view's facet shares clipped exactly in C
+  (:mod:`roughlight.render.exact.pyramid`) and drawn on one quad (a regular surface only);
 - ``mitsuba``: :func:`roughlight.render.mitsuba.scene.mitsuba_sweep`,
   :class:`roughlight.render.mitsuba.settings.MitsubaSettings` (Mitsuba 3, no OpenGL; what it draws on is
   :func:`roughlight.render.mitsuba.runtime.identity`'s).
@@ -133,6 +136,8 @@ METHODS = {
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "correction"),), light_azimuth=True),
         Method("implicit_table", "roughlight.render.implicit.shader:implicit_sweep",
                "roughlight.render.implicit.settings:ImplicitSettings", (("model", "table"),), light_azimuth=True),
+        Method("implicit_clipped", "roughlight.render.implicit.shader:clipped_sweep",
+               "roughlight.render.implicit.settings:ImplicitSettings", (("model", "clipped"),), light_azimuth=True),
         Method("mitsuba", "roughlight.render.mitsuba.scene:mitsuba_sweep",
                "roughlight.render.mitsuba.settings:MitsubaSettings", opengl=False,
                identity="roughlight.render.mitsuba.runtime:identity", light_azimuth=True),
@@ -193,8 +198,8 @@ def recorded(name: str, settings=None, surface=None) -> dict:
     -------
     dict: ``pixels_per_period`` (int; a random tile's per cell), ``sampling`` (``lattice``, ``grid`` or
     ``adaptive`` for fast, ``window`` for naive, ``exact`` for the reference, ``fibonacci`` for the implicit
-    shader, ``mitsuba <variant>, <n> spp, <bounces>`` for Mitsuba) and ``shadow_map_size`` (texels a side; 0 where
-    there is none).
+    shader (``table`` for its table model, ``clipped`` for the clipped scene), ``mitsuba <variant>, <n> spp,
+    <bounces>`` for Mitsuba) and ``shadow_map_size`` (texels a side; 0 where there is none).
     """
     return method(name).recorded(settings, surface)
 

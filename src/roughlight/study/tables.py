@@ -35,7 +35,8 @@ method         string  'fast', 'naive', 'reference', 'implicit_exact', 'implicit
 pixels_per_period int64 pixels per period (a random tile's: per cell; naive: 10, its window's; reference: 0;
                        implicit: sqrt of its pixels a view, rounded)
 sampling       string  'adaptive', 'lattice' or 'grid' (fast), 'window' (naive), 'exact' (reference),
-                       'fibonacci' (implicit), 'mitsuba <variant>, <n> spp, <bounces>' (mitsuba)
+                       'fibonacci' (implicit; 'table', 'clipped' for those models), 'mitsuba <variant>, <n> spp,
+                       <bounces>' (mitsuba)
 shadow_map_size   int64 shadow texels per side (a random tile's: per cell; naive: pyrender's 2048;
                        reference, implicit and mitsuba: 0)
 render_seconds float64 wall time of the sweep that produced the row

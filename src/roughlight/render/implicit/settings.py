@@ -8,21 +8,28 @@ from dataclasses import dataclass
 
 from .model import FIBONACCI, model_samples
 
-__all__ = ["ImplicitSettings"]
+__all__ = ["ImplicitSettings", "CLIPPED_PICTURE"]
+
+#: The clipped scene's pictures (``model`` ``"clipped"``: :func:`roughlight.render.implicit.shader.clipped_sweep`):
+#: pixels a side, and the field and the periods across each picture, so that the field fills the picture down to
+#: the lowest view a sweep measures (elevation 1: span / sin 1 degree = 458 periods deep).
+CLIPPED_PICTURE = {"size": 128, "field_size": 8192, "span": 8.0}
 
 
 @dataclass(frozen=True)
 class ImplicitSettings:
-    """Knobs of the ``implicit_exact`` and ``implicit_correction`` methods (one quad through the implicit shader).
+    """Knobs of the implicit methods (one quad through the implicit shader).
 
     Attributes
     ----------
     model : str
         ``"exact"`` (ray casting), ``"correction"`` (the first-order correction) or ``"table"`` (the shares read
-        from a table), :data:`MODELS`.
+        from a table), :data:`MODELS`; or ``"clipped"`` (the clipped scene: the shares clipped exactly in C, each
+        view one picture of :data:`CLIPPED_PICTURE`).
     samples : int or None
         Pixels a view, a Fibonacci number (:data:`FIBONACCI`); None: the model's own
-        (:func:`roughlight.render.implicit.model.model_samples`).
+        (:func:`roughlight.render.implicit.model.model_samples`). The clipped scene takes none (its pictures are
+        :data:`CLIPPED_PICTURE`'s).
     table : str, os.PathLike, ShareTable or None
         The ``table`` model's table of shares (:class:`roughlight.render.implicit.table.ShareTable`) or the file
         that holds it (:func:`roughlight.render.implicit.table.save_table`, as rule ``export`` writes it); None:
@@ -35,7 +42,11 @@ class ImplicitSettings:
     table: object = None
 
     def __post_init__(self):
-        model_samples(self.model)  # refuses an unknown model
+        if self.model == "clipped":
+            if self.samples is not None:
+                raise ValueError(f"the clipped scene draws {CLIPPED_PICTURE['size']}² pictures: it takes no samples")
+        else:
+            model_samples(self.model)  # refuses an unknown model
         if self.samples is not None and int(self.samples) not in FIBONACCI:
             raise ValueError(f"samples must be one of the Fibonacci numbers {FIBONACCI}, got {self.samples!r}")
         if self.model != "table" and self.table is not None:
@@ -66,10 +77,16 @@ class ImplicitSettings:
     @property
     def pixels(self) -> int:
         """Pixels a view."""
+        if self.model == "clipped":
+            return CLIPPED_PICTURE["size"] ** 2
         return model_samples(self.model) if self.samples is None else int(self.samples)
 
     def recorded(self, surface=None) -> dict:
-        """How the surface was sampled: ``pixels`` on one period, sqrt(pixels) a period along each direction."""
+        """How the surface was sampled: ``pixels`` on one period, sqrt(pixels) a period along each direction (the
+        clipped scene: its picture's pixels a period, ``sampling`` ``clipped``)."""
+        if self.model == "clipped":
+            across = CLIPPED_PICTURE["size"] / CLIPPED_PICTURE["span"]
+            return {"pixels_per_period": int(round(across)), "sampling": "clipped", "shadow_map_size": 0}
         sampling = "table" if self.model == "table" else "fibonacci"
         return {"pixels_per_period": int(round(self.pixels**0.5)), "sampling": sampling, "shadow_map_size": 0}
 

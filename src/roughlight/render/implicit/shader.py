@@ -29,7 +29,7 @@ from .. import shading, sweep
 from ..gl.context import GLTF, Primitive, context, gl, set_uniforms
 from .clipped import clipped_scene, clipped_shares
 from .model import shader_uniforms
-from .settings import ImplicitSettings
+from .settings import CLIPPED_PICTURE, ImplicitSettings
 
 __all__ = ["implicit_sweep", "render_field", "scene_defines", "table_defines", "table_uniforms", "shader_sources",
            "FRAMEBUFFER_WIDTH"]
@@ -444,16 +444,12 @@ def _field_by_clipped_shares(surface: Surface, incidence, elevation, azimuth, fi
         return _picture(program, uniforms, quad, view, field_size, size, span, clock, given=given)
 
 
-#: The clipped sweep's pictures: pixels a side, and the field and the periods across each picture, so that the field
-#: fills the picture down to the lowest view a sweep measures (elevation 1: span / sin 1 degree = 458 periods deep).
-CLIPPED_SWEEP_PICTURE = {"size": 128, "field_size": 8192, "span": 8.0}
-
-
-def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth: float = 0.0) -> dict:
+def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None, settings=None,
+                  light_azimuth: float = 0.0) -> dict:
     """A sweep of the clipped scene: each view drawn as :func:`render_field`'s ``"clipped"`` frame draws it (the
     view's facet shares clipped exactly on the CPU, then one quad whose pixels each show one facet's 8-bit value,
     picked by a dither threshold; one quad and program for the whole sweep, every view's shares clipped in one call),
-    and its picture's mean (:data:`CLIPPED_SWEEP_PICTURE`, wholly covered by the field).
+    and its picture's mean (:data:`~roughlight.render.implicit.settings.CLIPPED_PICTURE`, wholly covered by the field).
 
     Parameters
     ----------
@@ -461,6 +457,7 @@ def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None
     incidence : float, light elevation, degrees in [0, 90]
     azimuth, elevation : (n_views,) arrays, degrees
     lighting : Lighting, optional
+    settings : ImplicitSettings with ``model`` ``"clipped"``, optional (method ``implicit_clipped``; it has no knobs)
     light_azimuth : float, the light's azimuth, degrees
 
     Returns
@@ -468,7 +465,7 @@ def clipped_sweep(surface: Surface, incidence, azimuth, elevation, lighting=None
     dict as :func:`implicit_sweep`'s: ``diffuse``, ``specular``, ``total``, ``coverage`` (n_views,) and ``seconds``;
     the means before rounding and without inner shadows are NaN (an 8-bit framebuffer).
     """
-    picture = CLIPPED_SWEEP_PICTURE
+    picture = CLIPPED_PICTURE
     size, field_size = picture["size"], picture["field_size"]
     lighting = lighting or shading.Lighting()
     uniforms = {**shader_uniforms("correction", surface, incidence, lighting, None, light_azimuth),  # checks inputs
