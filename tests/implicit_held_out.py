@@ -15,7 +15,11 @@ a 0.7, light at incidence 63.39 and azimuth 205.2), and what linear interpolatio
 misses there. With ``--phases``: where the correction's, the clipped scene's and the exact form's once-a-frame frames
 go (first pass or the CPU's shares, clear, draw, read-back) at 28,657 to 233 samples, N 512. With ``--clipped``:
 what the clipped scene's shares cost on the CPU (the exact reference's clipping once a frame): a light's scene and a
-view's shares, over four surfaces, four random lights each and 50 random views a light.
+view's shares, over four surfaces, four random lights each and 50 random views a light. With ``--full-plan``: the
+clipped scene through ``methods.sweep("implicit_clipped", ...)`` against the exact reference on every surface, light
+and view of the full plan's validation (rule implicit_surface's ``full`` plan: its grid and random surfaces at every
+view of the 1 x 5 degree grid, and its held-out lights and views), in two processes: each sweep's MAE and worst view
+by component (about 20 minutes).
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from roughlight.render import methods, shading  # noqa: E402
+from roughlight.render import views as sweeps  # noqa: E402
 from roughlight.surfaces.surface import Surface  # noqa: E402
 
 SURFACES = (Surface(0.35, 0.55), Surface(0.75, 0.9), Surface(1.0, 0.7))
@@ -172,11 +177,41 @@ def clipped(seed: int = 58) -> pd.DataFrame:
                          for step, s in seconds.items()])
 
 
+def _full_plan_sweep(job) -> list[dict]:
+    """One sweep of :func:`full_plan`: the clipped scene and the reference under one light, the errors by
+    component."""
+    surface, incidence, light_azimuth, azimuth, elevation, kind = job
+    clipped = methods.sweep("implicit_clipped", surface, incidence, azimuth, elevation, light_azimuth=light_azimuth)
+    exact = methods.sweep("reference", surface, incidence, azimuth, elevation, light_azimuth=light_azimuth)
+    seen = ~sweeps.is_grazing(elevation)
+    return [{"truncation": surface.truncation, "aspect": surface.aspect, "incidence": incidence,
+             "light_azimuth": light_azimuth, "kind": kind, "component": name, "views": int(seen.sum()),
+             "mae": float(np.abs(clipped[name] - exact[name])[seen].mean()),
+             "worst": float(np.abs(clipped[name] - exact[name])[seen].max())}
+            for name in ("diffuse", "specular", "total")]
+
+
+def full_plan() -> pd.DataFrame:
+    """The clipped scene on every surface, light and view of the full plan's validation (``--full-plan``)."""
+    from multiprocessing import get_context
+
+    from roughlight.measurements import implicit_surface as bench
+
+    azimuth, elevation = sweeps.view_grid(*bench.PLANS["full"]["steps"])
+    jobs = [(surface, incidence, 0.0, azimuth, elevation, kind)
+            for surface, incidence, kind in bench.validation_surfaces("full")]
+    jobs += [(surface, incidence, psi, az, el, bench.HELD_OUT) for surface, incidence, psi, az, el
+             in bench.held_out_lights("full")]
+    with get_context("spawn").Pool(2) as pool:
+        rows = [row for part in pool.imap_unordered(_full_plan_sweep, jobs) for row in part]
+    return pd.DataFrame(rows).sort_values(["kind", "truncation", "aspect", "incidence", "light_azimuth", "component"])
+
+
 if __name__ == "__main__":
     import sys
 
-    modes = {"--clipped": (clipped, 2), "--grazing": (grazing, 4), "--samples": (samples_needed, 3), "--frames": (frames, 2),
-             "--phases": (phases, 2)}
+    modes = {"--full-plan": (full_plan, 3), "--clipped": (clipped, 2), "--grazing": (grazing, 4),
+             "--samples": (samples_needed, 3), "--frames": (frames, 2), "--phases": (phases, 2)}
     for flag, (measure, decimals) in modes.items():
         if flag in sys.argv:
             print(measure().round(decimals).to_string(index=False))

@@ -268,31 +268,36 @@ static int subtract_all(polys *pieces, polys *spare, const polys *occ) {
     return OK;
 }
 
-/* Each facet's visible-lit and visible-shadowed area of each view's image (one period: the facets' areas sum to 1).
+/* Each facet's visible-lit and visible-shadowed area of each view's image (one period: the facets' areas sum to 1)
+ * under each of several lights, each view's visibility clipped once for all of them.
  *
- * corners (F, 4, 3), sides (F,), alpha, beta, gamma (F,): the facets; normals (F, 3) unit; light (3,) unit toward
- * the light; shadows 0 or 1; views (V, 3) unit toward the detector, above the horizon; lit, shadowed (V, F) out.
+ * corners (F, 4, 3), sides (F,), alpha, beta, gamma (F,): the facets; normals (F, 3) unit; lights (L, 3) unit toward
+ * each light; shadows 0 or 1; views (V, 3) unit toward the detector, above the horizon; lit, shadowed (L, V, F) out.
  * Returns 0, or a negative code (the enum above) with the outputs unfinished. */
 int roughlight_pyramid_shares(const double *corners, const int64_t *sides, int64_t F, const double *alpha,
-                              const double *beta, const double *gamma, const double *normals, const double *light,
-                              int shadows, const double *views, int64_t V, double *lit, double *shadowed) {
+                              const double *beta, const double *gamma, const double *normals, const double *lights,
+                              int64_t L, int shadows, const double *views, int64_t V, double *lit, double *shadowed) {
     surface s = {F, corners, sides, alpha, beta, gamma};
     for (int64_t f = 0; f < F; f++)
         if (sides[f] < 3 || sides[f] > 4) return BAD_INPUT;
     int err = OK;
-    polys *shade = calloc((size_t)F, sizeof(polys)); /* each facet's light occluders, on its footprint */
-    int *lights = calloc((size_t)F, sizeof(int));     /* 1: facing the light */
-    polys pieces = {0, 0, NULL}, spare = {0, 0, NULL}, occ = {0, 0, NULL};
-    if (!shade || !lights) { err = NO_MEMORY; goto done; }
-    double dlx = 0.0, dly = 0.0;
-    int light_up = light[2] >= GRAZING_LIGHT;
-    if (light_up) { dlx = light[0] / light[2]; dly = light[1] / light[2]; }
-    for (int64_t f = 0; f < F; f++) {
-        const double *nf = normals + 3 * f;
-        double ndotl = nf[0] * light[0] + nf[1] * light[1] + nf[2] * light[2];
-        if (!shadows) { lights[f] = ndotl > 0.0; continue; }
-        lights[f] = light_up && ndotl > 0.0 && ratio(&s, f, dlx, dly) > EDGE_ON;
-        if (lights[f] && (err = occluders(&s, f, dlx, dly, &shade[f]))) goto done;
+    polys *shade = calloc((size_t)(L * F), sizeof(polys)); /* each light's occluders of each facet, on its footprint */
+    int *facing = calloc((size_t)(L * F), sizeof(int));     /* 1: the facet faces the light */
+    polys seen = {0, 0, NULL}, pieces = {0, 0, NULL}, spare = {0, 0, NULL}, occ = {0, 0, NULL};
+    if (!shade || !facing) { err = NO_MEMORY; goto done; }
+    for (int64_t l = 0; l < L; l++) {
+        const double *light = lights + 3 * l;
+        double dlx = 0.0, dly = 0.0;
+        int light_up = light[2] >= GRAZING_LIGHT;
+        if (light_up) { dlx = light[0] / light[2]; dly = light[1] / light[2]; }
+        for (int64_t f = 0; f < F; f++) {
+            const double *nf = normals + 3 * f;
+            double ndotl = nf[0] * light[0] + nf[1] * light[1] + nf[2] * light[2];
+            int64_t k = l * F + f;
+            if (!shadows) { facing[k] = ndotl > 0.0; continue; }
+            facing[k] = light_up && ndotl > 0.0 && ratio(&s, f, dlx, dly) > EDGE_ON;
+            if (facing[k] && (err = occluders(&s, f, dlx, dly, &shade[k]))) goto done;
+        }
     }
     for (int64_t v = 0; v < V; v++) {
         const double *D = views + 3 * v;
@@ -300,29 +305,38 @@ int roughlight_pyramid_shares(const double *corners, const int64_t *sides, int64
         double dx = D[0] / D[2], dy = D[1] / D[2];
         for (int64_t f = 0; f < F; f++) {
             double det = ratio(&s, f, dx, dy);
-            lit[v * F + f] = shadowed[v * F + f] = 0.0;
+            for (int64_t l = 0; l < L; l++) lit[(l * V + v) * F + f] = shadowed[(l * V + v) * F + f] = 0.0;
             if (det <= EDGE_ON) continue;
             occ.n = 0;
             if ((err = occluders(&s, f, dx, dy, &occ))) goto done;
             poly foot;
             projected(&s, f, 0.0, 0.0, 0.0, 0.0, &foot);
-            pieces.n = 0;
-            if ((err = push(&pieces, &foot))) goto done;
-            if ((err = subtract_all(&pieces, &spare, &occ))) goto done;
-            double seen = total_area(&pieces) * det, bright = 0.0;
-            if (lights[f]) {
-                if ((err = subtract_all(&pieces, &spare, &shade[f]))) goto done;
-                bright = fmin(total_area(&pieces) * det, seen);
+            seen.n = 0;
+            if ((err = push(&seen, &foot))) goto done;
+            if ((err = subtract_all(&seen, &spare, &occ))) goto done;
+            double visible = total_area(&seen) * det;
+            for (int64_t l = 0; l < L; l++) {
+                int64_t k = l * F + f, out = (l * V + v) * F + f;
+                double bright = 0.0;
+                if (facing[k] && shade[k].n == 0) bright = visible;
+                else if (facing[k]) {
+                    pieces.n = 0;
+                    for (int i = 0; i < seen.n; i++)
+                        if ((err = push(&pieces, &seen.p[i]))) goto done;
+                    if ((err = subtract_all(&pieces, &spare, &shade[k]))) goto done;
+                    bright = fmin(total_area(&pieces) * det, visible);
+                }
+                lit[out] = bright;
+                shadowed[out] = visible - bright;
             }
-            lit[v * F + f] = bright;
-            shadowed[v * F + f] = seen - bright;
         }
     }
 done:
     if (shade)
-        for (int64_t f = 0; f < F; f++) free(shade[f].p);
+        for (int64_t k = 0; k < L * F; k++) free(shade[k].p);
     free(shade);
-    free(lights);
+    free(facing);
+    free(seen.p);
     free(pieces.p);
     free(spare.p);
     free(occ.p);

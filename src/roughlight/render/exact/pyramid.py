@@ -29,7 +29,7 @@ from ..shading import check_incidence, check_light_azimuth, light_direction, vie
 from ..views import is_grazing
 from .clipping import period_facets
 
-__all__ = ["PyramidScene", "pyramid_shares", "SOURCE", "build_kernel"]
+__all__ = ["PyramidScene", "pyramid_shares", "shares_under_lights", "SOURCE", "build_kernel"]
 
 #: The clipper's C source.
 SOURCE = Path(__file__).with_name("pyramid.c")
@@ -49,7 +49,7 @@ def build_kernel(cache=None) -> Path:
 def _library():
     library = ctypes.CDLL(str(build_kernel()))
     p, n = ctypes.c_void_p, ctypes.c_int64
-    library.roughlight_pyramid_shares.argtypes = [p, p, n, p, p, p, p, p, ctypes.c_int, p, n, p, p]
+    library.roughlight_pyramid_shares.argtypes = [p, p, n, p, p, p, p, p, n, ctypes.c_int, p, n, p, p]
     library.roughlight_pyramid_shares.restype = ctypes.c_int
     return library
 
@@ -81,6 +81,7 @@ class PyramidScene:
         self.arrays = tuple(np.ascontiguousarray(a, dtype=np.int64 if a.dtype.kind == "i" else float)
                             for a in (corners, surf.sides, surf.alpha, surf.beta, surf.gamma, surf.normals, light))
         self._addresses = [a.ctypes.data for a in self.arrays]  # ints: ctypes passes them at a fraction of data_as's cost
+        self.surface = surface
         self.shadows = int(bool(shadows) and not surf.plate)
         #: each facet's column in FACET_NAMES order
         self.columns = np.array([FACET_NAMES.index(name) for name in surf.names])
@@ -101,23 +102,61 @@ class PyramidScene:
             e, p = math.radians(float(elevation)), math.radians(float(azimuth))
             views = np.array([math.cos(e) * math.cos(p), math.cos(e) * math.sin(p), math.sin(e)])
         else:
-            elevation, azimuth = np.broadcast_arrays(np.atleast_1d(np.asarray(elevation, float)),
-                                                     np.atleast_1d(np.asarray(azimuth, float)))
-            grazing = is_grazing(elevation)
-            if np.any(grazing):
-                raise ValueError(f"pyramid_shares: elevation {elevation[grazing][0]!r} is grazing (no image)")
-            views = np.ascontiguousarray(view_direction(elevation, azimuth).reshape(-1, 3))
-        n_views, n_facets = 1 if one else len(views), len(self.columns)
-        lit, shadowed = np.empty((n_views, n_facets)), np.empty((n_views, n_facets))
-        a = self._addresses
-        err = _library().roughlight_pyramid_shares(a[0], a[1], n_facets, *a[2:7], self.shadows, views.ctypes.data,
-                                                   n_views, lit.ctypes.data, shadowed.ctypes.data)
+            views = _view_vectors(elevation, azimuth)
+        lit, shadowed = self._clipped(self._addresses[6], 1, views, 1 if one else len(views))
+        return (lit[0, 0], shadowed[0, 0]) if one else (lit[0], shadowed[0])
+
+    def _clipped(self, lights: int, n_lights: int, views: np.ndarray, n_views: int) -> tuple[np.ndarray, np.ndarray]:
+        """The C function's shares under ``n_lights`` lights (the address of an (L, 3) array) of ``n_views`` views
+        ((V, 3) unit vectors): (L, V, 5) arrays in FACET_NAMES order, each view's ten summing to 1."""
+        n_facets, a = len(self.columns), self._addresses
+        lit, shadowed = np.empty((n_lights, n_views, n_facets)), np.empty((n_lights, n_views, n_facets))
+        err = _library().roughlight_pyramid_shares(a[0], a[1], n_facets, *a[2:6], lights, n_lights, self.shadows,
+                                                   views.ctypes.data, n_views, lit.ctypes.data, shadowed.ctypes.data)
         if err:
             raise RuntimeError(f"pyramid_shares: {_ERRORS.get(err, err)} ({self.description})")
-        total = lit.sum(axis=1, keepdims=True) + shadowed.sum(axis=1, keepdims=True)
-        out = np.zeros((2, n_views, len(FACET_NAMES)))
-        out[0][:, self.columns], out[1][:, self.columns] = lit / total, shadowed / total
-        return (out[0][0], out[1][0]) if one else (out[0], out[1])
+        total = lit.sum(axis=2, keepdims=True) + shadowed.sum(axis=2, keepdims=True)
+        out = np.zeros((2, n_lights, n_views, len(FACET_NAMES)))
+        out[0][..., self.columns], out[1][..., self.columns] = lit / total, shadowed / total
+        return out[0], out[1]
+
+
+def _view_vectors(elevation, azimuth) -> np.ndarray:
+    """(V, 3) unit vectors toward the detector of the views (arrays, broadcast), none grazing."""
+    elevation, azimuth = np.broadcast_arrays(np.atleast_1d(np.asarray(elevation, float)),
+                                             np.atleast_1d(np.asarray(azimuth, float)))
+    grazing = is_grazing(elevation)
+    if np.any(grazing):
+        raise ValueError(f"pyramid_shares: elevation {elevation[grazing][0]!r} is grazing (no image)")
+    return np.ascontiguousarray(view_direction(elevation, azimuth).reshape(-1, 3))
+
+
+def shares_under_lights(surface: Surface, lights, elevation, azimuth, shadows: bool = True) -> tuple[np.ndarray,
+                                                                                                     np.ndarray]:
+    """Each facet's visible-lit and visible-shadowed share of each view under each of several lights, each view's
+    visibility clipped once for all of them (what a table of light directions needs; the exact reference's
+    :func:`~roughlight.render.exact.reference.shares_under`, in C).
+
+    Parameters
+    ----------
+    surface : Surface
+        A regular surface.
+    lights : sequence of (incidence, light_azimuth)
+        The lights, degrees.
+    elevation, azimuth : (V,) arrays, degrees
+        The views, none grazing.
+    shadows : bool
+
+    Returns
+    -------
+    lit, shadowed : (L, V, 5) float arrays in :data:`~roughlight.surfaces.geometry.FACET_NAMES` order; each view's
+    ten sum to 1 under each light.
+    """
+    scene = PyramidScene(surface, 90.0, shadows)
+    lights = np.ascontiguousarray([light_direction(check_incidence(i), check_light_azimuth(p)) for i, p in lights],
+                                  dtype=float).reshape(-1, 3)
+    views = _view_vectors(elevation, azimuth)
+    return scene._clipped(lights.ctypes.data, len(lights), views, len(views))
 
 
 def pyramid_shares(surface: Surface, incidence, elevation, azimuth, shadows: bool = True,
