@@ -89,7 +89,7 @@ def test_random_tiles_repeat_nothing():
 
 def test_a_method_that_lights_from_azimuth_0_only_refuses_another():
     with pytest.raises(ValueError, match="lights from azimuth 0 only.*measured by fast, reference, implicit_exact, "
-                       "implicit_correction, implicit_table, mitsuba"):
+                       "implicit_correction, implicit_table, implicit_clipped, mitsuba"):
         methods.sweep("naive", Surface(0.5, 0.5), INCIDENCE, AZ, EL, light_azimuth=45.0)
 
 

@@ -46,9 +46,13 @@ class ExactArc:
 
         if bool(lighting.shadows) != self.shadows:
             raise ValueError(f"this arc's areas are for shadows={self.shadows}, not {lighting.shadows}")
+        from ..render.exact import view_areas
+
         el = np.asarray(elevation, float)
-        for e in el[[float(e) not in self.areas for e in el]]:
-            self.areas[float(e)] = self.scene.areas(float(e), 0.0)
+        missing = np.unique(el[[float(e) not in self.areas for e in el]])
+        if missing.size:
+            lit, shadow = view_areas(self.scene, self.surface, missing, np.zeros_like(missing))
+            self.areas.update((float(e), (lit[k], shadow[k])) for k, e in enumerate(missing))
         lit = np.array([self.areas[float(e)][0] for e in el])
         shadow = np.array([self.areas[float(e)][1] for e in el])
         azimuth = np.zeros_like(el)
