@@ -6,6 +6,6 @@ from .. import public_face
 
 #: The room's face: what the rest of the package takes from it, by the module that holds it (imported on first use).
 FACE = {"reference_sweep": "reference", "reference_views": "reference", "visible_lit_areas": "reference",
-        "LitScene": "reference", "shares_under": "reference", "view_areas": "reference", "ReferenceSettings": "settings",
+        "LitScene": "reference", "shares_under": "reference", "view_areas": "pyramid", "ReferenceSettings": "settings",
         "PyramidScene": "pyramid", "pyramid_shares": "pyramid"}
 __getattr__, __all__ = public_face(__name__, FACE)

@@ -84,7 +84,6 @@ import shapely
 import shapely.errors
 from shapely import affinity
 
-from ...surfaces.geometry import FACET_NAMES
 from ...surfaces.surface import Surface
 from .. import sweep
 from ..shading import EXTRAS, Lighting, check_incidence, check_light_azimuth, facet_sums, light_direction, view_direction
@@ -103,7 +102,7 @@ from .clipping import (
     to_oblique,
     visible_regions,
 )
-from .pyramid import PyramidScene
+from .pyramid import view_areas
 from .settings import ReferenceSettings
 from .square_views import square_visible_regions
 
@@ -562,28 +561,6 @@ def reference_sweep(surface: Surface, incidence, azimuth, elevation, lighting=No
         out["coverage"][measured] = (lit + shadow).sum(axis=1)
 
     return sweep.measure(step, incidence, azimuth, elevation, lighting, gives=EXTRAS)
-
-
-def view_areas(scene: LitScene, surface: Surface, elevation, azimuth) -> tuple[np.ndarray, np.ndarray]:
-    """Each facet's visible-lit and visible-shadowed area of each view (none grazing) under ``scene``'s light:
-    ``(V, F)`` arrays in ``scene.surf.names``' order, each row summing to 1. A regular surface's are clipped in C
-    (:func:`roughlight.render.exact.pyramid.PyramidScene`, the same construction with convex pieces: GEOS's to about
-    1e-11, a view in tens of microseconds against one to two milliseconds); a random tile's, or a regular surface's
-    the C clipper refuses, by GEOS (:meth:`LitScene.areas`)."""
-    elevation, azimuth = np.asarray(elevation, float), np.asarray(azimuth, float)
-    if isinstance(surface, Surface) and elevation.size:
-        try:
-            lit, shadow = PyramidScene(surface, scene.incidence, scene.shadows, scene.light_azimuth).shares(
-                elevation, azimuth)
-            order = [FACET_NAMES.index(name) for name in scene.surf.names]
-            return lit[:, order], shadow[:, order]
-        except RuntimeError:  # more pieces or corners than the C clipper keeps: GEOS's overlays have no such limit
-            pass
-    lit = np.zeros((elevation.size, len(scene.surf.names)))
-    shadow = np.zeros_like(lit)
-    for row in range(elevation.size):
-        lit[row], shadow[row] = scene.areas(float(elevation[row]), float(azimuth[row]))
-    return lit, shadow
 
 
 def reference_views(surface: Surface, incidence, azimuth, elevation, lighting=None, light_azimuth=0.0):
