@@ -1,14 +1,14 @@
 """A regular surface's facet shares clipped exactly in C (``pyramid.c`` beside this module): each facet's
-visible-lit and visible-shadowed share of a view's image, for many views under one light, the exact reference's
-construction (:mod:`roughlight.render.exact.reference`, "Oblique coordinates") with convex pieces in place of GEOS's
-overlays.
+visible-lit and visible-shadowed share of a view's image, for many views under one light or many, the exact
+reference's construction (:mod:`roughlight.render.exact.reference`, "Oblique coordinates") with convex pieces in
+place of GEOS's overlays.
 
 A regular surface's facets are convex, so what hides a facet along a direction (toward the viewer or the light) is
 a set of convex polygons, the overlaps of its projection with the copies in front of it. Both sets are mapped back
 onto the facet's plan footprint and subtracted from it, the footprint kept as disjoint convex pieces; the pieces'
 areas, times the facet's projection ratio, are its visible and its visible-lit area of one period of the image
 (area 1). It agrees with :meth:`LitScene.areas <roughlight.render.exact.reference.LitScene.areas>` to about
-1e-12 of the image (``tests/test_reference.py``) and takes tens of microseconds a view, where the GEOS overlays take
+1e-11 of the image (``tests/test_pyramid_clipper.py``) and takes tens of microseconds a view, where the GEOS overlays take
 one to two milliseconds: the clipped scene's per-frame shares (:mod:`roughlight.render.implicit.clipped`).
 A random tile's facets are not a regular surface's: :func:`pyramid_shares` refuses one.
 """
@@ -81,7 +81,6 @@ class PyramidScene:
         self.arrays = tuple(np.ascontiguousarray(a, dtype=np.int64 if a.dtype.kind == "i" else float)
                             for a in (corners, surf.sides, surf.alpha, surf.beta, surf.gamma, surf.normals, light))
         self._addresses = [a.ctypes.data for a in self.arrays]  # ints: ctypes passes them at a fraction of data_as's cost
-        self.surface = surface
         self.shadows = int(bool(shadows) and not surf.plate)
         #: each facet's column in FACET_NAMES order
         self.columns = np.array([FACET_NAMES.index(name) for name in surf.names])
@@ -152,7 +151,7 @@ def shares_under_lights(surface: Surface, lights, elevation, azimuth, shadows: b
     lit, shadowed : (L, V, 5) float arrays in :data:`~roughlight.surfaces.geometry.FACET_NAMES` order; each view's
     ten sum to 1 under each light.
     """
-    scene = PyramidScene(surface, 90.0, shadows)
+    scene = PyramidScene(surface, 90.0, shadows)  # its facets; its own light is not read (the lights below are)
     lights = np.ascontiguousarray([light_direction(check_incidence(i), check_light_azimuth(p)) for i, p in lights],
                                   dtype=float).reshape(-1, 3)
     views = _view_vectors(elevation, azimuth)
