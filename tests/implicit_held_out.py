@@ -1,7 +1,8 @@
-"""Issue 58's held-out trial of the implicit models, as a user calls them: three surfaces off the study's grid, three
-random lights each (incidence 10-80, any azimuth) and 40 random views a light (elevation 1-179, any azimuth), each
-model through ``methods.sweep(model, surface, incidence, azimuth, elevation, light_azimuth=psi)`` with no settings,
-against the exact reference under the same light. Prints each model's MAE and worst view by component.
+"""Issue 58's held-out trial of the implicit models (the clipped scene among them), as a user calls them: three
+surfaces off the study's grid, three random lights each (incidence 10-80, any azimuth) and 40 random views a light
+(elevation 1-179, any azimuth), each model through ``methods.sweep(model, surface, incidence, azimuth, elevation,
+light_azimuth=psi)`` with no settings, against the exact reference under the same light. Prints each model's MAE and
+worst view by component.
 
 Run: ``PYTHONPATH=src python tests/implicit_held_out.py`` (the table model measures each surface's table once, kept
 in ``ROUGHLIGHT_TABLE_CACHE`` or ``~/.cache/roughlight/share_tables``). With ``--frames``: the frame times of the
@@ -38,7 +39,7 @@ from roughlight.render import views as sweeps  # noqa: E402
 from roughlight.surfaces.surface import Surface  # noqa: E402
 
 SURFACES = (Surface(0.35, 0.55), Surface(0.75, 0.9), Surface(1.0, 0.7))
-MODELS = ("implicit_exact", "implicit_correction", "implicit_table")
+MODELS = ("implicit_exact", "implicit_correction", "implicit_table", "implicit_clipped")
 
 
 def trial(seed: int = 58) -> pd.DataFrame:
