@@ -86,3 +86,29 @@ def test_a_row_of_views_under_many_lights_is_the_references_under_each():
         exact_lit, exact_shadowed = shares_under(scenes, elevation[v], azimuth[v])
         assert np.abs(lit[:, v][:, order] - exact_lit).max() < 1e-9
         assert np.abs(shadowed[:, v][:, order] - exact_shadowed).max() < 1e-9
+
+
+def test_a_view_the_clipper_refuses_goes_to_geos_and_a_random_tile_never_reaches_it(monkeypatch):
+    """view_areas (the exact reference's sweeps): where the C clipper raises (more pieces or corners than it keeps),
+    GEOS's areas stand in, view for view; a random tile is clipped by GEOS alone."""
+    from roughlight.render.exact import view_areas
+    from roughlight.render.exact.reference import lit_scene
+
+    surface = Surface(0.5, 1.0)
+    scene = lit_scene(surface, 30.0, True, 40.0)
+    elevation, azimuth = np.array([15.0, 70.0, 130.0]), np.array([10.0, 100.0, 250.0])
+    clipped = view_areas(scene, surface, elevation, azimuth)
+    geos = [scene.areas(e, a) for e, a in zip(elevation, azimuth)]
+
+    def refuse(self, elevation, azimuth):
+        raise RuntimeError("pyramid_shares: more convex pieces than it keeps")
+
+    monkeypatch.setattr(PyramidScene, "shares", refuse)
+    fallen = view_areas(scene, surface, elevation, azimuth)
+    for k in range(3):
+        assert np.array_equal(fallen[0][k], geos[k][0]) and np.array_equal(fallen[1][k], geos[k][1])
+        assert np.abs(clipped[0][k] - geos[k][0]).max() < 1e-9
+    tile = make_surface("random_pyramids", 0.5, 0.5, seed=1, cells=2)
+    tile_scene = lit_scene(tile, 30.0, True, 0.0)
+    lit, shadowed = view_areas(tile_scene, tile, elevation[:1], azimuth[:1])  # the C clipper would refuse it
+    assert lit.shape == (1, len(tile_scene.surf.names)) and abs(lit.sum() + shadowed.sum() - 1.0) < 1e-9
