@@ -42,7 +42,7 @@ def test_plans_name_their_sizes():
     assert full["surfaces"] == benchmark.BENCH_SURFACES
     assert len(quick["configs"]()) < len(full["configs"]()) and len(quick["surfaces"]) < len(full["surfaces"])
     assert {c.method for c in quick["configs"]()} == {"naive", "reference", "fast", "implicit_exact",
-                                                     "implicit_correction"}
+                                                     "implicit_correction", "implicit_clipped"}
     # smoke: every config of quick (the report's section shows each method), on fewer surfaces and views
     assert [c.label for c in smoke["configs"]()] == [c.label for c in quick["configs"]()]
     assert len(smoke["surfaces"]) < len(quick["surfaces"])

@@ -80,12 +80,15 @@ class Config:
             return "implicit quad: exact form (ray cast)"
         if self.method == "implicit_correction":
             return "implicit quad: first-order correction"
+        if self.method == "implicit_clipped":
+            return "implicit quad: clipped scene (shares in C)"
         return self.method
 
 
 def default_configs() -> list[Config]:
     """The naive baseline, the reference, and the fast method's knobs."""
-    configs = [Config("naive"), Config("reference"), Config("implicit_exact"), Config("implicit_correction")]
+    configs = [Config("naive"), Config("reference"), Config("implicit_exact"), Config("implicit_correction"),
+               Config("implicit_clipped")]
     for sampling in ("lattice", "grid"):
         for pixels in (8, 12, 16, 24, 32, 48, 64):
             configs.append(Config("fast", {"sampling": sampling, "pixels_per_period": pixels, "shadow_map_size": 512}))
@@ -102,7 +105,8 @@ def default_configs() -> list[Config]:
 def quick_configs() -> list[Config]:
     """A few of :func:`default_configs`: the naive baseline, the reference and the fast method's
     pixels per period around the default, lattice and grid (the default workflow's chart)."""
-    configs = [Config("naive"), Config("reference"), Config("implicit_exact"), Config("implicit_correction")]
+    configs = [Config("naive"), Config("reference"), Config("implicit_exact"), Config("implicit_correction"),
+               Config("implicit_clipped")]
     for pixels in (8, 16, 24, 32):
         configs.append(Config("fast", {"sampling": "lattice", "pixels_per_period": pixels, "shadow_map_size": 512}))
     configs.append(Config("fast", {"sampling": "grid", "pixels_per_period": 24, "shadow_map_size": 512}))
