@@ -278,10 +278,11 @@ def test_a_held_out_light_reaches_the_reference_and_every_model():
     assert np.abs(at_zero["total"] - exact["total"]).max() > 10  # the light's azimuth changes what is measured
 
 
-@pytest.mark.parametrize("model", implicit.MODELS)
+@pytest.mark.parametrize("model", implicit.MODELS + ("clipped",))
 def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
     """What a graphics programmer takes away: the two sources compile and link with plain PyOpenGL (no
-    pyrender, no #include left), and shader_uniforms plus the scene's four name every uniform they use."""
+    pyrender, no #include left), and shader_uniforms plus the scene's four name every uniform they use (the clipped
+    scene: the correction's uniforms and its frame's shares, ``given_lit`` and ``given_shadow``)."""
     from OpenGL.GL import shaders as gl_shaders
 
     from roughlight.render.gl.context import context, gl
@@ -300,8 +301,10 @@ def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
             active.add((name.decode() if isinstance(name, bytes) else name).split("[")[0])
     finally:
         gl.glDeleteProgram(program)
-    given = set(implicit.shader_uniforms(model, Surface(0.7, 0.9), 40.0)) | {"camera", "field_size", "scene_view",
-                                                                              "fb_width"}
+    uniforms = implicit.shader_uniforms("correction" if model == "clipped" else model, Surface(0.7, 0.9), 40.0)
+    given = set(uniforms) | {"camera", "field_size", "scene_view", "fb_width"}
+    if model == "clipped":  # each frame's shares, clipped on the CPU (render.exact.pyramid)
+        given |= {"given_lit", "given_shadow"}
     if model == "table":  # and the table's: its light's nodes, its extent, its node elevations and its samplers
         import numpy as np
 
@@ -313,8 +316,10 @@ def test_the_shader_sources_stand_alone_and_the_api_sets_every_uniform(model):
         given |= set(table_uniforms(table, 40.0, 10.0)) | {"table_elevation"} | set(TABLE_UNITS)
     sweep_only = {"views", "n_views", "views_width"}  # the exact form's program also draws sweeps
     assert active - given <= (sweep_only if model == "exact" else set())
-    # the table's shares are the surface: its shader reads no truncation
-    assert {"aspect", "light_dir", "scene_view"} | ({"truncation"} if model != "table" else set()) <= active
+    # the table's shares and the clipped scene's are the surface: their shaders read no truncation
+    assert {"aspect", "light_dir", "scene_view"} | ({"truncation"} if model in ("exact", "correction") else set()) <= active
+    if model == "clipped":
+        assert {"given_lit", "given_shadow"} <= active
 
 
 # ---------------------------------------------------------------------------
