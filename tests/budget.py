@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -54,10 +55,21 @@ def jobs(run: Path) -> pd.DataFrame:
         bench = pd.read_csv(f, sep="\t").iloc[0]
         rel = str(f.relative_to(logs)).removesuffix(".benchmark.tsv")
         rss = pd.to_numeric(bench.get("max_rss"), errors="coerce")
+        peaks = [v for v in (float(rss), logged_peak(logs / f"{rel}.log")) if v == v]  # the sampled one can miss it
+        rss = max(peaks) if peaks else float("nan")
         rows.append({"part": part(rel), "job": rel, "seconds": float(bench["s"]), "max_rss_mb": float(rss)})
     if not rows:
         raise SystemExit(f"{logs}: no benchmark files (is it a finished run?)")
     return pd.DataFrame(rows)
+
+
+def logged_peak(log: Path) -> float:
+    """The peak memory (MB) a job logged as it ended (``peak memory N MB``, workflow/scripts/_log.py's
+    ``end_job``: its process's largest resident set, by getrusage); NaN where its log has none."""
+    if not log.is_file():
+        return float("nan")
+    found = re.findall(r"peak memory (\d+) MB", log.read_text(errors="replace"))
+    return max(map(float, found)) if found else float("nan")
 
 
 def sweep_files(run: Path, job: str) -> list[Path]:

@@ -36,6 +36,21 @@ def test_the_budget_table_sums_the_jobs_by_part_and_names_the_largest(tmp_path):
     assert budget.main(["--run", str(tmp_path), "--wall", "200"]) == 0
 
 
+def test_a_peak_the_benchmark_file_missed_is_read_from_the_jobs_log(tmp_path):
+    """Snakemake's benchmark file samples a job's memory and can miss its peak; the job logs its own as it ends
+    (workflow/scripts/_log.py), and the budget table takes the larger: here the implicit job's 873 MB over the
+    400 its benchmark file sampled, and a job whose log has no peak keeps its benchmark file's."""
+    logs = tmp_path / "results" / "logs"
+    _bench(logs / "benchmarks/quick/implicit.benchmark.tsv", 30.0, 400)
+    (logs / "benchmarks/quick/implicit.log").write_text("2026-11-30 00:41:27,061 N=512: explicit 707 ms\n"
+                                                        "2026-11-30 00:41:28,000 peak memory 873 MB\n")
+    _bench(logs / "study.benchmark.tsv", 8.0, 723)
+    (logs / "study.log").write_text("2026-11-30 00:41:00,000 wrote the study table\n")
+    table = budget.jobs(tmp_path).set_index("job")["max_rss_mb"]
+    assert table["benchmarks/quick/implicit"] == 873.0 and table["study"] == 723.0
+    assert "873 MB" in budget.summary(budget.jobs(tmp_path), wall=100.0).splitlines()[1]
+
+
 def _sweep(path: Path, render_seconds: float) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     pq.write_table(pa.table({"render_seconds": [render_seconds] * 3}), path)
