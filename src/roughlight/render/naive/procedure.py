@@ -113,8 +113,9 @@ def patch_mesh(surface: Surface, periods: int, averaged_normals: bool = False):
     vertices = (tris[None, :, :, :] + shifts[:, None, None, :]).reshape(-1, 3)
     faces = np.arange(len(vertices)).reshape(-1, 3)
     face_normals = np.tile(normals, (periods * periods, 1))
-    mesh = trimesh.Trimesh(vertices=vertices, faces=faces, face_normals=face_normals,
-                           vertex_normals=np.repeat(face_normals, 3, axis=0), process=False)
+    # no vertex normals: flat shading draws the face normals (pyrender's from_trimesh, smooth off), and averaged
+    # normals are made below from the merged mesh; a copy of them was 75 MB of the N 512 field's peak
+    mesh = trimesh.Trimesh(vertices=vertices, faces=faces, face_normals=face_normals, process=False)
     if averaged_normals:
         mesh = trimesh.Trimesh(vertices=mesh.vertices, faces=mesh.faces, process=False)
         mesh.merge_vertices(digits_vertex=9)
