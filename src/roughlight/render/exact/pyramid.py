@@ -19,6 +19,7 @@ import ctypes
 import functools
 import math
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -54,6 +55,53 @@ def _library():
     return library
 
 
+class _Facets(NamedTuple):
+    """A regular surface's facets as the C function takes them."""
+
+    #: corners (F, 4, 3), sides (F,), alpha, beta, gamma (F,) and normals (F, 3), C-contiguous
+    arrays: tuple
+    #: the arrays' addresses (ints: ctypes passes them at a fraction of ``data_as``'s cost)
+    addresses: list
+    #: (F,) int, each facet's column in FACET_NAMES order
+    columns: np.ndarray
+    #: whether the surface is the plate (it casts no shadow)
+    plate: bool
+
+
+@functools.lru_cache(maxsize=64)
+def _facets(surface: Surface) -> _Facets:
+    """``surface``'s facets (:func:`roughlight.render.exact.clipping.period_facets`) as the C function takes them,
+    kept for the process's last 64 surfaces; a random tile is refused."""
+    if not isinstance(surface, Surface):
+        raise TypeError(f"pyramid_shares clips a regular surface's facets, not a {type(surface).__name__} "
+                        "(a random tile: use the exact reference, roughlight.render.exact.LitScene)")
+    surf = period_facets(surface)
+    corners = np.zeros((len(surf.names), 4, 3))
+    for f, verts in enumerate(surf.verts):
+        corners[f, :len(verts)] = verts
+    arrays = tuple(np.ascontiguousarray(a, dtype=np.int64 if a.dtype.kind == "i" else float)
+                   for a in (corners, surf.sides, surf.alpha, surf.beta, surf.gamma, surf.normals))
+    return _Facets(arrays, [a.ctypes.data for a in arrays], np.array([FACET_NAMES.index(n) for n in surf.names]),
+                   bool(surf.plate))
+
+
+def _clip(facets: _Facets, shadows: bool, lights: np.ndarray, views: np.ndarray, what: str):
+    """The C function's shares of ``views`` ((V, 3) unit vectors toward the detector) under ``lights`` ((L, 3) unit
+    vectors toward each light), both C-contiguous: (L, V, 5) arrays in FACET_NAMES order, each view's ten summing
+    to 1. ``what`` names the surface and lights in an error."""
+    n_lights, n_views, n_facets, a = len(lights), len(views), len(facets.columns), facets.addresses
+    lit, shadowed = np.empty((n_lights, n_views, n_facets)), np.empty((n_lights, n_views, n_facets))
+    err = _library().roughlight_pyramid_shares(a[0], a[1], n_facets, *a[2:], lights.ctypes.data, n_lights,
+                                               int(bool(shadows) and not facets.plate), views.ctypes.data, n_views,
+                                               lit.ctypes.data, shadowed.ctypes.data)
+    if err:
+        raise RuntimeError(f"pyramid_shares: {_ERRORS.get(err, err)} ({what})")
+    total = lit.sum(axis=2, keepdims=True) + shadowed.sum(axis=2, keepdims=True)
+    out = np.zeros((2, n_lights, n_views, len(FACET_NAMES)))
+    out[0][..., facets.columns], out[1][..., facets.columns] = lit / total, shadowed / total
+    return out[0], out[1]
+
+
 class PyramidScene:
     """One regular surface under one light, ready to clip views' shares in C (:meth:`shares`): its facets as the C
     function takes them, and the light.
@@ -69,28 +117,18 @@ class PyramidScene:
     """
 
     def __init__(self, surface: Surface, incidence, shadows: bool = True, light_azimuth: float = 0.0):
-        if not isinstance(surface, Surface):
-            raise TypeError(f"pyramid_shares clips a regular surface's facets, not a {type(surface).__name__} "
-                            "(a random tile: use the exact reference, roughlight.render.exact.LitScene)")
-        surf = period_facets(surface)
-        corners = np.zeros((len(surf.names), 4, 3))
-        for f, verts in enumerate(surf.verts):
-            corners[f, :len(verts)] = verts
-        light = light_direction(check_incidence(incidence), check_light_azimuth(light_azimuth))
-        #: the facets (corners, sides, alpha, beta, gamma, normals) and the light, as the C function takes them
-        self.arrays = tuple(np.ascontiguousarray(a, dtype=np.int64 if a.dtype.kind == "i" else float)
-                            for a in (corners, surf.sides, surf.alpha, surf.beta, surf.gamma, surf.normals, light))
-        self._addresses = [a.ctypes.data for a in self.arrays]  # ints: ctypes passes them at a fraction of data_as's cost
-        self.shadows = int(bool(shadows) and not surf.plate)
-        #: each facet's column in FACET_NAMES order
-        self.columns = np.array([FACET_NAMES.index(name) for name in surf.names])
+        self.facets = _facets(surface)
+        #: (1, 3) unit vector toward the light
+        self.light = np.ascontiguousarray(
+            light_direction(check_incidence(incidence), check_light_azimuth(light_azimuth)), dtype=float).reshape(1, 3)
+        self.shadows = bool(shadows)
         self.description = f"{surface}, incidence {incidence}, light azimuth {light_azimuth}"
         _library()  # built and loaded now, not inside a frame's time
 
     @property
     def nbytes(self) -> int:
         """Bytes the scene holds: its facets' corners and planes, and the light."""
-        return int(sum(a.nbytes for a in self.arrays))
+        return int(sum(a.nbytes for a in self.facets.arrays) + self.light.nbytes)
 
     def shares(self, elevation, azimuth) -> tuple[np.ndarray, np.ndarray]:
         """:func:`pyramid_shares` of this scene: (V, 5) arrays, or (5,) for one view."""
@@ -99,25 +137,11 @@ class PyramidScene:
             if is_grazing(float(elevation)):
                 raise ValueError(f"pyramid_shares: elevation {elevation!r} is grazing (no image)")
             e, p = math.radians(float(elevation)), math.radians(float(azimuth))
-            views = np.array([math.cos(e) * math.cos(p), math.cos(e) * math.sin(p), math.sin(e)])
+            views = np.array([[math.cos(e) * math.cos(p), math.cos(e) * math.sin(p), math.sin(e)]])
         else:
             views = _view_vectors(elevation, azimuth)
-        lit, shadowed = self._clipped(self._addresses[6], 1, views, 1 if one else len(views))
+        lit, shadowed = _clip(self.facets, self.shadows, self.light, views, self.description)
         return (lit[0, 0], shadowed[0, 0]) if one else (lit[0], shadowed[0])
-
-    def _clipped(self, lights: int, n_lights: int, views: np.ndarray, n_views: int) -> tuple[np.ndarray, np.ndarray]:
-        """The C function's shares under ``n_lights`` lights (the address of an (L, 3) array) of ``n_views`` views
-        ((V, 3) unit vectors): (L, V, 5) arrays in FACET_NAMES order, each view's ten summing to 1."""
-        n_facets, a = len(self.columns), self._addresses
-        lit, shadowed = np.empty((n_lights, n_views, n_facets)), np.empty((n_lights, n_views, n_facets))
-        err = _library().roughlight_pyramid_shares(a[0], a[1], n_facets, *a[2:6], lights, n_lights, self.shadows,
-                                                   views.ctypes.data, n_views, lit.ctypes.data, shadowed.ctypes.data)
-        if err:
-            raise RuntimeError(f"pyramid_shares: {_ERRORS.get(err, err)} ({self.description})")
-        total = lit.sum(axis=2, keepdims=True) + shadowed.sum(axis=2, keepdims=True)
-        out = np.zeros((2, n_lights, n_views, len(FACET_NAMES)))
-        out[0][..., self.columns], out[1][..., self.columns] = lit / total, shadowed / total
-        return out[0], out[1]
 
 
 def _view_vectors(elevation, azimuth) -> np.ndarray:
@@ -151,11 +175,10 @@ def shares_under_lights(surface: Surface, lights, elevation, azimuth, shadows: b
     lit, shadowed : (L, V, 5) float arrays in :data:`~roughlight.surfaces.geometry.FACET_NAMES` order; each view's
     ten sum to 1 under each light.
     """
-    scene = PyramidScene(surface, 90.0, shadows)  # its facets; its own light is not read (the lights below are)
-    lights = np.ascontiguousarray([light_direction(check_incidence(i), check_light_azimuth(p)) for i, p in lights],
-                                  dtype=float).reshape(-1, 3)
-    views = _view_vectors(elevation, azimuth)
-    return scene._clipped(lights.ctypes.data, len(lights), views, len(views))
+    vectors = np.ascontiguousarray([light_direction(check_incidence(i), check_light_azimuth(p)) for i, p in lights],
+                                   dtype=float).reshape(-1, 3)
+    return _clip(_facets(surface), shadows, vectors, _view_vectors(elevation, azimuth),
+                 f"{surface}, {len(vectors)} lights")
 
 
 def pyramid_shares(surface: Surface, incidence, elevation, azimuth, shadows: bool = True,
