@@ -512,7 +512,7 @@ def test_a_registered_third_round_decides_only_what_the_second_left_undecided_an
     moved = second.copy()
     moved.loc[moved["test"] == "back_contrast", "mean"] += 0.01
     assert (T.with_third_round(moved, registered, design, margins, measured)["round"] == 2).all()
-    assert T.stale_ensembles(moved, registered, measured)[0].endswith("planned from another second round")
+    assert T.stale_ensembles(moved, registered, measured)[0].endswith("planned from other readings of the earlier rounds")
     assert (T.with_third_round(second, T.read_registered(None), design, margins, measured)["round"] == 2).all()
     fewer = registered.copy()
     fewer.loc[fewer["statistic"] == "seeds", "value"] = fresh - 1  # not the tiles the plan asked for

@@ -34,7 +34,7 @@ from . import claims as C
 from .claim_readings import READINGS, lobe_centres, pooled_readings
 
 __all__ = ["THIRD_ROUND_BASE", "ALPHA", "COLUMNS", "plan", "basis", "round_seeds", "round_key", "round_readings",
-           "register", "read_registered", "with_third_round", "stale_ensembles", "main"]
+           "register", "read_registered", "applicable", "render_round", "with_third_round", "stale_ensembles", "main"]
 
 #: The third round's seeds are this + 1, + 2, ...: above the tested tiles' (from 201) and below the pilots' (501).
 THIRD_ROUND_BASE = 300
@@ -68,23 +68,27 @@ def plan(claims: pd.DataFrame, reading: str = "unrounded", alpha: float = ALPHA)
 
 def basis(planned: pd.DataFrame, level: float) -> str:
     """What a plan rests on, as a digest (SHA-256, 16 hex digits): each planned test's ensemble, round 2's reading
-    and seeds, its margin and its fresh seeds (numbers to 9 significant digits), and the level."""
+    and seeds, its margin and its fresh seeds, and the level. Numbers enter to 6 significant digits: the exact
+    reference's own last digits (which moved by 1e-9 of a level when its clipper moved to C) must not stale a round
+    whose plan they do not change."""
     rows = [[str(r["kind"]), *(f"{float(r[k]):.9g}" for k in ("truncation", "aspect", "incidence")), str(r["test"]),
-             *(f"{float(r[k]):.9g}" for k in ("mean", "se", "regular", "margin")), int(r["seeds"]), int(r["fresh"])]
+             *(f"{float(r[k]):.6g}" for k in ("mean", "se", "regular", "margin")), int(r["seeds"]), int(r["fresh"])]
             for _, r in planned.iterrows()]
-    return hashlib.sha256(json.dumps([rows, f"{level:.9g}"]).encode()).hexdigest()[:16]
+    return hashlib.sha256(json.dumps([rows, f"{level:.6g}"]).encode()).hexdigest()[:16]
 
 
-def round_seeds(n: int) -> list[int]:
-    """The third round's first ``n`` seeds."""
-    return [THIRD_ROUND_BASE + k for k in range(1, int(n) + 1)]
+def round_seeds(n: int, base: int = THIRD_ROUND_BASE) -> list[int]:
+    """A registered round's first ``n`` seeds (``base`` + 1 ...; the third round's by default)."""
+    return [base + k for k in range(1, int(n) + 1)]
 
 
-def round_key(measured: dict, kind: str, truncation: float, aspect: float, incidence: float, n: int) -> str:
-    """What an ensemble's ``n`` third-round tiles are measured with, as a digest: the pilots' key
+def round_key(measured: dict, kind: str, truncation: float, aspect: float, incidence: float, n: int,
+              base: int = THIRD_ROUND_BASE) -> str:
+    """What an ensemble's ``n`` tiles of a registered round are measured with, as a digest: the pilots' key
     (:func:`roughlight.study.plan.claim_tiles_key`) of the round's seeds (``measured``:
-    :func:`roughlight.study.plan.claim_measurement`)."""
-    return rl_plan.claim_tiles_key(measured, kind, float(truncation), float(aspect), incidence, round_seeds(n))
+    :func:`roughlight.study.plan.claim_measurement`; ``base``: the round's, :func:`round_seeds`)."""
+    return rl_plan.claim_tiles_key(measured, kind, float(truncation), float(aspect), incidence,
+                                   round_seeds(n, base))
 
 
 def _fresh(planned: pd.DataFrame) -> dict:
@@ -101,13 +105,14 @@ def round_readings(rows: pd.DataFrame, geometry: pd.DataFrame, steps: tuple[floa
             for key, stack in C.seed_stacks_of(rows, steps).items() for reading in READINGS}
 
 
-def register(readings: dict, planned: pd.DataFrame, level: float, measured: dict) -> pd.DataFrame:
-    """The registered table (:data:`COLUMNS`) of a measured round: each ensemble's readings with its key, the
-    plan's basis, the level and its fresh seeds."""
+def register(readings: dict, planned: pd.DataFrame, level: float, measured: dict,
+             base: int = THIRD_ROUND_BASE) -> pd.DataFrame:
+    """The registered table (:data:`COLUMNS`) of a measured round (seeds from ``base`` + 1): each ensemble's
+    readings with its key, the plan's basis, the level and its fresh seeds."""
     fresh, digest, rows = _fresh(planned), basis(planned, level), []
     for (kind, t, a, i, reading), pooled in readings.items():
         n = fresh[(kind, t, a, i)]
-        key = round_key(measured, kind, t, a, i, n)
+        key = round_key(measured, kind, t, a, i, n, base)
         for statistic, value in pooled.items():
             text = statistic.endswith("_why")  # why a lobe could not be read ("" where it could); the rest numbers
             rows.append([kind, float(t), float(a), float(i), key, digest, level, n, reading, statistic,
@@ -127,25 +132,27 @@ def read_registered(path) -> pd.DataFrame:
     return table
 
 
-def _why_not(first, digest: str, measured: dict, key) -> str:
+def _why_not(first, digest: str, measured: dict, key, base: int) -> str:
     """Why a registered ensemble's readings do not apply today ("" where they do)."""
     if first["basis"] != digest:
-        return "planned from another second round"
-    if first["key"] != round_key(measured, *key, int(first["seeds"])):
+        return "planned from other readings of the earlier rounds"
+    if first["key"] != round_key(measured, *key, int(first["seeds"]), base):
         return "measured with other settings"
     return ""
 
 
-def _applicable(registered: pd.DataFrame, digest: str, measured: dict) -> tuple[dict, list]:
-    """(ensemble, reading) -> pooled readings of the registered ensembles measured with today's settings and
-    planned from today's second round, with their seeds and level; and the others, each with why not."""
+def applicable(registered: pd.DataFrame, digest: str, measured: dict,
+               base: int = THIRD_ROUND_BASE) -> tuple[dict, list]:
+    """(ensemble, reading) -> pooled readings of a registered round's ensembles (seeds from ``base`` + 1) measured
+    with today's settings and planned from today's earlier rounds (``digest``: the plan's :func:`basis`), with
+    their seeds and level; and the others, each with why not."""
     out, stale = {}, []
     for (kind, t, a, i, reading), part in registered.groupby(ENSEMBLE + ["claim_reading"], sort=False):
         first = part.iloc[0]
         pooled = {s: (text if s.endswith("_why") else float(v))
                   for s, v, text in zip(part["statistic"], part["value"], part["text"])}
         pooled["seeds"] = int(pooled.get("seeds", -1))
-        why = _why_not(first, digest, measured, (kind, t, a, i)) or (
+        why = _why_not(first, digest, measured, (kind, t, a, i), base) or (
             "not the tiles its plan asked for" if pooled["seeds"] != int(first["seeds"]) else "")
         if why:
             stale.append(((kind, float(t), float(a), float(i), reading), why))
@@ -156,12 +163,12 @@ def _applicable(registered: pd.DataFrame, digest: str, measured: dict) -> tuple[
 
 def stale_ensembles(claims: pd.DataFrame, registered: pd.DataFrame, measured: dict) -> list[str]:
     """The registered ensembles a run does not take (each reading once), as lines for its log: the ensemble and
-    why (planned from another second round, measured with other settings, or not the tiles its plan asked for:
+    why (planned from other readings of the earlier rounds, measured with other settings, or not the tiles its plan asked for:
     ``make claim-third-round`` measures the round again)."""
     if not len(registered):
         return []
     planned, level = plan(claims)
-    _, stale = _applicable(registered, basis(planned, level), measured)
+    _, stale = applicable(registered, basis(planned, level), measured)
     return sorted({f"{k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale})
 
 
@@ -175,7 +182,7 @@ def with_third_round(claims: pd.DataFrame, registered: pd.DataFrame, design: pd.
     out = claims.copy()
     out["round"] = 2
     planned, level = plan(claims)
-    rounds = _applicable(registered, basis(planned, level), measured)[0] if len(registered) else {}
+    rounds = applicable(registered, basis(planned, level), measured)[0] if len(registered) else {}
     if not rounds:
         return out
     tested = {key: pooled for key, (pooled, _, _) in rounds.items()}
@@ -194,18 +201,21 @@ def with_third_round(claims: pd.DataFrame, registered: pd.DataFrame, design: pd.
     return out
 
 
-def _render(planned: pd.DataFrame, config: dict, geometry: pd.DataFrame, out: Path, log) -> list[str]:
-    """Each planned ensemble's fresh tiles measured as rule ``claim_sweeps`` measures the tested ones, a file a seed
-    under ``out`` (one kept from an interrupted run is not measured again); returns the ensembles' folders."""
+def render_round(planned: pd.DataFrame, config: dict, geometry: pd.DataFrame, out: Path, log,
+                 base: int = THIRD_ROUND_BASE, taken: tuple = ()) -> list[str]:
+    """Each planned ensemble's fresh tiles (seeds from ``base`` + 1) measured as rule ``claim_sweeps`` measures
+    the tested ones, a file a seed under ``out`` (one kept from an interrupted run is not measured again); returns
+    the ensembles' folders. Raises ValueError where a seed is a tested tile's, a pilot's or in ``taken``."""
     from ..study.tables import run_sweep
     from ..surfaces.roughness import make_surface
     from .claim_instrument import claim_views
 
     sweep, folders = rl_plan.sweep_settings(config), []
     for (kind, t, a, i), n in _fresh(planned).items():
-        seeds = round_seeds(n)
-        if set(seeds) & set(rl_config.claim_seeds(config, kind, (t, a)) + rl_config.pilot_seeds(config)):
-            raise ValueError(f"third-round seeds {seeds[0]}-{seeds[-1]} meet the tested or the pilot tiles' seeds")
+        seeds = round_seeds(n, base)
+        if set(seeds) & set(rl_config.claim_seeds(config, kind, (t, a)) + rl_config.pilot_seeds(config) + list(taken)):
+            raise ValueError(f"the round's seeds {seeds[0]}-{seeds[-1]} meet the tested, the pilot or an earlier "
+                             "round's tiles' seeds")
         views = claim_views(geometry, (t, a, i), sweep["azimuth_step"], sweep["elevation_step"])
         folder = out / f"i{i:g}" / kind / f"t{t:g}_a{a:g}"
         folder.mkdir(parents=True, exist_ok=True)
@@ -248,7 +258,7 @@ def main(argv=None) -> None:
     geometry = pd.read_csv(args.analysis / "random_claim_geometry.csv")
     sweep = rl_plan.sweep_settings(config)
     steps = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
-    folders = _render(planned, config, geometry, args.work, print)
+    folders = render_round(planned, config, geometry, args.work, print)
     readings = round_readings(claim_rows(folders), geometry, steps) if folders else {}
     if not folders:
         print("no test the second round left undecided can be planned: nothing to measure (an empty round registered)")
