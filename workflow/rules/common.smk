@@ -265,6 +265,11 @@ def registered_third_round_file(wildcards):
     return _registered_file("registered_third_round")
 
 
+def registered_fourth_round_file(wildcards):
+    """claims.registered_fourth_round, the claim's fourth round as registered (none: [])."""
+    return _registered_file("registered_fourth_round")
+
+
 def claim_measurement_params(wildcards):
     """What the claim's tiles are measured with, for the registered third round's key
     (roughlight.study.plan.claim_measurement)."""

@@ -279,6 +279,7 @@ rule analysis_random:
         design="results/analysis/random_claim_design.csv",
         margins="results/analysis/random_claim_margins.csv",
         third_round=registered_third_round_file,
+        fourth_round=registered_fourth_round_file,
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(

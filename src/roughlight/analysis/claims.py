@@ -300,7 +300,9 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
     ``sd_confidence`` upper confidence limit (a few pilot seeds estimate a spread poorly). A lobe test
     (``role`` "lobe") needs the seeds whose interval, centred on the pilot's contrast, lies wholly above the
     margin (a lobe) or wholly below it (no lobe); a shape test needs those whose interval, centred on the pilot's
-    difference from the regular value, lies wholly beyond or wholly within the margin.
+    difference from the regular value, lies wholly beyond or wholly within the margin; a test of the claim's
+    direction (``role`` "direction", ``margin`` the threshold beyond the regular value the claim's way:
+    :mod:`roughlight.analysis.fourth_round`) needs those whose interval lies wholly on one side of the threshold.
 
     Returns
     -------
@@ -314,6 +316,9 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
     sd = pilot_se * math.sqrt(pilot_seeds) * math.sqrt(df / sps.chi2.ppf(1.0 - sd_confidence, df))
     if role == "lobe":
         room, expect = (pilot - margin, "a lobe") if pilot > margin else (margin - pilot, "no lobe")
+    elif role == "direction":
+        claimed = (pilot - margin) * (margin - regular) > 0  # beyond the threshold, away from the regular value
+        room, expect = abs(pilot - margin), ("a difference as claimed" if claimed else "not as claimed")
     else:
         if not np.isfinite(regular):
             return None, "the regular lobe cannot be read"

@@ -127,11 +127,12 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     ----------
     claims : :func:`roughlight.study.config.claim_settings` (its defaults when None)
     claim : the claim's design and tested tiles (:func:`claim_verdict`'s ``rows``, ``geometry``, ``margins``,
-        ``design`` and ``steps``), and optionally its registered third round (``third_round``:
-        :func:`roughlight.analysis.third_round.read_registered`'s table, and ``measured``: the run's
-        :func:`roughlight.study.plan.claim_measurement`); None: no verdict. ``random_claims_round2`` is the second
-        round's verdict, ``random_claims`` with the third round where it applies
-        (:func:`roughlight.analysis.third_round.with_third_round`)
+        ``design`` and ``steps``), and optionally its registered third and fourth rounds (``third_round``,
+        ``fourth_round``: :func:`roughlight.analysis.third_round.read_registered`'s tables, and ``measured``: the
+        run's :func:`roughlight.study.plan.claim_measurement`); None: no verdict. ``random_claims_round2`` is the
+        second round's verdict, ``random_claims`` with the later rounds where they apply
+        (:func:`roughlight.analysis.third_round.with_third_round`, then
+        :func:`roughlight.analysis.fourth_round.with_fourth_round`)
     """
     from . import ensembles as E
 
@@ -143,14 +144,17 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     out = {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
            "random_model_fits": fits}
     if claim is not None:
+        from .fourth_round import with_fourth_round
         from .third_round import read_registered, with_third_round
 
         claim = dict(claim)
-        registered, measured = claim.pop("third_round", None), claim.pop("measured", None)
+        third, fourth = (claim.pop(f"{name}_round", None) for name in ("third", "fourth"))
+        measured = claim.pop("measured", None) or {}
         out["random_claims_round2"] = claim_verdict(**claim)
-        out["random_claims"] = with_third_round(
-            out["random_claims_round2"], registered if registered is not None else read_registered(None),
-            claim["design"], claim["margins"], measured or {})
+        after_third = with_third_round(out["random_claims_round2"], third if third is not None else read_registered(None),
+                                       claim["design"], claim["margins"], measured)
+        out["random_claims"] = with_fourth_round(after_third, fourth if fourth is not None else read_registered(None),
+                                                 claim["margins"], measured)
     return out
 
 

@@ -254,10 +254,11 @@ def _pilot_problems(config: dict) -> list[str]:
             if missing:
                 problems.append(f"config: claims.registered_pilots: {registered} is not a table of the claim's pilot "
                                 f"readings (no column {', '.join(missing)})")
-    third = claims(config).get("registered_third_round")
-    if third and not Path(third).is_file():
-        problems.append(f"config: claims.registered_third_round: {third} does not exist (`make claim-third-round` "
-                        "writes it; null reads none)")
+    for name, make in (("third", "claim-third-round"), ("fourth", "claim-fourth-round")):
+        registered = claims(config).get(f"registered_{name}_round")
+        if registered and not Path(registered).is_file():
+            problems.append(f"config: claims.registered_{name}_round: {registered} does not exist (`make {make}` "
+                            "writes it; null reads none)")
     return problems + _follower_problems(config)
 
 
@@ -511,10 +512,10 @@ def claim_settings(config: dict) -> dict:
     settings["tested"] = [[k, t, a, len(claim_seeds(config, k, (t, a)))]
                           for k in random_kinds(config) for t, a in random_points(config)]
     settings["pilots"], settings["cells"] = int(settings["pilots"]), int(settings["cells"])
-    # where the pilots' readings (or the third round's) come from is not the design: the readings themselves are
+    # where the pilots' readings (or the later rounds') come from is not the design: the readings themselves are
     # rules claim_design's and analysis_random's inputs
-    settings.pop("registered_pilots", None)
-    settings.pop("registered_third_round", None)
+    for key in ("registered_pilots", "registered_third_round", "registered_fourth_round"):
+        settings.pop(key, None)
     return settings
 
 

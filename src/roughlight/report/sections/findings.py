@@ -156,7 +156,7 @@ def share_law_finding(laws: pd.DataFrame | None) -> dict:
 
 
 #: The claim's verdicts, in the order a finding counts them.
-VERDICTS = ("lobe", "no lobe", "difference", "no difference", "undecided", "not measurable")
+VERDICTS = ("lobe", "no lobe", "difference", "no difference", "not as claimed", "undecided", "not measurable")
 
 
 def _claim_test(name: str, rows: pd.DataFrame, unit: str) -> dict:
@@ -207,7 +207,7 @@ def _claim_headline(claims: pd.DataFrame) -> str:
     if (verdicts == "no lobe").all():
         return "no lobe"
     compared = verdicts[verdicts != "no lobe"]
-    decided = compared.isin(["difference", "no difference"])
+    decided = compared.isin(["difference", "no difference", "not as claimed"])
     if not decided.any():
         return "undecided"
     agrees = shape.loc[compared.index, "agrees"].astype("boolean")
@@ -227,6 +227,8 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
     ``shown``: the "Random roughness" section is on the page (a random kind was measured).
     """
     from ...analysis.claims import TESTS
+    from ...analysis.fourth_round import ALPHA as F_ALPHA
+    from ...analysis.third_round import ALPHA as T_ALPHA
 
     if not shown:
         return {"why": "no_kind"}
@@ -242,13 +244,19 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
                       for name in TESTS if (part["test"] == name).any()],
             "headline": _claim_headline(part), "n_tests": len(part)}
     rounds = claims["round"] if "round" in claims else pd.Series(2, index=claims.index)
-    first = claims[rounds != 3].iloc[0] if (rounds != 3).any() else claims.iloc[0]
-    third = claims[(rounds == 3) & (claims["reading"] == "unrounded")]
+    first = claims[rounds == 2].iloc[0] if (rounds == 2).any() else claims.iloc[0]
+    later = {}
+    for name, number in (("third", 3), ("fourth", 4)):
+        part = claims[(rounds == number) & (claims["reading"] == "unrounded")]
+        later[name] = ({"n": int((part["verdict"] != "undecided").sum()), "level": float(part["level"].iloc[0])}
+                       if len(part) else None)
     return {"readings": readings, "regular": _regular_shapes(claims), "kinds": claims["kind"].nunique(),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
-            "level": float(first["level"]), "target": "random-claim",
-            "third": {"n": int((third["verdict"] != "undecided").sum()), "level": float(third["level"].iloc[0])}
-            if len(third) else None}
+            "level": float(first["level"]), "target": "random-claim", **later,
+            # Bonferroni over the rounds: the second's family error (its level's complement times its tests) and
+            # each later round's own (third_round.ALPHA, fourth_round.ALPHA)
+            "together": 1.0 - (1.0 - float(first["level"])) * int((claims["reading"] == "unrounded").sum())
+            - sum(alpha for name, alpha in (("third", T_ALPHA), ("fourth", F_ALPHA)) if later[name] is not None)}
 
 
 # ---------------------------------------------------------------------------

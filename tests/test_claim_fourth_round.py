@@ -1,0 +1,131 @@
+"""The random-roughness claim's fourth round: the shape tests no number of seeds decides two-sided, read one-sided
+against the instrument's own margin, planned from the earlier rounds, registered and read by the verdict."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from roughlight.analysis import claim_readings as R
+from roughlight.analysis import claims as C
+from roughlight.analysis import fourth_round as F
+from roughlight.analysis import third_round as T
+
+ENSEMBLE = {"kind": "random_pyramids", "truncation": 1.0, "aspect": 0.5, "incidence": 30.0}
+MEASURED = {"claim_surface": {"cells": 8}, "sweep": {"elevation_step": 1.0, "azimuth_step": 5.0},
+            "lighting": {"light": 127.0}, "method": "fast", "render": {}}
+
+
+def _margins(grid_effect=0.0046):
+    """A margin table of the ensemble's back-lobe squareness and contrast: the instrument's parts small, the
+    difference that matters 0.05 (squareness) and 1 level (contrast)."""
+    rows = []
+    for test, regular, matters in (("back_squareness", -0.179, 0.05), ("back_contrast", 26.0, 1.0)):
+        for reading in R.READINGS:
+            rows.append({**ENSEMBLE, "test": test, "reading": reading, "regular": regular, "rendering_noise": 0.0,
+                         "sampling_error": 0.001, "grid_effect": grid_effect,
+                         "rounding": 0.003 if reading == "8-bit" else np.nan, "matters": matters,
+                         "margin": max(matters, grid_effect)})
+    return pd.DataFrame(rows)
+
+
+def _second_round(mean=-0.1417, se=0.0272, seeds=38):
+    """A verdict whose back lobe is found and whose squareness sits on the two-sided margin's edge (the random
+    pyramids at t 1, a 0.5 as the default run reads them)."""
+    margins = _margins()
+    design = pd.DataFrame([{**ENSEMBLE, "test": t, "level": 1 - 0.05 / 28} for t in ("back_contrast", "back_squareness")])
+    pooled = {"back_contrast": 4.0, "back_contrast_se": 0.25, "back_squareness": mean, "back_squareness_se": se,
+              "back_why": "", "seeds": seeds}
+    key = tuple(ENSEMBLE.values())
+    return C.claim_table({key + (r,): pooled for r in R.READINGS}, design, margins).assign(round=2), margins
+
+
+def test_the_instrument_margin_leaves_out_the_difference_that_matters_and_adds_rounding_at_8_bits():
+    margins = _margins()
+    row = {**ENSEMBLE, "test": "back_squareness"}
+    assert F.instrument_margin(margins, row, "unrounded") == pytest.approx(0.0046)
+    assert F.instrument_margin(margins, row, "8-bit") == pytest.approx(0.0046)  # rounding 0.003 is smaller
+    assert F.instrument_margin(_margins(grid_effect=0.001), row, "8-bit") == pytest.approx(0.003)
+    assert F.threshold(-0.179, 0.0046, "below") == pytest.approx(-0.1836)
+    assert F.threshold(0.2, 0.01, "above") == pytest.approx(0.21)
+    with pytest.raises(ValueError, match="no margin"):
+        F.instrument_margin(margins, {**row, "test": "hot_spot_flatness"}, "unrounded")
+
+
+def test_the_plan_takes_only_undecided_shape_tests_and_plans_their_seeds_by_the_designs_rule():
+    """The squareness on the margin's edge is planned; the lobe test it rests on (found) is not; the seeds are
+    those the design's rule asks for the one-sided question, at the round's own level, and the plan expects what
+    the earlier rounds' mean says."""
+    second, margins = _second_round()
+    unrounded = second[second["reading"] == "unrounded"].set_index("test")
+    assert unrounded.loc["back_squareness", "verdict"] == "undecided"
+    assert unrounded.loc["back_contrast", "verdict"] == "lobe"
+    planned, level = F.plan(second, margins)
+    assert list(planned["test"]) == ["back_squareness"] and level == pytest.approx(1 - 0.05)
+    row = planned.iloc[0]
+    n, _ = C.planned_seeds(-0.1417, 0.0272, 38, -0.179, row["threshold"], level, "direction", F.MAX_SEEDS)
+    assert row["fresh"] == n and 38 < n <= F.MAX_SEEDS
+    assert row["threshold"] == pytest.approx(-0.179 - 0.0046)
+    assert row["why"] == "not as claimed expected from the earlier rounds' tested seeds"
+    # the direction of the expectation follows the mean's side of the threshold
+    rounder, _ = _second_round(mean=-0.25, se=0.05)
+    assert F.plan(rounder, margins)[0].iloc[0]["why"].startswith("a difference as claimed expected")
+
+
+def test_the_one_sided_verdict_reads_the_interval_against_the_threshold_the_claims_way():
+    assert F.direction_verdict(-0.30, -0.20, -0.1836, "below")[0] == "difference"
+    assert F.direction_verdict(-0.17, -0.10, -0.1836, "below")[0] == "not as claimed"
+    assert F.direction_verdict(-0.20, -0.10, -0.1836, "below")[0] == "undecided"
+    assert F.direction_verdict(0.5, 0.6, 0.4, "above")[0] == "difference"
+    assert F.direction_verdict(0.1, 0.3, 0.4, "above")[0] == "not as claimed"
+
+
+def _registered(second, margins, mean, se):
+    """The round's readings of exactly the tiles its plan asks for, registered (both readings alike)."""
+    planned, level = F.plan(second, margins)
+    fresh = int(planned["fresh"].max())
+    key = tuple(ENSEMBLE.values())
+    pooled = {"back_contrast": 4.0, "back_contrast_se": 0.2, "back_squareness": mean, "back_squareness_se": se,
+              "back_why": "", "seeds": fresh}
+    return T.register({key + (r,): pooled for r in R.READINGS}, planned, level, MEASURED, F.FOURTH_ROUND_BASE), fresh
+
+
+def test_a_registered_fourth_round_decides_the_undecided_shape_test_alone_and_only_where_it_applies(tmp_path):
+    second, margins = _second_round()
+    registered, fresh = _registered(second, margins, mean=-0.14, se=0.012)
+    path = tmp_path / "fourth.csv"
+    registered.to_csv(path, index=False)
+    decided = F.with_fourth_round(second, T.read_registered(path), margins, MEASURED)
+    fourth = decided[decided["round"] == 4]
+    assert set(fourth["test"]) == {"back_squareness"} and len(fourth) == 2  # both readings
+    assert set(fourth["verdict"]) == {"not as claimed"} and (fourth["seeds"] == fresh).all()
+    assert np.allclose(fourth["margin"], 0.0046) and np.allclose(fourth["level"], 0.95)
+    assert fourth["why"].str.startswith(f"round 4 ({fresh} fresh seeds at 95.00%, one-sided").all()
+    assert (fourth["low"] > -0.179 - 0.0046).all()
+    kept = decided[decided["round"] == 2]
+    assert set(kept["test"]) == {"back_contrast"} and set(kept["verdict"]) == {"lobe"}
+    assert F.stale_ensembles(second, registered, margins, MEASURED) == []
+    # a rounder random lobe is a difference as claimed
+    rounder, _ = _registered(second, margins, mean=-0.25, se=0.01)
+    claimed = F.with_fourth_round(second, rounder, margins, MEASURED)
+    assert set(claimed.loc[claimed["round"] == 4, "verdict"]) == {"difference"}
+    assert claimed.loc[claimed["round"] == 4, "agrees"].astype(bool).all()
+    # measured with other settings, planned from other readings, or other tiles than planned: nothing taken
+    other = {**MEASURED, "lighting": {"light": 255.0}}
+    assert (F.with_fourth_round(second, registered, margins, other)["round"] == 2).all()
+    assert F.stale_ensembles(second, registered, margins, other) == [
+        "random_pyramids t 1, a 0.5, incidence 30: measured with other settings"]
+    moved = second.copy()
+    moved.loc[moved["test"] == "back_squareness", "mean"] -= 0.01
+    assert (F.with_fourth_round(moved, registered, margins, MEASURED)["round"] == 2).all()
+    fewer = registered.copy()
+    fewer.loc[fewer["statistic"] == "seeds", "value"] = fresh - 1
+    assert (F.with_fourth_round(second, fewer, margins, MEASURED)["round"] == 2).all()
+    assert (F.with_fourth_round(second, T.read_registered(None), margins, MEASURED)["round"] == 2).all()
+
+
+def test_the_fourth_rounds_seeds_meet_no_other_tiles():
+    """Its seeds lie above every pilot's (claims.pilots is at most 100: seeds 501-600) and the third round's."""
+    from roughlight.study.config import CLAIM_PILOT_BASE
+
+    assert T.THIRD_ROUND_BASE < CLAIM_PILOT_BASE and CLAIM_PILOT_BASE + 100 <= F.FOURTH_ROUND_BASE
+    assert T.round_seeds(2, F.FOURTH_ROUND_BASE) == [F.FOURTH_ROUND_BASE + 1, F.FOURTH_ROUND_BASE + 2]
