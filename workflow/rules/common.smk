@@ -270,6 +270,11 @@ def registered_fourth_round_file(wildcards):
     return _registered_file("registered_fourth_round")
 
 
+def registered_fifth_round_file(wildcards):
+    """claims.registered_fifth_round, the claim's fifth round as registered (none: [])."""
+    return _registered_file("registered_fifth_round")
+
+
 def claim_measurement_params(wildcards):
     """What the claim's tiles are measured with, for the registered third round's key
     (roughlight.study.plan.claim_measurement)."""

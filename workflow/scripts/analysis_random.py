@@ -8,7 +8,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import _log  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from roughlight.analysis import fourth_round  # noqa: E402
+from roughlight.analysis import direction_rounds  # noqa: E402
 from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
 from roughlight.analysis.third_round import read_registered, stale_ensembles, with_third_round  # noqa: E402
@@ -23,7 +23,8 @@ claim = {"rows": claim_rows(inp.claims), "geometry": pd.read_csv(inp.geometry),
          "margins": pd.read_csv(inp.margins), "design": pd.read_csv(inp.design),
          "steps": (float(snakemake.params.sweep["azimuth_step"]), float(snakemake.params.sweep["elevation_step"])),
          "third_round": read_registered(inp.third_round[0] if inp.third_round else None),
-         "fourth_round": read_registered(inp.fourth_round[0] if inp.fourth_round else None),
+         "direction_rounds": {number: read_registered(inp[f"{spec['name']}_round"][0])
+                              for number, spec in direction_rounds.ROUNDS.items() if inp[f"{spec['name']}_round"]},
          "measured": snakemake.params.measured}
 tables = analysis_random(study, snakemake.params.settings, snakemake.params.lighting, snakemake.params.claims, claim)
 for name, frame in tables.items():
@@ -36,14 +37,14 @@ F.make("random_maps", out.random_maps_png, study=study)
 claims = tables["random_claims"]
 for reading, part in claims.groupby("reading", sort=False):
     log(f"claim ({reading}): {len(part)} tests ({int((part['round'] == 3).sum())} by the registered third round, "
-        f"{int((part['round'] == 4).sum())} by the fourth): "
+        f"{int((part['round'] == 4).sum())} by the fourth, {int((part['round'] == 5).sum())} by the fifth): "
         + ", ".join(f"{n} {v}" for v, n in part["verdict"].value_counts().items()))
 for line in stale_ensembles(tables["random_claims_round2"], claim["third_round"], claim["measured"]):
     log(f"the registered third round is not taken for {line} (`make claim-third-round` measures it again)")
 after_third = with_third_round(tables["random_claims_round2"], claim["third_round"], claim["design"], claim["margins"],
                                claim["measured"])
-for line in fourth_round.stale_ensembles(after_third, claim["fourth_round"], claim["margins"], claim["measured"]):
-    log(f"the registered fourth round is not taken for {line} (`make claim-fourth-round` measures it again)")
+for line in direction_rounds.stale_ensembles(after_third, claim["direction_rounds"], claim["margins"], claim["measured"]):
+    log(f"the registered {line} is not taken (`make claim-fourth-round` or `claim-fifth-round` measures it again)")
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
 _log.end_job()

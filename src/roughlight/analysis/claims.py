@@ -302,7 +302,7 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
     margin (a lobe) or wholly below it (no lobe); a shape test needs those whose interval, centred on the pilot's
     difference from the regular value, lies wholly beyond or wholly within the margin; a test of the claim's
     direction (``role`` "direction", ``margin`` the threshold beyond the regular value the claim's way:
-    :mod:`roughlight.analysis.fourth_round`) needs those whose interval lies wholly on one side of the threshold.
+    :mod:`roughlight.analysis.direction_rounds`) needs those whose interval lies wholly on one side of the threshold.
 
     Returns
     -------

@@ -127,12 +127,13 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     ----------
     claims : :func:`roughlight.study.config.claim_settings` (its defaults when None)
     claim : the claim's design and tested tiles (:func:`claim_verdict`'s ``rows``, ``geometry``, ``margins``,
-        ``design`` and ``steps``), and optionally its registered third and fourth rounds (``third_round``,
-        ``fourth_round``: :func:`roughlight.analysis.third_round.read_registered`'s tables, and ``measured``: the
-        run's :func:`roughlight.study.plan.claim_measurement`); None: no verdict. ``random_claims_round2`` is the
-        second round's verdict, ``random_claims`` with the later rounds where they apply
+        ``design`` and ``steps``), and optionally its registered later rounds (``third_round``:
+        :func:`roughlight.analysis.third_round.read_registered`'s table; ``direction_rounds``: round number -> such
+        a table, :func:`roughlight.analysis.direction_rounds.registered_rounds`; ``measured``: the run's
+        :func:`roughlight.study.plan.claim_measurement`); None: no verdict. ``random_claims_round2`` is the second
+        round's verdict, ``random_claims`` with the later rounds where they apply
         (:func:`roughlight.analysis.third_round.with_third_round`, then
-        :func:`roughlight.analysis.fourth_round.with_fourth_round`)
+        :func:`roughlight.analysis.direction_rounds.with_direction_rounds`)
     """
     from . import ensembles as E
 
@@ -144,17 +145,16 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     out = {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
            "random_model_fits": fits}
     if claim is not None:
-        from .fourth_round import with_fourth_round
+        from .direction_rounds import with_direction_rounds
         from .third_round import read_registered, with_third_round
 
         claim = dict(claim)
-        third, fourth = (claim.pop(f"{name}_round", None) for name in ("third", "fourth"))
+        third, later = claim.pop("third_round", None), claim.pop("direction_rounds", None) or {}
         measured = claim.pop("measured", None) or {}
         out["random_claims_round2"] = claim_verdict(**claim)
         after_third = with_third_round(out["random_claims_round2"], third if third is not None else read_registered(None),
                                        claim["design"], claim["margins"], measured)
-        out["random_claims"] = with_fourth_round(after_third, fourth if fourth is not None else read_registered(None),
-                                                 claim["margins"], measured)
+        out["random_claims"] = with_direction_rounds(after_third, later, claim["margins"], measured)
     return out
 
 

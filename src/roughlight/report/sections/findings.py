@@ -227,7 +227,7 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
     ``shown``: the "Random roughness" section is on the page (a random kind was measured).
     """
     from ...analysis.claims import TESTS
-    from ...analysis.fourth_round import ALPHA as F_ALPHA
+    from ...analysis.direction_rounds import ALPHA as D_ALPHA
     from ...analysis.third_round import ALPHA as T_ALPHA
 
     if not shown:
@@ -246,7 +246,7 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
     rounds = claims["round"] if "round" in claims else pd.Series(2, index=claims.index)
     first = claims[rounds == 2].iloc[0] if (rounds == 2).any() else claims.iloc[0]
     later = {}
-    for name, number in (("third", 3), ("fourth", 4)):
+    for name, number in (("third", 3), ("fourth", 4), ("fifth", 5)):
         part = claims[(rounds == number) & (claims["reading"] == "unrounded")]
         later[name] = ({"n": int((part["verdict"] != "undecided").sum()), "level": float(part["level"].iloc[0])}
                        if len(part) else None)
@@ -254,9 +254,9 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
             "level": float(first["level"]), "target": "random-claim", **later,
             # Bonferroni over the rounds: the second's family error (its level's complement times its tests) and
-            # each later round's own (third_round.ALPHA, fourth_round.ALPHA)
+            # each later round's own (third_round.ALPHA, direction_rounds.ALPHA)
             "together": 1.0 - (1.0 - float(first["level"])) * int((claims["reading"] == "unrounded").sum())
-            - sum(alpha for name, alpha in (("third", T_ALPHA), ("fourth", F_ALPHA)) if later[name] is not None)}
+            - sum((T_ALPHA if name == "third" else D_ALPHA) for name, part in later.items() if part is not None)}
 
 
 # ---------------------------------------------------------------------------

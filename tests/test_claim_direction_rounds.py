@@ -1,5 +1,6 @@
-"""The random-roughness claim's fourth round: the shape tests no number of seeds decides two-sided, read one-sided
-against the instrument's own margin, planned from the earlier rounds, registered and read by the verdict."""
+"""The random-roughness claim's rounds of its own direction (the fourth and fifth): the shape tests no number of
+seeds decides two-sided, read one-sided against the instrument's own margin, planned from the earlier rounds,
+registered and read by the verdict."""
 
 import numpy as np
 import pandas as pd
@@ -7,7 +8,7 @@ import pytest
 
 from roughlight.analysis import claim_readings as R
 from roughlight.analysis import claims as C
-from roughlight.analysis import fourth_round as F
+from roughlight.analysis import direction_rounds as F
 from roughlight.analysis import third_round as T
 
 ENSEMBLE = {"kind": "random_pyramids", "truncation": 1.0, "aspect": 0.5, "incidence": 30.0}
@@ -62,8 +63,8 @@ def test_the_plan_takes_only_undecided_shape_tests_and_plans_their_seeds_by_the_
     planned, level = F.plan(second, margins)
     assert list(planned["test"]) == ["back_squareness"] and level == pytest.approx(1 - 0.05)
     row = planned.iloc[0]
-    n, _ = C.planned_seeds(-0.1417, 0.0272, 38, -0.179, row["threshold"], level, "direction", F.MAX_SEEDS)
-    assert row["fresh"] == n and 38 < n <= F.MAX_SEEDS
+    n, _ = C.planned_seeds(-0.1417, 0.0272, 38, -0.179, row["threshold"], level, "direction", F.ROUNDS[4]["max_seeds"])
+    assert row["fresh"] == n and 38 < n <= F.ROUNDS[4]["max_seeds"]
     assert row["threshold"] == pytest.approx(-0.179 - 0.0046)
     assert row["why"] == "not as claimed expected from the earlier rounds' tested seeds"
     # the direction of the expectation follows the mean's side of the threshold
@@ -86,7 +87,7 @@ def _registered(second, margins, mean, se):
     key = tuple(ENSEMBLE.values())
     pooled = {"back_contrast": 4.0, "back_contrast_se": 0.2, "back_squareness": mean, "back_squareness_se": se,
               "back_why": "", "seeds": fresh}
-    return T.register({key + (r,): pooled for r in R.READINGS}, planned, level, MEASURED, F.FOURTH_ROUND_BASE), fresh
+    return T.register({key + (r,): pooled for r in R.READINGS}, planned, level, MEASURED, F.ROUNDS[4]["base"]), fresh
 
 
 def test_a_registered_fourth_round_decides_the_undecided_shape_test_alone_and_only_where_it_applies(tmp_path):
@@ -94,7 +95,7 @@ def test_a_registered_fourth_round_decides_the_undecided_shape_test_alone_and_on
     registered, fresh = _registered(second, margins, mean=-0.14, se=0.012)
     path = tmp_path / "fourth.csv"
     registered.to_csv(path, index=False)
-    decided = F.with_fourth_round(second, T.read_registered(path), margins, MEASURED)
+    decided = F.with_direction_round(second, T.read_registered(path), margins, MEASURED)
     fourth = decided[decided["round"] == 4]
     assert set(fourth["test"]) == {"back_squareness"} and len(fourth) == 2  # both readings
     assert set(fourth["verdict"]) == {"not as claimed"} and (fourth["seeds"] == fresh).all()
@@ -103,29 +104,57 @@ def test_a_registered_fourth_round_decides_the_undecided_shape_test_alone_and_on
     assert (fourth["low"] > -0.179 - 0.0046).all()
     kept = decided[decided["round"] == 2]
     assert set(kept["test"]) == {"back_contrast"} and set(kept["verdict"]) == {"lobe"}
-    assert F.stale_ensembles(second, registered, margins, MEASURED) == []
+    assert F.stale_ensembles(second, {4: registered}, margins, MEASURED) == []
     # a rounder random lobe is a difference as claimed
     rounder, _ = _registered(second, margins, mean=-0.25, se=0.01)
-    claimed = F.with_fourth_round(second, rounder, margins, MEASURED)
+    claimed = F.with_direction_round(second, rounder, margins, MEASURED)
     assert set(claimed.loc[claimed["round"] == 4, "verdict"]) == {"difference"}
     assert claimed.loc[claimed["round"] == 4, "agrees"].astype(bool).all()
     # measured with other settings, planned from other readings, or other tiles than planned: nothing taken
     other = {**MEASURED, "lighting": {"light": 255.0}}
-    assert (F.with_fourth_round(second, registered, margins, other)["round"] == 2).all()
-    assert F.stale_ensembles(second, registered, margins, other) == [
-        "random_pyramids t 1, a 0.5, incidence 30: measured with other settings"]
+    assert (F.with_direction_round(second, registered, margins, other)["round"] == 2).all()
+    assert F.stale_ensembles(second, {4: registered}, margins, other) == [
+        "round 4: random_pyramids t 1, a 0.5, incidence 30: measured with other settings"]
     moved = second.copy()
     moved.loc[moved["test"] == "back_squareness", "mean"] -= 0.01
-    assert (F.with_fourth_round(moved, registered, margins, MEASURED)["round"] == 2).all()
+    assert (F.with_direction_round(moved, registered, margins, MEASURED)["round"] == 2).all()
     fewer = registered.copy()
     fewer.loc[fewer["statistic"] == "seeds", "value"] = fresh - 1
-    assert (F.with_fourth_round(second, fewer, margins, MEASURED)["round"] == 2).all()
-    assert (F.with_fourth_round(second, T.read_registered(None), margins, MEASURED)["round"] == 2).all()
+    assert (F.with_direction_round(second, fewer, margins, MEASURED)["round"] == 2).all()
+    assert (F.with_direction_round(second, T.read_registered(None), margins, MEASURED)["round"] == 2).all()
 
 
-def test_the_fourth_rounds_seeds_meet_no_other_tiles():
-    """Its seeds lie above every pilot's (claims.pilots is at most 100: seeds 501-600) and the third round's."""
+def test_a_fifth_round_plans_from_what_the_fourth_left_and_decides_only_that():
+    """The fourth round's readings undecided, the fifth plans from them (its seeds above the fourth's, at most its
+    own max), and its registered readings decide the test as round 5; the fourth's row is what the fifth replaces,
+    and a fifth round registered without the fourth it was planned after is stale."""
+    second, margins = _second_round()
+    fourth, _ = _registered(second, margins, mean=-0.158, se=0.025)
+    after = F.with_direction_rounds(second, {4: fourth}, margins, MEASURED)
+    row = after[(after["test"] == "back_squareness") & (after["reading"] == "unrounded")].iloc[0]
+    assert row["round"] == 4 and row["verdict"] == "undecided"
+    planned, level = F.plan(after, margins, 5)
+    assert list(planned["test"]) == ["back_squareness"] and planned.iloc[0]["mean"] == pytest.approx(-0.158)
+    fresh = int(planned.iloc[0]["fresh"])
+    assert F.ROUNDS[4]["max_seeds"] < fresh <= F.ROUNDS[5]["max_seeds"]
+    key = tuple(ENSEMBLE.values())
+    pooled = {"back_contrast": 4.0, "back_contrast_se": 0.2, "back_squareness": -0.158, "back_squareness_se": 0.006,
+              "back_why": "", "seeds": fresh}
+    fifth = T.register({key + (r,): pooled for r in R.READINGS}, planned, level, MEASURED, F.ROUNDS[5]["base"])
+    decided = F.with_direction_rounds(second, {4: fourth, 5: fifth}, margins, MEASURED)
+    five = decided[decided["round"] == 5]
+    assert len(five) == 2 and set(five["verdict"]) == {"not as claimed"} and (five["seeds"] == fresh).all()
+    assert F.stale_ensembles(second, {4: fourth, 5: fifth}, margins, MEASURED) == []
+    alone = F.with_direction_rounds(second, {5: fifth}, margins, MEASURED)
+    assert 5 not in set(alone["round"])
+    assert F.stale_ensembles(second, {5: fifth}, margins, MEASURED)[0].startswith("round 5: random_pyramids")
+
+
+def test_the_rounds_seeds_meet_no_other_tiles():
+    """Each round's seeds lie above every pilot's (claims.pilots is at most 100: seeds 501-600), the third round's
+    and the rounds' before it."""
     from roughlight.study.config import CLAIM_PILOT_BASE
 
-    assert T.THIRD_ROUND_BASE < CLAIM_PILOT_BASE and CLAIM_PILOT_BASE + 100 <= F.FOURTH_ROUND_BASE
-    assert T.round_seeds(2, F.FOURTH_ROUND_BASE) == [F.FOURTH_ROUND_BASE + 1, F.FOURTH_ROUND_BASE + 2]
+    assert T.THIRD_ROUND_BASE < CLAIM_PILOT_BASE and CLAIM_PILOT_BASE + 100 <= F.ROUNDS[4]["base"]
+    assert F.ROUNDS[4]["base"] + F.ROUNDS[4]["max_seeds"] <= F.ROUNDS[5]["base"]
+    assert T.round_seeds(2, F.ROUNDS[5]["base"]) == [801, 802]

@@ -1,5 +1,5 @@
-"""The random-roughness claim's fourth round: the claim's own direction, for the shape tests that no number of seeds
-decides two-sided (docs/random-roughness.md, "A fourth round").
+"""The random-roughness claim's rounds of its own direction (the fourth and fifth): the shape tests that no number of
+seeds decides two-sided, asked one-sided (docs/random-roughness.md, "A fourth round", "A fifth round").
 
 Rounds 2 and 3 read a shape test two-sided: a *difference* when its interval lies beyond the margin around the
 regular value, *no difference* when within it, where the margin is the larger of the instrument's and the smallest
@@ -17,13 +17,14 @@ and 3 without ``matters``). The verdict, on the round's fresh tiles alone:
   the regular one by anything the instrument can tell; it may be the same, or further the other way;
 * *undecided* otherwise.
 
-Its tests are every shape test still *undecided* (unrounded) after the third round; its family their own (:data:`ALPHA`
-shared, Bonferroni), its seeds planned by the design's own rule (:func:`roughlight.analysis.claims.planned_seeds`,
-``role`` "direction") from the earlier rounds' readings of each test, fresh seeds from :data:`FOURTH_ROUND_BASE` + 1
-(none a tested tile's, a pilot's or the third round's). It is measured once and registered as the third round is
-(:mod:`roughlight.analysis.third_round`; ``make claim-fourth-round``, ``claims.registered_fourth_round``), and a run's
-verdict (rule ``analysis_random``, :func:`with_fourth_round`) takes an ensemble's registered readings only where
-they were measured with today's settings and planned from today's earlier rounds.
+A round's tests are every shape test still *undecided* (unrounded) after the rounds before it; its family their own
+(:data:`ALPHA` shared, Bonferroni), its seeds planned by the design's own rule
+(:func:`roughlight.analysis.claims.planned_seeds`, ``role`` "direction") from the latest readings of each test, fresh
+seeds from its own base (:data:`ROUNDS`; none a tested tile's, a pilot's or an earlier round's). Each round is
+measured once and registered as the third round is (:mod:`roughlight.analysis.third_round`; ``make
+claim-fourth-round``, ``make claim-fifth-round``; ``claims.registered_fourth_round``, ``registered_fifth_round``), and a
+run's verdict (rule ``analysis_random``, :func:`with_direction_rounds`) takes an ensemble's registered readings only
+where they were measured with today's settings and planned from today's earlier rounds.
 """
 
 from __future__ import annotations
@@ -37,15 +38,17 @@ import pandas as pd
 from . import claims as C
 from . import third_round as T
 
-__all__ = ["FOURTH_ROUND_BASE", "ALPHA", "MAX_SEEDS", "INSTRUMENT", "instrument_margin", "threshold", "plan",
-           "direction_verdict", "with_fourth_round", "stale_ensembles", "main"]
+__all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "plan", "direction_verdict",
+           "with_direction_round", "with_direction_rounds", "stale_ensembles", "registered_rounds", "main"]
 
-#: The fourth round's seeds are this + 1, + 2, ...: above the pilots' (501 on) and the third round's (301 on).
-FOURTH_ROUND_BASE = 600
-#: The round's family error, shared by its tests.
+#: Each round of the claim's direction: its seeds (``base`` + 1 ...: above the pilots' 501-600 and the third round's
+#: 301 on, and below the next round's), the most its plan may ask of an ensemble, and its config key and file.
+ROUNDS = {
+    4: {"name": "fourth", "base": 600, "max_seeds": 200},
+    5: {"name": "fifth", "base": 800, "max_seeds": 1000},
+}
+#: A round's family error, shared by its tests.
 ALPHA = 0.05
-#: The most fresh seeds the round's plan may ask of an ensemble (seeds up to 800).
-MAX_SEEDS = 200
 #: The parts of a margin that are the instrument's own (:func:`roughlight.analysis.claims.margins`).
 INSTRUMENT = ("rendering_noise", "sampling_error", "grid_effect")
 
@@ -72,13 +75,14 @@ def threshold(regular: float, margin: float, expected: str) -> float:
     return regular - margin if expected == "below" else regular + margin
 
 
-def plan(claims: pd.DataFrame, margins: pd.DataFrame, reading: str = "unrounded",
+def plan(claims: pd.DataFrame, margins: pd.DataFrame, number: int = 4, reading: str = "unrounded",
          alpha: float = ALPHA) -> tuple[pd.DataFrame, float]:
-    """The fourth round's plan from the verdict after the third round (``claims``: rule ``analysis_random``'s,
-    :func:`roughlight.analysis.third_round.with_third_round`): a row a shape test with a direction still
-    *undecided* in ``reading`` (the ensemble, ``test``, its latest ``mean``, ``se`` and ``seeds``, ``regular``,
-    the instrument's ``margin`` and the ``threshold``; ``fresh`` seeds planned, 0 where no count up to
-    :data:`MAX_SEEDS` decides it; ``why``), and the round's level ``1 - alpha / their count``."""
+    """Round ``number``'s plan from the verdict of the rounds before it (``claims``: rule ``analysis_random``'s
+    second round with the registered later ones, :func:`roughlight.analysis.third_round.with_third_round` and
+    :func:`with_direction_rounds`): a row a shape test with a direction still *undecided* in ``reading`` (the
+    ensemble, ``test``, its latest ``mean``, ``se`` and ``seeds``, ``regular``, the instrument's ``margin`` and the
+    ``threshold``; ``fresh`` seeds planned, 0 where no count up to the round's ``max_seeds`` decides it; ``why``),
+    and the round's level ``1 - alpha / their count``."""
     shape = claims["test"].map(lambda t: C.TESTS[t]["role"] == "shape" and "expected" in C.TESTS[t])
     open_ = claims[(claims["reading"] == reading) & (claims["verdict"] == "undecided") & shape]
     open_ = open_[np.isfinite(open_["mean"].astype(float))]  # a shape test waiting on its lobe has no reading
@@ -88,7 +92,7 @@ def plan(claims: pd.DataFrame, margins: pd.DataFrame, reading: str = "unrounded"
         margin = instrument_margin(margins, row, reading)
         edge = threshold(float(row["regular"]), margin, C.TESTS[row["test"]]["expected"])
         n, why = C.planned_seeds(row["mean"], row["se"], int(row["seeds"]), row["regular"], edge, level,
-                                 "direction", MAX_SEEDS)
+                                 "direction", ROUNDS[number]["max_seeds"])
         rows.append({**{k: row[k] for k in T.ENSEMBLE + ["test", "mean", "se", "regular"]}, "margin": margin,
                      "threshold": edge, "seeds": int(row["seeds"]), "fresh": int(n or 0),
                      "why": why.replace("the pilot", "the earlier rounds' tested seeds")})
@@ -134,20 +138,20 @@ def _decided_row(row: pd.Series, pooled: dict, margins: pd.DataFrame, level: flo
     return out
 
 
-def with_fourth_round(claims: pd.DataFrame, registered: pd.DataFrame, margins: pd.DataFrame,
-                      measured: dict) -> pd.DataFrame:
-    """The verdict with the fourth round where it applies: each shape test the earlier rounds (``claims``, after
-    :func:`roughlight.analysis.third_round.with_third_round`) left undecided, whose ensemble the registered round
-    (:func:`roughlight.analysis.third_round.read_registered`) measured with today's settings and planned from
-    today's earlier rounds, decided one-sided by that round's tiles alone (``round`` 4; its ``margin`` the
-    instrument's, its ``why`` naming the round); every other row as it was."""
+def with_direction_round(claims: pd.DataFrame, registered: pd.DataFrame, margins: pd.DataFrame, measured: dict,
+                         number: int = 4) -> pd.DataFrame:
+    """The verdict with round ``number`` where it applies: each shape test the rounds before it (``claims``) left
+    undecided, whose ensemble the registered round (:func:`roughlight.analysis.third_round.read_registered`)
+    measured with today's settings and planned from today's earlier rounds, decided one-sided by that round's tiles
+    alone (``round`` ``number``; its ``margin`` the instrument's, its ``why`` naming the round); every other row as
+    it was."""
     out = claims.copy()
     if "round" not in out:
         out["round"] = 2
     if not len(registered):
         return out
-    planned, level = plan(claims, margins)
-    rounds = T.applicable(registered, T.basis(planned, level), measured, FOURTH_ROUND_BASE)[0]
+    planned, level = plan(claims, margins, number)
+    rounds = T.applicable(registered, T.basis(planned, level), measured, ROUNDS[number]["base"])[0]
     tests = {tuple(r[T.ENSEMBLE]) + (r["test"],) for _, r in planned.iterrows()}
     for n, row in out.iterrows():
         key = tuple(row[T.ENSEMBLE])
@@ -156,28 +160,53 @@ def with_fourth_round(claims: pd.DataFrame, registered: pd.DataFrame, margins: p
         decided = _decided_row(row, rounds[key + (row["reading"],)][0], margins, level)
         for column, value in decided.items():
             out.at[n, column] = value
-        out.at[n, "why"] = (f"round 4 ({decided['seeds']} fresh seeds at {level:.2%}, one-sided, the claim's direction "
-                            f"against the instrument's margin {decided['margin']:.3g}): {decided['why']}")
-        out.at[n, "round"] = 4
+        out.at[n, "why"] = (f"round {number} ({decided['seeds']} fresh seeds at {level:.2%}, one-sided, the claim's "
+                            f"direction against the instrument's margin {decided['margin']:.3g}): {decided['why']}")
+        out.at[n, "round"] = number
     return out
 
 
-def stale_ensembles(claims: pd.DataFrame, registered: pd.DataFrame, margins: pd.DataFrame,
-                    measured: dict) -> list[str]:
-    """The registered fourth round's ensembles a run does not take (each reading once), as lines for its log
-    (``claims``: the verdict after the third round)."""
-    if not len(registered):
-        return []
-    planned, level = plan(claims, margins)
-    _, stale = T.applicable(registered, T.basis(planned, level), measured, FOURTH_ROUND_BASE)
-    return sorted({f"{k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale})
+def with_direction_rounds(claims: pd.DataFrame, registered: dict, margins: pd.DataFrame, measured: dict,
+                          until: int | None = None) -> pd.DataFrame:
+    """The verdict after the third round (``claims``) with each registered round of the claim's direction
+    (``registered``: round number -> its table, :func:`roughlight.analysis.third_round.read_registered`) in turn,
+    each planned from the verdict the rounds before it left; rounds from ``until`` on are left out."""
+    out = claims
+    for number in sorted(ROUNDS):
+        if until is not None and number >= until:
+            break
+        out = with_direction_round(out, registered.get(number, T.read_registered(None)), margins, measured, number)
+    return out
+
+
+def stale_ensembles(claims: pd.DataFrame, registered: dict, margins: pd.DataFrame, measured: dict) -> list[str]:
+    """The registered rounds' ensembles a run does not take (each reading once), as lines for its log
+    (``claims``: the verdict after the third round; ``registered`` as :func:`with_direction_rounds` takes it)."""
+    lines = set()
+    for number in sorted(ROUNDS):
+        table = registered.get(number, T.read_registered(None))
+        if len(table):
+            planned, level = plan(with_direction_rounds(claims, registered, margins, measured, until=number),
+                                  margins, number)
+            _, stale = T.applicable(table, T.basis(planned, level), measured, ROUNDS[number]["base"])
+            lines |= {f"round {number}: {k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale}
+    return sorted(lines)
+
+
+def registered_rounds(claims_settings: dict, until: int | None = None) -> dict:
+    """Round number -> its registered table, for each round of :data:`ROUNDS` (before ``until``) that the claim's
+    settings (``claims:``) name a file for (``registered_{name}_round``)."""
+    return {number: T.read_registered(claims_settings[f"registered_{spec['name']}_round"])
+            for number, spec in ROUNDS.items() if (until is None or number < until)
+            and claims_settings.get(f"registered_{spec['name']}_round")}
 
 
 def main(argv=None) -> None:
-    """``python -m roughlight.analysis.fourth_round ANALYSIS REGISTERED [--work DIR] [--config FILE]``: plan the
-    round from a finished run's verdict before it (``ANALYSIS``: its results/analysis; the second round's verdict
-    ``random_claims_round2.csv`` with the registered third round of the config), measure its tiles under ``DIR``
-    and write their readings to ``REGISTERED`` (atomically), printing the plan and the round's verdicts."""
+    """``python -m roughlight.analysis.direction_rounds ANALYSIS REGISTERED --round N [--work DIR] [--config FILE]``:
+    plan round N (:data:`ROUNDS`) from a finished run's verdict before it (``ANALYSIS``: its results/analysis; the
+    second round's verdict ``random_claims_round2.csv`` with the config's registered third round and earlier
+    rounds of the claim's direction), measure its tiles under ``DIR`` and write their readings to ``REGISTERED``
+    (atomically), printing the plan and the round's verdicts."""
     import yaml
 
     from ..atomic import write_text_atomic
@@ -188,30 +217,36 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=main.__doc__.split("\n\n")[0])
     parser.add_argument("analysis", type=Path)
     parser.add_argument("registered", type=Path)
-    parser.add_argument("--work", type=Path, default=Path("results/claims/fourth"))
+    parser.add_argument("--round", type=int, choices=sorted(ROUNDS), required=True, dest="number")
+    parser.add_argument("--work", type=Path, default=None)
     parser.add_argument("--config", type=Path, default=Path("config/config.yaml"))
     args = parser.parse_args(argv)
+    number, spec = args.number, ROUNDS[args.number]
     config = rl_config.validate_config(yaml.safe_load(args.config.read_text()))
-    measured = rl_plan.claim_measurement(config)
+    settings, measured = rl_config.claims(config), rl_plan.claim_measurement(config)
     design = pd.read_csv(args.analysis / "random_claim_design.csv")
     margins = pd.read_csv(args.analysis / "random_claim_margins.csv")
-    third = T.read_registered(rl_config.claims(config).get("registered_third_round") or None)
-    claims = T.with_third_round(pd.read_csv(args.analysis / "random_claims_round2.csv"), third, design, margins,
-                                measured)
-    planned, level = plan(claims, margins)
-    print(f"{len(planned)} shape tests undecided (unrounded) after round 3, the round's level {level:.4f}:\n"
+    third = T.read_registered(settings.get("registered_third_round") or None)
+    earlier = registered_rounds(settings, until=number)
+    claims = with_direction_rounds(T.with_third_round(pd.read_csv(args.analysis / "random_claims_round2.csv"), third,
+                                                      design, margins, measured), earlier, margins, measured, number)
+    planned, level = plan(claims, margins, number)
+    print(f"{len(planned)} shape tests undecided (unrounded) before round {number}, the round's level {level:.4f}:\n"
           + planned.to_string(index=False))
     geometry = pd.read_csv(args.analysis / "random_claim_geometry.csv")
     sweep = rl_plan.sweep_settings(config)
     steps = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
-    taken = tuple(T.round_seeds(int(third["seeds"].max()))) if len(third) else ()
-    folders = T.render_round(planned, config, geometry, args.work, print, FOURTH_ROUND_BASE, taken)
+    taken = [*(T.round_seeds(int(third["seeds"].max())) if len(third) else []),
+             *(seed for k, table in earlier.items() if len(table)
+               for seed in T.round_seeds(int(table["seeds"].max()), ROUNDS[k]["base"]))]
+    work = args.work or Path(f"results/claims/{spec['name']}")
+    folders = T.render_round(planned, config, geometry, work, print, spec["base"], tuple(taken))
     readings = T.round_readings(claim_rows(folders), geometry, steps) if folders else {}
-    table = T.register(readings, planned, level, measured, FOURTH_ROUND_BASE)
+    table = T.register(readings, planned, level, measured, spec["base"])
     write_text_atomic(args.registered, table.to_csv(index=False))
-    decided = with_fourth_round(claims, table, margins, measured)
-    print(decided[decided["round"] == 4][T.ENSEMBLE + ["test", "reading", "seeds", "mean", "low", "high", "margin",
-                                                      "regular", "verdict"]].to_string(index=False))
+    decided = with_direction_round(claims, table, margins, measured, number)
+    print(decided[decided["round"] == number][T.ENSEMBLE + ["test", "reading", "seeds", "mean", "low", "high",
+                                                           "margin", "regular", "verdict"]].to_string(index=False))
 
 
 if __name__ == "__main__":
