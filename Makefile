@@ -15,7 +15,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots claim-third-round claim-fourth-round claim-fifth-round bench every-view budget style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots claim-third-round claim-fourth-round claim-fifth-round claim-sixth-round bench every-view budget style lint clean
 
 # the project's own bytecode too, at every setup (only what changed): where PYTHONDONTWRITEBYTECODE is set (as on
 # this machine) every job would otherwise compile the package's modules from source, 0.1-0.2 s a sweep job
@@ -100,15 +100,15 @@ claim-third-round: setup
 	$(BIN)/snakemake --cores $(CORES) results/analysis/random_claims_round2.csv --config 'claims={registered_third_round: ""}'
 	$(BIN)/python -m roughlight.analysis.third_round results/analysis config/claim_third_round.csv
 
-# the claim's rounds of its own direction (docs/random-roughness.md, "A fourth round", "A fifth round"): the shape
-# tests still undecided after the rounds before, read one-sided (the claim's direction against the instrument's
-# margin), planned from a finished run's earlier rounds, their fresh tiles measured (results/claims/fourth or
-# fifth, minutes) and their readings registered in config/claim_fourth_round.csv or claim_fifth_round.csv
-# (claims.registered_fourth_round, registered_fifth_round); commit the file
-claim-fourth-round claim-fifth-round: claim-%-round: setup
+# the claim's rounds of its own direction (docs/random-roughness.md, "A fourth round" to "A sixth round"): the
+# shape tests still undecided after the rounds before, read one-sided (the claim's direction against the
+# instrument's margin), planned from a finished run's earlier rounds, their fresh tiles measured
+# (results/claims/{fourth,fifth,sixth}, minutes; the sixth plans from the fifth's tiles, bootstrapped) and their
+# readings registered in config/claim_{fourth,fifth,sixth}_round.csv (claims.registered_*_round); commit the file
+claim-fourth-round claim-fifth-round claim-sixth-round: claim-%-round: setup
 	$(BIN)/snakemake --cores $(CORES) results/analysis/random_claims_round2.csv --config 'claims={registered_$*_round: ""}'
 	$(BIN)/python -m roughlight.analysis.direction_rounds results/analysis config/claim_$*_round.csv \
-		--round $(if $(filter fourth,$*),4,5)
+		--round $(if $(filter fourth,$*),4,$(if $(filter fifth,$*),5,6))
 
 # the full-size speed/accuracy benchmark and stability scans (results/benchmarks/full/, results/stability/full/),
 # and the report built with them

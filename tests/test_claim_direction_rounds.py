@@ -156,5 +156,78 @@ def test_the_rounds_seeds_meet_no_other_tiles():
     from roughlight.study.config import CLAIM_PILOT_BASE
 
     assert T.THIRD_ROUND_BASE < CLAIM_PILOT_BASE and CLAIM_PILOT_BASE + 100 <= F.ROUNDS[4]["base"]
-    assert F.ROUNDS[4]["base"] + F.ROUNDS[4]["max_seeds"] <= F.ROUNDS[5]["base"]
+    for number in sorted(F.ROUNDS)[:-1]:
+        assert F.ROUNDS[number]["base"] + F.ROUNDS[number]["max_seeds"] <= F.ROUNDS[number + 1]["base"]
     assert T.round_seeds(2, F.ROUNDS[5]["base"]) == [801, 802]
+
+
+def _lobe_stack(n=30, seed=5):
+    """n tiles of a Gaussian back lobe (t 1, a 0.5, incidence 30) whose height varies from tile to tile (30 +- 6
+    levels) over a flat specular, with flat diffuse fields: a statistic smooth in the tiles."""
+    from roughlight.analysis import lobe_shape
+
+    key = (1.0, 0.5, 30.0)
+    azimuth, elevation = np.arange(0.0, 180.0, 5.0), np.arange(0.0, 181.0, 1.0)
+    centre = R.lobe_centres(key)["back"]
+    shape = lobe_shape.synthetic_lobe(azimuth, elevation, centre, (6.0, 4.0), peak=1.0)
+    heights = np.random.default_rng(seed).normal(30.0, 6.0, n)
+    specular = 2.0 + heights[:, None, None] * shape[None]
+    coverage = np.ones(shape.shape)
+    coverage[:, [0, -1]] = 0.0
+    flat = np.full((n,) + shape.shape, 80.0)
+    return R.SeedStack(key, "random_pyramids", np.arange(1, n + 1), azimuth, elevation, coverage,
+                       {r: specular for r in R.READINGS}, {r: flat for r in R.READINGS}, flat * 1.1)
+
+
+def test_the_bootstrap_error_is_the_jackknifes_on_a_smooth_statistic_and_repeats(monkeypatch):
+    """On a lobe whose height alone varies (its contrast is smooth in the tiles) the bootstrap's error is the
+    delete-one jackknife's within a third, and both are near the spread of the heights over sqrt(n); the same call
+    gives the same error (a fixed seed); an unknown error is refused."""
+    monkeypatch.setattr(R, "BOOTSTRAP_RESAMPLES", 80)
+    stack = _lobe_stack()
+    centres, radii = R.lobe_centres(stack.key), {"back": 20.0, "hot_spot": 10.0}
+    jack = R.pooled_readings(stack, centres, radii)
+    boot = R.pooled_readings(stack, centres, radii, error="bootstrap")
+    assert boot["back_contrast"] == jack["back_contrast"] and boot["seeds"] == 30
+    assert 0.67 < boot["back_contrast_se"] / jack["back_contrast_se"] < 1.5
+    assert jack["back_contrast_se"] > 0.3  # the heights' spread (6 levels) over sqrt(30), as the contrast reads it
+    assert R.pooled_readings(stack, centres, radii, error="bootstrap")["back_contrast_se"] == boot["back_contrast_se"]
+    with pytest.raises(ValueError, match="jackknife"):
+        R.pooled_readings(stack, centres, radii, error="delete-two")
+
+
+def test_a_bootstrap_round_plans_from_the_error_it_registered_and_is_stale_when_that_moves():
+    """Round 6 plans from the bootstrap error of the fifth round's tiles, which it registers (``plan_{test}_se``):
+    a run re-plans from the registered error, takes the round, and decides the test by round 6's own
+    (bootstrap) error; the same round with another registered plan error is not taken."""
+    second, margins = _second_round()
+    fourth, _ = _registered(second, margins, mean=-0.158, se=0.025)
+    after4 = F.with_direction_rounds(second, {4: fourth}, margins, MEASURED)
+    planned5, level5 = F.plan(after4, margins, 5)
+    key = tuple(ENSEMBLE.values())
+
+    def pooled(mean, se, seeds, **extra):
+        return {"back_contrast": 4.0, "back_contrast_se": 0.2, "back_squareness": mean, "back_squareness_se": se,
+                "back_why": "", "seeds": seeds, **extra}
+
+    n5 = int(planned5["fresh"].max())
+    fifth = T.register({key + (r,): pooled(-0.157, 0.0157, n5) for r in R.READINGS}, planned5, level5, MEASURED,
+                       F.ROUNDS[5]["base"])
+    after5 = F.with_direction_rounds(second, {4: fourth, 5: fifth}, margins, MEASURED)
+    assert set(after5.loc[after5["round"] == 5, "verdict"]) == {"undecided"}
+    spread = {key + ("back_squareness",): 0.0067}  # the fifth round's tiles, bootstrapped
+    planned6, level6 = F.plan(after5, margins, 6, spread=spread)
+    assert planned6.iloc[0]["se"] == 0.0067 and planned6.iloc[0]["mean"] == pytest.approx(-0.157)
+    n6 = int(planned6.iloc[0]["fresh"])
+    assert 2 <= n6 < F.plan(after5, margins, 6)[0].iloc[0]["fresh"]  # fewer than the jackknife's error asks
+    sixth = T.register({key + (r,): pooled(-0.156, 0.0065, n6, plan_back_squareness_se=0.0067) for r in R.READINGS},
+                       planned6, level6, MEASURED, F.ROUNDS[6]["base"])
+    assert F.registered_spread(sixth) == spread
+    decided = F.with_direction_rounds(second, {4: fourth, 5: fifth, 6: sixth}, margins, MEASURED)
+    six = decided[decided["round"] == 6]
+    assert len(six) == 2 and set(six["verdict"]) == {"not as claimed"} and (six["seeds"] == n6).all()
+    assert F.stale_ensembles(second, {4: fourth, 5: fifth, 6: sixth}, margins, MEASURED) == []
+    moved = sixth.copy()
+    moved.loc[moved["statistic"] == "plan_back_squareness_se", "value"] = 0.0157
+    assert 6 not in set(F.with_direction_rounds(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)["round"])
+    assert F.stale_ensembles(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)[0].startswith("round 6:")

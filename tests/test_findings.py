@@ -399,6 +399,26 @@ def test_the_random_claims_are_the_claim_tables(full_page):
     assert PF.random_claim_finding(both, shown=True)["readings"]["unrounded"]["headline"] == "supported"
 
 
+def test_the_claims_later_rounds_are_named_with_the_familys_bound_over_them():
+    """A third round (round 3 rows) and a fifth round of the claim's direction (round 5 rows, which stand only after
+    the fourth): the finding names both direction rounds, counts what they decided, and bounds the family error by
+    the second round's 0.05 and 0.05 for each later round (0.20 over four rounds); a run with none says none."""
+    claims = claims_frame().assign(round=2)
+    third = (claims["test"] == "back_contrast") & (claims["kind"] == "random_heightfield")
+    claims.loc[third, ["round", "level"]] = [3, 1 - 0.05 / 2]
+    fifth = (claims["test"] == "back_squareness") & (claims["truncation"] == 1.0) & (claims["kind"] == "random_pyramids")
+    claims.loc[fifth, ["round", "level", "verdict"]] = [5, 0.975, "not as claimed"]
+    found = PF.random_claim_finding(claims, shown=True)
+    assert found["third"] == {"n": 2, "level": pytest.approx(0.975)}
+    assert found["direction"] == {"tests": 1, "decided": 1, "rounds": ["fourth", "fifth"], "level": 0.975}
+    assert found["together"] == pytest.approx(0.80)
+    square = found["readings"]["unrounded"]["tests"][1]
+    assert ("not as claimed", 1) in square["verdicts"]
+    assert found["readings"]["unrounded"]["headline"] == "refuted"  # not as claimed is decided, not as the thesis claims
+    plain = PF.random_claim_finding(claims_frame(), shown=True)
+    assert plain["third"] is None and plain["direction"] is None and plain["together"] == pytest.approx(0.95)
+
+
 def test_the_renderer_statements_are_the_benchmarks(full_page):
     b = benchmarks()
     acc = PF.renderer_accuracy(PS.speed_section(**b))

@@ -39,14 +39,21 @@ from . import claims as C
 from . import third_round as T
 
 __all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "plan", "direction_verdict",
-           "with_direction_round", "with_direction_rounds", "stale_ensembles", "registered_rounds", "main"]
+           "with_direction_round", "with_direction_rounds", "stale_ensembles", "registered_spread", "earlier_spread",
+           "registered_rounds", "main"]
 
 #: Each round of the claim's direction: its seeds (``base`` + 1 ...: above the pilots' 501-600 and the third round's
 #: 301 on, and below the next round's), the most its plan may ask of an ensemble, and its config key and file.
+#: ``error``: the standard error a round's readings carry (:func:`roughlight.analysis.claim_readings.pooled_readings`);
+#: a round whose error is not the design's jackknife plans from the same error of the round before's tiles.
 ROUNDS = {
-    4: {"name": "fourth", "base": 600, "max_seeds": 200},
-    5: {"name": "fifth", "base": 800, "max_seeds": 1000},
+    4: {"name": "fourth", "base": 600, "max_seeds": 200, "error": "jackknife"},
+    5: {"name": "fifth", "base": 800, "max_seeds": 1000, "error": "jackknife"},
+    6: {"name": "sixth", "base": 1800, "max_seeds": 1000, "error": "bootstrap"},
 }
+#: A registered round's statistic holding the error its plan took for a test (``PLAN_SE.format(test)``), where the
+#: plan did not take the earlier round's own.
+PLAN_SE = "plan_{}_se"
 #: A round's family error, shared by its tests.
 ALPHA = 0.05
 #: The parts of a margin that are the instrument's own (:func:`roughlight.analysis.claims.margins`).
@@ -76,13 +83,14 @@ def threshold(regular: float, margin: float, expected: str) -> float:
 
 
 def plan(claims: pd.DataFrame, margins: pd.DataFrame, number: int = 4, reading: str = "unrounded",
-         alpha: float = ALPHA) -> tuple[pd.DataFrame, float]:
+         alpha: float = ALPHA, spread: dict | None = None) -> tuple[pd.DataFrame, float]:
     """Round ``number``'s plan from the verdict of the rounds before it (``claims``: rule ``analysis_random``'s
     second round with the registered later ones, :func:`roughlight.analysis.third_round.with_third_round` and
     :func:`with_direction_rounds`): a row a shape test with a direction still *undecided* in ``reading`` (the
     ensemble, ``test``, its latest ``mean``, ``se`` and ``seeds``, ``regular``, the instrument's ``margin`` and the
     ``threshold``; ``fresh`` seeds planned, 0 where no count up to the round's ``max_seeds`` decides it; ``why``),
-    and the round's level ``1 - alpha / their count``."""
+    and the round's level ``1 - alpha / their count``. ``spread``: (kind, truncation, aspect, incidence, test) ->
+    the standard error to plan from in place of the row's (the round's own error of the same tiles)."""
     shape = claims["test"].map(lambda t: C.TESTS[t]["role"] == "shape" and "expected" in C.TESTS[t])
     open_ = claims[(claims["reading"] == reading) & (claims["verdict"] == "undecided") & shape]
     open_ = open_[np.isfinite(open_["mean"].astype(float))]  # a shape test waiting on its lobe has no reading
@@ -91,9 +99,10 @@ def plan(claims: pd.DataFrame, margins: pd.DataFrame, number: int = 4, reading: 
     for _, row in open_.iterrows():
         margin = instrument_margin(margins, row, reading)
         edge = threshold(float(row["regular"]), margin, C.TESTS[row["test"]]["expected"])
-        n, why = C.planned_seeds(row["mean"], row["se"], int(row["seeds"]), row["regular"], edge, level,
+        se = (spread or {}).get(tuple(row[T.ENSEMBLE]) + (row["test"],), row["se"])
+        n, why = C.planned_seeds(row["mean"], se, int(row["seeds"]), row["regular"], edge, level,
                                  "direction", ROUNDS[number]["max_seeds"])
-        rows.append({**{k: row[k] for k in T.ENSEMBLE + ["test", "mean", "se", "regular"]}, "margin": margin,
+        rows.append({**{k: row[k] for k in T.ENSEMBLE + ["test", "mean", "regular"]}, "se": se, "margin": margin,
                      "threshold": edge, "seeds": int(row["seeds"]), "fresh": int(n or 0),
                      "why": why.replace("the pilot", "the earlier rounds' tested seeds")})
     columns = T.ENSEMBLE + ["test", "mean", "se", "regular", "margin", "threshold", "seeds", "fresh", "why"]
@@ -150,7 +159,7 @@ def with_direction_round(claims: pd.DataFrame, registered: pd.DataFrame, margins
         out["round"] = 2
     if not len(registered):
         return out
-    planned, level = plan(claims, margins, number)
+    planned, level = plan(claims, margins, number, spread=registered_spread(registered))
     rounds = T.applicable(registered, T.basis(planned, level), measured, ROUNDS[number]["base"])[0]
     tests = {tuple(r[T.ENSEMBLE]) + (r["test"],) for _, r in planned.iterrows()}
     for n, row in out.iterrows():
@@ -187,10 +196,40 @@ def stale_ensembles(claims: pd.DataFrame, registered: dict, margins: pd.DataFram
         table = registered.get(number, T.read_registered(None))
         if len(table):
             planned, level = plan(with_direction_rounds(claims, registered, margins, measured, until=number),
-                                  margins, number)
+                                  margins, number, spread=registered_spread(table))
             _, stale = T.applicable(table, T.basis(planned, level), measured, ROUNDS[number]["base"])
             lines |= {f"round {number}: {k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale}
     return sorted(lines)
+
+
+def registered_spread(registered: pd.DataFrame) -> dict | None:
+    """(kind, truncation, aspect, incidence, test) -> the error a registered round's plan took in place of the
+    earlier round's (its :data:`PLAN_SE` rows, unrounded); None where it took the earlier round's own."""
+    rows = registered[(registered["claim_reading"] == "unrounded")
+                      & registered["statistic"].astype(str).str.match(r"^plan_.+_se$")] if len(registered) else []
+    if not len(rows):
+        return None
+    return {(r.kind, float(r.truncation), float(r.aspect), float(r.incidence), r.statistic[5:-3]): float(r.value)
+            for r in rows.itertuples(index=False)}
+
+
+def earlier_spread(claims: pd.DataFrame, margins: pd.DataFrame, number: int, geometry: pd.DataFrame,
+                   steps: tuple[float, float], claim_rows, root: Path = Path("results/claims")) -> dict:
+    """(kind, truncation, aspect, incidence, test) -> the standard error, in round ``number``'s own error (its
+    ``ROUNDS`` ``error``), of each test it would plan from the round before's tiles (measured under ``root``; the
+    unrounded reading). Raises FileNotFoundError naming the ``make`` target that draws them when they are gone."""
+    before = ROUNDS[number - 1]["name"]
+    wanted = plan(claims, margins, number)[0]
+    out = {}
+    for (kind, t, a, i), tests in wanted.groupby(T.ENSEMBLE, sort=False):
+        folder = root / before / f"i{i:g}" / kind / f"t{t:g}_a{a:g}"
+        if not any(folder.glob("s*.parquet")):
+            raise FileNotFoundError(f"{folder}: the {before} round's tiles are gone (`make claim-{before}-round` draws "
+                                    "them again, the same tiles)")
+        pooled = T.round_readings(claim_rows([str(folder)]), geometry, steps, ROUNDS[number]["error"])
+        reading = pooled[(kind, float(t), float(a), float(i), "unrounded")]
+        out.update({(kind, float(t), float(a), float(i), test): float(reading[f"{test}_se"]) for test in tests["test"]})
+    return out
 
 
 def registered_rounds(claims_settings: dict, until: int | None = None) -> dict:
@@ -230,18 +269,24 @@ def main(argv=None) -> None:
     earlier = registered_rounds(settings, until=number)
     claims = with_direction_rounds(T.with_third_round(pd.read_csv(args.analysis / "random_claims_round2.csv"), third,
                                                       design, margins, measured), earlier, margins, measured, number)
-    planned, level = plan(claims, margins, number)
-    print(f"{len(planned)} shape tests undecided (unrounded) before round {number}, the round's level {level:.4f}:\n"
-          + planned.to_string(index=False))
     geometry = pd.read_csv(args.analysis / "random_claim_geometry.csv")
     sweep = rl_plan.sweep_settings(config)
     steps = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
+    spread = None
+    if spec["error"] != ROUNDS[number - 1]["error"]:  # plan from the round's own error of the round before's tiles
+        spread = earlier_spread(claims, margins, number, geometry, steps, claim_rows)
+    planned, level = plan(claims, margins, number, spread=spread)
+    print(f"{len(planned)} shape tests undecided (unrounded) before round {number}, the round's level {level:.4f}:\n"
+          + planned.to_string(index=False))
     taken = [*(T.round_seeds(int(third["seeds"].max())) if len(third) else []),
              *(seed for k, table in earlier.items() if len(table)
                for seed in T.round_seeds(int(table["seeds"].max()), ROUNDS[k]["base"]))]
     work = args.work or Path(f"results/claims/{spec['name']}")
     folders = T.render_round(planned, config, geometry, work, print, spec["base"], tuple(taken))
-    readings = T.round_readings(claim_rows(folders), geometry, steps) if folders else {}
+    readings = T.round_readings(claim_rows(folders), geometry, steps, spec["error"]) if folders else {}
+    for key, pooled in readings.items():  # the errors the plan took, where not the earlier round's own
+        pooled.update({PLAN_SE.format(test): se for (*ensemble, test), se in (spread or {}).items()
+                       if tuple(ensemble) == key[:4]})
     table = T.register(readings, planned, level, measured, spec["base"])
     write_text_atomic(args.registered, table.to_csv(index=False))
     decided = with_direction_round(claims, table, margins, measured, number)

@@ -97,11 +97,13 @@ def _fresh(planned: pd.DataFrame) -> dict:
     return {key: int(n) for key, n in most.items() if n > 0}
 
 
-def round_readings(rows: pd.DataFrame, geometry: pd.DataFrame, steps: tuple[float, float]) -> dict:
+def round_readings(rows: pd.DataFrame, geometry: pd.DataFrame, steps: tuple[float, float],
+                   error: str = "jackknife") -> dict:
     """(kind, truncation, aspect, incidence, reading) -> the ensemble's pooled readings in that claim reading, from
     its tiles' rows (:func:`roughlight.study.tables.claim_rows`), as rule ``analysis_random`` reads the tested
-    tiles."""
-    return {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]), reading)
+    tiles (``error``: their standard errors', :func:`roughlight.analysis.claim_readings.pooled_readings`)."""
+    return {key + (reading,): pooled_readings(stack, lobe_centres(key[1:]), C.discs(geometry, key[1:]), reading,
+                                              error)
             for key, stack in C.seed_stacks_of(rows, steps).items() for reading in READINGS}
 
 

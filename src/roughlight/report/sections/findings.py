@@ -219,6 +219,10 @@ def _claim_headline(claims: pd.DataFrame) -> str:
     return "mixed"
 
 
+#: The later rounds' names.
+ORDINALS = {3: "third", 4: "fourth", 5: "fifth", 6: "sixth"}
+
+
 def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dict:
     """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.claims.TESTS` (in its
     order), in both readings: the regular surface's lobes and the verdicts over the random grid points and kinds
@@ -245,18 +249,23 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
             "headline": _claim_headline(part), "n_tests": len(part)}
     rounds = claims["round"] if "round" in claims else pd.Series(2, index=claims.index)
     first = claims[rounds == 2].iloc[0] if (rounds == 2).any() else claims.iloc[0]
-    later = {}
-    for name, number in (("third", 3), ("fourth", 4), ("fifth", 5)):
-        part = claims[(rounds == number) & (claims["reading"] == "unrounded")]
-        later[name] = ({"n": int((part["verdict"] != "undecided").sum()), "level": float(part["level"].iloc[0])}
-                       if len(part) else None)
+    unrounded = claims["reading"] == "unrounded"
+    third, direction = claims[(rounds == 3) & unrounded], claims[(rounds >= 4) & unrounded]
+    # a round of the claim's direction is planned from the verdict every round before it left, so its rows stand
+    # only where those rounds were taken too: the last one names them all
+    last = int(direction["round"].max()) if len(direction) else 3
     return {"readings": readings, "regular": _regular_shapes(claims), "kinds": claims["kind"].nunique(),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
-            "level": float(first["level"]), "target": "random-claim", **later,
+            "level": float(first["level"]), "target": "random-claim",
+            "third": {"n": int((third["verdict"] != "undecided").sum()), "level": float(third["level"].iloc[0])}
+            if len(third) else None,
+            "direction": {"tests": len(direction), "decided": int((direction["verdict"] != "undecided").sum()),
+                          "rounds": [ORDINALS[n] for n in range(4, last + 1)], "level": float(direction["level"].iloc[0])}
+            if len(direction) else None,
             # Bonferroni over the rounds: the second's family error (its level's complement times its tests) and
             # each later round's own (third_round.ALPHA, direction_rounds.ALPHA)
-            "together": 1.0 - (1.0 - float(first["level"])) * int((claims["reading"] == "unrounded").sum())
-            - sum((T_ALPHA if name == "third" else D_ALPHA) for name, part in later.items() if part is not None)}
+            "together": 1.0 - (1.0 - float(first["level"])) * int(unrounded.sum())
+            - (T_ALPHA if len(third) or len(direction) else 0.0) - D_ALPHA * (last - 3)}
 
 
 # ---------------------------------------------------------------------------
