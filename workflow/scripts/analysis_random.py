@@ -36,15 +36,16 @@ F.make("random_ensembles", out.random_ensembles_png, summary=summary)
 F.make("random_maps", out.random_maps_png, study=study)
 claims = tables["random_claims"]
 for reading, part in claims.groupby("reading", sort=False):
-    log(f"claim ({reading}): {len(part)} tests ({int((part['round'] == 3).sum())} by the registered third round, "
-        f"{int((part['round'] == 4).sum())} by the fourth, {int((part['round'] == 5).sum())} by the fifth): "
+    later = ", ".join(f"{n} by the registered round {r}" for r, n in part["round"].value_counts().sort_index().items()
+                      if r > 2) or "none by a later round"
+    log(f"claim ({reading}): {len(part)} tests ({later}): "
         + ", ".join(f"{n} {v}" for v, n in part["verdict"].value_counts().items()))
 for line in stale_ensembles(tables["random_claims_round2"], claim["third_round"], claim["measured"]):
     log(f"the registered third round is not taken for {line} (`make claim-third-round` measures it again)")
 after_third = with_third_round(tables["random_claims_round2"], claim["third_round"], claim["design"], claim["margins"],
                                claim["measured"])
 for line in direction_rounds.stale_ensembles(after_third, claim["direction_rounds"], claim["margins"], claim["measured"]):
-    log(f"the registered {line} is not taken (`make claim-fourth-round` or `claim-fifth-round` measures it again)")
+    log(f"the registered {line} is not taken (`make claim-fourth-round` and its kin measure it again)")
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
 _log.end_job()
