@@ -280,6 +280,11 @@ def registered_sixth_round_file(wildcards):
     return _registered_file("registered_sixth_round")
 
 
+def registered_seventh_round_file(wildcards):
+    """claims.registered_seventh_round, the claim's seventh round as registered (none: [])."""
+    return _registered_file("registered_seventh_round")
+
+
 def claim_measurement_params(wildcards):
     """What the claim's tiles are measured with, for the registered third round's key
     (roughlight.study.plan.claim_measurement)."""

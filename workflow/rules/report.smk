@@ -282,6 +282,7 @@ rule analysis_random:
         fourth_round=registered_fourth_round_file,
         fifth_round=registered_fifth_round_file,
         sixth_round=registered_sixth_round_file,
+        seventh_round=registered_seventh_round_file,
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(

@@ -50,6 +50,7 @@ ROUNDS = {
     4: {"name": "fourth", "base": 600, "max_seeds": 200, "error": "jackknife"},
     5: {"name": "fifth", "base": 800, "max_seeds": 1000, "error": "jackknife"},
     6: {"name": "sixth", "base": 1800, "max_seeds": 1000, "error": "bootstrap"},
+    7: {"name": "seventh", "base": 2800, "max_seeds": 1000, "error": "bootstrap"},
 }
 #: A registered round's statistic holding the error its plan took for a test (``PLAN_SE.format(test)``), where the
 #: plan did not take the earlier round's own.
