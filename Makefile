@@ -15,7 +15,7 @@ UV_VERSION := 0.13.9
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export PYOPENGL_PLATFORM := osmesa
 
-.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots claim-third-round claim-fourth-round claim-fifth-round claim-sixth-round claim-seventh-round bench every-view budget style lint clean
+.PHONY: setup system-deps chromium slurm study test cluster-test claim-pilots claim-third-round claim-fourth-round claim-fifth-round claim-sixth-round claim-seventh-round claim-eighth-round bench every-view budget style lint clean
 
 # the project's own bytecode too, at every setup (only what changed): where PYTHONDONTWRITEBYTECODE is set (as on
 # this machine) every job would otherwise compile the package's modules from source, 0.1-0.2 s a sweep job
@@ -109,7 +109,8 @@ ROUND_fourth := 4
 ROUND_fifth := 5
 ROUND_sixth := 6
 ROUND_seventh := 7
-claim-fourth-round claim-fifth-round claim-sixth-round claim-seventh-round: claim-%-round: setup
+ROUND_eighth := 8
+claim-fourth-round claim-fifth-round claim-sixth-round claim-seventh-round claim-eighth-round: claim-%-round: setup
 	$(BIN)/snakemake --cores $(CORES) results/analysis/random_claims_round2.csv --config 'claims={registered_$*_round: ""}'
 	$(BIN)/python -m roughlight.analysis.direction_rounds results/analysis config/claim_$*_round.csv \
 		--round $(ROUND_$*)

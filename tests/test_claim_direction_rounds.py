@@ -231,3 +231,36 @@ def test_a_bootstrap_round_plans_from_the_error_it_registered_and_is_stale_when_
     moved.loc[moved["statistic"] == "plan_back_squareness_se", "value"] = 0.0157
     assert 6 not in set(F.with_direction_rounds(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)["round"])
     assert F.stale_ensembles(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)[0].startswith("round 6:")
+
+
+def test_a_round_that_holds_the_difference_that_matters_decides_wherever_the_mean_lies():
+    """Round 8's verdicts hold *no difference* (within the difference that matters, first) beside the one-sided
+    two: an interval across the threshold but within ±0.05 of the regular value decides; its seeds are those at
+    which every interval is narrower than the difference that matters less the instrument's margin, the same
+    wherever the earlier mean lies."""
+    band = (-0.229, -0.129)
+    assert F.direction_verdict(-0.193, -0.153, -0.1837, "below", band)[0] == "no difference"
+    assert F.direction_verdict(-0.193, -0.153, -0.1837, "below")[0] == "undecided"
+    assert F.direction_verdict(-0.14, -0.10, -0.1837, "below", band)[0] == "not as claimed"
+    assert F.direction_verdict(-0.30, -0.24, -0.1837, "below", band)[0] == "difference"
+    second, margins = _second_round()
+    assert F.matters_of(margins, {**ENSEMBLE, "test": "back_squareness"}, "unrounded") == 0.05
+    fresh = [F.plan(_second_round(mean=mean, se=0.03)[0], margins, 8)[0].iloc[0]["fresh"] for mean in (-0.16, -0.2)]
+    assert fresh[0] == fresh[1]  # the width, not the mean, sets the seeds
+    n = fresh[0]
+    half = lambda k: C.t_quantile(1 - 0.05, k) * 0.03 * np.sqrt(38) * 1.118 / np.sqrt(k)  # noqa: E731
+    assert half(n) <= 0.05 - 0.0046 < half(n - 1) + 0.01
+    # registered and read after an undecided round: the interval across the threshold, within the band, decides
+    fourth, _ = _registered(second, margins, mean=-0.17, se=0.025)
+    after = F.with_direction_rounds(second, {4: fourth}, margins, MEASURED)
+    assert set(after.loc[after["test"] == "back_squareness", "verdict"]) == {"undecided"}
+    planned, level = F.plan(after, margins, 8)
+    key = tuple(ENSEMBLE.values())
+    eighth = T.register({key + (r,): {"back_contrast": 4.0, "back_contrast_se": 0.2, "back_squareness": -0.175,
+                                      "back_squareness_se": 0.009, "back_why": "",
+                                      "seeds": int(planned["fresh"].max())} for r in R.READINGS},
+                        planned, level, MEASURED, F.ROUNDS[8]["base"])
+    decided = F.with_direction_round(after, eighth, margins, MEASURED, 8)
+    row = decided[(decided["test"] == "back_squareness") & (decided["reading"] == "unrounded")].iloc[0]
+    assert row["round"] == 8 and row["verdict"] == "no difference" and "difference that matters" in row["why"]
+    assert row["low"] < -0.1837 < row["high"]  # across the threshold: the one-sided question alone leaves it

@@ -156,13 +156,14 @@ def test_the_shipped_config_sets_the_schemas_defaults_but_for_the_studys_grid_an
         if here != value:
             differ.append(path)
     registered = {("claims", f"registered_{name}")
-                  for name in ("pilots", "third_round", "fourth_round", "fifth_round", "sixth_round", "seventh_round")}
+                  for name in ("pilots", "third_round", "fourth_round", "fifth_round", "sixth_round", "seventh_round",
+                               "eighth_round")}
     assert {path[0] for path in differ if path[:2] not in {("claims", "seeds"), ("claims", "max_seeds"),
                                                            ("export", "surfaces")} | registered
             } <= {"grid", "surface"}, differ
     assert defaults["claims"]["registered_pilots"] is None
     assert defaults["claims"]["registered_third_round"] is None
-    assert all(defaults["claims"][f"registered_{n}_round"] is None for n in ("fourth", "fifth", "sixth", "seventh"))
+    assert all(defaults["claims"][f"registered_{n}_round"] is None for n in ("fourth", "fifth", "sixth", "seventh", "eighth"))
     # the study exports one surface; a user's config exports none unless it names one
     assert defaults["export"]["surfaces"] == [] and default_config()["export"]["surfaces"] == [[1.0, 1.0]]
 

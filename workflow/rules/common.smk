@@ -285,6 +285,11 @@ def registered_seventh_round_file(wildcards):
     return _registered_file("registered_seventh_round")
 
 
+def registered_eighth_round_file(wildcards):
+    """claims.registered_eighth_round, the claim's eighth round as registered (none: [])."""
+    return _registered_file("registered_eighth_round")
+
+
 def claim_measurement_params(wildcards):
     """What the claim's tiles are measured with, for the registered third round's key
     (roughlight.study.plan.claim_measurement)."""

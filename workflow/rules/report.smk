@@ -283,6 +283,7 @@ rule analysis_random:
         fifth_round=registered_fifth_round_file,
         sixth_round=registered_sixth_round_file,
         seventh_round=registered_seventh_round_file,
+        eighth_round=registered_eighth_round_file,
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(

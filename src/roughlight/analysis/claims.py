@@ -302,7 +302,8 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
     margin (a lobe) or wholly below it (no lobe); a shape test needs those whose interval, centred on the pilot's
     difference from the regular value, lies wholly beyond or wholly within the margin; a test of the claim's
     direction (``role`` "direction", ``margin`` the threshold beyond the regular value the claim's way:
-    :mod:`roughlight.analysis.direction_rounds`) needs those whose interval lies wholly on one side of the threshold.
+    :mod:`roughlight.analysis.direction_rounds`) needs those whose interval lies wholly on one side of the threshold;
+    ``role`` "decisive" (``margin`` a half-width) those whose interval is no wider, wherever the pilot's mean lies.
 
     Returns
     -------
@@ -316,6 +317,8 @@ def planned_seeds(pilot: float, pilot_se: float, pilot_seeds: int, regular: floa
     sd = pilot_se * math.sqrt(pilot_seeds) * math.sqrt(df / sps.chi2.ppf(1.0 - sd_confidence, df))
     if role == "lobe":
         room, expect = (pilot - margin, "a lobe") if pilot > margin else (margin - pilot, "no lobe")
+    elif role == "decisive":  # margin: the interval's half-width at which every mean decides
+        room, expect = margin, "a verdict whatever the mean"
     elif role == "direction":
         claimed = (pilot - margin) * (margin - regular) > 0  # beyond the threshold, away from the regular value
         room, expect = abs(pilot - margin), ("a difference as claimed" if claimed else "not as claimed")

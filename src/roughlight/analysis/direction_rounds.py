@@ -38,7 +38,7 @@ import pandas as pd
 from . import claims as C
 from . import third_round as T
 
-__all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "plan", "direction_verdict",
+__all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "matters_of", "plan", "direction_verdict",
            "with_direction_round", "with_direction_rounds", "stale_ensembles", "registered_spread", "earlier_spread",
            "registered_rounds", "main"]
 
@@ -51,7 +51,12 @@ ROUNDS = {
     5: {"name": "fifth", "base": 800, "max_seeds": 1000, "error": "jackknife"},
     6: {"name": "sixth", "base": 1800, "max_seeds": 1000, "error": "bootstrap"},
     7: {"name": "seventh", "base": 2800, "max_seeds": 1000, "error": "bootstrap"},
+    8: {"name": "eighth", "base": 3800, "max_seeds": 1000, "error": "bootstrap", "matters": True},
 }
+#: ``matters``: the round's verdicts also hold the second round's *no difference* (the interval within the
+#: difference that matters around the regular value, which takes precedence), so that every interval narrower than
+#: the difference that matters less the instrument's margin decides, wherever its mean lies; its seeds are planned
+#: for that width (:func:`plan`).
 #: A registered round's statistic holding the error its plan took for a test (``PLAN_SE.format(test)``), where the
 #: plan did not take the earlier round's own.
 PLAN_SE = "plan_{}_se"
@@ -75,6 +80,16 @@ def instrument_margin(margins: pd.DataFrame, row, reading: str) -> float:
     parts = list(INSTRUMENT) + (["rounding"] if reading == "8-bit" else [])
     values = [float(at.iloc[0][p]) for p in parts if p in at.columns and np.isfinite(float(at.iloc[0][p]))]
     return max(values, default=0.0)
+
+
+def matters_of(margins: pd.DataFrame, row, reading: str) -> float:
+    """The smallest difference that matters of a test (``row``: its ensemble and ``test``) in ``reading``: the margin
+    table's ``matters`` (:data:`roughlight.analysis.claims.TESTS`)."""
+    at = margins[(margins["kind"] == row["kind"]) & np.isclose(margins["truncation"], float(row["truncation"]))
+                 & np.isclose(margins["aspect"], float(row["aspect"]))
+                 & np.isclose(margins["incidence"], float(row["incidence"]))
+                 & (margins["test"] == row["test"]) & (margins["reading"] == reading)]
+    return float(at.iloc[0]["matters"]) if len(at) else float(C.TESTS[row["test"]]["matters"])
 
 
 def threshold(regular: float, margin: float, expected: str) -> float:
@@ -101,8 +116,13 @@ def plan(claims: pd.DataFrame, margins: pd.DataFrame, number: int = 4, reading: 
         margin = instrument_margin(margins, row, reading)
         edge = threshold(float(row["regular"]), margin, C.TESTS[row["test"]]["expected"])
         se = (spread or {}).get(tuple(row[T.ENSEMBLE]) + (row["test"],), row["se"])
-        n, why = C.planned_seeds(row["mean"], se, int(row["seeds"]), row["regular"], edge, level,
-                                 "direction", ROUNDS[number]["max_seeds"])
+        if ROUNDS[number].get("matters"):  # a width at which every interval decides
+            width = matters_of(margins, row, reading) - margin
+            n, why = C.planned_seeds(row["mean"], se, int(row["seeds"]), row["regular"], width, level, "decisive",
+                                     ROUNDS[number]["max_seeds"])
+        else:
+            n, why = C.planned_seeds(row["mean"], se, int(row["seeds"]), row["regular"], edge, level,
+                                     "direction", ROUNDS[number]["max_seeds"])
         rows.append({**{k: row[k] for k in T.ENSEMBLE + ["test", "mean", "regular"]}, "se": se, "margin": margin,
                      "threshold": edge, "seeds": int(row["seeds"]), "fresh": int(n or 0),
                      "why": why.replace("the pilot", "the earlier rounds' tested seeds")})
@@ -110,10 +130,15 @@ def plan(claims: pd.DataFrame, margins: pd.DataFrame, number: int = 4, reading: 
     return pd.DataFrame(rows, columns=columns), level
 
 
-def direction_verdict(low: float, high: float, edge: float, expected: str) -> tuple[str, str]:
+def direction_verdict(low: float, high: float, edge: float, expected: str,
+                      band: tuple[float, float] | None = None) -> tuple[str, str]:
     """A test of the claim's direction from its interval [low, high] against the threshold ``edge``: "difference"
-    (wholly beyond it the claim's way), "not as claimed" (wholly on the other side), or "undecided". Returns
-    (verdict, why)."""
+    (wholly beyond it the claim's way), "not as claimed" (wholly on the other side), or "undecided"; with ``band``
+    (the regular value less and plus the difference that matters), "no difference" first, where the interval lies
+    wholly within it. Returns (verdict, why)."""
+    if band is not None and band[0] <= low and high <= band[1]:
+        return "no difference", (f"the interval lies within the difference that matters around the regular value "
+                                 f"[{band[0]:.3g}, {band[1]:.3g}]")
     beyond, short = (high < edge, low > edge) if expected == "below" else (low > edge, high < edge)
     if beyond:
         return "difference", f"the interval lies {expected} the threshold {edge:.3g} (as the thesis claims)"
@@ -124,9 +149,9 @@ def direction_verdict(low: float, high: float, edge: float, expected: str) -> tu
     return "undecided", f"the interval reaches across the threshold {edge:.3g}"
 
 
-def _decided_row(row: pd.Series, pooled: dict, margins: pd.DataFrame, level: float) -> dict:
-    """One test's round-4 values (columns of :data:`roughlight.analysis.claims.VERDICT_COLUMNS`) from the round's
-    pooled readings of its ensemble in the row's reading."""
+def _decided_row(row: pd.Series, pooled: dict, margins: pd.DataFrame, level: float, number: int) -> dict:
+    """One test's values in round ``number`` (columns of :data:`roughlight.analysis.claims.VERDICT_COLUMNS`) from
+    the round's pooled readings of its ensemble in the row's reading."""
     spec = C.TESTS[row["test"]]
     mean, se, n = float(pooled.get(row["test"], np.nan)), float(pooled.get(f"{row['test']}_se", np.nan)), \
         int(pooled.get("seeds", 0))
@@ -139,7 +164,9 @@ def _decided_row(row: pd.Series, pooled: dict, margins: pd.DataFrame, level: flo
     half = float(C.t_quantile(level, n) * se)
     lo, hi = spec["range"]
     out["low"], out["high"] = max(lo, mean - half), min(hi, mean + half)
-    out["verdict"], out["why"] = direction_verdict(out["low"], out["high"], edge, spec["expected"])
+    matters = matters_of(margins, row, row["reading"]) if ROUNDS[number].get("matters") else None
+    band = None if matters is None else (float(row["regular"]) - matters, float(row["regular"]) + matters)
+    out["verdict"], out["why"] = direction_verdict(out["low"], out["high"], edge, spec["expected"], band)
     if out["verdict"] == "difference":
         out["agrees"] = True
     if out["verdict"] == "undecided":
@@ -167,11 +194,13 @@ def with_direction_round(claims: pd.DataFrame, registered: pd.DataFrame, margins
         key = tuple(row[T.ENSEMBLE])
         if row["verdict"] != "undecided" or key + (row["test"],) not in tests or key + (row["reading"],) not in rounds:
             continue
-        decided = _decided_row(row, rounds[key + (row["reading"],)][0], margins, level)
+        decided = _decided_row(row, rounds[key + (row["reading"],)][0], margins, level, number)
         for column, value in decided.items():
             out.at[n, column] = value
         out.at[n, "why"] = (f"round {number} ({decided['seeds']} fresh seeds at {level:.2%}, one-sided, the claim's "
-                            f"direction against the instrument's margin {decided['margin']:.3g}): {decided['why']}")
+                            f"direction against the instrument's margin {decided['margin']:.3g}"
+                            f"{', or within the difference that matters' if ROUNDS[number].get('matters') else ''}): "
+                            f"{decided['why']}")
         out.at[n, "round"] = number
     return out
 

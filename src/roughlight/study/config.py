@@ -254,7 +254,7 @@ def _pilot_problems(config: dict) -> list[str]:
             if missing:
                 problems.append(f"config: claims.registered_pilots: {registered} is not a table of the claim's pilot "
                                 f"readings (no column {', '.join(missing)})")
-    for name in ("third", "fourth", "fifth", "sixth", "seventh"):
+    for name in ("third", "fourth", "fifth", "sixth", "seventh", "eighth"):
         registered = claims(config).get(f"registered_{name}_round")
         if registered and not Path(registered).is_file():
             problems.append(f"config: claims.registered_{name}_round: {registered} does not exist (`make claim-{name}-round` "
@@ -515,7 +515,7 @@ def claim_settings(config: dict) -> dict:
     # where the pilots' readings (or the later rounds') come from is not the design: the readings themselves are
     # rules claim_design's and analysis_random's inputs
     for key in ("registered_pilots",
-                *(f"registered_{name}_round" for name in ("third", "fourth", "fifth", "sixth", "seventh"))):
+                *(f"registered_{name}_round" for name in ("third", "fourth", "fifth", "sixth", "seventh", "eighth"))):
         settings.pop(key, None)
     return settings
 

@@ -220,7 +220,7 @@ def _claim_headline(claims: pd.DataFrame) -> str:
 
 
 #: The later rounds' names.
-ORDINALS = {3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh"}
+ORDINALS = {3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh", 8: "eighth"}
 
 
 def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dict:
