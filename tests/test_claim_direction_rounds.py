@@ -264,3 +264,18 @@ def test_a_round_that_holds_the_difference_that_matters_decides_wherever_the_mea
     row = decided[(decided["test"] == "back_squareness") & (decided["reading"] == "unrounded")].iloc[0]
     assert row["round"] == 8 and row["verdict"] == "no difference" and "difference that matters" in row["why"]
     assert row["low"] < -0.1837 < row["high"]  # across the threshold: the one-sided question alone leaves it
+
+
+def test_the_rounds_a_run_does_not_take_are_listed_with_why_and_only_for_its_own_ensembles():
+    second, margins = _second_round()
+    registered, _ = _registered(second, margins, mean=-0.14, se=0.012)
+    design = pd.DataFrame([{**ENSEMBLE, "test": t, "level": 1 - 0.05 / 28} for t in ("back_contrast", "back_squareness")])
+    none = T.read_registered(None)
+    assert len(F.untaken(second, none, {4: registered}, design, margins, MEASURED)) == 0
+    other = {**MEASURED, "lighting": {"light": 255.0}}
+    gone = F.untaken(second, none, {4: registered}, design, margins, other)
+    assert list(gone.columns) == F.UNTAKEN_COLUMNS
+    assert gone.to_dict("records") == [{"round": 4, **ENSEMBLE, "why": "measured with other settings"}]
+    elsewhere = second.assign(truncation=0.5)  # a run that does not test the registered ensemble
+    assert len(F.untaken(elsewhere, none, {4: registered}, design.assign(truncation=0.5), margins.assign(
+        truncation=0.5), other)) == 0

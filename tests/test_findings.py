@@ -419,6 +419,35 @@ def test_the_claims_later_rounds_are_named_with_the_familys_bound_over_them():
     assert plain["third"] is None and plain["direction"] is None and plain["together"] == pytest.approx(0.95)
 
 
+def test_a_registered_round_the_verdict_did_not_take_is_named_on_the_page(tmp_path):
+    """A registered round made stale (by a change to the settings or to the rounds before it) is named in the
+    finding and under the claim table with its ensemble and why, so that it is seen (in Chromium, as a reader sees
+    the page); with none, the finding says nothing of it."""
+    from .browser import Browser
+
+    untaken = pd.DataFrame([{"round": 3, "kind": "random_heightfield", "truncation": 0.5, "aspect": 0.5,
+                             "incidence": 30.0, "why": "planned from other readings of the earlier rounds"}])
+    found = PF.random_claim_finding(claims_frame(), shown=True, untaken=untaken)
+    assert found["untaken"] == [{"round": "third", "ensemble": "random heightfield t 0.5, a 0.5",
+                                 "why": "planned from other readings of the earlier rounds"}]
+    html = R.build_report({**benchmarks(), **measured(), "random_claims_untaken": untaken}, {}, table_aspects=ASPECTS)
+    text = statement(parse(html), "random")
+    assert ("Registered rounds not taken, their tests left as the rounds before decided them: the third round's "
+            "random heightfield t 0.5, a 0.5 (planned from other readings of the earlier rounds)") in text
+    path = tmp_path / "report.html"
+    path.write_text(html, encoding="utf-8")
+    with Browser(1280, 900, workdir=tmp_path) as browser:
+        browser.open(path)
+        seen = browser.evaluate("""(() => [...document.querySelectorAll('p, li')]
+            .filter(e => e.innerText.includes('Registered rounds not taken'))
+            .map(e => ({text: e.innerText, shown: e.getBoundingClientRect().height > 0 || !!e.closest('details')})))()""")
+    assert len(seen) == 2 and all(e["shown"] for e in seen)
+    assert all("the third round's random heightfield t 0.5, a 0.5" in e["text"] for e in seen)
+    assert PF.random_claim_finding(claims_frame(), shown=True)["untaken"] == []
+    plain = statement(parse(R.build_report({**benchmarks(), **measured()}, {}, table_aspects=ASPECTS)), "random")
+    assert "not taken" not in plain
+
+
 def test_the_renderer_statements_are_the_benchmarks(full_page):
     b = benchmarks()
     acc = PF.renderer_accuracy(PS.speed_section(**b))

@@ -295,6 +295,7 @@ rule analysis_random:
         random_seeds_needed="results/analysis/random_seeds_needed.csv",
         random_model_fits="results/analysis/random_model_fits.parquet",
         random_claims_round2="results/analysis/random_claims_round2.csv",
+        random_claims_untaken="results/analysis/random_claims_untaken.csv",
         random_claims=report(
             "results/analysis/random_claims.csv",
             caption="../report/random_claims.rst",

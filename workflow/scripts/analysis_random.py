@@ -11,7 +11,7 @@ import pandas as pd  # noqa: E402
 from roughlight.analysis import direction_rounds  # noqa: E402
 from roughlight.analysis.inputs import STUDY_COLUMNS  # noqa: E402
 from roughlight.analysis.steps import analysis_random  # noqa: E402
-from roughlight.analysis.third_round import read_registered, stale_ensembles, with_third_round  # noqa: E402
+from roughlight.analysis.third_round import read_registered  # noqa: E402
 from roughlight.atomic import write_frame  # noqa: E402
 from roughlight.report import figures as F  # noqa: E402
 from roughlight.study.tables import claim_rows, read_study  # noqa: E402
@@ -40,12 +40,9 @@ for reading, part in claims.groupby("reading", sort=False):
                       if r > 2) or "none by a later round"
     log(f"claim ({reading}): {len(part)} tests ({later}): "
         + ", ".join(f"{n} {v}" for v, n in part["verdict"].value_counts().items()))
-for line in stale_ensembles(tables["random_claims_round2"], claim["third_round"], claim["measured"]):
-    log(f"the registered third round is not taken for {line} (`make claim-third-round` measures it again)")
-after_third = with_third_round(tables["random_claims_round2"], claim["third_round"], claim["design"], claim["margins"],
-                               claim["measured"])
-for line in direction_rounds.stale_ensembles(after_third, claim["direction_rounds"], claim["margins"], claim["measured"]):
-    log(f"the registered {line} is not taken (`make claim-fourth-round` and its kin measure it again)")
+for r in tables["random_claims_untaken"].itertuples(index=False):
+    log(f"the registered round {r.round} is not taken for {r.kind} t {r.truncation:g}, a {r.aspect:g}, incidence "
+        f"{r.incidence:g}: {r.why} (its `make claim-*-round` measures it again)")
 log(f"model refits: {len(tables['random_model_fits'])} tiles and regular surfaces; charts -> {out.random_ensembles_png}, "
     f"{out.random_maps_png}")
 _log.end_job()

@@ -39,7 +39,8 @@ from . import claims as C
 from . import third_round as T
 
 __all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "matters_of", "plan", "direction_verdict",
-           "with_direction_round", "with_direction_rounds", "stale_ensembles", "registered_spread", "earlier_spread",
+           "with_direction_round", "with_direction_rounds", "stale_ensembles", "untaken", "UNTAKEN_COLUMNS",
+           "registered_spread", "earlier_spread",
            "registered_rounds", "main"]
 
 #: Each round of the claim's direction: its seeds (``base`` + 1 ...: above the pilots' 501-600 and the third round's
@@ -230,6 +231,35 @@ def stale_ensembles(claims: pd.DataFrame, registered: dict, margins: pd.DataFram
             _, stale = T.applicable(table, T.basis(planned, level), measured, ROUNDS[number]["base"])
             lines |= {f"round {number}: {k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale}
     return sorted(lines)
+
+
+#: :func:`untaken`'s columns.
+UNTAKEN_COLUMNS = ["round", "kind", "truncation", "aspect", "incidence", "why"]
+
+
+def untaken(second: pd.DataFrame, third: pd.DataFrame, registered: dict, design: pd.DataFrame,
+            margins: pd.DataFrame, measured: dict) -> pd.DataFrame:
+    """Every registered later round's ensemble that a run's verdict does not take, among the ensembles the run
+    tests (``second``: its second round's verdict; ``third``: the registered third round; ``registered``: round
+    number -> a direction round's table): a row each (:data:`UNTAKEN_COLUMNS`), with why (planned from other
+    readings of the earlier rounds, measured with other settings, or not the tiles its plan asked for). A run's
+    page says so: a round it does not take leaves its tests as the rounds before decided them."""
+    tested = {tuple(k) for k in second[T.ENSEMBLE].drop_duplicates().itertuples(index=False)} if len(second) else set()
+    rows = []
+    if len(third):
+        planned, level = T.plan(second)
+        rows += [(3, *key[:4], why) for key, why in T.applicable(third, T.basis(planned, level), measured)[1]]
+    after = T.with_third_round(second, third, design, margins, measured)
+    for number in sorted(ROUNDS):
+        table = registered.get(number, T.read_registered(None))
+        if len(table):
+            planned, level = plan(with_direction_rounds(after, registered, margins, measured, until=number), margins,
+                                  number, spread=registered_spread(table))
+            stale = T.applicable(table, T.basis(planned, level), measured, ROUNDS[number]["base"])[1]
+            rows += [(number, *key[:4], why) for key, why in stale]
+    out = pd.DataFrame(sorted(set(rows)), columns=UNTAKEN_COLUMNS)
+    keep = [tuple(r) in tested for r in out[T.ENSEMBLE].itertuples(index=False)] if len(out) else []
+    return out[keep].reset_index(drop=True) if len(out) else out
 
 
 def registered_spread(registered: pd.DataFrame) -> dict | None:

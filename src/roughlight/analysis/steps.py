@@ -133,7 +133,8 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
         :func:`roughlight.study.plan.claim_measurement`); None: no verdict. ``random_claims_round2`` is the second
         round's verdict, ``random_claims`` with the later rounds where they apply
         (:func:`roughlight.analysis.third_round.with_third_round`, then
-        :func:`roughlight.analysis.direction_rounds.with_direction_rounds`)
+        :func:`roughlight.analysis.direction_rounds.with_direction_rounds`), ``random_claims_untaken`` the
+        registered rounds' ensembles it does not take, and why (:func:`roughlight.analysis.direction_rounds.untaken`)
     """
     from . import ensembles as E
 
@@ -145,7 +146,7 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     out = {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
            "random_model_fits": fits}
     if claim is not None:
-        from .direction_rounds import with_direction_rounds
+        from .direction_rounds import untaken, with_direction_rounds
         from .third_round import read_registered, with_third_round
 
         claim = dict(claim)
@@ -155,6 +156,9 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
         after_third = with_third_round(out["random_claims_round2"], third if third is not None else read_registered(None),
                                        claim["design"], claim["margins"], measured)
         out["random_claims"] = with_direction_rounds(after_third, later, claim["margins"], measured)
+        out["random_claims_untaken"] = untaken(out["random_claims_round2"], third if third is not None
+                                               else read_registered(None), later, claim["design"], claim["margins"],
+                                               measured)
     return out
 
 

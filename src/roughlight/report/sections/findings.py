@@ -20,7 +20,7 @@ from ..registry import Section
 from . import light_transport as light_section
 from . import tables
 from .glm import best_laws
-from .random import claim_test_label
+from .random import ROUND_NAMES, claim_test_label, untaken_rounds
 from .speed import speed_section
 
 #: The lobes of Tables 1-2: (lobe, table, its area function).
@@ -220,15 +220,18 @@ def _claim_headline(claims: pd.DataFrame) -> str:
 
 
 #: The later rounds' names.
-ORDINALS = {3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh", 8: "eighth"}
+ORDINALS = ROUND_NAMES
 
 
-def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dict:
+def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool,
+                         untaken: pd.DataFrame | None = None) -> dict:
     """The thesis's claim on random roughness, per test of :data:`roughlight.analysis.claims.TESTS` (in its
     order), in both readings: the regular surface's lobes and the verdicts over the random grid points and kinds
     (rule ``analysis_random``'s ``random_claims.csv``).
 
-    ``shown``: the "Random roughness" section is on the page (a random kind was measured).
+    ``shown``: the "Random roughness" section is on the page (a random kind was measured). ``untaken``: the
+    registered rounds the verdict did not take (rule ``analysis_random``'s ``random_claims_untaken.csv``): the
+    finding names each (``untaken``: round, ensemble and why), so that a round a change has made stale is seen.
     """
     from ...analysis.claims import TESTS
     from ...analysis.direction_rounds import ALPHA as D_ALPHA
@@ -257,6 +260,7 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool) -> dic
     return {"readings": readings, "regular": _regular_shapes(claims), "kinds": claims["kind"].nunique(),
             "points": len(claims[["truncation", "aspect", "incidence"]].drop_duplicates()),
             "level": float(first["level"]), "target": "random-claim",
+            "untaken": untaken_rounds(untaken),
             "third": {"n": int((third["verdict"] != "undecided").sum()), "level": float(third["level"].iloc[0])}
             if len(third) else None,
             "direction": {"tests": len(direction), "decided": int((direction["verdict"] != "undecided").sum()),
@@ -366,7 +370,8 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
                      implied_scales: pd.DataFrame | None = None, tables_at_implied_scale: pd.DataFrame | None = None,
                      share_laws: pd.DataFrame | None = None, implicit_validation: pd.DataFrame | None = None,
                      implicit_frames: pd.DataFrame | None = None,
-                     random_claims: pd.DataFrame | None = None, speed_accuracy: pd.DataFrame | None = None,
+                     random_claims: pd.DataFrame | None = None, random_claims_untaken: pd.DataFrame | None = None,
+                     speed_accuracy: pd.DataFrame | None = None,
                      speed_accuracy_png=None, renderer_validation: pd.DataFrame | None = None,
                      arc_smoothness: pd.DataFrame | None = None, renderer_validation_png=None,
                      random_accuracy: pd.DataFrame | None = None, mitsuba_agreement: pd.DataFrame | None = None,
@@ -378,7 +383,8 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
     ----------
     thesis_tables, exact_peaks, implied_scales, tables_at_implied_scale, share_laws : the analysis outputs.
     implicit_validation : rule ``implicit_surface``'s validation; random_claims : rule ``analysis_random``'s
-        claim table; None: the statement says they were not given.
+        claim table; None: the statement says they were not given. random_claims_untaken : its registered rounds
+        not taken (:func:`roughlight.analysis.direction_rounds.untaken`).
     speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness, renderer_validation_png,
     random_accuracy : the speed/accuracy benchmark and "Accuracy at every view", as "Settings and provenance" shows
         them (:func:`roughlight.report.sections.speed.speed_section`); none given: switched off.
@@ -399,7 +405,7 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
         "ranking": ranking(thesis), "exact": exact_law(thesis, exact_peaks),
         "implied": implied_scale(thesis, implied_scales, tables_at_implied_scale), "laws": share_law_finding(share_laws),
         "implicit": implicit(implicit_validation, bool(shown.get("implicit")), implicit_frames),
-        "random": random_claim_finding(random_claims, bool(shown.get("random"))),
+        "random": random_claim_finding(random_claims, bool(shown.get("random")), random_claims_untaken),
         "accuracy": renderer_accuracy(benchmarks), "speed": speed(benchmarks),
         "light": light_transport(mitsuba_agreement, interreflection_summary, bool(shown.get("light_transport"))),
     }

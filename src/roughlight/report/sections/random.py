@@ -214,13 +214,28 @@ def _random_tiles(accuracy, convergence, tiles_png) -> dict:
             "tiles_png": tiles_png, "tiles_caption": caption_text("random_tiles") if tiles_png else None}
 
 
+#: The later rounds' names, as the page says them.
+ROUND_NAMES = {3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh", 8: "eighth"}
+
+
+def untaken_rounds(untaken: pd.DataFrame | None) -> list[dict]:
+    """The registered rounds a verdict did not take (rule ``analysis_random``'s ``random_claims_untaken.csv``), as
+    the page names them: the round, the ensemble and why."""
+    rows = frame_or_none(untaken)
+    return [] if rows is None else [
+        {"round": ROUND_NAMES.get(int(r.round), str(r.round)),
+         "ensemble": f"{str(r.kind).replace('_', ' ')} t {r.truncation:g}, a {r.aspect:g}", "why": str(r.why)}
+        for r in rows.itertuples(index=False)]
+
+
 def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_needed: pd.DataFrame | None = None,
                 random_model_fits: pd.DataFrame | None = None, random_ensembles_png=None, random_maps_png=None,
                 surface_settings: dict | None = None, random_accuracy: pd.DataFrame | None = None,
                 tile_convergence: pd.DataFrame | None = None, random_tiles_png=None, plan: str = "full",
                 random_claims: pd.DataFrame | None = None, random_claim_design: pd.DataFrame | None = None,
                 random_claim_margins: pd.DataFrame | None = None, random_claim_geometry: pd.DataFrame | None = None,
-                random_claim_grid: pd.DataFrame | None = None) -> dict | None:
+                random_claim_grid: pd.DataFrame | None = None,
+                random_claims_untaken: pd.DataFrame | None = None) -> dict | None:
     """"Random roughness" (ensembles against the regular surface, the claim's design and verdict, the analytic
     models refitted, seeds needed, the random tiles' benchmark), from rules ``claim_discs``, ``claim_design``,
     ``analysis_random`` and ``random_tiles``; None: no random kind measured."""
@@ -245,6 +260,7 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
     return {
         "settings": surface_settings or {}, "tests": _claim_tests(frame_or_none(random_claim_margins)),
         "claim": random_claim_rows(claims) if claims is not None else None, "counts": _claim_counts(claims),
+        "untaken": untaken_rounds(random_claims_untaken),
         "design": claim_design_rows(design) if design is not None else None,
         "geometry": claim_geometry_rows(geometry) if geometry is not None else None,
         "grid": claim_grid_rows(grid) if grid is not None else None,
@@ -258,6 +274,7 @@ def random_data(random_ensembles: pd.DataFrame | None = None, random_seeds_neede
 SECTION = Section("random", random_data, "random.html", title="Random roughness", switch=random_surfaces,
                   inputs={"random_ensembles": "results/analysis/random_ensembles.csv",
                           "random_claims": "results/analysis/random_claims.csv",
+                          "random_claims_untaken": "results/analysis/random_claims_untaken.csv",
                           "random_claim_design": "results/analysis/random_claim_design.csv",
                           "random_claim_margins": "results/analysis/random_claim_margins.csv",
                           "random_claim_geometry": "results/analysis/random_claim_geometry.csv",
