@@ -284,8 +284,8 @@ def earlier_spread(claims: pd.DataFrame, margins: pd.DataFrame, number: int, geo
     for (kind, t, a, i), tests in wanted.groupby(T.ENSEMBLE, sort=False):
         folder = root / before / f"i{i:g}" / kind / f"t{t:g}_a{a:g}"
         if not any(folder.glob("s*.parquet")):
-            raise FileNotFoundError(f"{folder}: the {before} round's tiles are gone (`make claim-{before}-round` draws "
-                                    "them again, the same tiles)")
+            raise FileNotFoundError(f"{folder}: the {before} round's tiles are gone (`make claim-"
+                                    f"{ROUNDS[number]['name']}-round` draws them again, the same seeds)")
         pooled = T.round_readings(claim_rows([str(folder)]), geometry, steps, ROUNDS[number]["error"])
         reading = pooled[(kind, float(t), float(a), float(i), "unrounded")]
         out.update({(kind, float(t), float(a), float(i), test): float(reading[f"{test}_se"]) for test in tests["test"]})
@@ -327,13 +327,20 @@ def main(argv=None) -> None:
     margins = pd.read_csv(args.analysis / "random_claim_margins.csv")
     third = T.read_registered(settings.get("registered_third_round") or None)
     earlier = registered_rounds(settings, until=number)
-    claims = with_direction_rounds(T.with_third_round(pd.read_csv(args.analysis / "random_claims_round2.csv"), third,
-                                                      design, margins, measured), earlier, margins, measured, number)
+    after_third = T.with_third_round(pd.read_csv(args.analysis / "random_claims_round2.csv"), third, design, margins,
+                                     measured)
+    claims = with_direction_rounds(after_third, earlier, margins, measured, number)
     geometry = pd.read_csv(args.analysis / "random_claim_geometry.csv")
     sweep = rl_plan.sweep_settings(config)
     steps = (float(sweep["azimuth_step"]), float(sweep["elevation_step"]))
     spread = None
     if spec["error"] != ROUNDS[number - 1]["error"]:  # plan from the round's own error of the round before's tiles
+        before = number - 1  # its tiles drawn again where they are gone (the same seeds: the same tiles), never
+        # registered again: its registered readings stay as they were
+        previous = plan(with_direction_rounds(after_third, earlier, margins, measured, before), margins, before,
+                        spread=registered_spread(earlier.get(before, T.read_registered(None))))[0]
+        T.render_round(previous, config, geometry, Path("results/claims") / ROUNDS[before]["name"], print,
+                       ROUNDS[before]["base"])
         spread = earlier_spread(claims, margins, number, geometry, steps, claim_rows)
     planned, level = plan(claims, margins, number, spread=spread)
     print(f"{len(planned)} shape tests undecided (unrounded) before round {number}, the round's level {level:.4f}:\n"
