@@ -1,5 +1,5 @@
-"""The random-roughness claim's rounds of its own direction (the fourth and fifth): the shape tests that no number of
-seeds decides two-sided, asked one-sided (docs/random-roughness.md, "A fourth round", "A fifth round").
+"""The random-roughness claim's rounds of its own direction (the fourth to the eighth): the shape tests that no number
+of seeds decides two-sided, asked one-sided (docs/random-roughness.md, "A fourth round" to "An eighth round").
 
 Rounds 2 and 3 read a shape test two-sided: a *difference* when its interval lies beyond the margin around the
 regular value, *no difference* when within it, where the margin is the larger of the instrument's and the smallest
@@ -17,13 +17,17 @@ and 3 without ``matters``). The verdict, on the round's fresh tiles alone:
   the regular one by anything the instrument can tell; it may be the same, or further the other way;
 * *undecided* otherwise.
 
+From the sixth round on, a round's standard errors come from a bootstrap over seeds in place of the design's
+delete-one jackknife, which multiplies the cell-sized steps of a statistic read from a region by n - 1
+(:func:`roughlight.analysis.claim_readings.pooled_readings`); the eighth also holds the second round's *no
+difference* (:data:`ROUNDS` ``matters``), so that its planned interval decides wherever its mean lies.
+
 A round's tests are every shape test still *undecided* (unrounded) after the rounds before it; its family their own
 (:data:`ALPHA` shared, Bonferroni), its seeds planned by the design's own rule
 (:func:`roughlight.analysis.claims.planned_seeds`, ``role`` "direction") from the latest readings of each test, fresh
 seeds from its own base (:data:`ROUNDS`; none a tested tile's, a pilot's or an earlier round's). Each round is
 measured once and registered as the third round is (:mod:`roughlight.analysis.third_round`; ``make
-claim-fourth-round``, ``make claim-fifth-round``; ``claims.registered_fourth_round``, ``registered_fifth_round``), and a
-run's verdict (rule ``analysis_random``, :func:`with_direction_rounds`) takes an ensemble's registered readings only
+claim-fourth-round`` ... ``make claim-eighth-round``; ``claims.registered_fourth_round`` ...), and a run's verdict (rule ``analysis_random``, :func:`with_direction_rounds`) takes an ensemble's registered readings only
 where they were measured with today's settings and planned from today's earlier rounds.
 """
 
@@ -40,11 +44,11 @@ from . import third_round as T
 
 __all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "matters_of", "plan", "direction_verdict",
            "with_direction_round", "with_direction_rounds", "stale_ensembles", "untaken", "UNTAKEN_COLUMNS",
-           "registered_spread", "earlier_spread",
-           "registered_rounds", "main"]
+           "registered_spread", "earlier_spread", "registered_rounds", "main"]
 
 #: Each round of the claim's direction: its seeds (``base`` + 1 ...: above the pilots' 501-600 and the third round's
-#: 301 on, and below the next round's), the most its plan may ask of an ensemble, and its config key and file.
+#: 301 on, and below the next round's), the most its plan may ask of an ensemble, and its name (its config key
+#: ``claims.registered_{name}_round``, its file ``config/claim_{name}_round.csv``).
 #: ``error``: the standard error a round's readings carry (:func:`roughlight.analysis.claim_readings.pooled_readings`);
 #: a round whose error is not the design's jackknife plans from the same error of the round before's tiles.
 ROUNDS = {
