@@ -27,9 +27,9 @@ A round's tests are every shape test still *undecided* (unrounded) after the rou
 (:func:`roughlight.analysis.claims.planned_seeds`, ``role`` "direction") from the latest readings of each test, fresh
 seeds from its own base (:data:`ROUNDS`; none a tested tile's, a pilot's or an earlier round's). Each round is
 measured once and registered as the third round is (:mod:`roughlight.analysis.third_round`; ``make
-claim-fourth-round`` ... ``make claim-eighth-round``; ``claims.registered_fourth_round`` ...), and a run's verdict (rule ``analysis_random``, :func:`with_direction_rounds`) takes an ensemble's registered readings only
-where they were measured with today's settings and planned from today's earlier rounds.
-"""
+claim-fourth-round`` ... ``make claim-eighth-round``; ``claims.registered_fourth_round`` ...), and a run's verdict
+(rule ``analysis_random``, :func:`with_direction_rounds`) takes an ensemble's registered readings only where they
+were measured with today's settings and planned from today's earlier rounds."""
 
 from __future__ import annotations
 
