@@ -40,6 +40,14 @@ def _second_round(mean=-0.1417, se=0.0272, seeds=38):
     return C.claim_table({key + (r,): pooled for r in R.READINGS}, design, margins).assign(round=2), margins
 
 
+def _stale_lines(claims, registered, margins, measured) -> list[str]:
+    """The registered direction rounds' ensembles a run does not take (``later_rounds``' second table), a line each:
+    "round N: ensemble: why"."""
+    gone = F.later_rounds(claims, T.read_registered(None), registered, None, margins, measured)[1]
+    return sorted({f"round {r.round}: {r.kind} t {r.truncation:g}, a {r.aspect:g}, incidence {r.incidence:g}: {r.why}"
+                   for r in gone.itertuples(index=False)})
+
+
 def test_the_instrument_margin_leaves_out_the_difference_that_matters_and_adds_rounding_at_8_bits():
     margins = _margins()
     row = {**ENSEMBLE, "test": "back_squareness"}
@@ -104,7 +112,7 @@ def test_a_registered_fourth_round_decides_the_undecided_shape_test_alone_and_on
     assert (fourth["low"] > -0.179 - 0.0046).all()
     kept = decided[decided["round"] == 2]
     assert set(kept["test"]) == {"back_contrast"} and set(kept["verdict"]) == {"lobe"}
-    assert F.stale_ensembles(second, {4: registered}, margins, MEASURED) == []
+    assert _stale_lines(second, {4: registered}, margins, MEASURED) == []
     # a rounder random lobe is a difference as claimed
     rounder, _ = _registered(second, margins, mean=-0.25, se=0.01)
     claimed = F.with_direction_round(second, rounder, margins, MEASURED)
@@ -113,7 +121,7 @@ def test_a_registered_fourth_round_decides_the_undecided_shape_test_alone_and_on
     # measured with other settings, planned from other readings, or other tiles than planned: nothing taken
     other = {**MEASURED, "lighting": {"light": 255.0}}
     assert (F.with_direction_round(second, registered, margins, other)["round"] == 2).all()
-    assert F.stale_ensembles(second, {4: registered}, margins, other) == [
+    assert _stale_lines(second, {4: registered}, margins, other) == [
         "round 4: random_pyramids t 1, a 0.5, incidence 30: measured with other settings"]
     moved = second.copy()
     moved.loc[moved["test"] == "back_squareness", "mean"] -= 0.01
@@ -144,10 +152,10 @@ def test_a_fifth_round_plans_from_what_the_fourth_left_and_decides_only_that():
     decided = F.with_direction_rounds(second, {4: fourth, 5: fifth}, margins, MEASURED)
     five = decided[decided["round"] == 5]
     assert len(five) == 2 and set(five["verdict"]) == {"not as claimed"} and (five["seeds"] == fresh).all()
-    assert F.stale_ensembles(second, {4: fourth, 5: fifth}, margins, MEASURED) == []
+    assert _stale_lines(second, {4: fourth, 5: fifth}, margins, MEASURED) == []
     alone = F.with_direction_rounds(second, {5: fifth}, margins, MEASURED)
     assert 5 not in set(alone["round"])
-    assert F.stale_ensembles(second, {5: fifth}, margins, MEASURED)[0].startswith("round 5: random_pyramids")
+    assert _stale_lines(second, {5: fifth}, margins, MEASURED)[0].startswith("round 5: random_pyramids")
 
 
 def test_the_rounds_seeds_meet_no_other_tiles():
@@ -226,11 +234,11 @@ def test_a_bootstrap_round_plans_from_the_error_it_registered_and_is_stale_when_
     decided = F.with_direction_rounds(second, {4: fourth, 5: fifth, 6: sixth}, margins, MEASURED)
     six = decided[decided["round"] == 6]
     assert len(six) == 2 and set(six["verdict"]) == {"not as claimed"} and (six["seeds"] == n6).all()
-    assert F.stale_ensembles(second, {4: fourth, 5: fifth, 6: sixth}, margins, MEASURED) == []
+    assert _stale_lines(second, {4: fourth, 5: fifth, 6: sixth}, margins, MEASURED) == []
     moved = sixth.copy()
     moved.loc[moved["statistic"] == "plan_back_squareness_se", "value"] = 0.0157
     assert 6 not in set(F.with_direction_rounds(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)["round"])
-    assert F.stale_ensembles(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)[0].startswith("round 6:")
+    assert _stale_lines(second, {4: fourth, 5: fifth, 6: moved}, margins, MEASURED)[0].startswith("round 6:")
 
 
 def test_a_round_that_holds_the_difference_that_matters_decides_wherever_the_mean_lies():
@@ -271,11 +279,11 @@ def test_the_rounds_a_run_does_not_take_are_listed_with_why_and_only_for_its_own
     registered, _ = _registered(second, margins, mean=-0.14, se=0.012)
     design = pd.DataFrame([{**ENSEMBLE, "test": t, "level": 1 - 0.05 / 28} for t in ("back_contrast", "back_squareness")])
     none = T.read_registered(None)
-    assert len(F.untaken(second, none, {4: registered}, design, margins, MEASURED)) == 0
+    assert len(F.later_rounds(second, none, {4: registered}, design, margins, MEASURED)[1]) == 0
     other = {**MEASURED, "lighting": {"light": 255.0}}
-    gone = F.untaken(second, none, {4: registered}, design, margins, other)
+    gone = F.later_rounds(second, none, {4: registered}, design, margins, other)[1]
     assert list(gone.columns) == F.UNTAKEN_COLUMNS
     assert gone.to_dict("records") == [{"round": 4, **ENSEMBLE, "why": "measured with other settings"}]
     elsewhere = second.assign(truncation=0.5)  # a run that does not test the registered ensemble
-    assert len(F.untaken(elsewhere, none, {4: registered}, design.assign(truncation=0.5), margins.assign(
-        truncation=0.5), other)) == 0
+    assert len(F.later_rounds(elsewhere, none, {4: registered}, design.assign(truncation=0.5), margins.assign(
+        truncation=0.5), other)[1]) == 0

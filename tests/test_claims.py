@@ -456,6 +456,13 @@ def test_the_third_round_plans_the_undecided_tests_alone_at_a_family_level_of_th
     assert CLAIM_SEED_BASE < THIRD_ROUND_BASE < CLAIM_PILOT_BASE  # fresh seeds between the tested and the pilots'
 
 
+def _stale_lines(T, claims, registered, measured) -> list[str]:
+    """The registered third round's ensembles not taken (``third_round.stale``), a line each as the run's log says
+    them: ensemble, then why."""
+    return sorted({f"{k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in T.stale(claims, registered,
+                                                                                                     measured)})
+
+
 def _third_round_case():
     """A second round with a back lobe undecided (and its shape tests waiting on it) beside a hot spot found, and
     a third round's readings of the fresh tiles its plan asks for, whose back lobe lies wholly below the margin."""
@@ -504,20 +511,20 @@ def test_a_registered_third_round_decides_only_what_the_second_left_undecided_an
     assert third["why"].str.startswith(f"round 3 ({fresh} fresh seeds at 97.50%)").all()
     kept = decided[decided["round"] == 2]
     assert set(kept["test"]) == {"hot_spot_contrast"} and set(kept["verdict"]) == {"lobe"}
-    assert T.stale_ensembles(second, registered, measured) == []
+    assert _stale_lines(T, second, registered, measured) == []
     other = {**measured, "lighting": {"light": 255.0}}
     assert (T.with_third_round(second, registered, design, margins, other)["round"] == 2).all()
-    assert T.stale_ensembles(second, registered, other) == [
+    assert _stale_lines(T, second, registered, other) == [
         "random_heightfield t 0.5, a 0.5, incidence 30: measured with other settings"]
     moved = second.copy()
     moved.loc[moved["test"] == "back_contrast", "mean"] += 0.01
     assert (T.with_third_round(moved, registered, design, margins, measured)["round"] == 2).all()
-    assert T.stale_ensembles(moved, registered, measured)[0].endswith("planned from other readings of the earlier rounds")
+    assert _stale_lines(T, moved, registered, measured)[0].endswith("planned from other readings of the earlier rounds")
     assert (T.with_third_round(second, T.read_registered(None), design, margins, measured)["round"] == 2).all()
     fewer = registered.copy()
     fewer.loc[fewer["statistic"] == "seeds", "value"] = fresh - 1  # not the tiles the plan asked for
     assert (T.with_third_round(second, fewer, design, margins, measured)["round"] == 2).all()
-    assert T.stale_ensembles(second, fewer, measured)[0].endswith("not the tiles its plan asked for")
+    assert _stale_lines(T, second, fewer, measured)[0].endswith("not the tiles its plan asked for")
     (tmp_path / "bad.csv").write_text("a,b\n1,2\n")
     with pytest.raises(ValueError, match="not a registered third round"):
         T.read_registered(tmp_path / "bad.csv")

@@ -260,34 +260,14 @@ def registered_pilots_file(wildcards):
     return _registered_file("registered_pilots")
 
 
-def registered_third_round_file(wildcards):
-    """claims.registered_third_round, the claim's third round as registered (none: [])."""
-    return _registered_file("registered_third_round")
+def registered_round_file(name):
+    """An input function: claims.registered_{name}_round, the claim's later round of that name ("third" ...
+    "eighth") as registered (none: [])."""
 
+    def registered(wildcards):
+        return _registered_file(f"registered_{name}_round")
 
-def registered_fourth_round_file(wildcards):
-    """claims.registered_fourth_round, the claim's fourth round as registered (none: [])."""
-    return _registered_file("registered_fourth_round")
-
-
-def registered_fifth_round_file(wildcards):
-    """claims.registered_fifth_round, the claim's fifth round as registered (none: [])."""
-    return _registered_file("registered_fifth_round")
-
-
-def registered_sixth_round_file(wildcards):
-    """claims.registered_sixth_round, the claim's sixth round as registered (none: [])."""
-    return _registered_file("registered_sixth_round")
-
-
-def registered_seventh_round_file(wildcards):
-    """claims.registered_seventh_round, the claim's seventh round as registered (none: [])."""
-    return _registered_file("registered_seventh_round")
-
-
-def registered_eighth_round_file(wildcards):
-    """claims.registered_eighth_round, the claim's eighth round as registered (none: [])."""
-    return _registered_file("registered_eighth_round")
+    return registered
 
 
 def claim_measurement_params(wildcards):

@@ -278,12 +278,12 @@ rule analysis_random:
         geometry="results/analysis/random_claim_geometry.csv",
         design="results/analysis/random_claim_design.csv",
         margins="results/analysis/random_claim_margins.csv",
-        third_round=registered_third_round_file,
-        fourth_round=registered_fourth_round_file,
-        fifth_round=registered_fifth_round_file,
-        sixth_round=registered_sixth_round_file,
-        seventh_round=registered_seventh_round_file,
-        eighth_round=registered_eighth_round_file,
+        third_round=registered_round_file("third"),
+        fourth_round=registered_round_file("fourth"),
+        fifth_round=registered_round_file("fifth"),
+        sixth_round=registered_round_file("sixth"),
+        seventh_round=registered_round_file("seventh"),
+        eighth_round=registered_round_file("eighth"),
     output:
         random_statistics="results/analysis/random_statistics.parquet",
         random_ensembles=report(

@@ -43,7 +43,7 @@ from . import claims as C
 from . import third_round as T
 
 __all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "matters_of", "plan", "direction_verdict",
-           "with_direction_round", "with_direction_rounds", "stale_ensembles", "untaken", "UNTAKEN_COLUMNS",
+           "with_direction_round", "with_direction_rounds", "later_rounds", "UNTAKEN_COLUMNS",
            "registered_spread", "earlier_spread", "registered_rounds", "main"]
 
 #: Each round of the claim's direction: its seeds (``base`` + 1 ...: above the pilots' 501-600 and the third round's
@@ -51,6 +51,10 @@ __all__ = ["ROUNDS", "ALPHA", "INSTRUMENT", "instrument_margin", "threshold", "m
 #: ``claims.registered_{name}_round``, its file ``config/claim_{name}_round.csv``).
 #: ``error``: the standard error a round's readings carry (:func:`roughlight.analysis.claim_readings.pooled_readings`);
 #: a round whose error is not the design's jackknife plans from the same error of the round before's tiles.
+#: ``matters``: the round's verdicts also hold the second round's *no difference* (the interval within the
+#: difference that matters around the regular value, which takes precedence), so that every interval narrower than
+#: the difference that matters less the instrument's margin decides, wherever its mean lies; its seeds are planned
+#: for that width (:func:`plan`).
 ROUNDS = {
     4: {"name": "fourth", "base": 600, "max_seeds": 200, "error": "jackknife"},
     5: {"name": "fifth", "base": 800, "max_seeds": 1000, "error": "jackknife"},
@@ -58,10 +62,6 @@ ROUNDS = {
     7: {"name": "seventh", "base": 2800, "max_seeds": 1000, "error": "bootstrap"},
     8: {"name": "eighth", "base": 3800, "max_seeds": 1000, "error": "bootstrap", "matters": True},
 }
-#: ``matters``: the round's verdicts also hold the second round's *no difference* (the interval within the
-#: difference that matters around the regular value, which takes precedence), so that every interval narrower than
-#: the difference that matters less the instrument's margin decides, wherever its mean lies; its seeds are planned
-#: for that width (:func:`plan`).
 #: A registered round's statistic holding the error its plan took for a test (``PLAN_SE.format(test)``), where the
 #: plan did not take the earlier round's own.
 PLAN_SE = "plan_{}_se"
@@ -71,14 +71,20 @@ ALPHA = 0.05
 INSTRUMENT = ("rendering_noise", "sampling_error", "grid_effect")
 
 
+def _margin_rows(margins: pd.DataFrame, row, reading: str) -> pd.DataFrame:
+    """The margin table's rows (:func:`roughlight.analysis.claims.margins`) of a test (``row``: its ensemble and
+    ``test``) in ``reading``."""
+    return margins[(margins["kind"] == row["kind"]) & np.isclose(margins["truncation"], float(row["truncation"]))
+                   & np.isclose(margins["aspect"], float(row["aspect"]))
+                   & np.isclose(margins["incidence"], float(row["incidence"]))
+                   & (margins["test"] == row["test"]) & (margins["reading"] == reading)]
+
+
 def instrument_margin(margins: pd.DataFrame, row, reading: str) -> float:
     """The instrument's own margin of a test (``row``: its ensemble and ``test``) in ``reading``: the largest of
     :data:`INSTRUMENT` in the margin table (:func:`roughlight.analysis.claims.margins`), and at 8 bits rounding,
     never the difference that matters; 0 where none is known."""
-    at = margins[(margins["kind"] == row["kind"]) & np.isclose(margins["truncation"], float(row["truncation"]))
-                 & np.isclose(margins["aspect"], float(row["aspect"]))
-                 & np.isclose(margins["incidence"], float(row["incidence"]))
-                 & (margins["test"] == row["test"]) & (margins["reading"] == reading)]
+    at = _margin_rows(margins, row, reading)
     if not len(at):
         raise ValueError(f"no margin for {row['kind']} t {row['truncation']:g}, a {row['aspect']:g}, "
                          f"{row['test']} ({reading})")
@@ -90,10 +96,7 @@ def instrument_margin(margins: pd.DataFrame, row, reading: str) -> float:
 def matters_of(margins: pd.DataFrame, row, reading: str) -> float:
     """The smallest difference that matters of a test (``row``: its ensemble and ``test``) in ``reading``: the margin
     table's ``matters`` (:data:`roughlight.analysis.claims.TESTS`)."""
-    at = margins[(margins["kind"] == row["kind"]) & np.isclose(margins["truncation"], float(row["truncation"]))
-                 & np.isclose(margins["aspect"], float(row["aspect"]))
-                 & np.isclose(margins["incidence"], float(row["incidence"]))
-                 & (margins["test"] == row["test"]) & (margins["reading"] == reading)]
+    at = _margin_rows(margins, row, reading)
     return float(at.iloc[0]["matters"]) if len(at) else float(C.TESTS[row["test"]]["matters"])
 
 
@@ -187,13 +190,20 @@ def with_direction_round(claims: pd.DataFrame, registered: pd.DataFrame, margins
     measured with today's settings and planned from today's earlier rounds, decided one-sided by that round's tiles
     alone (``round`` ``number``; its ``margin`` the instrument's, its ``why`` naming the round); every other row as
     it was."""
+    return _round_applied(claims, registered, margins, measured, number)[0]
+
+
+def _round_applied(claims: pd.DataFrame, registered: pd.DataFrame, margins: pd.DataFrame, measured: dict,
+                   number: int) -> tuple[pd.DataFrame, list]:
+    """:func:`with_direction_round`'s verdict, and the registered ensembles it did not take (``(ensemble and
+    reading, why)`` pairs, :func:`roughlight.analysis.third_round.applicable`'s)."""
     out = claims.copy()
     if "round" not in out:
         out["round"] = 2
     if not len(registered):
-        return out
+        return out, []
     planned, level = plan(claims, margins, number, spread=registered_spread(registered))
-    rounds = T.applicable(registered, T.basis(planned, level), measured, ROUNDS[number]["base"])[0]
+    rounds, stale = T.applicable(registered, T.basis(planned, level), measured, ROUNDS[number]["base"])
     tests = {tuple(r[T.ENSEMBLE]) + (r["test"],) for _, r in planned.iterrows()}
     for n, row in out.iterrows():
         key = tuple(row[T.ENSEMBLE])
@@ -207,7 +217,7 @@ def with_direction_round(claims: pd.DataFrame, registered: pd.DataFrame, margins
                             f"{', or within the difference that matters' if ROUNDS[number].get('matters') else ''}): "
                             f"{decided['why']}")
         out.at[n, "round"] = number
-    return out
+    return out, stale
 
 
 def with_direction_rounds(claims: pd.DataFrame, registered: dict, margins: pd.DataFrame, measured: dict,
@@ -215,55 +225,44 @@ def with_direction_rounds(claims: pd.DataFrame, registered: dict, margins: pd.Da
     """The verdict after the third round (``claims``) with each registered round of the claim's direction
     (``registered``: round number -> its table, :func:`roughlight.analysis.third_round.read_registered`) in turn,
     each planned from the verdict the rounds before it left; rounds from ``until`` on are left out."""
-    out = claims
+    return _rounds_applied(claims, registered, margins, measured, until)[0]
+
+
+def _rounds_applied(claims: pd.DataFrame, registered: dict, margins: pd.DataFrame, measured: dict,
+                    until: int | None = None) -> tuple[pd.DataFrame, list]:
+    """:func:`with_direction_rounds`' verdict, and every registered ensemble it did not take, as ``(round number,
+    ensemble and reading, why)``."""
+    out, stale = claims, []
     for number in sorted(ROUNDS):
         if until is not None and number >= until:
             break
-        out = with_direction_round(out, registered.get(number, T.read_registered(None)), margins, measured, number)
-    return out
+        out, gone = _round_applied(out, registered.get(number, T.read_registered(None)), margins, measured, number)
+        stale += [(number, key, why) for key, why in gone]
+    return out, stale
 
 
-def stale_ensembles(claims: pd.DataFrame, registered: dict, margins: pd.DataFrame, measured: dict) -> list[str]:
-    """The registered rounds' ensembles a run does not take (each reading once), as lines for its log
-    (``claims``: the verdict after the third round; ``registered`` as :func:`with_direction_rounds` takes it)."""
-    lines = set()
-    for number in sorted(ROUNDS):
-        table = registered.get(number, T.read_registered(None))
-        if len(table):
-            planned, level = plan(with_direction_rounds(claims, registered, margins, measured, until=number),
-                                  margins, number, spread=registered_spread(table))
-            _, stale = T.applicable(table, T.basis(planned, level), measured, ROUNDS[number]["base"])
-            lines |= {f"round {number}: {k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale}
-    return sorted(lines)
-
-
-#: :func:`untaken`'s columns.
+#: :func:`later_rounds`' columns of the rounds it does not take.
 UNTAKEN_COLUMNS = ["round", "kind", "truncation", "aspect", "incidence", "why"]
 
 
-def untaken(second: pd.DataFrame, third: pd.DataFrame, registered: dict, design: pd.DataFrame,
-            margins: pd.DataFrame, measured: dict) -> pd.DataFrame:
-    """Every registered later round's ensemble that a run's verdict does not take, among the ensembles the run
-    tests (``second``: its second round's verdict; ``third``: the registered third round; ``registered``: round
-    number -> a direction round's table): a row each (:data:`UNTAKEN_COLUMNS`), with why (planned from other
-    readings of the earlier rounds, measured with other settings, or not the tiles its plan asked for). A run's
-    page says so: a round it does not take leaves its tests as the rounds before decided them."""
+def later_rounds(second: pd.DataFrame, third: pd.DataFrame, registered: dict, design: pd.DataFrame,
+                 margins: pd.DataFrame, measured: dict) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """A run's verdict with its registered later rounds, each taken where it applies, in one pass: the second
+    round's verdict (``second``) with the third round (``third``,
+    :func:`roughlight.analysis.third_round.with_third_round`), then each round of the claim's direction
+    (``registered``: round number -> its table, :func:`with_direction_rounds`); and every registered round's
+    ensemble the verdict does not take, among the ensembles the run tests: a row each (:data:`UNTAKEN_COLUMNS`),
+    with why (planned from other readings of the earlier rounds, measured with other settings, or not the tiles its
+    plan asked for). A run's page says so: a round it does not take leaves its tests as the rounds before decided
+    them."""
     tested = {tuple(k) for k in second[T.ENSEMBLE].drop_duplicates().itertuples(index=False)} if len(second) else set()
-    rows = []
-    if len(third):
-        planned, level = T.plan(second)
-        rows += [(3, *key[:4], why) for key, why in T.applicable(third, T.basis(planned, level), measured)[1]]
     after = T.with_third_round(second, third, design, margins, measured)
-    for number in sorted(ROUNDS):
-        table = registered.get(number, T.read_registered(None))
-        if len(table):
-            planned, level = plan(with_direction_rounds(after, registered, margins, measured, until=number), margins,
-                                  number, spread=registered_spread(table))
-            stale = T.applicable(table, T.basis(planned, level), measured, ROUNDS[number]["base"])[1]
-            rows += [(number, *key[:4], why) for key, why in stale]
+    verdict, stale = _rounds_applied(after, registered, margins, measured)
+    rows = [(3, *key[:4], why) for key, why in T.stale(second, third, measured)]
+    rows += [(number, *key[:4], why) for number, key, why in stale]
     out = pd.DataFrame(sorted(set(rows)), columns=UNTAKEN_COLUMNS)
     keep = [tuple(r) in tested for r in out[T.ENSEMBLE].itertuples(index=False)] if len(out) else []
-    return out[keep].reset_index(drop=True) if len(out) else out
+    return verdict, out[keep].reset_index(drop=True) if len(out) else out
 
 
 def registered_spread(registered: pd.DataFrame) -> dict | None:

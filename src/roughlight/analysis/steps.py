@@ -134,7 +134,8 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
         round's verdict, ``random_claims`` with the later rounds where they apply
         (:func:`roughlight.analysis.third_round.with_third_round`, then
         :func:`roughlight.analysis.direction_rounds.with_direction_rounds`), ``random_claims_untaken`` the
-        registered rounds' ensembles it does not take, and why (:func:`roughlight.analysis.direction_rounds.untaken`)
+        registered rounds' ensembles it does not take, and why (both from
+        :func:`roughlight.analysis.direction_rounds.later_rounds`)
     """
     from . import ensembles as E
 
@@ -146,19 +147,16 @@ def analysis_random(study: pd.DataFrame, settings: dict, lighting: dict, claims:
     out = {"random_statistics": stats, "random_ensembles": summary, "random_seeds_needed": E.seeds_needed(summary),
            "random_model_fits": fits}
     if claim is not None:
-        from .direction_rounds import untaken, with_direction_rounds
-        from .third_round import read_registered, with_third_round
+        from .direction_rounds import later_rounds
+        from .third_round import read_registered
 
         claim = dict(claim)
         third, later = claim.pop("third_round", None), claim.pop("direction_rounds", None) or {}
+        third = third if third is not None else read_registered(None)
         measured = claim.pop("measured", None) or {}
         out["random_claims_round2"] = claim_verdict(**claim)
-        after_third = with_third_round(out["random_claims_round2"], third if third is not None else read_registered(None),
-                                       claim["design"], claim["margins"], measured)
-        out["random_claims"] = with_direction_rounds(after_third, later, claim["margins"], measured)
-        out["random_claims_untaken"] = untaken(out["random_claims_round2"], third if third is not None
-                                               else read_registered(None), later, claim["design"], claim["margins"],
-                                               measured)
+        out["random_claims"], out["random_claims_untaken"] = later_rounds(
+            out["random_claims_round2"], third, later, claim["design"], claim["margins"], measured)
     return out
 
 

@@ -34,7 +34,7 @@ from . import claims as C
 from .claim_readings import READINGS, lobe_centres, pooled_readings
 
 __all__ = ["THIRD_ROUND_BASE", "ALPHA", "COLUMNS", "plan", "basis", "round_seeds", "round_key", "round_readings",
-           "register", "read_registered", "applicable", "render_round", "with_third_round", "stale_ensembles", "main"]
+           "register", "read_registered", "applicable", "render_round", "with_third_round", "stale", "main"]
 
 #: The third round's seeds are this + 1, + 2, ...: above the tested tiles' (from 201) and below the pilots' (501).
 THIRD_ROUND_BASE = 300
@@ -163,15 +163,16 @@ def applicable(registered: pd.DataFrame, digest: str, measured: dict,
     return out, stale
 
 
-def stale_ensembles(claims: pd.DataFrame, registered: pd.DataFrame, measured: dict) -> list[str]:
-    """The registered ensembles a run does not take (each reading once), as lines for its log: the ensemble and
-    why (planned from other readings of the earlier rounds, measured with other settings, or not the tiles its plan asked for:
-    ``make claim-third-round`` measures the round again)."""
+def stale(claims: pd.DataFrame, registered: pd.DataFrame, measured: dict) -> list:
+    """The registered third round's ensembles a run (its second round's verdict, ``claims``) does not take:
+    ``(ensemble and reading, why)`` pairs, :func:`applicable`'s (why: planned from other readings of the earlier
+    rounds, measured with other settings, or not the tiles its plan asked for; ``make claim-third-round`` measures
+    the round again)."""
     if not len(registered):
         return []
     planned, level = plan(claims)
-    _, stale = applicable(registered, basis(planned, level), measured)
-    return sorted({f"{k[0]} t {k[1]:g}, a {k[2]:g}, incidence {k[3]:g}: {why}" for k, why in stale})
+    return applicable(registered, basis(planned, level), measured)[1]
+
 
 
 def with_third_round(claims: pd.DataFrame, registered: pd.DataFrame, design: pd.DataFrame, margins: pd.DataFrame,

@@ -39,6 +39,7 @@ __all__ = [
     "random_points",
     "CLAIM_SEED_BASE",
     "CLAIM_PILOT_BASE",
+    "LATER_ROUNDS",
     "CLAIM_ROLES",
     "claim_surface_settings",
     "random_surface_settings",
@@ -254,7 +255,7 @@ def _pilot_problems(config: dict) -> list[str]:
             if missing:
                 problems.append(f"config: claims.registered_pilots: {registered} is not a table of the claim's pilot "
                                 f"readings (no column {', '.join(missing)})")
-    for name in ("third", "fourth", "fifth", "sixth", "seventh", "eighth"):
+    for name in LATER_ROUNDS:
         registered = claims(config).get(f"registered_{name}_round")
         if registered and not Path(registered).is_file():
             problems.append(f"config: claims.registered_{name}_round: {registered} does not exist (`make claim-{name}-round` "
@@ -407,6 +408,9 @@ CLAIM_SEED_BASE = 200
 
 #: The claim's pilots (``claims.pilots``, a count n) are seeds here + 1 ... + n, at the claim's tile size.
 CLAIM_PILOT_BASE = 500
+#: The claim's later rounds, each registered once (``claims.registered_{name}_round``): the third, and the rounds of
+#: the claim's direction (:data:`roughlight.analysis.direction_rounds.ROUNDS`).
+LATER_ROUNDS = ("third", "fourth", "fifth", "sixth", "seventh", "eighth")
 
 #: The columns of a table of the claim's pilot readings (``claims.registered_pilots``; :mod:`roughlight.study.pilots`
 #: reads and writes it): an ensemble (kind, grid point, incidence, the digest of its pilots' settings) and one of its
@@ -515,7 +519,7 @@ def claim_settings(config: dict) -> dict:
     # where the pilots' readings (or the later rounds') come from is not the design: the readings themselves are
     # rules claim_design's and analysis_random's inputs
     for key in ("registered_pilots",
-                *(f"registered_{name}_round" for name in ("third", "fourth", "fifth", "sixth", "seventh", "eighth"))):
+                *(f"registered_{name}_round" for name in LATER_ROUNDS)):
         settings.pop(key, None)
     return settings
 

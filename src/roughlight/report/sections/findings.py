@@ -219,8 +219,6 @@ def _claim_headline(claims: pd.DataFrame) -> str:
     return "mixed"
 
 
-#: The later rounds' names.
-ORDINALS = ROUND_NAMES
 
 
 def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool,
@@ -264,7 +262,7 @@ def random_claim_finding(random_claims: pd.DataFrame | None, shown: bool,
             "third": {"n": int((third["verdict"] != "undecided").sum()), "level": float(third["level"].iloc[0])}
             if len(third) else None,
             "direction": {"tests": len(direction), "decided": int((direction["verdict"] != "undecided").sum()),
-                          "rounds": [ORDINALS[n] for n in range(4, last + 1)], "level": float(direction["level"].iloc[0])}
+                          "rounds": [ROUND_NAMES[n] for n in range(4, last + 1)], "level": float(direction["level"].iloc[0])}
             if len(direction) else None,
             # Bonferroni over the rounds: the second's family error (its level's complement times its tests) and
             # each later round's own (third_round.ALPHA, direction_rounds.ALPHA)
@@ -384,7 +382,7 @@ def findings_section(thesis_tables: pd.DataFrame | None = None, exact_peaks: pd.
     thesis_tables, exact_peaks, implied_scales, tables_at_implied_scale, share_laws : the analysis outputs.
     implicit_validation : rule ``implicit_surface``'s validation; random_claims : rule ``analysis_random``'s
         claim table; None: the statement says they were not given. random_claims_untaken : its registered rounds
-        not taken (:func:`roughlight.analysis.direction_rounds.untaken`).
+        not taken (:func:`roughlight.analysis.direction_rounds.later_rounds`).
     speed_accuracy, speed_accuracy_png, renderer_validation, arc_smoothness, renderer_validation_png,
     random_accuracy : the speed/accuracy benchmark and "Accuracy at every view", as "Settings and provenance" shows
         them (:func:`roughlight.report.sections.speed.speed_section`); none given: switched off.

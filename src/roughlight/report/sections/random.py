@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from ...analysis.direction_rounds import ROUNDS
 from ...study.config import random_surfaces
 from ..page_templates import caption_text, existing, frame_or_none
 from ..registry import Section
@@ -214,8 +215,8 @@ def _random_tiles(accuracy, convergence, tiles_png) -> dict:
             "tiles_png": tiles_png, "tiles_caption": caption_text("random_tiles") if tiles_png else None}
 
 
-#: The later rounds' names, as the page says them.
-ROUND_NAMES = {3: "third", 4: "fourth", 5: "fifth", 6: "sixth", 7: "seventh", 8: "eighth"}
+#: The later rounds' names, as the page says them: the third, and the rounds of the claim's direction.
+ROUND_NAMES = {3: "third", **{number: spec["name"] for number, spec in ROUNDS.items()}}
 
 
 def untaken_rounds(untaken: pd.DataFrame | None) -> list[dict]:
