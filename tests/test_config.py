@@ -201,7 +201,15 @@ def test_the_export_settings_reach_the_jobs_as_plain_values():
     cfg = rl_config.validate_config(cfg, SCHEMA)
     assert rl_config.export_surfaces(cfg) == [(0.5, 1.0), (1.0, 1.0)]
     settings = rl_config.export_settings(cfg)
-    assert settings["table"]["azimuth_step"] == 5.0 and settings["table"]["edge_on"] is True
+    assert settings["table"]["azimuth_step"] == 5.0 and settings["table"]["edge_on"] == [0.0, 45.0]
+    assert settings["table"]["light_azimuth"] == [float(p) for p in range(0, 46, 5)]
+    for edge_on in (True, False):  # either form reaches the job as it is written
+        cfg["export"]["table"]["edge_on"] = edge_on
+        assert rl_config.export_settings(rl_config.validate_config(cfg, SCHEMA))["table"]["edge_on"] is edge_on
+    cfg["export"]["table"]["edge_on"] = [50]
+    with pytest.raises(Exception, match="edge_on"):
+        rl_config.validate_config(cfg, SCHEMA)
+    del cfg["export"]["table"]["edge_on"]
     assert settings["table"]["hot_spot_views"] is True and settings["mitsuba"]["warp"] is True
     assert settings["mitsuba"]["resolution"] == 32 and settings["check"] == {"lights": 3, "views": 400, "seed": 2001}
     assert rl_plan.export_files(cfg)[:3] == ["results/export/t0.5_a1/shares.npz", "results/export/t0.5_a1/table.json",

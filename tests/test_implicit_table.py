@@ -140,6 +140,24 @@ def test_the_edge_on_incidences_join_the_nodes():
                                90.0])
     assert list(brdf_export.incidence_nodes(Surface(0.0, 0.0), [0.0, 90.0], [0.0])) == [0.0, 90.0]
     assert list(brdf_export.incidence_nodes(Surface(1.0, 1.0), [0.0, 90.0], [0.0], edge_on=False)) == [0.0, 90.0]
+    # a list: the edge-on incidences of those light azimuths alone, whatever the tabulated ones
+    listed = brdf_export.incidence_nodes(Surface(1.0, 1.0), [0.0, 90.0], [0.0, 15.0, 30.0, 45.0], edge_on=[0.0])
+    assert np.allclose(listed, [0.0, np.degrees(np.arctan(2.0)), 90.0])
+    assert np.array_equal(brdf_export.incidence_nodes(Surface(1.0, 1.0), [0.0, 90.0], [0.0, 45.0], edge_on=[]),
+                          [0.0, 90.0])
+
+
+def test_a_table_with_more_elevations_than_the_shader_holds_is_refused(table):
+    """The shader's node elevations are an array uniform of 64: a table with more is refused by name, not drawn
+    with the nodes past the 64th read as garbage."""
+    from roughlight.render.implicit.shader import MAX_TABLE_ELEVATIONS
+
+    count = MAX_TABLE_ELEVATIONS + 1
+    elevation = np.linspace(90.0 / count, 90.0, count)
+    many = ShareTable(table.truncation, table.aspect, True, [0.0, 90.0], [0.0], elevation, 4,
+                      np.zeros((2, 1, count, 4, 10), np.uint16))
+    with pytest.raises(ValueError, match="at most 64"):
+        methods.sweep("implicit_table", SURFACE, 30.0, [0.0], [30.0], settings={"table": many})
 
 
 def test_the_export_writes_both_files_and_checks_them_off_their_nodes(table, tmp_path):

@@ -534,7 +534,7 @@ def export_settings(config: dict) -> dict:
     """``export:``'s nodes and checks (defaults filled), as plain types for params (without the surfaces, which
     name the jobs)."""
     export = config["export"]
-    table = {k: (bool(v) if k in ("edge_on", "hot_spot_views") else float(v) if k == "azimuth_step"
+    table = {k: (bool(v) if k == "hot_spot_views" or isinstance(v, bool) else float(v) if k == "azimuth_step"
                  else [float(x) for x in v]) for k, v in export["table"].items()}
     mitsuba = {k: ([float(x) for x in v] if k == "elevation" else bool(v) if k == "warp" else int(v))
                for k, v in export["mitsuba"].items()}

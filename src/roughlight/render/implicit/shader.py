@@ -219,15 +219,23 @@ def table_defines(table) -> dict:
     return {} if table is None else {"TABLE_SHARES": 1}
 
 
+#: View elevation nodes the shader holds (``MAX_TABLE_ELEVATIONS`` in implicit_model.glsl: an array uniform).
+MAX_TABLE_ELEVATIONS = 64
+
+
 def _table_for(settings, surface: Surface, shadows: bool = True):
     """The table model's table, checked against the surface (with no table in the settings, the surface's own:
-    :meth:`ImplicitSettings.share_table`); None for the other models."""
+    :meth:`ImplicitSettings.share_table`) and against what the shader holds; None for the other models."""
     if settings.model != "table":
         return None
     table = settings.share_table(surface, shadows)
     if abs(table.truncation - surface.truncation) > 1e-9 or abs(table.aspect - surface.aspect) > 1e-9:
         raise ValueError(f"the share table is of the surface t {table.truncation:g}, a {table.aspect:g}, not of "
                          f"t {surface.truncation:g}, a {surface.aspect:g}: export the surface's own table")
+    if table.elevation.size > MAX_TABLE_ELEVATIONS:
+        raise ValueError(f"the share table has {table.elevation.size} view elevation nodes (its elevations with, "
+                         f"under export.table.hot_spot_views, its incidences); the shader holds at most "
+                         f"{MAX_TABLE_ELEVATIONS}: fewer nodes, or hot_spot_views false")
     return table
 
 
