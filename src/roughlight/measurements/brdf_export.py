@@ -317,7 +317,7 @@ LAYOUTS = {
                                    80.0, 90.0]},
     "no edge-on": {"edge_on": False},
     "azimuth 5": {"azimuth_step": 5.0},
-    "light azimuth 7.5": {"light_azimuth": [0.0, 7.5, 15.0, 22.5, 30.0, 37.5, 45.0]},
+    "light azimuth 15": {"light_azimuth": [0.0, 15.0, 30.0, 45.0], "edge_on": True},
 }
 
 
