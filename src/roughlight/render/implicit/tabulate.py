@@ -176,7 +176,7 @@ def table_key(surface: Surface, nodes=None, shadows: bool = True) -> str:
 
 def cached_table(surface: Surface, nodes=None, shadows: bool = True, folder=None) -> ShareTable:
     """``surface``'s share table at ``nodes`` (default :data:`TABLE`), read from ``folder`` (default
-    :func:`cache_dir`) or, the first time, measured there (:func:`tabulate_surface`: about 5 s at the
+    :func:`cache_dir`) or, the first time, measured there (:func:`tabulate_surface`: about 3 s at the
     default nodes on one core, its progress logged to the ``roughlight.implicit`` logger) and written atomically.
 
     Raises ValueError for a surface that has no table: a random tile (no symmetry, no facets named as a pyramid's).
