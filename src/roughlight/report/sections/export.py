@@ -28,13 +28,18 @@ def export_section(export_summary: pd.DataFrame | None = None, export_png=None) 
     if summary is None:
         return None
     total = summary[summary["component"] == "total"]
+    parts = summary[summary["component"].isin(["diffuse", "specular"])]
+    # each method's component with the worst view of its own (the one that sets the total's worst)
+    worst_part = {(r.truncation, r.aspect, r.method): r.component
+                  for r in parts.sort_values("worst").itertuples()}
     surfaces = []
     for (t, a), rows in total.groupby(["truncation", "aspect"], sort=False):
         methods = {r.method: {"mae": float(r.mae), "p99": float(r.p99), "worst": float(r.worst),
                               "within": bool(r.within_level), "megabytes": float(r.megabytes),
                               "file_megabytes": float(r.file_megabytes), "views": int(r.views),
                               "worst_above": min(float(r.worst_elevation), 180.0 - float(r.worst_elevation)),
-                              "worst_incidence": float(r.worst_incidence)}
+                              "worst_incidence": float(r.worst_incidence),
+                              "worst_component": worst_part.get((t, a, r.method))}
                    for r in rows.itertuples()}
         first = rows.iloc[0]
         surfaces.append({"truncation": float(t), "aspect": float(a), "methods": methods,
