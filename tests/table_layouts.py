@@ -34,12 +34,24 @@ SURFACE = Surface(1.0, 1.0)
 PAIRS = ((3, 400, 2001), (40, 30, 58))
 
 
-def _layout(light_step: float, azimuth_step: float = 2.5, edge_on=(0.0, 45.0)) -> dict:
-    return {**tabulate.TABLE, "light_azimuth": list(np.arange(0.0, 45.001, light_step)), "azimuth_step": azimuth_step,
-            "edge_on": list(edge_on) if edge_on is not True else True}
+#: The nodes the layouts vary from: the default (light azimuth every 5 degrees since 30 November).
+BASE = dict(tabulate.TABLE)
+#: Closer light azimuth nodes where the light is low: 1.5 degrees up to incidence 25, 2.5 up to 50.
+LOW = ((25.0, 1.5), (50.0, 2.5))
+#: Light incidence every 2.5 degrees below 25.
+CLOSE_INCIDENCE = [float(i) for i in np.arange(0.0, 25.0, 2.5)] + [float(i) for i in range(25, 91, 5)]
+#: The default's view elevations and every 2.5 degrees from 25 to 65, where the side facets turn edge-on to the view.
+CLOSE_ELEVATION = sorted(set(tabulate.TABLE["elevation"]) - {28.0, 32.0, 36.0} | set(np.arange(25.0, 65.1, 2.5).tolist()))
 
 
-#: The layouts: the default's nodes but for the light azimuth step, the view azimuth step and ``edge_on``.
+def _layout(light_step: float, azimuth_step: float = 2.5, edge_on=(0.0, 45.0), steps=(), **more) -> dict:
+    return {**BASE, "light_azimuth": list(np.arange(0.0, 45.001, light_step)), "azimuth_step": azimuth_step,
+            "edge_on": list(edge_on) if edge_on is not True else True, "light_azimuth_steps": [list(p) for p in steps],
+            **more}
+
+
+#: The layouts: the default's nodes but for the light azimuth steps, the view azimuth step, ``edge_on``, the
+#: incidences and the elevations; the last, ``make bench``'s (``config/export_fine.yaml``).
 LAYOUTS = {
     "psi 15, edge-on at every psi (the default before 30 November)": _layout(15.0, edge_on=True),
     "psi 9": _layout(9.0),
@@ -50,15 +62,26 @@ LAYOUTS = {
     "psi 5, view azimuth 1.25": _layout(5.0, 1.25),
     "psi 2.5": _layout(2.5),
     "psi 2.5, view azimuth 1.25": _layout(2.5, 1.25),
+    "psi 2.5 up to incidence 50, 5 above": _layout(5.0, steps=((50.0, 2.5),)),
+    "psi 1.5 up to 25, 2.5 to 50, 5 above": _layout(5.0, steps=LOW),
+    "psi 2.5 up to 50, 5 above, view azimuth 1.25": _layout(5.0, 1.25, steps=((50.0, 2.5),)),
+    "psi 1.5 up to 25, 2.5 to 50, 5 above, view azimuth 1.25": _layout(5.0, 1.25, steps=LOW),
+    "the same as psi 2.5 up to 50, with incidence 2.5 apart below 25": _layout(5.0, 1.25, steps=((50.0, 2.5),),
+                                                                             incidence=CLOSE_INCIDENCE),
+    "that, and view elevation 2.5 apart from 25 to 65 (config/export_fine.yaml)": _layout(
+        5.0, 1.25, steps=((50.0, 2.5),), incidence=CLOSE_INCIDENCE, elevation=CLOSE_ELEVATION),
 }
 
 
 def every_node():
     """The nodes of every layout together, as ``check_lights`` and ``check_views`` read a table's."""
-    incidence = tabulate.incidence_nodes(SURFACE, tabulate.TABLE["incidence"], [0.0, 45.0], True)
-    light_azimuth = np.unique(np.concatenate([nodes["light_azimuth"] for nodes in LAYOUTS.values()]))
+    incidence = tabulate.incidence_nodes(SURFACE, sorted({i for nodes in LAYOUTS.values() for i in nodes["incidence"]}),
+                                         [0.0, 45.0], True)
+    light_azimuth = np.unique(np.concatenate([nodes["light_azimuth"] for nodes in LAYOUTS.values()]
+                                             + [np.arange(0.0, 45.001, step) for _, step in LOW]))
+    elevation = sorted({e for nodes in LAYOUTS.values() for e in nodes["elevation"]})
     return SimpleNamespace(surface=SURFACE, incidence=incidence, light_azimuth=light_azimuth,
-                           elevation=tabulate.elevation_nodes(tabulate.TABLE["elevation"], incidence))
+                           elevation=tabulate.elevation_nodes(elevation, incidence))
 
 
 def pairs(table_nodes) -> list:
@@ -79,6 +102,7 @@ def pairs(table_nodes) -> list:
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("layouts", nargs="*", help="layout names (default: all)")
+    parser.add_argument("--show", action="store_true", help="print each view over a level: its light and view")
     args = parser.parse_args(argv)
     lighting = replace(shading.Lighting(), ambient=0.0)
     checked = pairs(every_node())
@@ -89,9 +113,14 @@ def main(argv=None) -> None:
         lines = []
         for seed, light, view, reference in checked:
             error = np.abs(table_values(table, light, view, lighting)["total"] - reference)
+            for k in np.flatnonzero(error > 1.0) if args.show else ():
+                (i, p, _), (e, a, _) = (np.degrees([np.arcsin(d[k, 2]), np.arctan2(d[k, 1], d[k, 0]) % (2 * np.pi), 0])
+                                        for d in (light, view))
+                print(f"  seed {seed}: light at incidence {i:.2f}, azimuth {p:.2f}; view at elevation {e:.2f}, "
+                      f"azimuth {a:.2f}: {error[k]:.2f} off")
             lines.append(f"seed {seed}: MAE {error.mean():.3f}, p99 {np.percentile(error, 99):.2f}, "
                          f"worst {error.max():.2f}, over a level {int((error > 1).sum())}")
-        print(f"{name}: {table.incidence.size} x {table.light_azimuth.size} lights, {table.elevation.size} elevations, "
+        print(f"{name}: {table.incidence.size} incidences, {table.lights} lights, {table.elevation.size} elevations, "
               f"{table.azimuth_nodes} azimuths, {table.nbytes / 1e6:.1f} MB, built in {seconds:.1f} s | "
               + " | ".join(lines), flush=True)
 

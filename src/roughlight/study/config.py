@@ -193,8 +193,8 @@ def _ascending(values) -> bool:
 
 
 def _export_problems(config: dict) -> list[str]:
-    """What the schema cannot say about ``export:``: truncations in [0, 1], nodes ascending and spanning their
-    range, an azimuth step that divides the circle."""
+    """What the schema cannot say about ``export:``: truncations in [0, 1], nodes ascending and spanning their range,
+    steps that divide the circle or the quarter."""
     export = config.get("export") or {}
     problems = [f"config: export.surfaces: truncation must be in [0, 1], got [{t}, {a}]"
                 for t, a in export.get("surfaces", []) if float(t) > 1]
@@ -208,6 +208,11 @@ def _export_problems(config: dict) -> list[str]:
         if not _ascending(nodes) or not ends:
             start = f"from {first} " if first is not None else ""
             problems.append(f"config: export.{block}.{key} must ascend {start}to {last}, got {nodes!r}")
+    steps = (export.get("table") or {}).get("light_azimuth_steps") or []
+    if not _ascending([float(pair[0]) for pair in steps]):
+        problems.append(f"config: export.table.light_azimuth_steps' incidences must ascend, got {steps!r}")
+    problems += [f"config: export.table.light_azimuth_steps: a step must divide 45 degrees, got {size!r}"
+                 for _, size in steps if abs(45.0 / float(size) - round(45.0 / float(size))) > 1e-9]
     step = (export.get("table") or {}).get("azimuth_step")
     if step is not None and abs(360.0 / float(step) - round(360.0 / float(step))) > 1e-9:
         problems.append(f"config: export.table.azimuth_step must divide 360 degrees, got {step!r}")
@@ -531,10 +536,10 @@ def export_surfaces(config: dict) -> list[tuple[float, float]]:
 
 
 def export_settings(config: dict) -> dict:
-    """``export:``'s nodes and checks (defaults filled), as plain types for params (without the surfaces, which
-    name the jobs)."""
+    """``export:``'s nodes and checks (defaults filled), as plain types for params (the surfaces name the jobs)."""
     export = config["export"]
     table = {k: (bool(v) if k == "hot_spot_views" or isinstance(v, bool) else float(v) if k == "azimuth_step"
+                 else [[float(x) for x in pair] for pair in v] if k == "light_azimuth_steps"
                  else [float(x) for x in v]) for k, v in export["table"].items()}
     mitsuba = {k: ([float(x) for x in v] if k == "elevation" else bool(v) if k == "warp" else int(v))
                for k, v in export["mitsuba"].items()}

@@ -253,12 +253,12 @@ def table_uniforms(table, incidence: float, light_azimuth: float, lighting=None)
     return {
         **shading.material_uniforms(lighting or shading.Lighting(), light_c),
         "view_turn": turn.astype(np.float32),
-        "table_turns": (table.light_azimuth[slices % table.light_azimuth.size] - psi).astype(np.float32),
-        "table_rises": (table.incidence[slices // table.light_azimuth.size] - float(incidence)).astype(np.float32),
+        "table_turns": (table.slice_azimuth[slices] - psi).astype(np.float32),
+        "table_rises": (table.slice_incidence[slices] - float(incidence)).astype(np.float32),
         "hot_spot_blend": float(HOT_SPOT_BLEND),
         "table_slices": slices.astype(np.int32),
         "table_weights": weights.astype(np.float32),
-        "table_depth": int(table.incidence.size * table.light_azimuth.size),
+        "table_depth": table.lights,
         "table_azimuths": int(table.azimuth_nodes),
         "table_elevations": int(table.elevation.size),
     }
@@ -282,17 +282,15 @@ def _table_textures(table) -> list:
         return []
     from .table import CHANNELS
 
-    n_i, n_p, n_e, n_a, _ = table.shares.shape
-    shares = table.shares.reshape(n_i * n_p, n_e, n_a, CHANNELS)
-    padded = np.zeros((n_i * n_p, n_e, n_a, 12), np.uint16)
-    padded[..., :CHANNELS] = shares
+    n_l, n_e, n_a, _ = table.shares.shape
     names = list(np.atleast_1d(gl.glGenTextures(3)))
     for unit, tex, first in zip(TABLE_UNITS.values(), names, (0, 4, 8)):
         gl.glActiveTexture(gl.GL_TEXTURE0 + unit)
         gl.glBindTexture(gl.GL_TEXTURE_3D, tex)
-        data = np.ascontiguousarray(padded[..., first:first + 4])
-        gl.glTexImage3D(gl.GL_TEXTURE_3D, 0, gl.GL_RGBA16, n_a, n_e, n_i * n_p, 0, gl.GL_RGBA, gl.GL_UNSIGNED_SHORT,
-                        data)
+        data = np.zeros((n_l, n_e, n_a, 4), np.uint16)  # one texture's four channels at a time (the last two: 0)
+        data[..., :min(4, CHANNELS - first)] = table.shares[..., first:first + 4]
+        gl.glTexImage3D(gl.GL_TEXTURE_3D, 0, gl.GL_RGBA16, n_a, n_e, n_l, 0, gl.GL_RGBA, gl.GL_UNSIGNED_SHORT, data)
+        del data
         for parameter, value in ((gl.GL_TEXTURE_MIN_FILTER, gl.GL_LINEAR), (gl.GL_TEXTURE_MAG_FILTER, gl.GL_LINEAR),
                                  (gl.GL_TEXTURE_WRAP_S, gl.GL_REPEAT), (gl.GL_TEXTURE_WRAP_T, gl.GL_CLAMP_TO_EDGE),
                                  (gl.GL_TEXTURE_WRAP_R, gl.GL_CLAMP_TO_EDGE)):

@@ -11,15 +11,18 @@ between the nodes reads them multilinearly.
 Axes (all angles in degrees):
 
 - the light's incidence ``i`` (elevation above the surface plane), nodes ``incidence`` from 0 to 90;
-- the light's azimuth ``psi``, nodes ``light_azimuth`` in [0, 45]: square pyramids repeat every 90 degrees and
-  mirror about the diagonals, so every light is one of these, the views turned with it
-  (:func:`roughlight.surfaces.symmetry.canonical_directions`); the plate needs only 0;
+- the light's azimuth ``psi``, nodes in [0, 45], a list of its own for each incidence node (closer where the light
+  is low: ``ShareTable.rows``): square pyramids repeat every 90 degrees and mirror about the diagonals, so every
+  light is one of these, the views turned with it (:func:`roughlight.surfaces.symmetry.canonical_directions`); the
+  plate needs only 0;
 - the view's elevation ``e`` above the plane, nodes ``elevation`` in (0, 90] (closer below the horizon's first
   node: a view lower than it reads the first node's shares; the study's grazing views, ``e`` 0, have no image);
 - the view's azimuth ``phi`` on the whole circle, ``azimuth_nodes`` nodes ``0, 360 / n, ...`` (wrapping).
 
-The shares are stored as 16-bit fractions (``SCALE``) in an (I, P, E, A, 10) array: channels 0-4 each facet's lit
-share, 5-9 its shadowed share, facets in :data:`roughlight.surfaces.geometry.FACET_NAMES` order.
+The shares are stored as 16-bit fractions (``SCALE``) in an (L, E, A, 10) array, one slice a light node (the
+incidence rows in turn, each row's azimuth nodes ascending): channels 0-4 each facet's lit share, 5-9 its shadowed
+share, facets in :data:`roughlight.surfaces.geometry.FACET_NAMES` order. A light is read between the two incidence
+rows around it, each between its own two azimuth nodes around the light: four slices (:func:`light_slices`).
 """
 
 from __future__ import annotations
@@ -34,12 +37,31 @@ from ...surfaces.symmetry import canonical_directions
 from .. import shading
 
 __all__ = ["SCALE", "CHANNELS", "HOT_SPOT_BLEND", "ShareTable", "save_table", "load_table", "node_weights",
-           "hot_spot_weight", "table_shares", "table_values", "table_angles", "light_corners"]
+           "light_slices", "hot_spot_weight", "table_shares", "table_values", "table_angles", "light_corners"]
 
 #: A share of 1 as stored (16-bit unsigned: a share's rounding is at most 7.6e-6, 0.001 of a level at J = 127).
 SCALE = 65535
 #: Shares a (light, view) node: five facets lit, then five in shadow.
 CHANNELS = 10
+
+
+def _nodes(name: str, values, low: float, high: float, first: bool) -> np.ndarray:
+    """``values`` as an ascending float array within ``[low, high]`` (``(low, high]`` unless ``first``), else
+    ValueError naming the table's ``name`` nodes."""
+    nodes = np.asarray(values, float)
+    if nodes.ndim != 1 or nodes.size == 0 or np.any(np.diff(nodes) <= 0):
+        raise ValueError(f"table {name} nodes must be a non-empty ascending list, got {nodes!r}")
+    if nodes[0] < low or nodes[-1] > high or (not first and nodes[0] <= low):
+        raise ValueError(f"table {name} nodes must lie in {'[' if first else '('}{low:g}, {high:g}], got {nodes!r}")
+    return nodes
+
+
+def _one_list(values) -> bool:
+    """Whether ``values`` is one list of numbers (not a list of lists, ragged or not)."""
+    try:
+        return np.asarray(values, float).ndim == 1
+    except (TypeError, ValueError):
+        return False
 
 
 @dataclass(frozen=True, eq=False)
@@ -52,13 +74,18 @@ class ShareTable:
         The surface.
     shadows : bool
         Whether the surface casts shadows (``Lighting.shadows``) in the measured shares.
-    incidence, light_azimuth, elevation : (I,), (P,), (E,) float arrays
-        Light incidence in [0, 90], light azimuth in [0, 45] and view elevation in (0, 90] nodes, degrees,
-        ascending.
+    incidence : (I,) float array
+        Light incidence nodes in [0, 90], degrees, ascending.
+    light_azimuth : (P,) float array, or a sequence of I of them
+        Light azimuth nodes in [0, 45], degrees, ascending: one list for every incidence row, or each row's own.
+        Once built, the union of the rows' nodes (each row's are :attr:`rows`).
+    elevation : (E,) float array
+        View elevation nodes in (0, 90], degrees, ascending.
     azimuth_nodes : int
         View azimuth nodes on the circle, ``360 / azimuth_nodes`` degrees apart from 0.
-    shares : (I, P, E, A, 10) uint16 array
-        Each node's shares times :data:`SCALE`.
+    shares : uint16 array
+        Each node's shares times :data:`SCALE`: (I, P, E, A, 10) for one list of azimuth nodes, (L, E, A, 10) for
+        the rows' own (L light nodes, row by row). Once built, (L, E, A, 10) either way (a view of the array given).
     """
 
     truncation: float
@@ -72,21 +99,28 @@ class ShareTable:
 
     def __post_init__(self):
         Surface(self.truncation, self.aspect)  # refuses a surface that is not one
-        for name, low, high, first in (("incidence", 0.0, 90.0, True), ("light_azimuth", 0.0, 45.0, True),
-                                       ("elevation", 0.0, 90.0, False)):
-            nodes = np.asarray(getattr(self, name), float)
-            if nodes.ndim != 1 or nodes.size == 0 or np.any(np.diff(nodes) <= 0):
-                raise ValueError(f"table {name} nodes must be a non-empty ascending list, got {nodes!r}")
-            if nodes[0] < low or nodes[-1] > high or (not first and nodes[0] <= low):
-                raise ValueError(f"table {name} nodes must lie in {'[' if first else '('}{low:g}, {high:g}], "
-                                 f"got {nodes!r}")
-            object.__setattr__(self, name, nodes)
+        incidence = _nodes("incidence", self.incidence, 0.0, 90.0, True)
+        elevation = _nodes("elevation", self.elevation, 0.0, 90.0, False)
         if int(self.azimuth_nodes) < 4:
             raise ValueError(f"table azimuth_nodes must be at least 4, got {self.azimuth_nodes!r}")
-        shape = (self.incidence.size, self.light_azimuth.size, self.elevation.size, int(self.azimuth_nodes),
-                 CHANNELS)
-        if self.shares.shape != shape:
-            raise ValueError(f"table shares must have the shape {shape}, got {self.shares.shape}")
+        shared = _one_list(self.light_azimuth)
+        listed = [self.light_azimuth] * incidence.size if shared else list(self.light_azimuth)
+        if len(listed) != incidence.size:
+            raise ValueError(f"table light_azimuth must be one list of nodes or one for each of the {incidence.size} "
+                             f"incidence nodes, got {len(listed)}")
+        rows = tuple(_nodes("light_azimuth", row, 0.0, 45.0, True) for row in listed)
+        start = np.concatenate([[0], np.cumsum([row.size for row in rows])])
+        view = (elevation.size, int(self.azimuth_nodes), CHANNELS)
+        shares = np.asarray(self.shares)
+        if shared and shares.shape == (incidence.size, rows[0].size) + view:
+            shares = shares.reshape((int(start[-1]),) + view)
+        if shares.shape != (int(start[-1]),) + view:
+            expected = ((incidence.size, rows[0].size) if shared else (int(start[-1]),)) + view
+            raise ValueError(f"table shares must have the shape {expected}, got {np.shape(self.shares)}")
+        for name, value in (("incidence", incidence), ("elevation", elevation), ("shares", shares),
+                            ("light_azimuth", np.unique(np.concatenate(rows))), ("rows", rows),
+                            ("row_start", start)):
+            object.__setattr__(self, name, value)
 
     @property
     def surface(self) -> Surface:
@@ -99,6 +133,21 @@ class ShareTable:
         return 360.0 / int(self.azimuth_nodes)
 
     @property
+    def lights(self) -> int:
+        """Light nodes (the shares' slices)."""
+        return int(self.row_start[-1])
+
+    @property
+    def slice_incidence(self) -> np.ndarray:
+        """(L,) each slice's light incidence, degrees."""
+        return np.repeat(self.incidence, np.diff(self.row_start))
+
+    @property
+    def slice_azimuth(self) -> np.ndarray:
+        """(L,) each slice's light azimuth, degrees."""
+        return np.concatenate(self.rows)
+
+    @property
     def nbytes(self) -> int:
         """Bytes of the shares (what a renderer holds in texture memory)."""
         return int(self.shares.nbytes)
@@ -108,15 +157,21 @@ def save_table(path, table: ShareTable) -> None:
     """Write ``table`` to ``path`` (NumPy ``.npz``), atomically: a temporary name in the same folder, then renamed."""
     with atomic_path(path) as temporary, open(temporary, "wb") as handle:
         np.savez_compressed(handle, truncation=table.truncation, aspect=table.aspect, shadows=table.shadows,
-                            incidence=table.incidence, light_azimuth=table.light_azimuth,
+                            incidence=table.incidence, slice_azimuth=table.slice_azimuth, row_start=table.row_start,
                             elevation=table.elevation, azimuth_nodes=table.azimuth_nodes, shares=table.shares)
 
 
 def load_table(path) -> ShareTable:
-    """The :class:`ShareTable` :func:`save_table` wrote at ``path``."""
+    """The :class:`ShareTable` :func:`save_table` wrote at ``path`` (or, from a file of before 30 November 2026,
+    one list of light azimuth nodes for every incidence row)."""
     with np.load(path) as data:
+        if "row_start" in data:
+            start, azimuth = data["row_start"], data["slice_azimuth"]
+            light_azimuth = [azimuth[start[k]:start[k + 1]] for k in range(len(start) - 1)]
+        else:
+            light_azimuth = data["light_azimuth"]
         return ShareTable(float(data["truncation"]), float(data["aspect"]), bool(data["shadows"]),
-                          data["incidence"], data["light_azimuth"], data["elevation"], int(data["azimuth_nodes"]),
+                          data["incidence"], light_azimuth, data["elevation"], int(data["azimuth_nodes"]),
                           data["shares"])
 
 
@@ -152,28 +207,58 @@ def table_angles(light, view):
 HOT_SPOT_BLEND = 15.0
 
 
+def light_slices(table: ShareTable, incidence, psi):
+    """The four light nodes around each light and their weights: the incidence rows below and above it, and in each
+    row the two of its own azimuth nodes around it (each axis linear, clamped to the end nodes).
+
+    Parameters
+    ----------
+    table : ShareTable
+    incidence, psi : (n,) arrays, the lights' incidence and azimuth in the table's range ([0, 45]), degrees
+
+    Returns
+    -------
+    slices : (n, 4) int array, the shares' slices (row below: azimuth below, above; then the row above)
+    weights : (n, 4) float array, summing to 1 along the last axis
+    """
+    incidence, psi = np.atleast_1d(np.asarray(incidence, float)), np.atleast_1d(np.asarray(psi, float))
+    i0, wi = node_weights(table.incidence, incidence)
+    slices, weights = np.zeros((incidence.size, 4), int), np.zeros((incidence.size, 4))
+    for di, fi in ((0, 1.0 - wi), (1, wi)):
+        row = np.minimum(i0 + di, table.incidence.size - 1)
+        for r in np.unique(row):
+            at = row == r
+            p0, wp = node_weights(table.rows[r], psi[at])
+            last = table.rows[r].size - 1
+            for dp, fp in ((0, 1.0 - wp), (1, wp)):
+                slices[at, 2 * di + dp] = table.row_start[r] + np.minimum(p0 + dp, last)
+                weights[at, 2 * di + dp] = fi[at] * fp
+    return slices, weights
+
+
 def _read_nodes(table: ShareTable, corners, elevation, phi, turned_from=None) -> np.ndarray:
     """The shares at views (``elevation``, ``phi``: (n,) degrees) read multilinearly between the four light nodes
-    ``corners`` (``i0``, ``wi``, ``p0``, ``wp``) and the view nodes: (n, CHANNELS) fractions. With ``turned_from``
-    (the lights' incidence and azimuth, (n,) each) each light node reads the view turned with the light: its
-    azimuth and elevation moved by the node's less the light's, so that ``V = L`` reads every node's own hot spot."""
-    i0, wi, p0, wp = corners
+    ``corners`` (:func:`light_slices`' slices and weights) and the view nodes: (n, CHANNELS) fractions. With
+    ``turned_from`` (the lights' incidence and azimuth, (n,) each) each light node reads the view turned with the
+    light: its azimuth and elevation moved by the node's less the light's, so that ``V = L`` reads every node's own
+    hot spot."""
+    slices, weights = corners
     step = table.azimuth_step
+    node_incidence, node_azimuth = table.slice_incidence, table.slice_azimuth
     shares = np.zeros((len(elevation), CHANNELS))
-    for di, fi in ((0, 1.0 - wi), (1, wi)):
-        i = np.minimum(i0 + di, table.incidence.size - 1)
-        at_e = elevation if turned_from is None else np.clip(elevation + table.incidence[i] - turned_from[0], 0.0, 90.0)
+    for k in range(4):
+        at_slice = slices[:, k]
+        at_e = (elevation if turned_from is None
+                else np.clip(elevation + node_incidence[at_slice] - turned_from[0], 0.0, 90.0))
         e0, we = node_weights(table.elevation, at_e)
-        for dp, fp in ((0, 1.0 - wp), (1, wp)):
-            p = np.minimum(p0 + dp, table.light_azimuth.size - 1)
-            at = phi if turned_from is None else np.mod(phi + table.light_azimuth[p] - turned_from[1], 360.0)
-            a0 = np.floor(at / step).astype(int) % table.azimuth_nodes
-            wa = at / step - np.floor(at / step)
-            for de, fe in ((0, 1.0 - we), (1, we)):
-                for da, fa in ((0, 1.0 - wa), (1, wa)):
-                    node = table.shares[i, p, np.minimum(e0 + de, table.elevation.size - 1),
-                                        (a0 + da) % table.azimuth_nodes]
-                    shares += (fi * fp * fe * fa)[:, None] * node
+        at = phi if turned_from is None else np.mod(phi + node_azimuth[at_slice] - turned_from[1], 360.0)
+        a0 = np.floor(at / step).astype(int) % table.azimuth_nodes
+        wa = at / step - np.floor(at / step)
+        for de, fe in ((0, 1.0 - we), (1, we)):
+            for da, fa in ((0, 1.0 - wa), (1, wa)):
+                node = table.shares[at_slice, np.minimum(e0 + de, table.elevation.size - 1),
+                                    (a0 + da) % table.azimuth_nodes]
+                shares += (weights[:, k] * fe * fa)[:, None] * node
     return shares / SCALE
 
 
@@ -213,7 +298,7 @@ def table_shares(table: ShareTable, light, view, hot_spot_blend: float = HOT_SPO
     """
     light_c, view_c = canonical_directions(table.surface, light, view)
     incidence, psi, elevation, phi = table_angles(light_c, view_c)
-    corners = node_weights(table.incidence, incidence) + node_weights(table.light_azimuth, psi)
+    corners = light_slices(table, incidence, psi)
     lattice = _read_nodes(table, corners, elevation, phi)
     seen = lattice[:, :5] + lattice[:, 5:]
     shadow = lattice[:, 5:]
@@ -259,13 +344,13 @@ def table_values(table: ShareTable, light, view, lighting=None, quantized: bool 
 
 
 def light_corners(table: ShareTable, incidence: float, light_azimuth: float):
-    """The four (incidence, light azimuth) nodes around one light and their weights, with the light turned to the
+    """The four light nodes around one light (:func:`light_slices`) and their weights, with the light turned to the
     table's azimuths: what the shader reads a light's shares from.
 
     Returns
     -------
     slices : (4,) int array
-        The corners' slices ``i * P + p`` of the table's texture (:func:`roughlight.render.implicit.shader`).
+        The corners' slices of the table's texture (:func:`roughlight.render.implicit.shader`).
     weights : (4,) float array (summing to 1)
     light_c : (3,) array, the light turned (unit vector toward it)
     turn : (3, 3) array, the turn that takes a view along (``view_c = turn @ view``)
@@ -275,12 +360,5 @@ def light_corners(table: ShareTable, incidence: float, light_azimuth: float):
     light_c, turned = canonical_directions(table.surface, np.vstack([light, light, light]), eye)
     turn = np.column_stack(turned)  # images of the basis vectors: the map's matrix
     _, psi, _, _ = table_angles(light_c[:1], eye[:1])
-    i0, wi = node_weights(table.incidence, [incidence])
-    p0, wp = node_weights(table.light_azimuth, psi)
-    last_i, last_p = table.incidence.size - 1, table.light_azimuth.size - 1
-    slices, weights = [], []
-    for di, fi in ((0, 1.0 - wi[0]), (1, wi[0])):
-        for dp, fp in ((0, 1.0 - wp[0]), (1, wp[0])):
-            slices.append(min(i0[0] + di, last_i) * table.light_azimuth.size + min(p0[0] + dp, last_p))
-            weights.append(fi * fp)
-    return np.array(slices, int), np.array(weights, float), light_c[0], turn
+    slices, weights = light_slices(table, [incidence], psi)
+    return slices[0], weights[0], light_c[0], turn

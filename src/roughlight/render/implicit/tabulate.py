@@ -28,20 +28,23 @@ from ..exact.pyramid import shares_under_lights
 from ..exact.reference import shares_under
 from .table import CHANNELS, SCALE, ShareTable, load_table, save_table
 
-__all__ = ["TABLE", "incidence_nodes", "elevation_nodes", "channel_shares", "measure_table", "tabulate_surface",
+__all__ = ["TABLE", "incidence_nodes", "elevation_nodes", "row_azimuths", "channel_shares", "measure_table",
+           "tabulate_surface",
            "cache_dir", "table_key", "cached_table"]
 
 LOG = logging.getLogger("roughlight.implicit")
 
 #: The share table's nodes by default (``export.table``, the schema's defaults): light incidence every 5 degrees
 #: (and, with ``edge_on``, where a side facet turns edge-on to a light at azimuth 0 or 45: :func:`incidence_nodes`),
-#: light azimuth every 5 in [0, 45], view elevations closer near the horizon, where the shares change fastest (and,
-#: with ``hot_spot_views``, at every incidence node: :func:`elevation_nodes`), and view azimuth every 2.5. Light
-#: azimuth nodes 5 degrees apart where they were 15 took the export's check from 6.62 levels to 2.66 at its worst
-#: view (docs/export.md, "Light azimuth nodes"); the edge-on incidences of every one of them would double the
-#: texture for no gain off the nodes, so only the lattice's axis (the study's light) and its diagonal have them.
+#: light azimuth every 5 in [0, 45] for every incidence row (``light_azimuth_steps`` gives low rows closer ones:
+#: :func:`row_azimuths`), view elevations closer near the horizon, where the shares change fastest (and, with
+#: ``hot_spot_views``, at every incidence node: :func:`elevation_nodes`), and view azimuth every 2.5. Light azimuth
+#: nodes 5 degrees apart where they were 15 took the export's check from 6.62 levels to 2.51 at its worst view; the
+#: edge-on incidences of every one of them would double the texture for no gain off the nodes, so only the
+#: lattice's axis (the study's light) and its diagonal have them; closer nodes everywhere (``config/export_fine.yaml``)
+#: cost five times the texture for a worst view of 1.75 (docs/export.md, "Light azimuth nodes").
 TABLE = {"incidence": [float(i) for i in range(0, 91, 5)], "edge_on": [0.0, 45.0], "hot_spot_views": True,
-         "light_azimuth": [float(p) for p in range(0, 46, 5)],
+         "light_azimuth": [float(p) for p in range(0, 46, 5)], "light_azimuth_steps": [],
          "elevation": [1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 10.0, 12.0, 14.0, 16.0, 19.0, 22.0, 25.0,
                        28.0, 32.0, 36.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0, 70.0, 75.0, 80.0, 85.0, 90.0],
          "azimuth_step": 2.5}
@@ -101,8 +104,10 @@ def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth
     ----------
     surface : Surface
         A regular surface (truncated square pyramids, or the plate).
-    incidence, light_azimuth, elevation : sequences of float
-        The nodes, degrees (:class:`~roughlight.render.implicit.table.ShareTable`).
+    incidence, elevation : sequences of float
+        The light incidence and view elevation nodes, degrees (:class:`~roughlight.render.implicit.table.ShareTable`).
+    light_azimuth : sequence of float, or one such sequence for each incidence node
+        The light azimuth nodes, degrees: of every incidence row, or each row's own.
     azimuth_step : float
         Degrees between view azimuth nodes; divides 360.
     shadows : bool
@@ -117,37 +122,60 @@ def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth
     nodes = 360.0 / float(azimuth_step)
     if not float(azimuth_step) > 0 or abs(nodes - round(nodes)) > 1e-9:
         raise ValueError(f"export.table.azimuth_step must divide 360 degrees, got {azimuth_step!r}")
-    incidence, light_azimuth = np.asarray(incidence, float), np.asarray(light_azimuth, float)
-    elevation = np.asarray(elevation, float)
-    # refuses bad nodes before any clipping: the table checks itself
-    ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation, int(round(nodes)),
-               np.zeros((incidence.size, light_azimuth.size, elevation.size, int(round(nodes)), CHANNELS), np.uint16))
-    log = log or (lambda message: None)
-    lights = [(float(i), float(p)) for i in incidence for p in light_azimuth]
     n_azimuth = int(round(nodes))
-    shares = np.zeros((incidence.size, light_azimuth.size, elevation.size, n_azimuth, CHANNELS))
+    elevation = np.asarray(elevation, float)
+    # refuses bad nodes before any clipping (the table checks itself), and lists the light nodes row by row
+    empty = ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation,
+                       n_azimuth, np.zeros((_lights(incidence, light_azimuth), elevation.size, n_azimuth, CHANNELS),
+                                           np.uint16))
+    log = log or (lambda message: None)
+    lights = list(zip(empty.slice_incidence.tolist(), empty.slice_azimuth.tolist()))
+    shares = np.zeros(empty.shares.shape, np.uint16)  # filled a row of view nodes at a time: no float copy of it all
     azimuth = np.arange(n_azimuth) * float(azimuth_step)
     for k in range(elevation.size):  # a row of view nodes at a time, every light at once (in C)
         lit, shadow = shares_under_lights(surface, lights, np.full(n_azimuth, elevation[k]), azimuth, bool(shadows))
         row = np.concatenate([lit, shadow], axis=2)  # (lights, azimuths, CHANNELS): lit shares, then shadowed
-        shares[:, :, k] = row.reshape(incidence.size, light_azimuth.size, n_azimuth, CHANNELS)
+        shares[:, k] = np.round(np.clip(row, 0.0, 1.0) * SCALE).astype(np.uint16)
         if (k + 1) % max(1, elevation.size // 10) == 0:
             log(f"share table t {surface.truncation:g}, a {surface.aspect:g}: {(k + 1) * n_azimuth}/"
                 f"{elevation.size * n_azimuth} view nodes")
-    stored = np.round(np.clip(shares, 0.0, 1.0) * SCALE).astype(np.uint16)
-    return ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation,
-                      int(round(nodes)), stored)
+    return ShareTable(surface.truncation, surface.aspect, bool(shadows), empty.incidence, list(empty.rows), elevation,
+                      n_azimuth, shares)
+
+
+def _lights(incidence, light_azimuth) -> int:
+    """Light nodes of ``incidence`` rows with ``light_azimuth``'s nodes: one list for every row, or each row's own."""
+    try:
+        one = np.asarray(light_azimuth, float).ndim == 1
+    except ValueError:  # rows of different lengths
+        one = False
+    return np.size(incidence) * np.size(light_azimuth) if one else sum(len(row) for row in light_azimuth)
+
+
+def row_azimuths(incidence, light_azimuth, steps=()) -> list[np.ndarray]:
+    """Each incidence row's light azimuth nodes, degrees: a row at or below the incidence of a pair of ``steps``
+    (``[incidence, step]``, ascending; the first that holds) takes nodes every ``step`` degrees over [0, 45] (the
+    step dividing 45), a row above every pair ``light_azimuth``. Low lights need them closer: their long shadows
+    sweep across the facets as the light turns (docs/export.md, "Light azimuth nodes")."""
+    rows = []
+    for i in np.asarray(incidence, float):
+        step = next((float(s) for up_to, s in steps if i <= float(up_to) + 1e-9), None)
+        if step is not None and (not step > 0 or abs(45.0 / step - round(45.0 / step)) > 1e-9):
+            raise ValueError(f"export.table.light_azimuth_steps: a step must divide 45 degrees, got {step!r}")
+        rows.append(np.asarray(light_azimuth, float) if step is None else np.arange(round(45.0 / step) + 1) * step)
+    return rows
 
 
 def tabulate_surface(surface: Surface, nodes=None, shadows: bool = True, log=None) -> ShareTable:
     """A surface's share table at the nodes ``nodes`` (``export.table``'s keys over :data:`TABLE`): the incidences
-    with their edge-on ones (:func:`incidence_nodes`), the elevations with the incidences (:func:`elevation_nodes`,
-    ``hot_spot_views``; a ``nodes`` without the key, as one that replaces :data:`TABLE` whole, has none), measured
-    by :func:`measure_table`."""
+    with their edge-on ones (:func:`incidence_nodes`), each row's light azimuths (:func:`row_azimuths`), the
+    elevations with the incidences (:func:`elevation_nodes`, ``hot_spot_views``; a ``nodes`` without the key, as
+    one that replaces :data:`TABLE` whole, has none), measured by :func:`measure_table`."""
     nodes = {**TABLE, **(nodes or {})}
     incidence = incidence_nodes(surface, nodes["incidence"], nodes["light_azimuth"], nodes["edge_on"])
     elevation = elevation_nodes(nodes["elevation"], incidence, nodes.get("hot_spot_views", False))
-    return measure_table(surface, incidence, nodes["light_azimuth"], elevation, nodes["azimuth_step"], shadows, log)
+    rows = row_azimuths(incidence, nodes["light_azimuth"], nodes.get("light_azimuth_steps", ()))
+    return measure_table(surface, incidence, rows, elevation, nodes["azimuth_step"], shadows, log)
 
 
 
