@@ -132,3 +132,22 @@ def test_the_schemas_defaults_are_the_tables():
     config = rl_config.validate_config(yaml.safe_load((REPO / "config" / "config.yaml").read_text()),
                                        REPO / "workflow" / "schemas" / "config.schema.yaml")
     assert rl_config.export_settings(config)["table"] == tabulate.TABLE
+
+
+def test_a_context_keeps_the_textures_of_its_last_two_tables(rows_table):
+    """Each table's textures stay resident for the frames that follow, but only the last two tables' (a validation
+    draws one a surface: all of them kept would hold tens of MB each); a table drawn again is uploaded again and
+    draws the same picture."""
+    from roughlight.render.gl.context import context
+    from roughlight.render.implicit import render_field
+    from roughlight.render.implicit.shader import KEPT_TABLES
+
+    others = [ShareTable(rows_table.truncation, rows_table.aspect, True, INCIDENCE, ROWS, ELEVATION, 24,
+                         rows_table.shares.copy()) for _ in range(2)]
+    first, _ = render_field("table", SURFACE, 35.0, 60.0, 20.0, 4, size=32, table=rows_table)
+    for other in others:
+        render_field("table", SURFACE, 35.0, 60.0, 20.0, 4, size=32, table=other)
+    kept = context(32, 32, 1)._share_tables
+    assert KEPT_TABLES == 2 and list(kept) == [id(t) for t in others]
+    again, _ = render_field("table", SURFACE, 35.0, 60.0, 20.0, 4, size=32, table=rows_table)
+    assert np.array_equal(again, first) and list(kept) == [id(others[1]), id(rows_table)]

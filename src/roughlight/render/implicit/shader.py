@@ -299,15 +299,26 @@ def _table_textures(table) -> list:
     return names
 
 
+#: Tables whose textures a context keeps resident (the latest drawn; an older one's are deleted): each is tens of
+#: MB of texture, and a validation draws a table a surface.
+KEPT_TABLES = 2
+
+
 def _resident_textures(ctx, table) -> None:
     """Bind ``table``'s textures (:func:`_table_textures`) on :data:`TABLE_UNITS`, uploaded once a context and
-    table and kept there: Mesa copies a texture into its own layout at the first draw that reads it, which a frame
-    that uploaded its table would pay for every time (1 ms of a 2 ms frame at the default nodes)."""
+    table and kept there (the last :data:`KEPT_TABLES` tables): Mesa copies a texture into its own layout at the
+    first draw that reads it, which a frame that uploaded its table would pay for every time (1 ms of a 2 ms frame
+    at the default nodes)."""
     if table is None:
         return
     kept = ctx.__dict__.setdefault("_share_tables", {})
     if id(table) not in kept:
+        while len(kept) >= KEPT_TABLES:
+            _, textures = kept.pop(next(iter(kept)))
+            gl.glDeleteTextures(np.asarray(textures, np.uint32))
         kept[id(table)] = (table, _table_textures(table))  # the table kept too: its id is never reused meanwhile
+    else:
+        kept[id(table)] = kept.pop(id(table))  # the latest drawn last
     for unit, tex in zip(TABLE_UNITS.values(), kept[id(table)][1]):
         gl.glActiveTexture(gl.GL_TEXTURE0 + unit)
         gl.glBindTexture(gl.GL_TEXTURE_3D, tex)
