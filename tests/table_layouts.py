@@ -5,7 +5,7 @@
     python tests/table_layouts.py default "psi 5"      # some of them, by name
 
 Draws pairs as rule ``export``'s check draws them (``brdf_export.check_lights`` and ``check_views``): 3 lights x
-400 views with seed 2001, and 40 lights x 30 views with seed 58 (held out: no layout was chosen on them), off the
+400 views with seed 2001, and 40 lights x 30 views with seed 58 (the earlier stops' held-out pairs), off the
 nodes of every layout here, so that each layout is read at the same pairs and none at its nodes. Takes the exact
 reference's total at each (``methods.sweep("reference")``); measures each layout's table
 (``tabulate.tabulate_surface``: the edge-on incidences of ``edge_on``'s light azimuths and the hot spot's view
