@@ -1,20 +1,16 @@
 """The implicit rough surface measured: validation against the exact reference, and frame times.
 
-Two measurements, each at a size named by a plan (:data:`PLANS`: ``full`` is
-``make bench``'s, ``quick`` the same code on a few surfaces and coarse views):
+Two measurements, each at a size named by a plan (:data:`PLANS`: ``full`` is ``make bench``'s, ``quick`` the same
+code on a few surfaces and coarse views):
 
-* :func:`validation`: on every view of each validation surface, the error
-  against the exact reference (:func:`roughlight.render.exact.reference.reference_sweep`)
-  of the implicit exact form and first-order correction (both through the
-  shader, :func:`roughlight.render.implicit.shader.implicit_sweep`), the explicit fast
-  renderer and the V-cavity facet model (the best analytic model the report
-  fits, :func:`roughlight.analysis.surface_models.facet_model`): MAE, p99 and worst
-  view per surface, method and component.
-* :func:`frame_times`: the thesis's trade-off. One square field of ``N x N``
-  pyramids drawn explicitly by pyrender (``N^2 x 10`` triangles, with its
-  shadow pass) against the same field as one implicit quad, at the same image
-  size and views; frame time, triangles and the image mean's error against
-  the exact value.
+* :func:`validation`: on every view of each validation surface, the error against the exact reference
+  (:func:`roughlight.render.exact.reference.reference_sweep`) of the implicit exact form and first-order correction
+  (both through the shader, :func:`roughlight.render.implicit.shader.implicit_sweep`), the explicit fast renderer and
+  the V-cavity facet model (the best analytic model the report fits,
+  :func:`roughlight.analysis.surface_models.facet_model`): MAE, p99 and worst view per surface, method and component.
+* :func:`frame_times`: the thesis's trade-off. One square field of ``N x N`` pyramids drawn explicitly by pyrender
+  (``N^2 x 10`` triangles, with its shadow pass) against the same field as one implicit quad, at the same image size
+  and views; frame time, triangles and the image mean's error against the exact value.
 """
 
 from __future__ import annotations
@@ -170,6 +166,8 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
     rows = []
     surfaces = validation_surfaces(plan)
     tables = load_tables(tables)
+    held_out = held_out_lights(plan)
+    late = {surface: [] for surface, *_ in held_out}  # each surface's held-out rows, in held_out's order at the end
     for n, (surface, incidence, kind) in enumerate(surfaces, 1):
         table = tables.get(_key(surface))
         if table is None and plan == "full":
@@ -179,15 +177,22 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
         worst = {m: max(r["worst"] for r in new if r["method"] == m) for m in ("implicit_exact", "fast")}
         log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
             f"worst view exact form {worst['implicit_exact']:.2f}, fast {worst['fast']:.2f}")
-    held_out = held_out_lights(plan)
-    for surface, incidence, light_azimuth, azimuth, elevation in held_out:
-        rows += validate_surface(surface, incidence, HELD_OUT, azimuth, elevation, lighting,
-                                 tables.get(_key(surface)), light_azimuth)
-    exact_worst = max([r["worst"] for r in rows if r["kind"] == HELD_OUT and r["method"] == "implicit_exact"],
-                      default=math.nan)
+        if kind == "random":  # its only light: its held-out lights now, then a table measured for it dropped
+            late[surface] += _held_out_rows(surface, held_out, lighting, table)
+            tables.drop_measured(_key(surface))  # 22 MB at the default nodes, and no later part reads it
+    for surface, parts in late.items():
+        rows += parts or _held_out_rows(surface, held_out, lighting, tables.get(_key(surface)))
+    exact_worst = max([r["worst"] for r in rows if r["kind"] == HELD_OUT and r["method"] == "implicit_exact"], default=math.nan)
     log(f"{len(held_out)} held-out lights from any azimuth, {size['held_out']['views']} random views each: "
         f"worst view exact form {exact_worst:.2f}")
     return pd.DataFrame(rows)
+
+
+def _held_out_rows(surface: Surface, held_out, lighting, table) -> list:
+    """The validation's rows of ``surface``'s lights of ``held_out`` (:func:`held_out_lights`)."""
+    return [row for s, incidence, light_azimuth, azimuth, elevation in held_out if s == surface
+            for row in validate_surface(surface, incidence, HELD_OUT, azimuth, elevation, lighting, table,
+                                        light_azimuth)]
 
 
 def _key(surface: Surface) -> tuple[float, float]:
@@ -201,14 +206,21 @@ def load_tables(tables) -> dict:
 
     if isinstance(tables, _Tables):
         return tables
-    out = _Tables()
-    for (t, a), table in (tables or {}).items():
-        out[_key(Surface(t, a))] = table if isinstance(table, ShareTable) else load_table(table)
+    out = _Tables({_key(Surface(t, a)): table if isinstance(table, ShareTable) else load_table(table)
+                   for (t, a), table in (tables or {}).items()})
+    out.loaded = frozenset(out)
     return out
 
 
 class _Tables(dict):
-    """Share tables keyed by :func:`_key` (:func:`load_tables`)."""
+    """Share tables keyed by :func:`_key` (:func:`load_tables`): those given, and those :func:`validation` measures."""
+
+    loaded: frozenset = frozenset()
+
+    def drop_measured(self, key) -> None:
+        """Forget the table of ``key`` unless it was given (a random surface's, measured for its one light)."""
+        if key not in self.loaded:
+            self.pop(key, None)
 
 
 def share_table(surface: Surface, lighting=None, log=None):
