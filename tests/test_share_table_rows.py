@@ -153,13 +153,15 @@ def test_a_context_keeps_the_textures_of_its_last_two_tables(rows_table):
     assert np.array_equal(again, first) and list(kept) == [id(others[1]), id(rows_table)]
 
 
-def test_the_validation_drops_a_random_surfaces_table_after_its_held_out_lights(monkeypatch):
-    """The full plan measures a share table for each random surface (22 MB at the default nodes) and holds it only
-    through that surface's light and held-out lights: the tables given and the grid's stay, the held-out rows keep
-    held_out_lights' order, and every random surface's held-out rows are read with its table."""
+def test_the_validation_drops_a_measured_table_after_its_surfaces_held_out_lights(monkeypatch):
+    """The full plan measures a share table for each surface it is not given (22 MB at the default nodes) and holds
+    it only through that surface's last light and its held-out lights, unless the frames or maps read it later: the
+    tables given stay, the held-out rows keep held_out_lights' order, and every surface's held-out rows are read
+    with its table."""
     from roughlight.measurements import implicit_surface as bench
 
-    plan = {**bench.PLANS["quick"], "grid": ((1.0, 1.0),), "incidences": (30.0,), "random": 2, "steps": (30.0, 90.0),
+    plan = {**bench.PLANS["quick"], "grid": ((1.0, 1.0), (0.5, 0.5)), "incidences": (30.0, 60.0), "random": 2,
+            "steps": (30.0, 90.0),
             "held_out": {"lights": 1, "views": 3}}
     monkeypatch.setitem(bench.PLANS, "full", plan)
     measured = []
@@ -172,7 +174,7 @@ def test_the_validation_drops_a_random_surfaces_table_after_its_held_out_lights(
     given = tabulate.measure_table(Surface(1.0, 1.0), [0.0, 45.0, 90.0], [0.0, 45.0], [10.0, 90.0], 45.0)
     tables = bench.load_tables({(1.0, 1.0): given})
     rows = bench.validation("full", tables=tables)
-    assert len(measured) == 2 and list(tables) == [(1.0, 1.0)] and tables[(1.0, 1.0)] is given
+    assert len(measured) == 3 and list(tables) == [(1.0, 1.0)] and tables[(1.0, 1.0)] is given
     held = rows[(rows["kind"] == bench.HELD_OUT) & (rows["method"] == "implicit_table") & (rows["component"] == "total")]
     order = [(s.truncation, s.aspect) for s, *_ in bench.held_out_lights("full")]
     assert list(zip(held["truncation"], held["aspect"])) == order and held["n_views"].gt(0).all()

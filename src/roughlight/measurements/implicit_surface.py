@@ -168,6 +168,8 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
     tables = load_tables(tables)
     held_out = held_out_lights(plan)
     late = {surface: [] for surface, *_ in held_out}  # each surface's held-out rows, in held_out's order at the end
+    last = {surface: n for n, (surface, *_) in enumerate(surfaces, 1)}
+    read_later = {_key(FIELD_SURFACE)} | {_key(s) for s, _ in MAP_SURFACES}  # by frame_times and hemisphere_maps
     for n, (surface, incidence, kind) in enumerate(surfaces, 1):
         table = tables.get(_key(surface))
         if table is None and plan == "full":
@@ -177,11 +179,10 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
         worst = {m: max(r["worst"] for r in new if r["method"] == m) for m in ("implicit_exact", "fast")}
         log(f"[{n}/{len(surfaces)}] t={surface.truncation:g} aspect={surface.aspect:g} i={incidence:g}: "
             f"worst view exact form {worst['implicit_exact']:.2f}, fast {worst['fast']:.2f}")
-        if kind == "random":  # its only light: its held-out lights now, then a table measured for it dropped
-            late[surface] += _held_out_rows(surface, held_out, lighting, table)
-            tables.drop_measured(_key(surface))  # 22 MB at the default nodes, and no later part reads it
-    for surface, parts in late.items():
-        rows += parts or _held_out_rows(surface, held_out, lighting, tables.get(_key(surface)))
+        if last[surface] == n:  # its last light: its held-out lights now, then a table measured for it dropped
+            late[surface] = _held_out_rows(surface, held_out, lighting, table)
+            tables.drop_measured(_key(surface), keep=read_later)  # 22 MB at the default nodes
+    rows += [row for parts in late.values() for row in parts]
     exact_worst = max([r["worst"] for r in rows if r["kind"] == HELD_OUT and r["method"] == "implicit_exact"], default=math.nan)
     log(f"{len(held_out)} held-out lights from any azimuth, {size['held_out']['views']} random views each: "
         f"worst view exact form {exact_worst:.2f}")
@@ -190,9 +191,8 @@ def validation(plan: str = "full", lighting=None, log=None, tables=None):
 
 def _held_out_rows(surface: Surface, held_out, lighting, table) -> list:
     """The validation's rows of ``surface``'s lights of ``held_out`` (:func:`held_out_lights`)."""
-    return [row for s, incidence, light_azimuth, azimuth, elevation in held_out if s == surface
-            for row in validate_surface(surface, incidence, HELD_OUT, azimuth, elevation, lighting, table,
-                                        light_azimuth)]
+    return [row for s, i, psi, azimuth, elevation in held_out if s == surface
+            for row in validate_surface(surface, i, HELD_OUT, azimuth, elevation, lighting, table, psi)]
 
 
 def _key(surface: Surface) -> tuple[float, float]:
@@ -217,9 +217,9 @@ class _Tables(dict):
 
     loaded: frozenset = frozenset()
 
-    def drop_measured(self, key) -> None:
-        """Forget the table of ``key`` unless it was given (a random surface's, measured for its one light)."""
-        if key not in self.loaded:
+    def drop_measured(self, key, keep=()) -> None:
+        """Forget the table of ``key`` unless it was given or is in ``keep`` (one :func:`validation` is done with)."""
+        if key not in self.loaded and key not in keep:
             self.pop(key, None)
 
 
