@@ -36,8 +36,8 @@ from ...surfaces.surface import Surface
 from ...surfaces.symmetry import canonical_directions
 from .. import shading
 
-__all__ = ["SCALE", "CHANNELS", "HOT_SPOT_BLEND", "ShareTable", "save_table", "load_table", "node_weights",
-           "light_slices", "hot_spot_weight", "table_shares", "table_values", "table_angles", "light_corners"]
+__all__ = ["SCALE", "CHANNELS", "HOT_SPOT_BLEND", "ShareTable", "light_rows", "save_table", "load_table",
+           "node_weights", "light_slices", "hot_spot_weight", "table_shares", "table_values", "table_angles", "light_corners"]
 
 #: A share of 1 as stored (16-bit unsigned: a share's rounding is at most 7.6e-6, 0.001 of a level at J = 127).
 SCALE = 65535
@@ -62,6 +62,16 @@ def _one_list(values) -> bool:
         return np.asarray(values, float).ndim == 1
     except (TypeError, ValueError):
         return False
+
+
+def light_rows(rows: int, light_azimuth) -> tuple[np.ndarray, ...]:
+    """Each of ``rows`` incidence rows' light azimuth nodes (ascending in [0, 45], degrees, else ValueError):
+    ``light_azimuth`` is one list for every row, or a list of each row's own."""
+    listed = [light_azimuth] * rows if _one_list(light_azimuth) else list(light_azimuth)
+    if len(listed) != rows:
+        raise ValueError(f"table light_azimuth must be one list of nodes or one for each of the {rows} incidence "
+                         f"nodes, got {len(listed)}")
+    return tuple(_nodes("light_azimuth", row, 0.0, 45.0, True) for row in listed)
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,11 +114,7 @@ class ShareTable:
         if int(self.azimuth_nodes) < 4:
             raise ValueError(f"table azimuth_nodes must be at least 4, got {self.azimuth_nodes!r}")
         shared = _one_list(self.light_azimuth)
-        listed = [self.light_azimuth] * incidence.size if shared else list(self.light_azimuth)
-        if len(listed) != incidence.size:
-            raise ValueError(f"table light_azimuth must be one list of nodes or one for each of the {incidence.size} "
-                             f"incidence nodes, got {len(listed)}")
-        rows = tuple(_nodes("light_azimuth", row, 0.0, 45.0, True) for row in listed)
+        rows = light_rows(incidence.size, self.light_azimuth)
         start = np.concatenate([[0], np.cumsum([row.size for row in rows])])
         view = (elevation.size, int(self.azimuth_nodes), CHANNELS)
         shares = np.asarray(self.shares)

@@ -26,11 +26,10 @@ from ...surfaces.roughness import kind_and_seed
 from ...surfaces.surface import Surface
 from ..exact.pyramid import shares_under_lights
 from ..exact.reference import shares_under
-from .table import CHANNELS, SCALE, ShareTable, load_table, save_table
+from .table import CHANNELS, SCALE, ShareTable, light_rows, load_table, save_table
 
 __all__ = ["TABLE", "incidence_nodes", "elevation_nodes", "row_azimuths", "channel_shares", "measure_table",
-           "tabulate_surface",
-           "cache_dir", "table_key", "cached_table"]
+           "tabulate_surface", "cache_dir", "table_key", "cached_table"]
 
 LOG = logging.getLogger("roughlight.implicit")
 
@@ -124,32 +123,22 @@ def measure_table(surface: Surface, incidence, light_azimuth, elevation, azimuth
         raise ValueError(f"export.table.azimuth_step must divide 360 degrees, got {azimuth_step!r}")
     n_azimuth = int(round(nodes))
     elevation = np.asarray(elevation, float)
-    # refuses bad nodes before any clipping (the table checks itself), and lists the light nodes row by row
-    empty = ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation,
-                       n_azimuth, np.zeros((_lights(incidence, light_azimuth), elevation.size, n_azimuth, CHANNELS),
-                                           np.uint16))
+    lights = sum(row.size for row in light_rows(np.size(incidence), light_azimuth))
+    # the table checks its nodes before any clipping; its shares are filled in place, a row of view nodes at a time
+    table = ShareTable(surface.truncation, surface.aspect, bool(shadows), incidence, light_azimuth, elevation,
+                       n_azimuth, np.zeros((lights, elevation.size, n_azimuth, CHANNELS), np.uint16))
     log = log or (lambda message: None)
-    lights = list(zip(empty.slice_incidence.tolist(), empty.slice_azimuth.tolist()))
-    shares = np.zeros(empty.shares.shape, np.uint16)  # filled a row of view nodes at a time: no float copy of it all
+    light_nodes = list(zip(table.slice_incidence.tolist(), table.slice_azimuth.tolist()))
     azimuth = np.arange(n_azimuth) * float(azimuth_step)
     for k in range(elevation.size):  # a row of view nodes at a time, every light at once (in C)
-        lit, shadow = shares_under_lights(surface, lights, np.full(n_azimuth, elevation[k]), azimuth, bool(shadows))
+        lit, shadow = shares_under_lights(surface, light_nodes, np.full(n_azimuth, elevation[k]), azimuth,
+                                          bool(shadows))
         row = np.concatenate([lit, shadow], axis=2)  # (lights, azimuths, CHANNELS): lit shares, then shadowed
-        shares[:, k] = np.round(np.clip(row, 0.0, 1.0) * SCALE).astype(np.uint16)
+        table.shares[:, k] = np.round(np.clip(row, 0.0, 1.0) * SCALE).astype(np.uint16)
         if (k + 1) % max(1, elevation.size // 10) == 0:
             log(f"share table t {surface.truncation:g}, a {surface.aspect:g}: {(k + 1) * n_azimuth}/"
                 f"{elevation.size * n_azimuth} view nodes")
-    return ShareTable(surface.truncation, surface.aspect, bool(shadows), empty.incidence, list(empty.rows), elevation,
-                      n_azimuth, shares)
-
-
-def _lights(incidence, light_azimuth) -> int:
-    """Light nodes of ``incidence`` rows with ``light_azimuth``'s nodes: one list for every row, or each row's own."""
-    try:
-        one = np.asarray(light_azimuth, float).ndim == 1
-    except ValueError:  # rows of different lengths
-        one = False
-    return np.size(incidence) * np.size(light_azimuth) if one else sum(len(row) for row in light_azimuth)
+    return table
 
 
 def row_azimuths(incidence, light_azimuth, steps=()) -> list[np.ndarray]:

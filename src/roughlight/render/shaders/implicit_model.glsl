@@ -111,8 +111,8 @@ void correction_shares(vec3 V, out float lit_share[5], out float shadow_share[5]
 // The table of facet shares (roughlight.render.implicit.table): 3-D textures, x the view azimuth (nodes 360 /
 // table_azimuths degrees apart from 0, repeating), y the view elevation (nodes table_elevation[], in degrees),
 // z the light nodes (the incidence rows in turn, each row's own azimuths). The light is one a draw: its four nodes
-// around it (two a row) are the slices table_slices, weighted table_weights. Channels: lit shares of facets 0-3 (table_lit), lit
-// share of facet 4 and shadowed shares of facets 0-2 (table_mixed), shadowed shares of facets 3-4 (table_shadow).
+// around it (two a row) are the slices table_slices, weighted table_weights. Channels: lit shares of facets 0-3
+// (table_lit), lit share of facet 4 and shadowed shares of facets 0-2 (table_mixed), shadowed shares of facets 3-4 (table_shadow).
 // V is the view turned with the light to the table's light azimuths (view_turn, applied by the caller), and
 // light_dir is the light so turned.
 // Their units are bound in the shader (units 1-3; a sweep's views are on unit 0): samplers of two types left on
